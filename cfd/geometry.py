@@ -1,0 +1,273 @@
+"""Hull surfaces: STL input/output, the Wigley hull, placement and hydrostatics (pure numpy).
+
+Triangles are arrays of shape ``(n, 3, 3)``: triangle, vertex, coordinate (m).
+
+The *case frame* used for every OpenFOAM case is OpenFOAM's usual one: x forward (bow at +x),
+y to port, z up, origin at midship (half-way between the perpendiculars) on the centreline in the
+waterplane. Forces are converted to the standard body axes (x forward, y starboard, z down) when
+they are read back (see :mod:`cfd.postprocess`).
+"""
+
+from __future__ import annotations
+
+import gzip
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+_VERTEX = re.compile(rb"vertex\s+(\S+)\s+(\S+)\s+(\S+)")
+
+
+# --------------------------------------------------------------------------------------- STL I/O
+def read_stl(path: str | Path) -> np.ndarray:
+    """Read an ASCII or binary STL file (optionally gzip-compressed) into ``(n, 3, 3)`` triangles."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError("hull", f"STL file {path} does not exist")
+    data = path.read_bytes()
+    if data[:2] == b"\x1f\x8b":
+        data = gzip.decompress(data)
+    head = data[:1024].lstrip()
+    tris: np.ndarray
+    if head.startswith(b"solid") and b"facet" in data[:4096]:
+        verts = np.array(_VERTEX.findall(data), dtype=float)
+        if len(verts) == 0 or len(verts) % 3:
+            raise InputError("hull", f"{path} is not a valid ASCII STL (vertex count {len(verts)})")
+        tris = verts.reshape(-1, 3, 3)
+    else:
+        if len(data) < 84:
+            raise InputError("hull", f"{path} is too short to be an STL file")
+        n = int(np.frombuffer(data, dtype="<u4", count=1, offset=80)[0])
+        if len(data) < 84 + 50 * n:
+            raise InputError("hull", f"{path} is not a valid binary STL ({n} triangles announced)")
+        rec = np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+        tris = np.frombuffer(data, dtype=rec, count=n, offset=84)["v"].astype(float)
+    if not np.all(np.isfinite(tris)):
+        raise InputError("hull", f"{path} contains non-finite vertex coordinates")
+    return tris
+
+
+def write_stl(path: str | Path, triangles: np.ndarray, name: str = "hull") -> Path:
+    """Write triangles as an ASCII STL with one solid called ``name`` (OpenFOAM reads the name)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tris = np.asarray(triangles, dtype=float)
+    normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    norm = np.linalg.norm(normals, axis=1, keepdims=True)
+    normals = np.divide(normals, norm, out=np.zeros_like(normals), where=norm > 0)
+    parts = [f"solid {name}\n"]
+    for nrm, tri in zip(normals, tris, strict=True):
+        parts.append(
+            f" facet normal {nrm[0]:.7e} {nrm[1]:.7e} {nrm[2]:.7e}\n  outer loop\n"
+            + "".join(f"   vertex {p[0]:.9e} {p[1]:.9e} {p[2]:.9e}\n" for p in tri)
+            + "  endloop\n endfacet\n"
+        )
+    parts.append(f"endsolid {name}\n")
+    path.write_text("".join(parts))
+    return path
+
+
+# --------------------------------------------------------------------------------------- Wigley
+def _clustered(n: int) -> np.ndarray:
+    """n points on [-1, 1] clustered towards both ends (sine spacing)."""
+    return np.sin(0.5 * np.pi * np.linspace(-1.0, 1.0, n))
+
+
+def wigley_hull(L: float, B: float, T: float, nx: int = 81, nz: int = 25) -> np.ndarray:
+    """Closed parabolic Wigley double body in the case frame.
+
+    The surface is y = ±B/2 (1 − (2x/L)²)(1 − (z/T)²) for x ∈ [−L/2, L/2] and z ∈ [−T, T]: the hull
+    below the waterline (z ≤ 0, draught T) mirrored about the waterplane, so that the symmetry plane
+    of a double-body case cuts it at z = 0. C_B = 4/9. Normals point outwards; port and starboard
+    sheets share their boundary vertices, and no triangle has all three vertices on the boundary
+    (that would give flat, coincident triangles on the two sheets).
+    """
+    if min(L, B, T) <= 0:
+        raise InputError("wigley", f"L, B and T must be > 0 m (got {L}, {B}, {T})")
+    if nx < 3 or nz < 3:
+        raise InputError("wigley", f"grid must be at least 3x3 (got {nx}x{nz})")
+    xi = _clustered(nx)
+    zeta = _clustered(nz)
+    X, Z = np.meshgrid(0.5 * L * xi, T * zeta, indexing="ij")
+    half = 0.5 * B * (1.0 - xi[:, None] ** 2) * (1.0 - zeta[None, :] ** 2)
+    on_boundary = np.zeros((nx, nz), dtype=bool)
+    on_boundary[[0, -1], :] = True
+    on_boundary[:, [0, -1]] = True
+
+    points: list[np.ndarray] = []
+    index = np.full((2, nx, nz), -1, dtype=int)
+    for i in range(nx):
+        for j in range(nz):
+            if on_boundary[i, j]:
+                index[:, i, j] = len(points)
+                points.append(np.array([X[i, j], 0.0, Z[i, j]]))
+            else:
+                for side, sign in enumerate((1.0, -1.0)):
+                    index[side, i, j] = len(points)
+                    points.append(np.array([X[i, j], sign * half[i, j], Z[i, j]]))
+    P = np.array(points)
+
+    tris = []
+    for side, sign in enumerate((1.0, -1.0)):
+        for i in range(nx - 1):
+            for j in range(nz - 1):
+                a, b, c, d = (i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)
+                options = [((a, b, c), (a, c, d)), ((a, b, d), (b, c, d))]
+                for pair in options:
+                    if not any(all(on_boundary[q] for q in t) for t in pair):
+                        break
+                for t in pair:
+                    ids = [index[side, q[0], q[1]] for q in t]
+                    tri = P[ids]
+                    n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+                    if n[1] * sign < 0:
+                        tri = tri[[0, 2, 1]]
+                    tris.append(tri)
+    return np.array(tris)
+
+
+# --------------------------------------------------------------------------------------- hydrostatics
+def clip_below(triangles: np.ndarray, z0: float = 0.0) -> np.ndarray:
+    """Parts of the triangles with z ≤ z0 (orientation kept)."""
+    out = []
+    for tri in np.asarray(triangles, dtype=float):
+        below = tri[:, 2] <= z0
+        nb = int(below.sum())
+        if nb == 3:
+            out.append(tri)
+            continue
+        if nb == 0:
+            continue
+        # rotate so that the odd vertex is first, keeping orientation
+        k = int(np.flatnonzero(below if nb == 1 else ~below)[0])
+        p0, p1, p2 = tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]
+
+        def cut(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+            s = (z0 - p[2]) / (q[2] - p[2])
+            return p + s * (q - p)
+
+        c01, c02 = cut(p0, p1), cut(p0, p2)
+        if nb == 1:
+            out.append(np.array([p0, c01, c02]))
+        else:
+            out.append(np.array([c01, p1, p2]))
+            out.append(np.array([c01, p2, c02]))
+    return np.array(out).reshape(-1, 3, 3)
+
+
+@dataclass(frozen=True)
+class Hydrostatics:
+    """Properties of the hull below the waterplane z = 0 of the case frame (SI units)."""
+
+    volume_m3: float
+    wetted_area_m2: float
+    lcb_m: float  # x of the centre of buoyancy, forward of midship positive
+    lwl_m: float  # waterline length (underwater extent in x)
+    bwl_m: float  # largest underwater breadth
+    draught_m: float
+
+
+def hydrostatics(triangles: np.ndarray) -> Hydrostatics:
+    """Volume, wetted surface and centre of buoyancy of the part of a closed hull below z = 0.
+
+    The waterplane lid contributes nothing to ∮ z n_z dA, so the open clipped surface suffices.
+    Integrals of quadratic functions use the (exact) edge-midpoint rule.
+    """
+    wet = clip_below(triangles, 0.0)
+    if len(wet) == 0:
+        raise InputError("hull", "no part of the hull lies below the waterline")
+    a = 0.5 * np.cross(wet[:, 1] - wet[:, 0], wet[:, 2] - wet[:, 0])  # area vectors
+    area = np.linalg.norm(a, axis=1)
+    zc = wet[:, :, 2].mean(axis=1)
+    vol = float(np.sum(a[:, 2] * zc))
+    mids = 0.5 * (wet + wet[:, [1, 2, 0]])
+    xz_mean = np.mean(mids[:, :, 0] * mids[:, :, 2], axis=1)
+    mx = float(np.sum(a[:, 2] * xz_mean))
+    sign = 1.0 if vol >= 0 else -1.0  # inward normals flip both integrals
+    vol, mx = sign * vol, sign * mx
+    pts = wet.reshape(-1, 3)
+    return Hydrostatics(
+        volume_m3=vol,
+        wetted_area_m2=float(area.sum()),
+        lcb_m=mx / vol if vol > 0 else 0.0,
+        lwl_m=float(np.ptp(pts[:, 0])),
+        bwl_m=float(np.ptp(pts[:, 1])),
+        draught_m=float(-pts[:, 2].min()),
+    )
+
+
+# --------------------------------------------------------------------------------------- placement
+@dataclass(frozen=True)
+class PlacedHull:
+    """A hull moved into the case frame, with what was done to it."""
+
+    triangles: np.ndarray
+    hydro: Hydrostatics
+    shift_m: tuple[float, float, float]  # added to the input coordinates
+    mirrored: bool  # a half hull was mirrored about y = 0
+
+    @property
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        pts = self.triangles.reshape(-1, 3)
+        return pts.min(axis=0), pts.max(axis=0)
+
+
+def place_hull(
+    triangles: np.ndarray,
+    lpp: float,
+    bwl: float,
+    tm: float,
+    x_ap: float | None = None,
+    z_keel: float | None = None,
+) -> PlacedHull:
+    """Move a hull (bow towards +x, z up, centreline at y = 0) into the case frame.
+
+    ``x_ap`` is the x of the aft perpendicular in the input (default: aft end of the underwater
+    hull) and ``z_keel`` the z of the keel (default: lowest point). The waterline is at
+    ``z_keel + tm``; midship at ``x_ap + lpp / 2``. A half hull (all y ≥ 0 or all y ≤ 0) is mirrored.
+    The checks catch the usual mistakes (millimetres, wrong axis, no freeboard) with a message that
+    names the input to fix.
+    """
+    tris = np.asarray(triangles, dtype=float)
+    if tris.ndim != 3 or tris.shape[1:] != (3, 3) or len(tris) < 4:
+        raise InputError("hull", "the STL holds fewer than 4 triangles")
+    pts = tris.reshape(-1, 3)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    width = hi[1] - lo[1]
+    mirrored = False
+    if lo[1] >= -1e-6 * max(width, 1e-9) or hi[1] <= 1e-6 * max(width, 1e-9):
+        mirror = tris * np.array([1.0, -1.0, 1.0])
+        tris = np.concatenate([tris, mirror[:, [0, 2, 1]]])
+        mirrored = True
+    zk = float(lo[2]) if z_keel is None else float(z_keel)
+    z_wl = zk + tm
+    if hi[2] <= z_wl + 1e-3 * tm:
+        raise InputError(
+            "tm", f"the hull STL must extend above the waterline z = {z_wl:.4g} m (top is {hi[2]:.4g} m)"
+        )
+    under = pts[pts[:, 2] <= z_wl]
+    xa = float(under[:, 0].min()) if x_ap is None else float(x_ap)
+    shift = (-(xa + 0.5 * lpp), 0.0, -z_wl)
+    placed = tris + np.array(shift)
+    hydro = hydrostatics(placed)
+    ratio = hydro.lwl_m / lpp
+    if not 0.8 <= ratio <= 1.3:
+        raise InputError(
+            "lpp",
+            f"underwater length of the STL is {hydro.lwl_m:.4g} m, {ratio:.3g} x Lpp = {lpp:.4g} m "
+            "(allowed 0.8-1.3; check units and that the bow points to +x)",
+        )
+    bratio = hydro.bwl_m / bwl
+    if not 0.8 <= bratio <= 1.2:
+        raise InputError(
+            "bwl",
+            f"underwater breadth of the STL is {hydro.bwl_m:.4g} m vs Bwl = {bwl:.4g} m (allowed 0.8-1.2x)",
+        )
+    plo = placed.reshape(-1, 3)[:, 0]
+    if plo.min() > -0.3 * lpp or plo.max() < 0.3 * lpp:
+        raise InputError("x_ap", f"x_ap = {xa:.4g} m puts midship far from the hull's middle")
+    return PlacedHull(placed, hydro, shift, mirrored)

@@ -1,0 +1,85 @@
+"""Helpers for the UDP link tests: readings, free ports and a loopback peer."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import socket
+import time
+
+from vessel_gym.physics.bridge import BridgeReading
+
+
+def make_reading(**overrides: float) -> BridgeReading:
+    """A ship at 53.5412 N 9.9876 E on 123.4 deg, 12.3 kn, turning to port with port rudder."""
+    values = {
+        "t_s": 10.0,
+        "x_m": 1234.5,
+        "y_m": -789.0,
+        "lat_deg": 53.54120,
+        "lon_deg": 9.98760,
+        "hdg_deg": 123.4,
+        "cog_deg": 124.9,
+        "sog_kn": 12.3,
+        "stw_kn": 12.0,
+        "stw_transverse_kn": -0.2,
+        "rot_dpm": -12.0,
+        "rudder_deg": -10.0,
+        "rudder_order_deg": -15.0,
+        "rpm": 85.0,
+        "telegraph": 3,
+        "wind_rel_angle_deg": 40.0,
+        "wind_rel_speed_kn": 15.0,
+        "wind_true_dir_deg": 163.4,
+        "wind_true_speed_kn": 11.0,
+    }
+    values.update(overrides)
+    return BridgeReading(**values)
+
+
+def moved(reading: BridgeReading, **changes: float) -> BridgeReading:
+    return dataclasses.replace(reading, **changes)
+
+
+def free_udp_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def free_tcp_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Peer:
+    """A UDP socket on 127.0.0.1 playing a client (or a listen-only receiver)."""
+
+    def __init__(self) -> None:
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.setblocking(False)
+        self.address = self.sock.getsockname()
+
+    def send(self, to: tuple[str, int], msg: dict | bytes) -> None:
+        data = msg if isinstance(msg, bytes) else json.dumps(msg).encode()
+        self.sock.sendto(data, to)
+
+    def raw(self, wait_s: float = 0.0) -> list[bytes]:
+        """Every datagram waiting now (after an optional settle time)."""
+        if wait_s:
+            time.sleep(wait_s)
+        out = []
+        while True:
+            try:
+                out.append(self.sock.recv(65536))
+            except BlockingIOError:
+                return out
+
+    def messages(self, kind: str | None = None) -> list[dict]:
+        msgs = [json.loads(d) for d in self.raw()]
+        return [m for m in msgs if kind is None or m.get("type") == kind]
+
+    def close(self) -> None:
+        self.sock.close()

@@ -1,0 +1,720 @@
+"""The UDP link: NMEA 0183 + AIS out to chartplotters, JSON state out to viewers, helm commands in.
+
+One :class:`UdpLink` serves one own ship. The caller's loop calls :meth:`UdpLink.service` once per step with the
+current time and readings; the call drains the JSON socket without blocking, applies helm commands, sends what is
+due, and returns the :class:`HelmState` in force. Nothing a peer sends can raise out of it: every rejected
+datagram is counted by reason in :meth:`UdpLink.stats`, and socket errors are counted too.
+
+Helm rules (``docs/protocol.md`` has the full text):
+
+- A client registers with ``hello`` (role ``viewer`` or ``helm``) and stays registered while it sends something
+  valid at least every ``client_timeout_s`` (3 s); silent clients are dropped.
+- Only registered ``helm`` clients may command. The first command while nobody owns the helm takes ownership;
+  commands from other panels are dropped (``not_owner``) while an owner exists.
+- Per client, only a command with a higher ``seq`` than the last one is applied (``stale_seq`` otherwise).
+- If the owner sends no command for ``watchdog_s`` (1 s), or says ``bye``, ownership is released,
+  ``helm_ok`` becomes false and the failsafe policy applies to the orders: ``hold`` keeps the last order,
+  ``midships_stop`` orders rudder 0 and telegraph STOP (or 0 rpm). Another helm panel may then take over.
+
+Time is whatever clock the caller passes as ``now_s`` (wall clock in live mode, simulation time otherwise); all
+rates, the watchdog and the timeouts are measured in it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hmac
+import ipaddress
+import math
+import select
+import socket
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from datetime import datetime, timedelta, timezone
+
+from vessel_gym.net import ais, nmea
+from vessel_gym.net.protocol import (
+    MAX_DATAGRAM_BYTES,
+    MAX_RATE_HZ,
+    MIN_RATE_HZ,
+    REASONS,
+    Bye,
+    Hello,
+    HelmCommand,
+    Limits,
+    ProtocolError,
+    StatsRequest,
+    Target,
+    encode_state,
+    encode_stats,
+    encode_welcome,
+    parse_datagram,
+)
+from vessel_gym.physics.bridge import BridgeReading
+
+Address = tuple[str, int]
+
+FAILSAFE_POLICIES = ("hold", "midships_stop")
+LINK_DROP_REASONS = ("unregistered", "not_helm", "not_owner", "stale_seq", "too_many_clients", "bad_token")
+NMEA_MAX_DATAGRAM_BYTES = 1400
+# A periodic send is made up to this fraction of its period early, so that rounding of a simulated clock
+# (k * dt against a sum of periods) never skips a send. Jitter of a wall clock needs no slack: a deadline that is
+# missed by a call stays behind the clock and is served by the next call, and deadlines advance by whole periods.
+_SLACK = 1e-3
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Configuration
+
+
+def _check_number(name: str, value: object, low: float, high: float) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ValueError(f"LinkConfig.{name} must be a number, not {value!r}")
+    if not low <= value <= high:
+        raise ValueError(f"LinkConfig.{name} = {value} is outside [{low}, {high}]")
+    return float(value)
+
+
+def _check_address(name: str, value: object, port_zero_ok: bool) -> Address:
+    if (
+        not isinstance(value, (tuple, list))
+        or len(value) != 2
+        or not isinstance(value[0], str)
+        or isinstance(value[1], bool)
+        or not isinstance(value[1], int)
+    ):
+        raise ValueError(f"LinkConfig.{name} must be a (host, port) pair, not {value!r}")
+    host, port = value
+    if not (0 if port_zero_ok else 1) <= port <= 65535:
+        raise ValueError(f"LinkConfig.{name}: port {port} is out of range")
+    return (host, port)
+
+
+@dataclass(frozen=True)
+class LinkConfig:
+    """Strict, immutable configuration of a :class:`UdpLink`. Unknown keys and bad values raise ``ValueError``.
+
+    Build it with keyword arguments or from a mapping with :meth:`from_dict`. Addresses are ``(host, port)``;
+    hosts are IPv4 addresses or names resolved once when the link opens.
+    """
+
+    nmea_destinations: tuple[Address, ...] = (("127.0.0.1", 10110),)  # NMEA/AIS receivers; () = no NMEA
+    nmea_rate_hz: float = 2.0  # own-ship sentence cycles per second, 1-10
+    talkers: nmea.Talkers = nmea.DEFAULT_TALKERS
+    nmea_gll: bool = False  # add GLL to each cycle
+    nmea_zda: bool = False  # add ZDA to each cycle
+    ais_position_interval_s: float = 2.0  # type 1 reports of each target with an MMSI, s (0.1-180)
+    ais_static_interval_s: float = 180.0  # type 5 static/voyage data of each target, s (10-3600)
+    json_bind: Address = ("127.0.0.1", 10120)  # JSON channel socket; port 0 = any free port
+    json_static_destinations: tuple[Address, ...] = ()  # listen-only viewers that get state without hello
+    static_rate_hz: float = 20.0  # state rate to the static destinations, 1-50 Hz
+    default_rate_hz: float = 20.0  # state rate for a hello without rate_hz, 1-50 Hz
+    allow_remote: bool = False  # binding to a non-loopback address requires this
+    token: str | None = None  # if set, a hello must carry this token
+    failsafe: str = "hold"  # "hold" | "midships_stop"
+    watchdog_s: float = 1.0  # helm silence after which the owner loses the helm, s (0.1-10)
+    client_timeout_s: float = 3.0  # silence after which a client is dropped, s (0.5-60)
+    max_clients: int = 16
+    stats_interval_s: float = 5.0  # period of unsolicited stats messages to clients, s (0.5-3600)
+    max_datagrams_per_call: int = 256  # receive budget per service() call
+    limits: Limits = field(default_factory=Limits)
+    utc_epoch: datetime | None = None  # UTC at simulation time 0; None = wall clock at the first service()
+
+    def __post_init__(self) -> None:
+        def put(name: str, value: object) -> None:
+            object.__setattr__(self, name, value)
+
+        if not isinstance(self.nmea_destinations, (tuple, list)):
+            raise ValueError("LinkConfig.nmea_destinations must be a list of (host, port) pairs")
+        put(
+            "nmea_destinations",
+            tuple(_check_address("nmea_destinations", a, False) for a in self.nmea_destinations),
+        )
+        if not isinstance(self.json_static_destinations, (tuple, list)):
+            raise ValueError("LinkConfig.json_static_destinations must be a list of (host, port) pairs")
+        put(
+            "json_static_destinations",
+            tuple(_check_address("json_static_destinations", a, False) for a in self.json_static_destinations),
+        )
+        put("json_bind", _check_address("json_bind", self.json_bind, True))
+        put("nmea_rate_hz", _check_number("nmea_rate_hz", self.nmea_rate_hz, 1.0, 10.0))
+        put(
+            "ais_position_interval_s",
+            _check_number("ais_position_interval_s", self.ais_position_interval_s, 0.1, 180.0),
+        )
+        put(
+            "ais_static_interval_s",
+            _check_number("ais_static_interval_s", self.ais_static_interval_s, 10.0, 3600.0),
+        )
+        put("static_rate_hz", _check_number("static_rate_hz", self.static_rate_hz, MIN_RATE_HZ, MAX_RATE_HZ))
+        put("default_rate_hz", _check_number("default_rate_hz", self.default_rate_hz, MIN_RATE_HZ, MAX_RATE_HZ))
+        put("watchdog_s", _check_number("watchdog_s", self.watchdog_s, 0.1, 10.0))
+        put("client_timeout_s", _check_number("client_timeout_s", self.client_timeout_s, 0.5, 60.0))
+        put("stats_interval_s", _check_number("stats_interval_s", self.stats_interval_s, 0.5, 3600.0))
+        for name, low, high in (("max_clients", 1, 1024), ("max_datagrams_per_call", 1, 100000)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+                raise ValueError(f"LinkConfig.{name} must be an integer in [{low}, {high}], not {value!r}")
+        for name in ("nmea_gll", "nmea_zda", "allow_remote"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"LinkConfig.{name} must be true or false")
+        if self.failsafe not in FAILSAFE_POLICIES:
+            raise ValueError(f"LinkConfig.failsafe must be one of {FAILSAFE_POLICIES}, not {self.failsafe!r}")
+        if self.token is not None and (not isinstance(self.token, str) or not 1 <= len(self.token) <= 128):
+            raise ValueError("LinkConfig.token must be a string of 1-128 characters or None")
+        if isinstance(self.talkers, Mapping):
+            put("talkers", nmea.Talkers(**self.talkers))
+        if not isinstance(self.talkers, nmea.Talkers):
+            raise ValueError("LinkConfig.talkers must be a Talkers")
+        if isinstance(self.limits, Mapping):
+            put("limits", Limits(**self.limits))
+        if not isinstance(self.limits, Limits):
+            raise ValueError("LinkConfig.limits must be a Limits")
+        if self.utc_epoch is not None and not isinstance(self.utc_epoch, datetime):
+            raise ValueError("LinkConfig.utc_epoch must be a datetime or None")
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, object]) -> LinkConfig:
+        """Build from a mapping (e.g. a TOML table); an unknown key raises ``ValueError`` naming it."""
+        known = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise ValueError(f"unknown LinkConfig key(s): {', '.join(unknown)}")
+        return cls(**data)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Helm state
+
+
+@dataclass(frozen=True)
+class HelmState:
+    """The helm orders in force and who gives them.
+
+    ``rudder_order_deg`` (deg, + = starboard) and one of ``telegraph`` (-4..4) / ``rpm_order`` (rev/min) are None
+    until a helm panel has commanded; the caller's own control applies then. ``helm_ok`` is true while the owner's
+    commands are fresh; ``failsafe`` is true when the orders come from the failsafe policy after the owner was
+    lost (they stay in force until a panel commands again). ``seq`` is the seq of the command in force.
+    """
+
+    rudder_order_deg: float | None = None
+    telegraph: int | None = None
+    rpm_order: float | None = None
+    owner: Address | None = None
+    helm_ok: bool = False
+    failsafe: bool = False
+    seq: int | None = None
+
+    @property
+    def has_orders(self) -> bool:
+        """True once a helm panel has commanded (orders are set, fresh or failsafe)."""
+        return self.rudder_order_deg is not None
+
+
+NO_HELM = HelmState()
+
+
+@dataclass
+class _Client:
+    role: str
+    rate_hz: float
+    name: str
+    last_seen: float
+    next_due: float
+    last_seq: int = -1
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The link
+
+
+def _resolve(host: str) -> str:
+    return socket.gethostbyname(host) if host else "0.0.0.0"
+
+
+def _is_loopback(ip: str) -> bool:
+    try:
+        return ipaddress.ip_address(ip).is_loopback
+    except ValueError:
+        return False
+
+
+class UdpLink:
+    """Non-blocking UDP link of one own ship (see the module docstring for the rules).
+
+    ``UdpLink(config)`` binds the JSON socket at once (``json_address`` gives the bound port) and raises
+    ``ValueError`` if the bind address is not loopback and ``config.allow_remote`` is false, or ``OSError`` if
+    the port is taken. Use as a context manager or call :meth:`close`.
+    """
+
+    def __init__(self, config: LinkConfig | None = None) -> None:
+        self.config = config = config if config is not None else LinkConfig()
+        self._json_sock: socket.socket | None = None
+        self._nmea_sock: socket.socket | None = None
+        self._closed = False
+
+        bind_host = _resolve(config.json_bind[0])
+        if not _is_loopback(bind_host) and not config.allow_remote:
+            raise ValueError(
+                f"binding the JSON channel to {bind_host} accepts helm commands from the network: "
+                "set allow_remote to do so"
+            )
+        self._nmea_dest = [(_resolve(h), p) for h, p in config.nmea_destinations]
+        self._static_dest = [(_resolve(h), p) for h, p in config.json_static_destinations]
+
+        sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        try:
+            sock.setblocking(False)
+            sock.bind((bind_host, config.json_bind[1]))
+            if any(ip.endswith(".255") for ip, _ in self._static_dest):
+                sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
+        except OSError:
+            sock.close()
+            raise
+        self._json_sock = sock
+        # A zero-timeout poll costs ~0.5 us where a recvfrom that raises BlockingIOError costs ~2 us: it keeps
+        # service() cheap when nobody is connected.
+        if hasattr(select, "poll"):
+            self._poller = select.poll()
+            self._poller.register(sock, select.POLLIN)
+        else:  # Windows
+            self._poller = None
+        if self._nmea_dest:
+            nsock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+            nsock.setblocking(False)
+            if any(ip.endswith(".255") for ip, _ in self._nmea_dest):
+                nsock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
+            self._nmea_sock = nsock
+
+        self._clients: dict[Address, _Client] = {}
+        self._owner: Address | None = None
+        self._owner_cmd_time = 0.0
+        self._orders: HelmCommand | None = None
+        self._failsafe = False
+        self._helm = NO_HELM
+        self._state_seq = 0
+        self._msg_seq = 0
+        self._last_now: float | None = None
+        self._nmea_due = -math.inf
+        self._nmea_slack = _SLACK / config.nmea_rate_hz
+        self._static_slack = _SLACK / config.static_rate_hz
+        self._static_due = -math.inf
+        self._stats_due = math.inf
+        self._epoch: datetime | None = config.utc_epoch
+        self._ais_pos_due: dict[int, float] = {}
+        self._ais_static_due: dict[int, float] = {}
+        self._ais_seq_id = 0
+        self._ais_channel = "A"
+        self.last_error: str | None = None  # text of the last counted encoding/socket error
+        counters = ["rx_datagrams", "rx_accepted", "tx_state", "tx_welcome", "tx_stats", "tx_nmea_datagrams"]
+        counters += ["tx_nmea_sentences", "tx_ais_sentences", "tx_error", "rx_error", "encode_error"]
+        counters += ["clients_joined", "clients_left", "clients_timed_out"]
+        counters += ["helm_takeovers", "helm_watchdog", "helm_released"]
+        counters += [f"drop_{r}" for r in REASONS + LINK_DROP_REASONS]
+        self._counters: dict[str, int] = dict.fromkeys(counters, 0)
+
+    # -- properties -------------------------------------------------------------------------------------------
+
+    @property
+    def json_address(self) -> Address:
+        """The bound (host, port) of the JSON channel."""
+        if self._json_sock is None:
+            raise ValueError("the link is closed")
+        return self._json_sock.getsockname()
+
+    @property
+    def helm(self) -> HelmState:
+        """The helm state as of the last :meth:`service` call."""
+        return self._helm
+
+    @property
+    def clients(self) -> list[dict[str, object]]:
+        """Snapshot of the registered clients: address, role, rate_hz, name, last_seen_s, helm owner flag."""
+        return [
+            {
+                "address": addr,
+                "role": c.role,
+                "rate_hz": c.rate_hz,
+                "name": c.name,
+                "last_seen_s": c.last_seen,
+                "owner": addr == self._owner,
+            }
+            for addr, c in self._clients.items()
+        ]
+
+    def stats(self) -> dict[str, int]:
+        """Copy of the counters (the key set is fixed).
+
+        Every received datagram is counted once in ``rx_datagrams`` and then exactly once more, in
+        ``rx_accepted`` or in one ``drop_<reason>``. ``tx_*`` count sent datagrams (``tx_nmea_sentences`` and
+        ``tx_ais_sentences`` sentences), ``clients_*`` and ``helm_*`` events, ``*_error`` counted failures.
+        """
+        return dict(self._counters)
+
+    # -- main entry -------------------------------------------------------------------------------------------
+
+    def service(
+        self,
+        now_s: float,
+        own: BridgeReading,
+        targets: Sequence[Target] = (),
+        utc: datetime | None = None,
+    ) -> HelmState:
+        """Receive, apply helm commands, send what is due at time ``now_s`` (s), return the helm state.
+
+        ``own`` is the own ship's readings, ``targets`` the other ships (state targets and AIS). ``utc`` is the
+        time stamped on NMEA/AIS; by default ``utc_epoch + own.t_s``. Never blocks; never raises because of
+        peer input or socket errors (they are counted). After :meth:`close` it only returns the last state.
+        """
+        if self._closed:
+            return self._helm
+        last = self._last_now
+        if last is not None and now_s < last:
+            self._rebase(now_s - last)
+        self._last_now = now_s
+        if self._readable():
+            self._receive(now_s)
+        if self._owner is not None and now_s - self._owner_cmd_time > self.config.watchdog_s:
+            self._release(now_s, "helm_watchdog")
+        if self._clients:
+            self._serve_clients(now_s, own, targets)
+        elif self._static_dest and now_s + self._static_slack >= self._static_due:
+            self._serve_clients(now_s, own, targets)
+        if self._nmea_sock is not None and now_s + self._nmea_slack >= self._nmea_due:
+            self._send_nmea(now_s, own, targets, utc)
+        return self._helm
+
+    # -- receive ----------------------------------------------------------------------------------------------
+
+    def _readable(self) -> bool:
+        if self._poller is not None:
+            return bool(self._poller.poll(0))
+        return bool(select.select([self._json_sock], [], [], 0.0)[0])
+
+    def _receive(self, now_s: float) -> None:
+        sock = self._json_sock
+        counters = self._counters
+        for _ in range(self.config.max_datagrams_per_call):
+            try:
+                data, addr = sock.recvfrom(MAX_DATAGRAM_BYTES + 1)
+            except (BlockingIOError, InterruptedError):
+                return
+            except OSError as exc:  # e.g. an ICMP error reported on the socket
+                counters["rx_error"] += 1
+                self.last_error = f"recv: {exc}"
+                continue
+            counters["rx_datagrams"] += 1
+            try:
+                msg = parse_datagram(data, self.config.limits, self.config.default_rate_hz)
+            except ProtocolError as exc:
+                counters["drop_" + exc.reason] += 1
+                continue
+            self._handle(now_s, addr, msg)
+
+    def _drop(self, reason: str) -> None:
+        self._counters["drop_" + reason] += 1
+
+    def _handle(self, now_s: float, addr: Address, msg: object) -> None:
+        client = self._clients.get(addr)
+        if isinstance(msg, Hello):
+            token = self.config.token
+            if token is not None and (msg.token is None or not hmac.compare_digest(msg.token, token)):
+                self._drop("bad_token")
+                return
+            if client is None:
+                if len(self._clients) >= self.config.max_clients:
+                    self._drop("too_many_clients")
+                    return
+                client = _Client(msg.role, msg.rate_hz, msg.name, now_s, now_s)
+                self._clients[addr] = client
+                self._counters["clients_joined"] += 1
+            else:
+                if client.role == "helm" and msg.role != "helm" and addr == self._owner:
+                    self._release(now_s, "helm_released")
+                if msg.rate_hz != client.rate_hz:
+                    client.next_due = min(client.next_due, now_s + 1.0 / msg.rate_hz)
+                client.role, client.rate_hz, client.name = msg.role, msg.rate_hz, msg.name
+            client.last_seen = now_s
+            self._counters["rx_accepted"] += 1
+            self._send_welcome(addr, client)
+            return
+        if client is None:
+            self._drop("unregistered")
+            return
+        client.last_seen = now_s  # any valid message keeps a client alive, even a command that is dropped
+        if isinstance(msg, HelmCommand):
+            self._command(now_s, addr, client, msg)
+            return
+        self._counters["rx_accepted"] += 1
+        if isinstance(msg, Bye):
+            if addr == self._owner:
+                self._release(now_s, "helm_released")
+            del self._clients[addr]
+            self._counters["clients_left"] += 1
+        elif isinstance(msg, StatsRequest):
+            self._send(addr, self._stats_message(now_s), "tx_stats")
+
+    def _command(self, now_s: float, addr: Address, client: _Client, cmd: HelmCommand) -> None:
+        if client.role != "helm":
+            self._drop("not_helm")
+            return
+        if cmd.seq <= client.last_seq:
+            self._drop("stale_seq")
+            return
+        client.last_seq = cmd.seq
+        if self._owner is None:
+            self._owner = addr
+            self._counters["helm_takeovers"] += 1
+        elif self._owner != addr:
+            self._drop("not_owner")
+            return
+        self._counters["rx_accepted"] += 1
+        self._owner_cmd_time = now_s
+        self._orders = cmd
+        self._failsafe = False
+        self._update_helm()
+
+    def _release(self, now_s: float, counter: str) -> None:
+        """Owner lost (watchdog, bye, role change or timeout): apply the failsafe policy, free the helm."""
+        self._counters[counter] += 1
+        self._owner = None
+        orders = self._orders
+        if orders is not None:
+            self._failsafe = True
+            if self.config.failsafe == "midships_stop":
+                self._orders = HelmCommand(
+                    seq=orders.seq,
+                    rudder_order_deg=0.0,
+                    telegraph=None if orders.telegraph is None else 0,
+                    rpm_order=None if orders.rpm_order is None else 0.0,
+                )
+        self._update_helm()
+
+    def _update_helm(self) -> None:
+        o = self._orders
+        self._helm = HelmState(
+            rudder_order_deg=None if o is None else o.rudder_order_deg,
+            telegraph=None if o is None else o.telegraph,
+            rpm_order=None if o is None else o.rpm_order,
+            owner=self._owner,
+            helm_ok=self._owner is not None and o is not None and not self._failsafe,
+            failsafe=self._failsafe,
+            seq=None if o is None else o.seq,
+        )
+
+    def _rebase(self, delta: float) -> None:
+        """The caller's clock jumped back by -delta: shift every stored time so intervals are kept."""
+        self._owner_cmd_time += delta
+        self._nmea_due += delta
+        self._static_due += delta
+        self._stats_due += delta
+        for c in self._clients.values():
+            c.last_seen += delta
+            c.next_due += delta
+        for table in (self._ais_pos_due, self._ais_static_due):
+            for key in table:
+                table[key] += delta
+
+    # -- send -------------------------------------------------------------------------------------------------
+
+    def _send(self, addr: Address, data: bytes, counter: str, sock: socket.socket | None = None) -> bool:
+        try:
+            (sock or self._json_sock).sendto(data, addr)
+        except OSError as exc:  # buffer full, unreachable network, ...
+            self._counters["tx_error"] += 1
+            self.last_error = f"send to {addr}: {exc}"
+            return False
+        self._counters[counter] += 1
+        return True
+
+    def _next_seq(self) -> int:
+        self._msg_seq += 1
+        return self._msg_seq
+
+    def _send_welcome(self, addr: Address, client: _Client) -> None:
+        cfg = self.config
+        data = encode_welcome(
+            self._next_seq(),
+            client.role,
+            client.rate_hz,
+            addr == self._owner,
+            cfg.limits,
+            cfg.watchdog_s,
+            cfg.client_timeout_s,
+            cfg.failsafe,
+        )
+        self._send(addr, data, "tx_welcome")
+
+    def _stats_message(self, now_s: float) -> bytes:
+        return encode_stats(self._next_seq(), now_s, self._counters, len(self._clients))
+
+    def _serve_clients(self, now_s: float, own: BridgeReading, targets: Sequence[Target]) -> None:
+        timeout = self.config.client_timeout_s
+        parts: list[bytes] | None = None
+        expired = []
+        for addr, c in self._clients.items():
+            if now_s - c.last_seen > timeout:
+                expired.append(addr)
+                continue
+            if now_s + _SLACK / c.rate_hz < c.next_due:
+                continue
+            if parts is None:
+                parts = self._encode_state(own, targets)
+            for data in parts:
+                self._send(addr, data, "tx_state")
+            c.next_due = _advance(c.next_due, 1.0 / c.rate_hz, now_s)
+        for addr in expired:
+            del self._clients[addr]
+            self._counters["clients_timed_out"] += 1
+            if addr == self._owner:
+                self._release(now_s, "helm_watchdog")
+        if self._static_dest and now_s + self._static_slack >= self._static_due:
+            if parts is None:
+                parts = self._encode_state(own, targets)
+            for addr in self._static_dest:
+                for data in parts:
+                    self._send(addr, data, "tx_state")
+            self._static_due = _advance(self._static_due, 1.0 / self.config.static_rate_hz, now_s)
+        if self._clients:
+            if self._stats_due == math.inf:
+                self._stats_due = now_s + self.config.stats_interval_s
+            elif now_s >= self._stats_due:
+                data = self._stats_message(now_s)
+                for addr in self._clients:
+                    self._send(addr, data, "tx_stats")
+                self._stats_due = _advance(self._stats_due, self.config.stats_interval_s, now_s)
+        else:
+            self._stats_due = math.inf
+
+    def _encode_state(self, own: BridgeReading, targets: Sequence[Target]) -> list[bytes]:
+        self._state_seq += 1
+        try:
+            return encode_state(self._state_seq, own, self._helm.helm_ok, targets)
+        except (ValueError, TypeError, OverflowError) as exc:
+            self._counters["encode_error"] += 1
+            self.last_error = f"state: {exc}"
+            return []
+
+    def _utc(self, own: BridgeReading, utc: datetime | None) -> datetime:
+        if utc is not None:
+            return utc
+        t = own.t_s if math.isfinite(own.t_s) and abs(own.t_s) < 1e9 else 0.0
+        if self._epoch is None:
+            self._epoch = datetime.now(timezone.utc) - timedelta(seconds=t)
+        return self._epoch + timedelta(seconds=t)
+
+    def _send_nmea(
+        self, now_s: float, own: BridgeReading, targets: Sequence[Target], utc: datetime | None
+    ) -> None:
+        cfg = self.config
+        self._nmea_due = _advance(self._nmea_due, 1.0 / cfg.nmea_rate_hz, now_s)
+        stamp = self._utc(own, utc)
+        try:
+            sentences = nmea.own_ship_sentences(
+                own, stamp, cfg.talkers, gll_sentence=cfg.nmea_gll, zda_sentence=cfg.nmea_zda
+            )
+        except (ValueError, TypeError, OverflowError) as exc:  # e.g. an absurd value overflowing 82 chars
+            self._counters["encode_error"] += 1
+            self.last_error = f"nmea: {exc}"
+            sentences = []
+        n_own = len(sentences)
+        if targets:
+            sentences += self._ais_sentences(now_s, targets, stamp)
+        if not sentences:
+            return
+        datagrams = nmea.pack_datagrams(sentences, NMEA_MAX_DATAGRAM_BYTES)
+        sent_any = False
+        for addr in self._nmea_dest:
+            for data in datagrams:
+                sent_any |= self._send(addr, data, "tx_nmea_datagrams", self._nmea_sock)
+        if sent_any:
+            self._counters["tx_nmea_sentences"] += n_own
+            self._counters["tx_ais_sentences"] += len(sentences) - n_own
+
+    def _ais_sentences(self, now_s: float, targets: Sequence[Target], stamp: datetime) -> list[str]:
+        cfg = self.config
+        out: list[str] = []
+        live = set()
+        for t in targets:
+            if t.mmsi is None:
+                continue
+            live.add(t.id)
+            try:
+                if now_s >= self._ais_static_due.get(t.id, -math.inf):
+                    out += ais.static_voyage(
+                        t.mmsi,
+                        imo=t.imo,
+                        call_sign=t.call_sign,
+                        name=t.name,
+                        ship_type=t.ship_type,
+                        to_bow_m=t.length_m / 2.0,
+                        to_stern_m=t.length_m / 2.0,
+                        to_port_m=t.beam_m / 2.0,
+                        to_starboard_m=t.beam_m / 2.0,
+                        draught_m=t.draught_m,
+                        destination=t.destination,
+                        seq_id=self._ais_seq_id,
+                        channel=self._next_channel(),
+                    )
+                    self._ais_seq_id = (self._ais_seq_id + 1) % 10
+                    self._ais_static_due[t.id] = now_s + cfg.ais_static_interval_s
+                if now_s >= self._ais_pos_due.get(t.id, -math.inf):
+                    r = t.reading
+                    out += ais.position_report(
+                        t.mmsi,
+                        r.lat_deg,
+                        r.lon_deg,
+                        r.sog_kn,
+                        r.cog_deg,
+                        r.hdg_deg,
+                        r.rot_dpm,
+                        stamp.second,
+                        nav_status=t.nav_status,
+                        channel=self._next_channel(),
+                    )
+                    self._ais_pos_due[t.id] = now_s + cfg.ais_position_interval_s
+            except (ValueError, TypeError, OverflowError) as exc:
+                self._counters["encode_error"] += 1
+                self.last_error = f"ais target {t.id}: {exc}"
+        if len(self._ais_pos_due) > len(live):  # forget ships that left the scene
+            for table in (self._ais_pos_due, self._ais_static_due):
+                for key in [k for k in table if k not in live]:
+                    del table[key]
+        return out
+
+    def _next_channel(self) -> str:
+        self._ais_channel = "B" if self._ais_channel == "A" else "A"
+        return self._ais_channel
+
+    # -- lifecycle --------------------------------------------------------------------------------------------
+
+    def close(self) -> None:
+        """Close the sockets (idempotent). Later :meth:`service` calls do nothing."""
+        self._closed = True
+        for sock in (self._json_sock, self._nmea_sock):
+            if sock is not None:
+                sock.close()
+        self._json_sock = None
+        self._nmea_sock = None
+
+    def __enter__(self) -> UdpLink:
+        return self
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.close()
+
+    def __del__(self) -> None:
+        if not getattr(self, "_closed", True):
+            self.close()
+
+
+def _advance(due: float, period: float, now_s: float) -> float:
+    """Next deadline one period after ``due``; after a stall of more than a period, one period from now.
+
+    Deadlines advance by whole periods, so the average rate is exact whatever the caller's rate; the stall rule
+    keeps a late loop from sending a burst to catch up.
+    """
+    nxt = due + period
+    if not nxt > now_s - period:  # also catches the initial -inf
+        nxt = now_s + period
+    return nxt

@@ -1,0 +1,147 @@
+"""Hull hydrodynamics: the nonlinear Abkowitz model and the MMG standard hull model.
+
+Both are pure functions of the velocities *through the water* (current enters via relative velocity,
+Fossen 2011 §10.3) and return hull forces (X, Y, N) at the body origin (midship), in N and N m.
+Inertial (acceleration) derivatives live in the mass matrix, built once by :mod:`vessel_gym.physics.vessel`.
+
+Low speed: both models are written in nondimensional velocities v' = v/U, r' = rL/U, which are undefined at
+U = 0. Below ``U_min`` the nondimensionalising speed is held at ``U_min`` (forces then scale with U_min^2,
+so they vanish smoothly as the ship stops) and |r'| is clipped at ``r_prime_max`` in the polynomial terms.
+Published manoeuvring sets are fitted over |r'| <~ 1, so neither limit changes a manoeuvre at speed.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from vessel_gym.physics import layout as lo
+
+
+@njit(cache=True, fastmath=False)
+def _clip(x, lo_, hi):
+    return lo_ if x < lo_ else (hi if x > hi else x)
+
+
+@njit(cache=True)
+def _abk_sum(P, base, count, pu, pv, pr, pd):
+    s = 0.0
+    for k in range(count):
+        j = base + 5 * k
+        s += P[j] * pu[int(P[j + 1])] * pv[int(P[j + 2])] * pr[int(P[j + 3])] * pd[int(P[j + 4])]
+    return s
+
+
+@njit(cache=True)
+def abkowitz_forces(P, u, v, r, delta):
+    """Abkowitz (1964) Taylor-series hull model with any set of named derivatives.
+
+    Each term ``c * u'^a v'^b r'^c delta^d`` is one coefficient of the ship file (e.g. ``Y_vvr``). The
+    normalisation is ``P_HULL_FNORM * rho`` times L^2 U^2 (forces) or L^3 U^2 (moment): 1/2 for the SNAME
+    prime system (Mariner, Chislett & Stroem-Tejsen 1965), 1 for the seed report's eq. 5-6.
+    With ``U_ref > 0`` the surge variable is the perturbation u' = (u - U_ref)/U, as in MSS mariner.m.
+    The seed's linear eq. 11 is the special case with only first-order terms.
+    Returns (X, Y, N) in N, N, N m.
+    """
+    L = P[lo.P_L]
+    U = math.sqrt(u * u + v * v)
+    Ue = max(U, P[lo.P_U_MIN])
+    up = (u - P[lo.P_HULL_UREF]) / Ue
+    vp = v / Ue
+    rp = _clip(r * L / Ue, -P[lo.P_RP_MAX], P[lo.P_RP_MAX])
+    pu = (1.0, up, up * up, up * up * up, up * up * up * up)
+    pv = (1.0, vp, vp * vp, vp * vp * vp, vp * vp * vp * vp)
+    pr = (1.0, rp, rp * rp, rp * rp * rp, rp * rp * rp * rp)
+    pd = (1.0, delta, delta * delta, delta * delta * delta, delta * delta * delta * delta)
+    q = P[lo.P_HULL_FNORM] * L * L * Ue * Ue  # rho folded into FNORM
+    X = q * _abk_sum(P, lo.P_ABK_X, int(P[lo.P_ABK_NX]), pu, pv, pr, pd)
+    Y = q * _abk_sum(P, lo.P_ABK_Y, int(P[lo.P_ABK_NY]), pu, pv, pr, pd)
+    N = q * L * _abk_sum(P, lo.P_ABK_N, int(P[lo.P_ABK_NN]), pu, pv, pr, pd)
+    # resistance curve of a propelled Abkowitz ship (R = R_res u|u|), see shipfile docs
+    X -= P[lo.P_HULL_RES] * u * abs(u)
+    if P[lo.P_HULL_CD] > 0.0:
+        Yc, Nc = cross_flow_drag(P, v, r)
+        Y += Yc
+        N += Nc
+    return X, Y, N
+
+
+CROSS_FLOW_STRIPS = 12
+
+
+@njit(cache=True)
+def cross_flow_drag(P, v, r):
+    """Quadratic cross-flow drag of a hull of constant draught T (Faltinsen 1990 §6; Fossen 2011 eq. 6.75).
+
+    Y = -1/2 rho T C_d int |v + x r|(v + x r) dx,  N = -1/2 rho T C_d int x |v + x r|(v + x r) dx
+    over -L/2..L/2 (midpoint rule, 12 strips). It supplies the nonlinear sway-yaw damping of a hull whose
+    published model is linear, and the damping of a ship turning on the spot. Returns (Y, N) in N, N m.
+    """
+    L = P[lo.P_L]
+    h = L / CROSS_FLOW_STRIPS
+    c = 0.5 * P[lo.P_RHO] * P[lo.P_T] * P[lo.P_HULL_CD] * h
+    Y = 0.0
+    N = 0.0
+    for i in range(CROSS_FLOW_STRIPS):
+        x = -0.5 * L + (i + 0.5) * h
+        w = v + x * r
+        f = -c * abs(w) * w
+        Y += f
+        N += x * f
+    return Y, N
+
+
+@njit(cache=True)
+def mmg_hull_forces(P, u, v, r):
+    """MMG standard hull forces, Yasukawa & Yoshimura (2015) eq. 8-10 (midship origin).
+
+    X_H = 1/2 rho L d U^2 X'_H(v', r'), Y_H likewise, N_H = 1/2 rho L^2 d U^2 N'_H(v', r').
+    The resistance term -R'_0 changes sign with u (smoothly over |u| < U_min) so that the hull resists
+    motion astern too; at speed ahead it is exactly the published -R'_0.
+    Returns (X, Y, N) in N, N, N m.
+    """
+    L = P[lo.P_L]
+    d = P[lo.P_T]
+    U = math.sqrt(u * u + v * v)
+    Umin = P[lo.P_U_MIN]
+    Ue = max(U, Umin)
+    vp = v / Ue
+    rp = _clip(r * L / Ue, -P[lo.P_RP_MAX], P[lo.P_RP_MAX])
+    su = u / math.sqrt(u * u + Umin * Umin)
+    Xp = (
+        -P[lo.P_MMG_R0] * su
+        + P[lo.P_MMG_XVV] * vp * vp
+        + P[lo.P_MMG_XVR] * vp * rp
+        + P[lo.P_MMG_XRR] * rp * rp
+        + P[lo.P_MMG_XVVVV] * vp * vp * vp * vp
+    )
+    Yp = (
+        P[lo.P_MMG_YV] * vp
+        + P[lo.P_MMG_YR] * rp
+        + P[lo.P_MMG_YVVV] * vp * vp * vp
+        + P[lo.P_MMG_YVVR] * vp * vp * rp
+        + P[lo.P_MMG_YVRR] * vp * rp * rp
+        + P[lo.P_MMG_YRRR] * rp * rp * rp
+    )
+    Np = (
+        P[lo.P_MMG_NV] * vp
+        + P[lo.P_MMG_NR] * rp
+        + P[lo.P_MMG_NVVV] * vp * vp * vp
+        + P[lo.P_MMG_NVVR] * vp * vp * rp
+        + P[lo.P_MMG_NVRR] * vp * rp * rp
+        + P[lo.P_MMG_NRRR] * rp * rp * rp
+    )
+    q = 0.5 * P[lo.P_RHO] * L * d * Ue * Ue
+    return q * Xp, q * Yp, q * L * Np
+
+
+@njit(cache=True)
+def hull_forces(P, u, v, r, delta):
+    """Dispatch on the ship's hull model. Returns (X, Y, N) in N, N, N m."""
+    kind = int(P[lo.P_HULL_KIND])
+    if kind == lo.HULL_ABKOWITZ:
+        return abkowitz_forces(P, u, v, r, delta)
+    if kind == lo.HULL_MMG:
+        return mmg_hull_forces(P, u, v, r)
+    return 0.0, 0.0, 0.0

@@ -1,0 +1,192 @@
+"""Array layouts shared by the compiled kernels and the Python side.
+
+Every vessel in a batch is described by three rows:
+
+* a **state** row ``x`` (integrated),
+* an **input** row (helm: rudder order, shaft-speed order),
+* an **environment** row (wind, current, waves, air density as seen by that vessel),
+
+plus a **parameter** row ``P`` packed from its ship file (:func:`vessel_gym.physics.vessel.pack`).
+The indices below are module-level integer constants so that numba folds them at compile time.
+"""
+
+from __future__ import annotations
+
+# --- state x[k, :] -------------------------------------------------------------------------------------------
+X_U = 0  # surge velocity through the water, m/s (body x, forward)
+X_V = 1  # sway velocity through the water at the body origin (midship), m/s (body y, starboard)
+X_R = 2  # yaw rate, rad/s (positive turning to starboard)
+X_N = 3  # north position of the body origin, m (earth x)
+X_E = 4  # east position of the body origin, m (earth y)
+X_PSI = 5  # heading, rad (clockwise from north); not wrapped while integrating
+X_DELTA = 6  # actual rudder angle, rad (positive to starboard)
+X_REV = 7  # propeller shaft speed, rev/s (negative astern)
+X_GOV = 8  # speed-governor integrator state, fuel-index units (-)
+NX = 9
+
+STATE_NAMES = ("u", "v", "r", "x", "y", "psi", "delta", "n", "governor")
+
+# --- input u[k, :] ---------------------------------------------------------------------------------------------
+U_DELTA_C = 0  # rudder order, rad
+U_REV_C = 1  # propeller shaft-speed order, rev/s (sign selects ahead/astern clutch; 0 = clutch out)
+NU = 2
+
+# --- environment e[k, :] ---------------------------------------------------------------------------------------
+E_WIND_SPEED = 0  # true wind speed at 10 m, m/s
+E_WIND_FROM = 1  # true wind direction, rad, meteorological "from", clockwise from north
+E_CUR_SPEED = 2  # current speed, m/s
+E_CUR_TO = 3  # current direction, rad, oceanographic "towards", clockwise from north
+E_RHO_AIR = 4  # air density, kg/m^3 (from pressure and temperature, see atmosphere.py)
+E_HS = 5  # significant wave height, m (0: calm)
+E_TP = 6  # peak period, s
+E_WAVE_FROM = 7  # mean wave direction, rad, "from", clockwise from north
+E_ZETA2 = 8  # effective squared wave amplitude for mean drift, m^2 (seastate.effective_zeta2)
+NE = 9
+
+# --- parameter row P[k, :] -------------------------------------------------------------------------------------
+# Filled by vessel.pack(); names follow the literature. Grouped by component.
+_names: list[str] = []
+
+
+def _field(name: str, size: int = 1) -> int:
+    i = len(_names)
+    _names.extend([name] if size == 1 else [f"{name}[{j}]" for j in range(size)])
+    return i
+
+
+# particulars and rigid body
+P_L = _field("L")  # length between perpendiculars, m
+P_B = _field("B")  # beam, m
+P_T = _field("T")  # mean draught, m
+P_RHO = _field("rho")  # water density, kg/m^3
+P_MASS = _field("m")  # mass, kg
+P_XG = _field("x_G")  # centre of gravity forward of the origin, m
+# mass matrix (rigid body + added mass), inverted once at pack time; M = [[m11,0,0],[0,m22,m23],[0,m32,m33]]
+P_M11 = _field("m11")
+P_MI22 = _field("Minv22")
+P_MI23 = _field("Minv23")
+P_MI32 = _field("Minv32")
+P_MI33 = _field("Minv33")
+# Coriolis/centripetal coefficients on the right-hand side:  X += CX_VR v r + CX_RR r^2 ; Y -= CY_UR u r ; N -= CN_UR u r
+P_CX_VR = _field("CX_vr")
+P_CX_RR = _field("CX_rr")
+P_CY_UR = _field("CY_ur")
+P_CN_UR = _field("CN_ur")
+
+# hull model selector and common hull parameters
+HULL_NONE = 0  # no built-in hull forces (a user hull is plugged in from Python)
+HULL_ABKOWITZ = 1
+HULL_MMG = 2
+P_HULL_KIND = _field("hull_kind")
+P_HULL_FNORM = _field("hull_force_norm")  # 1/2 (SNAME prime) or 1 (seed eq. 5-6), times rho
+P_HULL_UREF = _field("U_ref")  # Abkowitz reference speed for u-perturbation terms, m/s (0: u' = u/U)
+P_HULL_RES = _field("R_res")  # Abkowitz added resistance coefficient R/u|u|, N s^2/m^2
+P_HULL_CD = _field("cross_flow_Cd")  # 2-D cross-flow drag coefficient of the hull sections, -
+P_RP_MAX = _field("r_prime_max")  # clip of r' in nonlinear terms at low speed, - (see hull.py)
+P_U_MIN = _field("U_min")  # speed below which nondimensional hull terms are faded out, m/s
+
+# Abkowitz polynomial terms: per equation (X, Y, N) a count and MAX_TERMS x (coef, e_u, e_v, e_r, e_d)
+MAX_TERMS = 40
+P_ABK_NX = _field("abk_nX")
+P_ABK_NY = _field("abk_nY")
+P_ABK_NN = _field("abk_nN")
+P_ABK_X = _field("abk_X", 5 * MAX_TERMS)
+P_ABK_Y = _field("abk_Y", 5 * MAX_TERMS)
+P_ABK_N = _field("abk_N", 5 * MAX_TERMS)
+
+# MMG hull (Yasukawa & Yoshimura 2015, eq. 8-10), nondimensional on 1/2 rho L d U^2 (1/2 rho L^2 d U^2 for N)
+P_MMG_R0 = _field("R_0")
+P_MMG_XVV = _field("X_vv")
+P_MMG_XVR = _field("X_vr")
+P_MMG_XRR = _field("X_rr")
+P_MMG_XVVVV = _field("X_vvvv")
+P_MMG_YV = _field("Y_v")
+P_MMG_YR = _field("Y_r")
+P_MMG_YVVV = _field("Y_vvv")
+P_MMG_YVVR = _field("Y_vvr")
+P_MMG_YVRR = _field("Y_vrr")
+P_MMG_YRRR = _field("Y_rrr")
+P_MMG_NV = _field("N_v")
+P_MMG_NR = _field("N_r")
+P_MMG_NVVV = _field("N_vvv")
+P_MMG_NVVR = _field("N_vvr")
+P_MMG_NVRR = _field("N_vrr")
+P_MMG_NRRR = _field("N_rrr")
+
+# propeller (open water K_T, K_Q quadratics in J; wake, thrust deduction; MMG wake change in manoeuvres)
+P_PROP_ON = _field("has_propeller")
+P_DP = _field("D_P")
+P_KT0 = _field("k_0")
+P_KT1 = _field("k_1")
+P_KT2 = _field("k_2")
+P_KQ0 = _field("q_0")
+P_KQ1 = _field("q_1")
+P_KQ2 = _field("q_2")
+P_WP0 = _field("w_P0")
+P_TP = _field("t_P")
+P_XP = _field("x_P_prime")
+P_C1 = _field("C_1")
+P_C2P = _field("C_2_plus")
+P_C2M = _field("C_2_minus")
+P_AST_KT = _field("astern_kt_ratio")  # astern bollard K_T / ahead bollard K_T, -
+P_AST_KQ = _field("astern_kq_ratio")  # astern bollard K_Q / ahead bollard K_Q, -
+P_AST_SLOPE = _field("astern_inflow_slope")  # d(C_T*)/d(u_a/|n|D) in quadrant 4 relative to k_0, -
+
+# rudder
+RUDDER_DERIVATIVES = 0  # rudder forces are in the hull derivatives (delta terms)
+RUDDER_MMG = 1
+P_RUD_KIND = _field("rudder_kind")
+P_AR = _field("A_R")
+P_HR = _field("H_R")
+P_TR = _field("t_R")
+P_AH = _field("a_H")
+P_XHP = _field("x_H_prime")
+P_XRP = _field("x_R_prime")
+P_GRM = _field("gamma_R_minus")
+P_GRP = _field("gamma_R_plus")
+P_LRP = _field("l_R_prime")
+P_EPS = _field("epsilon")
+P_KAPPA = _field("kappa")
+P_FALPHA = _field("f_alpha")
+P_ETA = _field("eta")
+
+# steering gear
+P_DMAX = _field("delta_max")  # rad
+P_DRATE = _field("delta_rate_max")  # rad/s
+P_DTAU = _field("delta_time_constant")  # s
+
+# transmission, engine, governor, shaft
+P_GEAR = _field("gear_ratio")  # engine rev / propeller rev, -
+P_ETA_GEAR = _field("eta_gear")  # transmission efficiency, -
+P_I_SHAFT = _field("I_shaft")  # propeller + entrained water + shafting + i^2 engine inertia, kg m^2
+P_Q_FRIC = _field("Q_friction")  # shaft friction torque at rated speed, N m (scaled linearly with speed)
+P_ENG_NRATED = _field("n_e_rated")  # engine rated speed, rev/s
+P_ENG_QRATED = _field("Q_e_rated")  # engine rated torque (MCR torque), N m
+MAP_NS = 8  # engine torque map: speed breakpoints
+MAP_NF = 6  # engine torque map: fuel-index breakpoints
+P_MAP_S = _field("map_speed", MAP_NS)  # engine speed / rated, -
+P_MAP_F = _field("map_fuel", MAP_NF)  # fuel index, -
+P_MAP_Q = _field("map_torque", MAP_NS * MAP_NF)  # torque / rated torque, -, row-major [speed, fuel]
+P_GOV_KP = _field("governor_Kp")  # fuel index per unit relative speed error, -
+P_GOV_KI = _field("governor_Ki")  # fuel index per (unit relative speed error * s), 1/s
+P_ENG_ASTERN = _field("astern_torque_ratio")  # astern torque / ahead torque, -
+P_CLUTCH_MIN = _field("clutch_min_rev")  # |order| below this (rev/s of propeller) = clutch out
+
+# windage (Blendermann 1994)
+P_WIND_ON = _field("has_windage")
+P_AFW = _field("A_FW")  # frontal projected area, m^2
+P_ALW = _field("A_LW")  # lateral projected area, m^2
+P_SL = _field("s_L")  # centre of lateral area forward of the origin, m
+P_CDT = _field("CD_t")
+P_CDL0 = _field("CD_l_AF_0")
+P_CDLPI = _field("CD_l_AF_pi")
+P_BDELTA = _field("blendermann_delta")
+P_BKAPPA = _field("blendermann_kappa")
+
+# mean wave drift: nondimensional X, Y, N coefficients tabulated over the encounter angle (seastate.py)
+WAVE_NA = 73  # 0..360 deg in 5 deg steps
+P_WAVE_ON = _field("has_wave_drift")
+P_WAVE_TAB = _field("wave_drift_table", 3 * WAVE_NA)
+
+NP = len(_names)
+PARAM_NAMES = tuple(_names)

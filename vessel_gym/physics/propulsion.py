@@ -1,0 +1,175 @@
+"""Propulsion: propeller open-water model in four quadrants, transmission, engine torque map, speed governor
+and shaft dynamics.
+
+The chain follows the seed report's engine subsystem: a torque map (engine speed x fuel index) with a
+closed-loop speed governor (PI) setting the fuel index, lumped inertia, driving a transmission (gear ratio,
+efficiency, clutch ahead / neutral / astern) and the propeller shaft against the propeller's torque.
+
+Shaft equation (rigid shafting, clutch engaged):
+    2 pi I dn/dt = s eta_G i Q_E(n_E, f) - Q_P(u_a, n) - Q_f(n),     n_E = s i n
+with s = +1 ahead / -1 astern (clutch direction, from the sign of the order) and s = 0 clutch out.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from vessel_gym.physics import layout as lo
+
+
+@njit(cache=True)
+def propeller_thrust_torque(P, u_a, n):
+    """Propeller thrust T (N, positive ahead) and absorbed torque Q (N m, same sign convention as n).
+
+    Quadrant 1 (n >= 0, u_a >= 0): the open-water quadratics K_T = k_0 + k_1 J + k_2 J^2 (and K_Q), written
+    as T = rho D^2 (k_0 (nD)^2 + k_1 (nD) u_a + k_2 u_a^2) so that they stay finite at n = 0 (locked-propeller
+    drag k_2 u_a^2) and need no division by n.
+    Quadrants 2-4 use the astern approximation documented in docs/ship-file.md: bollard values in quadrant 2;
+    astern bollard coefficients ``astern_kt_ratio * k_0`` (and K_Q) in quadrants 3 and 4, with the
+    magnitude growing linearly with ahead inflow in quadrant 4 (crash stop) at ``astern_inflow_slope``.
+    """
+    D = P[lo.P_DP]
+    rho = P[lo.P_RHO]
+    k0 = P[lo.P_KT0]
+    k1 = P[lo.P_KT1]
+    k2 = P[lo.P_KT2]
+    q0 = P[lo.P_KQ0]
+    q1 = P[lo.P_KQ1]
+    q2 = P[lo.P_KQ2]
+    cT = rho * D * D
+    cQ = cT * D
+    nD = n * D
+    if n >= 0.0:
+        if u_a >= 0.0:
+            T = cT * (k0 * nD * nD + k1 * nD * u_a + k2 * u_a * u_a)
+            Q = cQ * (q0 * nD * nD + q1 * nD * u_a + q2 * u_a * u_a)
+        else:
+            T = cT * k0 * nD * nD
+            Q = cQ * q0 * nD * nD
+    else:
+        m = -nD
+        at = P[lo.P_AST_KT]
+        aq = P[lo.P_AST_KQ]
+        if u_a <= 0.0:
+            w = -u_a
+            T = -at * cT * (k0 * m * m + k1 * m * w + k2 * w * w)
+            Q = -aq * cQ * (q0 * m * m + q1 * m * w + q2 * w * w)
+        else:
+            s = P[lo.P_AST_SLOPE]
+            T = -at * cT * k0 * (m * m + s * m * u_a) + cT * k2 * u_a * u_a
+            Q = -aq * cQ * q0 * (m * m + s * m * u_a) + cQ * q2 * u_a * u_a
+    return T, Q
+
+
+@njit(cache=True)
+def effective_wake(P, u, v, r):
+    """Wake fraction at the propeller in a manoeuvre, Yasukawa & Yoshimura (2015) eq. 15-16.
+
+    (1 - w_P)/(1 - w_P0) = 1 + (1 - exp(-C_1 |beta_P|)) (C_2 - 1),  beta_P = beta - x'_P r'.
+    C_1 = 0 gives the straight-running wake w_P0 for all motions. Returns w_P (-).
+    """
+    w0 = P[lo.P_WP0]
+    C1 = P[lo.P_C1]
+    if C1 == 0.0:
+        return w0
+    U = math.sqrt(u * u + v * v)
+    if U < 1e-6:
+        return w0
+    beta = math.atan2(-v, u)
+    betaP = beta - P[lo.P_XP] * r * P[lo.P_L] / U
+    C2 = P[lo.P_C2P] if betaP > 0.0 else P[lo.P_C2M]
+    one_minus_w = (1.0 - w0) * (1.0 + (1.0 - math.exp(-C1 * abs(betaP))) * (C2 - 1.0))
+    return 1.0 - one_minus_w
+
+
+@njit(cache=True)
+def engine_torque(P, n_e, fuel):
+    """Engine brake torque (N m) from the 2-D torque map, bilinear in (n_E / n_rated, fuel index).
+
+    Outside the map the nearest edge value is used (below the lowest speed: the starting-torque row).
+    """
+    s = n_e / P[lo.P_ENG_NRATED]
+    S0 = lo.P_MAP_S
+    F0 = lo.P_MAP_F
+    i = 0
+    if s <= P[S0]:
+        s = P[S0]
+    elif s >= P[S0 + lo.MAP_NS - 1]:
+        s = P[S0 + lo.MAP_NS - 1]
+        i = lo.MAP_NS - 2
+    else:
+        while P[S0 + i + 1] < s:
+            i += 1
+    j = 0
+    f = fuel
+    if f <= P[F0]:
+        f = P[F0]
+    elif f >= P[F0 + lo.MAP_NF - 1]:
+        f = P[F0 + lo.MAP_NF - 1]
+        j = lo.MAP_NF - 2
+    else:
+        while P[F0 + j + 1] < f:
+            j += 1
+    ts = (s - P[S0 + i]) / (P[S0 + i + 1] - P[S0 + i])
+    tf = (f - P[F0 + j]) / (P[F0 + j + 1] - P[F0 + j])
+    Q0 = lo.P_MAP_Q
+    nf = lo.MAP_NF
+    q00 = P[Q0 + i * nf + j]
+    q01 = P[Q0 + i * nf + j + 1]
+    q10 = P[Q0 + (i + 1) * nf + j]
+    q11 = P[Q0 + (i + 1) * nf + j + 1]
+    q = (1 - ts) * ((1 - tf) * q00 + tf * q01) + ts * ((1 - tf) * q10 + tf * q11)
+    return q * P[lo.P_ENG_QRATED]
+
+
+@njit(cache=True)
+def clutch_direction(P, n_order):
+    """+1 ahead, -1 astern, 0 clutch out (|order| below the clutch threshold)."""
+    if n_order > P[lo.P_CLUTCH_MIN]:
+        return 1.0
+    if n_order < -P[lo.P_CLUTCH_MIN]:
+        return -1.0
+    return 0.0
+
+
+@njit(cache=True)
+def governor(P, n, gov_i, n_order):
+    """PI speed governor with conditional-integration anti-windup.
+
+    Speed error e = (i |n_order| - n_E) / n_E,rated; fuel index f = clip(K_p e + x_gov, 0, 1);
+    dx_gov/dt = K_i e, frozen while f is saturated in the direction of e. Returns (fuel, dx_gov/dt, s, n_E).
+    """
+    s = clutch_direction(P, n_order)
+    i_g = P[lo.P_GEAR]
+    if s == 0.0:
+        return 0.0, -gov_i * 0.2, 0.0, 0.0  # clutch out: integrator bleeds off (5 s), engine idles
+    n_e = s * i_g * n
+    e = (i_g * abs(n_order) - n_e) / P[lo.P_ENG_NRATED]
+    f_raw = P[lo.P_GOV_KP] * e + gov_i
+    f = min(max(f_raw, 0.0), 1.0)
+    di = P[lo.P_GOV_KI] * e
+    if (f_raw >= 1.0 and e > 0.0) or (f_raw <= 0.0 and e < 0.0):
+        di = 0.0
+    return f, di, s, n_e
+
+
+@njit(cache=True)
+def shaft_acceleration(P, n, gov_i, n_order, Q_prop):
+    """dn/dt (rev/s^2) and the governor integrator rate for the propeller shaft.
+
+    Returns (dn/dt, dx_gov/dt, fuel index, engine speed rev/s, engine torque N m).
+    """
+    fuel, di, s, n_e = governor(P, n, gov_i, n_order)
+    Q_e = 0.0
+    Q_drive = 0.0
+    if s != 0.0:
+        Q_e = engine_torque(P, n_e, fuel)
+        Q_drive = s * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * Q_e
+        if s < 0.0:
+            Q_drive *= P[lo.P_ENG_ASTERN]
+    n_rated_p = P[lo.P_ENG_NRATED] / P[lo.P_GEAR]
+    Q_f = P[lo.P_Q_FRIC] * n / n_rated_p
+    ndot = (Q_drive - Q_prop - Q_f) / (2.0 * math.pi * P[lo.P_I_SHAFT])
+    return ndot, di, fuel, n_e, Q_e

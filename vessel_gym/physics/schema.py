@@ -1,0 +1,134 @@
+"""Strict loading of typed, frozen dataclasses from TOML tables.
+
+Every field of a parameter dataclass carries its unit and allowed range in ``metadata``; loading rejects
+unknown keys, missing required keys, wrong types, non-finite numbers and out-of-range values with a one-line
+message naming the file and the key. Shared by ship files and scenario files.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+import typing
+from pathlib import Path
+from typing import Any
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+
+class SpecError(ValueError):
+    """A data file (ship, scenario, study) is invalid. The message is one line naming file and key."""
+
+
+def param(default: Any = dataclasses.MISSING, *, unit: str = "-", lo: float | None = None,
+          hi: float | None = None, doc: str = "", choices: tuple | None = None) -> Any:
+    """A dataclass field with unit, range and documentation (read by the loader and the docs generator)."""
+    md = {"unit": unit, "lo": lo, "hi": hi, "doc": doc, "choices": choices}
+    if default is dataclasses.MISSING:
+        return dataclasses.field(metadata=md)
+    if isinstance(default, (list, dict)):
+        return dataclasses.field(default_factory=lambda: default, metadata=md)
+    return dataclasses.field(default=default, metadata=md)
+
+
+def read_toml(path: Path) -> dict:
+    """Read a TOML file; a syntax error becomes a one-line SpecError naming the file."""
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise SpecError(f"{path}: file not found") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError(f"{path}: TOML syntax error: {exc}") from None
+
+
+def _check_number(value: Any, where: str, md: dict) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SpecError(f"{where}: expected a number, got {type(value).__name__} {value!r}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise SpecError(f"{where}: value must be finite, got {value!r}")
+    lo, hi = md.get("lo"), md.get("hi")
+    if (lo is not None and x < lo) or (hi is not None and x > hi):
+        lo_s = "-inf" if lo is None else f"{lo:g}"
+        hi_s = "inf" if hi is None else f"{hi:g}"
+        raise SpecError(f"{where}: {x:g} {md.get('unit', '')} is outside the allowed range [{lo_s}, {hi_s}]")
+    return x
+
+
+def _convert(value: Any, tp: Any, where: str, md: dict) -> Any:
+    origin = typing.get_origin(tp)
+    if tp is float:
+        return _check_number(value, where, md)
+    if tp is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise SpecError(f"{where}: expected an integer, got {value!r}")
+        _check_number(value, where, md)
+        return value
+    if tp is dict:
+        if not isinstance(value, dict):
+            raise SpecError(f"{where}: expected a table, got {value!r}")
+        return value
+    if tp is bool:
+        if not isinstance(value, bool):
+            raise SpecError(f"{where}: expected true or false, got {value!r}")
+        return value
+    if tp is str:
+        if not isinstance(value, str):
+            raise SpecError(f"{where}: expected a string, got {value!r}")
+        choices = md.get("choices")
+        if choices and value not in choices:
+            raise SpecError(f"{where}: {value!r} is not one of {', '.join(map(repr, choices))}")
+        return value
+    if origin is tuple:
+        (inner, _ell) = typing.get_args(tp)
+        if not isinstance(value, list):
+            raise SpecError(f"{where}: expected a list, got {value!r}")
+        return tuple(_convert(v, inner, f"{where}[{i}]", md) for i, v in enumerate(value))
+    if origin is typing.Union or str(origin) == "<class 'types.UnionType'>":
+        args = [a for a in typing.get_args(tp) if a is not type(None)]
+        return _convert(value, args[0], where, md)
+    if dataclasses.is_dataclass(tp):
+        if not isinstance(value, dict):
+            raise SpecError(f"{where}: expected a table, got {value!r}")
+        return build(tp, value, where)
+    raise TypeError(f"unsupported field type {tp!r} at {where}")  # programming error, not user input
+
+
+def build(cls: type, table: dict, where: str) -> Any:
+    """Build dataclass ``cls`` from a TOML table; ``where`` prefixes messages ("file.toml: [hull]")."""
+    if not isinstance(table, dict):
+        raise SpecError(f"{where}: expected a table")
+    hints = typing.get_type_hints(cls)
+    fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
+    unknown = [k for k in table if k not in fields]
+    if unknown:
+        raise SpecError(f"{where}: unknown key {unknown[0]!r} (allowed: {', '.join(fields)})")
+    kwargs = {}
+    for name, f in fields.items():
+        key_where = f"{where} {name}"
+        if name in table:
+            kwargs[name] = _convert(table[name], hints[name], key_where, dict(f.metadata))
+        elif f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+            raise SpecError(f"{key_where}: missing required key")
+    return cls(**kwargs)
+
+
+def describe(cls: type) -> list[tuple[str, str, str, str, str]]:
+    """(key, type, unit, range, doc) rows for documentation of a parameter dataclass."""
+    rows = []
+    hints = typing.get_type_hints(cls)
+    for f in dataclasses.fields(cls):
+        md = f.metadata
+        lo, hi = md.get("lo"), md.get("hi")
+        rng = "" if lo is None and hi is None else f"[{'' if lo is None else f'{lo:g}'}, {'' if hi is None else f'{hi:g}'}]"
+        if md.get("choices"):
+            rng = " | ".join(md["choices"])
+        req = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        tname = getattr(hints[f.name], "__name__", str(hints[f.name]))
+        rows.append((f.name + (" (required)" if req else ""), tname, md.get("unit", ""), rng, md.get("doc", "")))
+    return rows

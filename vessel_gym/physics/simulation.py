@@ -1,0 +1,384 @@
+"""Simulation: vessel(s) + environment & sea state + motion constraints + a fixed-step integrator.
+
+The five top-level parts of a simulation are Bridge & Navigation (:mod:`~vessel_gym.physics.bridge`),
+Vessel (:mod:`~vessel_gym.physics.vessel`), Motion Constraints (free 3-DOF here; captive in
+:mod:`~vessel_gym.physics.constraints`), Sea-State and Environment & Atmosphere
+(:class:`~vessel_gym.physics.environment.Environment`). State is batched over N vessels; N = 1 and
+N = 16384 run the same compiled code.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Protocol
+
+import numpy as np
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.bridge import BridgeReading
+from vessel_gym.physics.environment import CALM, Environment, wrap_deg
+from vessel_gym.physics.geodesy import local_to_latlon
+from vessel_gym.physics.integrate import EULER, RK4, derivatives_batch, forces_batch, run_parallel, run_serial
+from vessel_gym.physics.propulsion import engine_torque
+from vessel_gym.physics.shipfile import Ship, load_ship
+from vessel_gym.physics.units import DEG, KNOT_M_S
+from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, pack
+
+PARALLEL_MIN_BATCH = 256  # below this, thread start-up costs more than it saves
+
+
+class ForceComponent(Protocol):
+    """A user component written in plain Python: extra forces on every vessel of the batch.
+
+    ``forces`` receives the simulation and the state array being evaluated (N, NX) (inside an RK4 stage
+    this is the stage state, not ``sim.state``) and returns an (N, 3) array of X (N), Y (N), N (N m) at the
+    body origin. Plug a whole replacement hull in by giving the ship file ``[hull] model`` of your own and
+    returning its forces here (see docs/components.md).
+    """
+
+    def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
+
+
+class SimulationError(RuntimeError):
+    """A simulation cannot be set up or continued (e.g. a requested speed the engine cannot reach)."""
+
+
+class Simulation:
+    """N vessels integrated together with a fixed step.
+
+    Args:
+        ships: a ship (name, path or :class:`Ship`) or a sequence of them.
+        n: number of vessels (default: one per ship given).
+        ship_index: which ship each vessel is (length n); default 0 for all when one ship, else range.
+        dt: physics step, s.
+        method: "rk4" (default) or "euler".
+        environment: one :class:`Environment` for all vessels (``set_environment`` changes one vessel).
+        components: user :class:`ForceComponent` objects (evaluated in Python at every RK stage).
+        reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
+    """
+
+    def __init__(
+        self,
+        ships: str | Ship | Sequence[str | Ship],
+        n: int | None = None,
+        ship_index: Sequence[int] | None = None,
+        dt: float = 0.1,
+        method: str = "rk4",
+        environment: Environment = CALM,
+        components: Sequence[ForceComponent] = (),
+        reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
+    ) -> None:
+        seq = [ships] if isinstance(ships, (str, Ship)) or not isinstance(ships, Sequence) else list(ships)
+        self.ships: list[Ship] = [load_ship(s) for s in seq]
+        if n is None:
+            n = len(self.ships)
+        if n < 1:
+            raise ValueError(f"n must be >= 1, got {n}")
+        if ship_index is None:
+            ship_index = [0] * n if len(self.ships) == 1 else list(range(n))
+        self.ship_index = np.asarray(ship_index, dtype=np.int64)
+        if self.ship_index.shape != (n,) or self.ship_index.min() < 0 or self.ship_index.max() >= len(self.ships):
+            raise ValueError(f"ship_index must have {n} entries in [0, {len(self.ships) - 1}]")
+        if not (dt > 0.0 and math.isfinite(dt)):
+            raise ValueError(f"dt must be a positive number of seconds, got {dt}")
+        if method not in ("rk4", "euler"):
+            raise ValueError(f"method must be 'rk4' or 'euler', got {method!r}")
+        self.dt = float(dt)
+        self.method = RK4 if method == "rk4" else EULER
+        self.Ps = np.stack([pack(s) for s in self.ships])
+        self.n = n
+        self.state = np.zeros((n, lo.NX))
+        self.inputs = np.zeros((n, lo.NU))
+        self.env = np.zeros((n, lo.NE))
+        self.F_ext = np.zeros((n, 3))
+        self.alive = np.ones(n, dtype=np.bool_)
+        self.t = 0.0
+        self.components = list(components)
+        self.reference_latlon_deg = reference_latlon_deg
+        self.environments: list[Environment] = [environment] * n
+        for k in range(n):
+            self.set_environment(environment, k)
+
+    # --- set-up -------------------------------------------------------------------------------------------
+    def ship(self, k: int = 0) -> Ship:
+        return self.ships[self.ship_index[k]]
+
+    def set_environment(self, environment: Environment, k: int | None = None) -> None:
+        """Set the environment of vessel k (all vessels when k is None)."""
+        idx = range(self.n) if k is None else [k]
+        for j in idx:
+            s = self.ship(j)
+            self.env[j] = environment.row(s.particulars.L_m, s.particulars.T_m)
+            self.environments[j] = environment
+
+    def reset(self, speed_m_s: float | np.ndarray | None = None, heading_deg: float | np.ndarray = 0.0,
+              x_m: float | np.ndarray = 0.0, y_m: float | np.ndarray = 0.0, k: int | None = None) -> None:
+        """Put vessel k (all when None) in a steady straight approach at ``speed_m_s`` through the water.
+
+        The shaft-speed order is solved for zero surge acceleration and the governor integrator is set to
+        the fuel index that holds it (IMO trials start from a steady approach). Speed None: the ship's
+        IMO test speed. Raises SimulationError if the engine cannot make that speed.
+        """
+        idx = list(range(self.n)) if k is None else [k]
+        sp = np.broadcast_to(np.asarray(np.nan if speed_m_s is None else speed_m_s, dtype=float), (self.n,))
+        hd = np.broadcast_to(np.asarray(heading_deg, dtype=float), (self.n,))
+        xs = np.broadcast_to(np.asarray(x_m, dtype=float), (self.n,))
+        ys = np.broadcast_to(np.asarray(y_m, dtype=float), (self.n,))
+        cache: dict[tuple[int, float], np.ndarray] = {}
+        for j in idx:
+            si = int(self.ship_index[j])
+            speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
+            key = (si, speed)
+            if key not in cache:
+                cache[key] = steady_state(self.ships[si], self.Ps[si], speed)
+            xrow, urow = cache[key]
+            self.state[j] = xrow
+            self.inputs[j] = urow
+            self.state[j, lo.X_PSI] = hd[j] * DEG
+            self.state[j, lo.X_N] = xs[j]
+            self.state[j, lo.X_E] = ys[j]
+            self.alive[j] = True
+        if k is None:
+            self.t = 0.0
+
+    # --- helm -----------------------------------------------------------------------------------------------
+    def set_helm(self, rudder_order_rad: float | np.ndarray | None = None,
+                 rev_order: float | np.ndarray | None = None, k: int | slice | None = None) -> None:
+        """Rudder order (rad, positive starboard) and propeller shaft-speed order (rev/s, negative astern)."""
+        sl = slice(None) if k is None else k
+        if rudder_order_rad is not None:
+            self.inputs[sl, lo.U_DELTA_C] = rudder_order_rad
+        if rev_order is not None:
+            self.inputs[sl, lo.U_REV_C] = rev_order
+
+    def telegraph_rev(self, telegraph: int | np.ndarray, k: int | None = None) -> np.ndarray:
+        """Propeller rev/s for a telegraph step (-4..4) from each ship's ``telegraph_rpm`` table."""
+        tg = np.broadcast_to(np.asarray(telegraph, dtype=np.int64), (self.n,))
+        out = np.zeros(self.n)
+        for j in range(self.n) if k is None else [k]:
+            eng = self.ship(j).engine
+            if eng is not None:
+                out[j] = eng.telegraph_rpm[int(np.clip(tg[j], -4, 4)) + 4] / 60.0
+        return out if k is None else out[k]
+
+    # --- integration ----------------------------------------------------------------------------------------
+    def step(self, nsteps: int = 1) -> int:
+        """Advance all vessels ``nsteps`` physics steps with the helm held. Returns the number alive."""
+        if nsteps < 0:
+            raise ValueError("nsteps must be >= 0")
+        if self.components:
+            alive = self._step_python(nsteps)
+        else:
+            run = run_parallel if self.n >= PARALLEL_MIN_BATCH else run_serial
+            alive = run(self.Ps, self.ship_index, self.state, self.inputs, self.env, self.F_ext, self.dt,
+                        nsteps, self.method, self.alive)
+        self.t += nsteps * self.dt
+        return int(alive)
+
+    def advance(self, duration_s: float) -> int:
+        """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""
+        return self.step(steps_for(duration_s, self.dt))
+
+    def _ext(self, x: np.ndarray) -> np.ndarray:
+        F = self.F_ext.copy()
+        for c in self.components:
+            F += np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
+        return F
+
+    def _step_python(self, nsteps: int) -> int:
+        dt = self.dt
+        for _ in range(nsteps):
+            x = self.state
+            k1 = np.empty_like(x)
+            derivatives_batch(self.Ps, self.ship_index, x, self.inputs, self.env, self._ext(x), k1)
+            if self.method == EULER:
+                xn = x + dt * k1
+            else:
+                k2, k3, k4 = np.empty_like(x), np.empty_like(x), np.empty_like(x)
+                x2 = x + 0.5 * dt * k1
+                derivatives_batch(self.Ps, self.ship_index, x2, self.inputs, self.env, self._ext(x2), k2)
+                x3 = x + 0.5 * dt * k2
+                derivatives_batch(self.Ps, self.ship_index, x3, self.inputs, self.env, self._ext(x3), k3)
+                x4 = x + dt * k3
+                derivatives_batch(self.Ps, self.ship_index, x4, self.inputs, self.env, self._ext(x4), k4)
+                xn = x + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            ok = np.isfinite(xn).all(axis=1) & self.alive
+            self.state[ok] = xn[ok]
+            self.alive &= ok
+        return int(self.alive.sum())
+
+    # --- named quantities (tasks ask these, never index raw state) ----------------------------------------
+    @property
+    def u(self) -> np.ndarray:
+        """Surge velocity through the water, m/s."""
+        return self.state[:, lo.X_U]
+
+    @property
+    def v(self) -> np.ndarray:
+        """Sway velocity through the water at midship, m/s (positive starboard)."""
+        return self.state[:, lo.X_V]
+
+    @property
+    def r(self) -> np.ndarray:
+        """Yaw rate, rad/s (positive to starboard)."""
+        return self.state[:, lo.X_R]
+
+    @property
+    def north(self) -> np.ndarray:
+        return self.state[:, lo.X_N]
+
+    @property
+    def east(self) -> np.ndarray:
+        return self.state[:, lo.X_E]
+
+    @property
+    def heading(self) -> np.ndarray:
+        """Heading, rad, unwrapped (continuous through a turn)."""
+        return self.state[:, lo.X_PSI]
+
+    @property
+    def rudder(self) -> np.ndarray:
+        """Actual rudder angle, rad."""
+        return self.state[:, lo.X_DELTA]
+
+    @property
+    def rudder_order(self) -> np.ndarray:
+        return self.inputs[:, lo.U_DELTA_C]
+
+    @property
+    def rev(self) -> np.ndarray:
+        """Propeller shaft speed, rev/s."""
+        return self.state[:, lo.X_REV]
+
+    @property
+    def rev_order(self) -> np.ndarray:
+        return self.inputs[:, lo.U_REV_C]
+
+    @property
+    def speed_through_water(self) -> np.ndarray:
+        return np.hypot(self.u, self.v)
+
+    def ground_velocity(self) -> tuple[np.ndarray, np.ndarray]:
+        """Velocity over ground (north, east), m/s."""
+        c, s = np.cos(self.heading), np.sin(self.heading)
+        cur = self.env[:, lo.E_CUR_SPEED]
+        to = self.env[:, lo.E_CUR_TO]
+        vn = c * self.u - s * self.v + cur * np.cos(to)
+        ve = s * self.u + c * self.v + cur * np.sin(to)
+        return vn, ve
+
+    def forces(self) -> dict[str, np.ndarray]:
+        """Component forces at the current state (N, N m; see vessel.FORCE_NAMES)."""
+        out = np.zeros((self.n, N_OUT))
+        forces_batch(self.Ps, self.ship_index, self.state, self.inputs, self.env, out)
+        return {name: out[:, i] for i, name in enumerate(FORCE_NAMES)}
+
+    def engine(self, k: int = 0) -> dict[str, float]:
+        """Engine readings of vessel k: fuel index, engine rpm, torque (N m), shaft power (kW)."""
+        from vessel_gym.physics.propulsion import governor
+
+        P = self.Ps[self.ship_index[k]]
+        if P[lo.P_PROP_ON] == 0.0:
+            return {"fuel_index": 0.0, "engine_rpm": 0.0, "torque_Nm": 0.0, "power_kW": 0.0}
+        fuel, _di, s, n_e = governor(P, self.rev[k], self.state[k, lo.X_GOV], self.rev_order[k])
+        q = engine_torque(P, n_e, fuel) if s != 0.0 else 0.0
+        return {"fuel_index": fuel, "engine_rpm": n_e * 60.0, "torque_Nm": q,
+                "power_kW": 2 * math.pi * n_e * q / 1e3}
+
+    def bridge(self, k: int = 0, telegraph: int = 0) -> BridgeReading:
+        """Instrument readings of vessel k (Bridge & Navigation)."""
+        vn, ve = self.ground_velocity()
+        f = self.forces()
+        lat, lon = local_to_latlon(self.north[k], self.east[k], *self.reference_latlon_deg)
+        e = self.environments[k]
+        return BridgeReading(
+            t_s=self.t,
+            x_m=float(self.north[k]),
+            y_m=float(self.east[k]),
+            lat_deg=lat,
+            lon_deg=lon,
+            hdg_deg=wrap_deg(math.degrees(self.heading[k])),
+            cog_deg=wrap_deg(math.degrees(math.atan2(ve[k], vn[k]))),
+            sog_kn=float(math.hypot(vn[k], ve[k]) / KNOT_M_S),
+            stw_kn=float(self.u[k] / KNOT_M_S),
+            stw_transverse_kn=float(self.v[k] / KNOT_M_S),
+            rot_dpm=float(math.degrees(self.r[k]) * 60.0),
+            rudder_deg=float(math.degrees(self.rudder[k])),
+            rudder_order_deg=float(math.degrees(self.rudder_order[k])),
+            rpm=float(self.rev[k] * 60.0),
+            telegraph=int(telegraph),
+            wind_rel_angle_deg=wrap_deg(math.degrees(f["gamma_rw"][k])),
+            wind_rel_speed_kn=float(f["V_rw"][k] / KNOT_M_S),
+            wind_true_dir_deg=wrap_deg(e.wind_from_deg),
+            wind_true_speed_kn=e.wind_speed_m_s / KNOT_M_S,
+        )
+
+
+def steps_for(duration_s: float, dt: float) -> int:
+    """Number of physics steps in ``duration_s``; raises ValueError unless it is a whole multiple of dt."""
+    k = round(duration_s / dt)
+    if k < 0 or abs(k * dt - duration_s) > 1e-9 * max(1.0, abs(duration_s)):
+        raise ValueError(f"interval {duration_s:g} s is not a whole multiple of the physics step {dt:g} s")
+    return int(k)
+
+
+def _surge_accel(P: np.ndarray, x: np.ndarray, inp: np.ndarray) -> float:
+    from vessel_gym.physics.vessel import derivatives
+
+    xd = np.zeros(lo.NX)
+    derivatives(P, x, inp, np.zeros(lo.NE), np.zeros(3), xd, np.zeros(N_OUT))
+    return xd[lo.X_U]
+
+
+def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """(state row, input row) of a steady straight run at ``speed_m_s`` in calm water (heading 0, origin)."""
+    x = np.zeros(lo.NX)
+    inp = np.zeros(lo.NU)
+    x[lo.X_U] = speed_m_s
+    if ship.propeller is None:
+        return x, inp
+    # thrust grows with rev: bisection on rev for zero surge acceleration
+    n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
+
+    def f(nrev: float) -> float:
+        x[lo.X_REV] = nrev
+        inp[lo.U_REV_C] = nrev
+        return _surge_accel(P, x, inp)
+
+    lo_n, hi_n = 0.0, n_max
+    if f(hi_n) < 0.0:
+        raise SimulationError(f"{ship.name}: the propeller cannot make {speed_m_s / KNOT_M_S:.2f} kn "
+                              f"below {n_max * 60:.0f} rpm")
+    if f(lo_n) > 0.0:
+        hi_n = 0.0
+    for _ in range(80):
+        mid = 0.5 * (lo_n + hi_n)
+        if f(mid) > 0.0:
+            hi_n = mid
+        else:
+            lo_n = mid
+    nrev = 0.5 * (lo_n + hi_n)
+    x[lo.X_REV] = nrev
+    inp[lo.U_REV_C] = nrev
+    # governor integrator at the fuel index whose torque holds that shaft speed
+    from vessel_gym.physics.vessel import forces
+
+    out = forces(P, x, inp, np.zeros(lo.NE), np.zeros(N_OUT))
+    Q_prop = out[14]
+    Q_need = (Q_prop + P[lo.P_Q_FRIC] * nrev / (P[lo.P_ENG_NRATED] / P[lo.P_GEAR])) / (
+        P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
+    n_e = P[lo.P_GEAR] * nrev
+    if engine_torque(P, n_e, 1.0) < Q_need:
+        raise SimulationError(
+            f"{ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for {speed_m_s / KNOT_M_S:.2f} kn "
+            f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)")
+    a, b = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (a + b)
+        if engine_torque(P, n_e, mid) < Q_need:
+            a = mid
+        else:
+            b = mid
+    x[lo.X_GOV] = 0.5 * (a + b)
+    return x.copy(), inp.copy()

@@ -1,0 +1,64 @@
+"""Steering: steering gear (order -> actual rudder angle) and the MMG rudder force model."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from vessel_gym.physics import layout as lo
+
+
+@njit(cache=True)
+def steering_gear_rate(P, delta, delta_c):
+    """Rudder rate (rad/s) of a rate-limited first-order steering gear.
+
+    The order is clipped to +-delta_max; the rudder follows (delta_c - delta)/T_delta, saturated at the
+    maximum rate (MSS mariner.m uses the same form with T_delta = 1 s). IMO trials assume the gear moves the
+    rudder at its rated speed (SOLAS II-1/29: 35 deg port to 30 deg starboard in 28 s).
+    """
+    dmax = P[lo.P_DMAX]
+    dc = min(max(delta_c, -dmax), dmax)
+    rate = (dc - delta) / P[lo.P_DTAU]
+    rmax = P[lo.P_DRATE]
+    return min(max(rate, -rmax), rmax)
+
+
+@njit(cache=True)
+def mmg_rudder_forces(P, u, v, r, delta, w_P, thrust):
+    """Rudder forces, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship).
+
+    F_N = 1/2 rho A_R U_R^2 f_alpha sin(alpha_R), alpha_R = delta - atan2(v_R, u_R),
+    v_R = U gamma_R beta_R, beta_R = beta - l'_R r'.
+    The propeller-slipstream speed u_R (eq. 28) is written with the thrust itself:
+    u_R = eps sqrt(eta (u_P + kappa (sqrt(u_P^2 + 8 T/(rho pi D^2)) - u_P))^2 + (1 - eta) u_P^2),
+    which equals the published form for n > 0 and stays finite at J -> 0 (bollard pull, low-speed
+    harbour work). Astern thrust gives no slipstream over the rudder (u_R = eps u_P).
+    atan2 keeps the normal force physical when the inflow reverses (ship moving astern).
+    """
+    L = P[lo.P_L]
+    rho = P[lo.P_RHO]
+    U = math.sqrt(u * u + v * v)
+    Ue = max(U, P[lo.P_U_MIN])
+    u_P = u * (1.0 - w_P)
+    D = P[lo.P_DP]
+    eta = P[lo.P_ETA]
+    eps = P[lo.P_EPS]
+    if thrust > 0.0 and u_P >= 0.0 and P[lo.P_PROP_ON] > 0.0:
+        slip = math.sqrt(u_P * u_P + 8.0 * thrust / (rho * math.pi * D * D))
+        a = u_P + P[lo.P_KAPPA] * (slip - u_P)
+        u_R = eps * math.sqrt(eta * a * a + (1.0 - eta) * u_P * u_P)
+    else:
+        u_R = eps * u_P
+    beta = math.atan2(-v, u) if U > 1e-9 else 0.0
+    rp = r * L / Ue
+    beta_R = beta - P[lo.P_LRP] * rp
+    gamma = P[lo.P_GRM] if beta_R < 0.0 else P[lo.P_GRP]
+    v_R = Ue * gamma * beta_R if U >= P[lo.P_U_MIN] else U * gamma * beta_R
+    alpha_R = delta - math.atan2(v_R, u_R) if (u_R != 0.0 or v_R != 0.0) else delta
+    F_N = 0.5 * rho * P[lo.P_AR] * (u_R * u_R + v_R * v_R) * P[lo.P_FALPHA] * math.sin(alpha_R)
+    cd = math.cos(delta)
+    X_R = -(1.0 - P[lo.P_TR]) * F_N * math.sin(delta)
+    Y_R = -(1.0 + P[lo.P_AH]) * F_N * cd
+    N_R = -(P[lo.P_XRP] + P[lo.P_AH] * P[lo.P_XHP]) * L * F_N * cd
+    return X_R, Y_R, N_R

@@ -1,0 +1,253 @@
+"""Vessel: the composition of a ship's components, and its equations of motion.
+
+A vessel is the sum of its components' forces: hull (Abkowitz or MMG), propeller (thrust through the
+thrust-deduction factor), rudder (MMG or hull delta-terms), windage and mean wave drift, plus any forces a
+user plugs in from Python (``F_ext``). The rigid body with added mass is solved in 3 DOF (surge, sway, yaw)
+on velocities through the water, so a uniform current only adds to the kinematics (Fossen 2011, Property
+10.1 for an irrotational constant current):
+
+    M nu_r' + C nu_r = tau_hull + tau_prop + tau_rudder + tau_wind + tau_waves + tau_ext,
+    eta' = R(psi) nu_r + V_current.
+
+:func:`pack` turns a :class:`~vessel_gym.physics.shipfile.Ship` into the parameter row read by the compiled
+kernel; :func:`derivatives` is the one source of the equations used by every integrator, the environments,
+the manoeuvres, the captive (PMM) mode and the UDP server.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.atmosphere import apparent_wind, blendermann_wind_forces
+from vessel_gym.physics.hull import hull_forces
+from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
+from vessel_gym.physics.seastate import current_earth, drift_coefficient_table, wave_drift_forces
+from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, abkowitz_term
+from vessel_gym.physics.steering import mmg_rudder_forces, steering_gear_rate
+from vessel_gym.physics.units import DEG, RPM
+
+
+def mass_matrix(ship: Ship) -> np.ndarray:
+    """3x3 mass matrix M = M_RB + M_A about the origin (midship), SI units."""
+    m = ship.mass_kg
+    xG = ship.particulars.x_G_m
+    Iz = ship.I_zG_kgm2 + m * xG * xG  # about the origin (parallel axes)
+    L = ship.particulars.L_m
+    rho = ship.particulars.rho_kg_m3
+    h = ship.hull
+    if isinstance(h, MMGHull):
+        d = ship.particulars.T_m
+        mx = h.m_x * 0.5 * rho * L * L * d
+        my = h.m_y * 0.5 * rho * L * L * d
+        Jz = h.J_z * 0.5 * rho * L**4 * d
+        # Yasukawa & Yoshimura (2015) eq. 4
+        return np.array([[m + mx, 0.0, 0.0], [0.0, m + my, xG * m], [0.0, xG * m, Iz + Jz]])
+    f = (0.5 if h.normalisation == "half_rho_L2_U2" else 1.0) * rho
+    dv = h.derivatives
+    X_udot = dv.get("X_udot", 0.0) * f * L**3
+    Y_vdot = dv.get("Y_vdot", 0.0) * f * L**3
+    Y_rdot = dv.get("Y_rdot", 0.0) * f * L**4
+    N_vdot = dv.get("N_vdot", 0.0) * f * L**4
+    N_rdot = dv.get("N_rdot", 0.0) * f * L**5
+    return np.array([[m - X_udot, 0.0, 0.0], [0.0, m - Y_vdot, m * xG - Y_rdot], [0.0, m * xG - N_vdot, Iz - N_rdot]])
+
+
+def _pack_terms(P: np.ndarray, derivs: dict) -> None:
+    slots = {"X": (lo.P_ABK_NX, lo.P_ABK_X), "Y": (lo.P_ABK_NY, lo.P_ABK_Y), "N": (lo.P_ABK_NN, lo.P_ABK_N)}
+    for name, value in derivs.items():
+        term = abkowitz_term(name)
+        if term is None or value == 0.0:
+            continue
+        eq, eu, ev, er, ed = term
+        n_slot, base = slots[eq]
+        k = int(P[n_slot])
+        if k >= lo.MAX_TERMS:
+            raise ValueError(f"more than {lo.MAX_TERMS} {eq}-terms")
+        P[base + 5 * k : base + 5 * k + 5] = (value, eu, ev, er, ed)
+        P[n_slot] = k + 1
+
+
+def pack(ship: Ship) -> np.ndarray:
+    """The kernel's parameter row for ``ship`` (float64, length layout.NP)."""
+    P = np.zeros(lo.NP)
+    pt = ship.particulars
+    P[lo.P_L], P[lo.P_B], P[lo.P_T], P[lo.P_RHO] = pt.L_m, pt.B_m, pt.T_m, pt.rho_kg_m3
+    m = ship.mass_kg
+    P[lo.P_MASS], P[lo.P_XG] = m, pt.x_G_m
+    M = mass_matrix(ship)
+    P[lo.P_M11] = M[0, 0]
+    Minv = np.linalg.inv(M[1:, 1:])
+    P[lo.P_MI22], P[lo.P_MI23], P[lo.P_MI32], P[lo.P_MI33] = Minv[0, 0], Minv[0, 1], Minv[1, 0], Minv[1, 1]
+    h = ship.hull
+    P[lo.P_RP_MAX] = h.r_prime_max
+    P[lo.P_U_MIN] = h.U_min_m_s
+    if isinstance(h, MMGHull):
+        P[lo.P_HULL_KIND] = lo.HULL_MMG
+        d = pt.T_m
+        my = h.m_y * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * d
+        mx = h.m_x * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * d
+        # Yasukawa & Yoshimura (2015) eq. 4: (m+m_y) v r + x_G m r^2 ; (m+m_x) u r ; x_G m u r
+        P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m + my, pt.x_G_m * m, m + mx, pt.x_G_m * m
+        for key in ("R_0", "X_vv", "X_vr", "X_rr", "X_vvvv", "Y_v", "Y_r", "Y_vvv", "Y_vvr", "Y_vrr", "Y_rrr",
+                    "N_v", "N_r", "N_vvv", "N_vvr", "N_vrr", "N_rrr"):
+            P[getattr(lo, "P_MMG_" + key.replace("_", "").upper()[0] + key.split("_")[1].upper())] = getattr(h, key)
+    else:
+        assert isinstance(h, AbkowitzHull)
+        P[lo.P_HULL_KIND] = lo.HULL_ABKOWITZ
+        P[lo.P_HULL_FNORM] = (0.5 if h.normalisation == "half_rho_L2_U2" else 1.0) * pt.rho_kg_m3
+        P[lo.P_HULL_UREF] = h.U_ref_m_s
+        P[lo.P_HULL_RES] = h.resistance_N / h.resistance_speed_m_s**2
+        P[lo.P_HULL_CD] = h.cross_flow_Cd
+        if h.coriolis == "separate":
+            # seed eq. 10: m(u' - v r - x_G r^2), m(v' + u r + x_G r'), I_z r' + m x_G (v' + u r)
+            P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m, m * pt.x_G_m, m, m * pt.x_G_m
+        _pack_terms(P, h.derivatives)
+
+    pr = ship.propeller
+    if pr is not None:
+        P[lo.P_PROP_ON] = 1.0
+        P[lo.P_DP] = pr.D_m
+        P[lo.P_KT0], P[lo.P_KT1], P[lo.P_KT2] = pr.k_0, pr.k_1, pr.k_2
+        P[lo.P_KQ0], P[lo.P_KQ1], P[lo.P_KQ2] = pr.q_0, pr.q_1, pr.q_2
+        P[lo.P_WP0], P[lo.P_TP], P[lo.P_XP] = pr.w_P0, pr.t_P, pr.x_P_prime
+        P[lo.P_C1], P[lo.P_C2P], P[lo.P_C2M] = pr.C_1, pr.C_2_plus, pr.C_2_minus
+        P[lo.P_AST_KT], P[lo.P_AST_KQ], P[lo.P_AST_SLOPE] = (
+            pr.astern_kt_ratio, pr.astern_kq_ratio, pr.astern_inflow_slope)
+        eng, tr = ship.engine, ship.transmission
+        P[lo.P_GEAR], P[lo.P_ETA_GEAR] = tr.gear_ratio, tr.efficiency
+        P[lo.P_I_SHAFT] = tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2
+        n_e = eng.rated_rpm * RPM
+        Q_rated = eng.rated_power_kW * 1e3 / (2.0 * math.pi * n_e)
+        P[lo.P_ENG_NRATED], P[lo.P_ENG_QRATED] = n_e, Q_rated
+        P[lo.P_Q_FRIC] = tr.friction_torque_fraction * Q_rated * tr.gear_ratio
+        P[lo.P_MAP_S : lo.P_MAP_S + lo.MAP_NS] = eng.torque_map_speed
+        P[lo.P_MAP_F : lo.P_MAP_F + lo.MAP_NF] = eng.torque_map_fuel
+        P[lo.P_MAP_Q : lo.P_MAP_Q + lo.MAP_NS * lo.MAP_NF] = np.asarray(eng.torque_map, dtype=float).ravel()
+        P[lo.P_GOV_KP], P[lo.P_GOV_KI] = eng.governor_Kp, eng.governor_Ki
+        P[lo.P_ENG_ASTERN] = eng.astern_torque_ratio
+        P[lo.P_CLUTCH_MIN] = tr.clutch_min_rpm * RPM
+    else:
+        P[lo.P_GEAR] = P[lo.P_ETA_GEAR] = P[lo.P_I_SHAFT] = P[lo.P_ENG_NRATED] = 1.0
+        P[lo.P_MAP_S : lo.P_MAP_S + lo.MAP_NS] = np.arange(lo.MAP_NS)
+        P[lo.P_MAP_F : lo.P_MAP_F + lo.MAP_NF] = np.arange(lo.MAP_NF)
+
+    rd = ship.rudder
+    if rd.model == "mmg":
+        P[lo.P_RUD_KIND] = lo.RUDDER_MMG
+        P[lo.P_AR], P[lo.P_HR], P[lo.P_TR], P[lo.P_AH] = rd.A_R_m2, rd.H_R_m, rd.t_R, rd.a_H
+        P[lo.P_XHP], P[lo.P_XRP] = rd.x_H_prime, rd.x_R_prime
+        P[lo.P_GRM], P[lo.P_GRP], P[lo.P_LRP] = rd.gamma_R_minus, rd.gamma_R_plus, rd.l_R_prime
+        P[lo.P_EPS], P[lo.P_KAPPA], P[lo.P_FALPHA] = rd.epsilon, rd.kappa, rd.f_alpha
+        P[lo.P_ETA] = min(pr.D_m / rd.H_R_m, 1.0)  # eta = D_P / H_R
+    else:
+        P[lo.P_RUD_KIND] = lo.RUDDER_DERIVATIVES
+    sg = ship.steering_gear
+    P[lo.P_DMAX], P[lo.P_DRATE], P[lo.P_DTAU] = sg.max_angle_deg * DEG, sg.max_rate_deg_s * DEG, sg.time_constant_s
+
+    w = ship.windage
+    if w is not None:
+        P[lo.P_WIND_ON] = 1.0
+        P[lo.P_AFW], P[lo.P_ALW], P[lo.P_SL] = w.A_F_m2, w.A_L_m2, w.s_L_m
+        P[lo.P_CDT], P[lo.P_CDL0], P[lo.P_CDLPI] = w.CD_t, w.CD_l_AF_0, w.CD_l_AF_pi
+        P[lo.P_BDELTA], P[lo.P_BKAPPA] = w.delta, w.kappa
+    wd = ship.wave_drift
+    if wd is not None:
+        P[lo.P_WAVE_ON] = 1.0
+        tab = drift_coefficient_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
+        P[lo.P_WAVE_TAB : lo.P_WAVE_TAB + 3 * lo.WAVE_NA] = tab.ravel()
+    return P
+
+
+@njit(cache=True)
+def forces(P, x, inp, env, out):
+    """All component forces for one vessel at state ``x``; fills ``out`` (length N_OUT) and returns it.
+
+    out = [X_H, Y_H, N_H, X_P, X_R, Y_R, N_R, X_W, Y_W, N_W, X_D, Y_D, N_D, thrust, Q_prop, w_P,
+           V_rw, gamma_rw, cur_n, cur_e]
+    """
+    u = x[lo.X_U]
+    v = x[lo.X_V]
+    r = x[lo.X_R]
+    psi = x[lo.X_PSI]
+    delta = x[lo.X_DELTA]
+    n = x[lo.X_REV]
+    XH, YH, NH = hull_forces(P, u, v, r, delta)
+    T = 0.0
+    Qp = 0.0
+    wP = P[lo.P_WP0]
+    if P[lo.P_PROP_ON] > 0.0:
+        wP = effective_wake(P, u, v, r)
+        T, Qp = propeller_thrust_torque(P, u * (1.0 - wP), n)
+    XR = YR = NR = 0.0
+    if P[lo.P_RUD_KIND] == lo.RUDDER_MMG:
+        XR, YR, NR = mmg_rudder_forces(P, u, v, r, delta, wP, T)
+    cn, ce = current_earth(env[lo.E_CUR_SPEED], env[lo.E_CUR_TO])
+    c = math.cos(psi)
+    s = math.sin(psi)
+    u_g = u + c * cn + s * ce
+    v_g = v - s * cn + c * ce
+    Vrw, gam = apparent_wind(u_g, v_g, psi, env[lo.E_WIND_SPEED], env[lo.E_WIND_FROM])
+    XW, YW, NW = blendermann_wind_forces(P, Vrw, gam, env[lo.E_RHO_AIR])
+    XD, YD, ND = wave_drift_forces(P, env[lo.E_ZETA2], env[lo.E_WAVE_FROM], psi)
+    out[0] = XH
+    out[1] = YH
+    out[2] = NH
+    out[3] = (1.0 - P[lo.P_TP]) * T
+    out[4] = XR
+    out[5] = YR
+    out[6] = NR
+    out[7] = XW
+    out[8] = YW
+    out[9] = NW
+    out[10] = XD
+    out[11] = YD
+    out[12] = ND
+    out[13] = T
+    out[14] = Qp
+    out[15] = wP
+    out[16] = Vrw
+    out[17] = gam
+    out[18] = cn
+    out[19] = ce
+    return out
+
+
+N_OUT = 20
+FORCE_NAMES = ("X_H", "Y_H", "N_H", "X_P", "X_R", "Y_R", "N_R", "X_W", "Y_W", "N_W", "X_D", "Y_D", "N_D",
+               "thrust", "Q_prop", "w_P", "V_rw", "gamma_rw", "current_n", "current_e")
+
+
+@njit(cache=True)
+def derivatives(P, x, inp, env, F_ext, xdot, work):
+    """State derivative of one vessel: fills ``xdot`` (length NX). ``work`` is scratch of length N_OUT.
+
+    F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions).
+    """
+    f = forces(P, x, inp, env, work)
+    u = x[lo.X_U]
+    v = x[lo.X_V]
+    r = x[lo.X_R]
+    psi = x[lo.X_PSI]
+    X = f[0] + f[3] + f[4] + f[7] + f[10] + F_ext[0] + P[lo.P_CX_VR] * v * r + P[lo.P_CX_RR] * r * r
+    Y = f[1] + f[5] + f[8] + f[11] + F_ext[1] - P[lo.P_CY_UR] * u * r
+    N = f[2] + f[6] + f[9] + f[12] + F_ext[2] - P[lo.P_CN_UR] * u * r
+    xdot[lo.X_U] = X / P[lo.P_M11]
+    xdot[lo.X_V] = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
+    xdot[lo.X_R] = P[lo.P_MI32] * Y + P[lo.P_MI33] * N
+    c = math.cos(psi)
+    s = math.sin(psi)
+    xdot[lo.X_N] = c * u - s * v + f[18]
+    xdot[lo.X_E] = s * u + c * v + f[19]
+    xdot[lo.X_PSI] = r
+    xdot[lo.X_DELTA] = steering_gear_rate(P, x[lo.X_DELTA], inp[lo.U_DELTA_C])
+    if P[lo.P_PROP_ON] > 0.0:
+        ndot, gdot, _fuel, _ne, _qe = shaft_acceleration(P, x[lo.X_REV], x[lo.X_GOV], inp[lo.U_REV_C], f[14])
+        xdot[lo.X_REV] = ndot
+        xdot[lo.X_GOV] = gdot
+    else:
+        xdot[lo.X_REV] = 0.0
+        xdot[lo.X_GOV] = 0.0
