@@ -17,7 +17,9 @@ from vessel_gym.physics.units import P_ISA_PA, R_DRY_AIR_J_KGK, T_ISA_K
 def air_density(pressure_pa: float = P_ISA_PA, temperature_k: float = T_ISA_K) -> float:
     """Dry-air density from the ideal-gas law, rho = p / (R T), kg/m^3 (1.225 at ISA sea level)."""
     if not (pressure_pa > 0.0 and temperature_k > 0.0):
-        raise ValueError(f"air pressure and temperature must be positive, got {pressure_pa} Pa, {temperature_k} K")
+        raise ValueError(
+            f"air pressure and temperature must be positive, got {pressure_pa} Pa, {temperature_k} K"
+        )
     return pressure_pa / (R_DRY_AIR_J_KGK * temperature_k)
 
 

@@ -20,7 +20,9 @@ def _radii(lat0_deg: float) -> tuple[float, float]:
     return R_M, R_N
 
 
-def local_to_latlon(x_north_m: float, y_east_m: float, lat0_deg: float, lon0_deg: float) -> tuple[float, float]:
+def local_to_latlon(
+    x_north_m: float, y_east_m: float, lat0_deg: float, lon0_deg: float
+) -> tuple[float, float]:
     """Local (north, east) metres about (lat0, lon0) -> (lat, lon) in degrees."""
     R_M, R_N = _radii(lat0_deg)
     lat = lat0_deg + math.degrees(float(x_north_m) / R_M)

@@ -66,8 +66,9 @@ def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
     count = 0
     for b in range(X.shape[0]):
         if alive[b]:
-            ok = step_vessel(Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method,
-                             k1, k2, k3, k4, xt, work)
+            ok = step_vessel(
+                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, k1, k2, k3, k4, xt, work
+            )
             alive[b] = ok
             count += ok
     return count
@@ -85,8 +86,9 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
             k4 = np.empty(lo.NX)
             xt = np.empty(lo.NX)
             work = np.empty(N_OUT)
-            alive[b] = step_vessel(Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method,
-                                   k1, k2, k3, k4, xt, work)
+            alive[b] = step_vessel(
+                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, k1, k2, k3, k4, xt, work
+            )
     return int(alive.sum())
 
 

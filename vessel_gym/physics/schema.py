@@ -24,8 +24,15 @@ class SpecError(ValueError):
     """A data file (ship, scenario, study) is invalid. The message is one line naming file and key."""
 
 
-def param(default: Any = dataclasses.MISSING, *, unit: str = "-", lo: float | None = None,
-          hi: float | None = None, doc: str = "", choices: tuple | None = None) -> Any:
+def param(
+    default: Any = dataclasses.MISSING,
+    *,
+    unit: str = "-",
+    lo: float | None = None,
+    hi: float | None = None,
+    doc: str = "",
+    choices: tuple | None = None,
+) -> Any:
     """A dataclass field with unit, range and documentation (read by the loader and the docs generator)."""
     md = {"unit": unit, "lo": lo, "hi": hi, "doc": doc, "choices": choices}
     if default is dataclasses.MISSING:
@@ -125,10 +132,16 @@ def describe(cls: type) -> list[tuple[str, str, str, str, str]]:
     for f in dataclasses.fields(cls):
         md = f.metadata
         lo, hi = md.get("lo"), md.get("hi")
-        rng = "" if lo is None and hi is None else f"[{'' if lo is None else f'{lo:g}'}, {'' if hi is None else f'{hi:g}'}]"
+        rng = (
+            ""
+            if lo is None and hi is None
+            else f"[{'' if lo is None else f'{lo:g}'}, {'' if hi is None else f'{hi:g}'}]"
+        )
         if md.get("choices"):
             rng = " | ".join(md["choices"])
         req = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
         tname = getattr(hints[f.name], "__name__", str(hints[f.name]))
-        rows.append((f.name + (" (required)" if req else ""), tname, md.get("unit", ""), rng, md.get("doc", "")))
+        rows.append(
+            (f.name + (" (required)" if req else ""), tname, md.get("unit", ""), rng, md.get("doc", ""))
+        )
     return rows

@@ -31,7 +31,9 @@ class Source:
     citation: str = param(doc="published source of the parameter set")
     notes: str = param("", doc="what was converted, estimated or added, and why")
     sign_convention: str = param("", doc="how the published signs were mapped to vessel-gym's axes")
-    provenance: dict = param({}, doc="machine-written provenance (cfd/ writes hull, mesh, solver, fit residuals)")
+    provenance: dict = param(
+        {}, doc="machine-written provenance (cfd/ writes hull, mesh, solver, fit residuals)"
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -39,12 +41,18 @@ class Particulars:
     L_m: float = param(unit="m", lo=1.0, hi=500.0, doc="length between perpendiculars")
     B_m: float = param(unit="m", lo=0.1, hi=100.0, doc="moulded beam")
     T_m: float = param(unit="m", lo=0.02, hi=40.0, doc="mean draught")
-    test_speed_kn: float = param(unit="kn", lo=0.5, hi=50.0, doc="IMO MSC.137(76) test speed (approach speed)")
+    test_speed_kn: float = param(
+        unit="kn", lo=0.5, hi=50.0, doc="IMO MSC.137(76) test speed (approach speed)"
+    )
     mass_kg: float | None = param(None, unit="kg", lo=1.0, doc="mass (or give displacement_m3)")
-    displacement_m3: float | None = param(None, unit="m^3", lo=1e-3, doc="displaced volume (mass = rho * volume)")
+    displacement_m3: float | None = param(
+        None, unit="m^3", lo=1e-3, doc="displaced volume (mass = rho * volume)"
+    )
     x_G_m: float = param(0.0, unit="m", lo=-100.0, hi=100.0, doc="centre of gravity forward of midship")
     k_zz_m: float | None = param(None, unit="m", lo=0.01, hi=200.0, doc="yaw radius of gyration about G")
-    I_zG_kgm2: float | None = param(None, unit="kg m^2", lo=1e-6, doc="yaw moment of inertia about G (or k_zz_m)")
+    I_zG_kgm2: float | None = param(
+        None, unit="kg m^2", lo=1e-6, doc="yaw moment of inertia about G (or k_zz_m)"
+    )
     rho_kg_m3: float = param(1025.0, unit="kg/m^3", lo=990.0, hi=1035.0, doc="water density")
     C_b: float | None = param(None, unit="-", lo=0.3, hi=0.95, doc="block coefficient (informative)")
     origin: str = param("midship", choices=("midship",), doc="body-axes origin")
@@ -54,16 +62,31 @@ class Particulars:
 class AbkowitzHull:
     model: str = param(choices=("abkowitz",))
     normalisation: str = param(
-        "half_rho_L2_U2", choices=("half_rho_L2_U2", "rho_L2_U2"),
-        doc="prime system: forces / (1/2 rho L^2 U^2) (SNAME) or / (rho L^2 U^2) (seed eq. 5-6)")
-    U_ref_m_s: float = param(0.0, unit="m/s", lo=0.0, hi=30.0,
-                             doc="reference speed; > 0: u-terms use the perturbation (u - U_ref)/U")
-    coriolis: str = param("separate", choices=("separate", "in_derivatives"),
-                          doc="'in_derivatives' when Y_r, N_r, X_vr already contain the rigid-body m u r terms")
+        "half_rho_L2_U2",
+        choices=("half_rho_L2_U2", "rho_L2_U2"),
+        doc="prime system: forces / (1/2 rho L^2 U^2) (SNAME) or / (rho L^2 U^2) (seed eq. 5-6)",
+    )
+    U_ref_m_s: float = param(
+        0.0,
+        unit="m/s",
+        lo=0.0,
+        hi=30.0,
+        doc="reference speed; > 0: u-terms use the perturbation (u - U_ref)/U",
+    )
+    coriolis: str = param(
+        "separate",
+        choices=("separate", "in_derivatives"),
+        doc="'in_derivatives' when Y_r, N_r, X_vr already contain the rigid-body m u r terms",
+    )
     resistance_N: float = param(0.0, unit="N", lo=0.0, doc="resistance at resistance_speed_m_s, R = c u|u|")
     resistance_speed_m_s: float = param(1.0, unit="m/s", lo=0.01, hi=30.0)
-    cross_flow_Cd: float = param(0.0, unit="-", lo=0.0, hi=2.0,
-                                 doc="2-D cross-flow drag coefficient (0: none); nonlinear sway-yaw damping")
+    cross_flow_Cd: float = param(
+        0.0,
+        unit="-",
+        lo=0.0,
+        hi=2.0,
+        doc="2-D cross-flow drag coefficient (0: none); nonlinear sway-yaw damping",
+    )
     r_prime_max: float = param(2.0, unit="-", lo=0.1, hi=10.0, doc="clip of r' in the polynomial (low speed)")
     U_min_m_s: float = param(0.05, unit="m/s", lo=1e-4, hi=2.0, doc="nondimensionalising speed floor")
     derivatives: dict = param(doc="named derivatives, e.g. Y_vvr = -0.379 (see docs/ship-file.md)")
@@ -111,15 +134,22 @@ class Propeller:
     C_1: float = param(0.0, unit="-", lo=0.0, hi=10.0, doc="MMG wake change in manoeuvres (0: none)")
     C_2_plus: float = param(1.0, unit="-", lo=0.0, hi=5.0)
     C_2_minus: float = param(1.0, unit="-", lo=0.0, hi=5.0)
-    astern_kt_ratio: float = param(0.7, unit="-", lo=0.1, hi=1.5, doc="astern bollard K_T / ahead bollard K_T")
-    astern_kq_ratio: float = param(0.8, unit="-", lo=0.1, hi=1.5, doc="astern bollard K_Q / ahead bollard K_Q")
-    astern_inflow_slope: float = param(0.5, unit="-", lo=0.0, hi=3.0,
-                                       doc="growth of astern thrust with ahead inflow (quadrant 4)")
+    astern_kt_ratio: float = param(
+        0.7, unit="-", lo=0.1, hi=1.5, doc="astern bollard K_T / ahead bollard K_T"
+    )
+    astern_kq_ratio: float = param(
+        0.8, unit="-", lo=0.1, hi=1.5, doc="astern bollard K_Q / ahead bollard K_Q"
+    )
+    astern_inflow_slope: float = param(
+        0.5, unit="-", lo=0.0, hi=3.0, doc="growth of astern thrust with ahead inflow (quadrant 4)"
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
 class Rudder:
-    model: str = param(choices=("mmg", "derivatives"), doc="'derivatives': rudder forces are hull delta-terms")
+    model: str = param(
+        choices=("mmg", "derivatives"), doc="'derivatives': rudder forces are hull delta-terms"
+    )
     A_R_m2: float = param(1.0, unit="m^2", lo=1e-4, hi=500.0)
     H_R_m: float = param(1.0, unit="m", lo=0.01, hi=30.0, doc="rudder span")
     t_R: float = param(0.3, unit="-", lo=0.0, hi=1.0)
@@ -146,16 +176,25 @@ class Engine:
     rated_power_kW: float = param(unit="kW", lo=0.01, hi=2e5, doc="maximum continuous rating (MCR)")
     rated_rpm: float = param(unit="rpm", lo=10.0, hi=10000.0, doc="engine speed at MCR")
     inertia_kgm2: float = param(unit="kg m^2", lo=1e-4, doc="engine rotating inertia")
-    torque_map_speed: tuple[float, ...] = param(unit="-", lo=0.0, hi=2.0, doc="engine speed / rated, 8 values")
+    torque_map_speed: tuple[float, ...] = param(
+        unit="-", lo=0.0, hi=2.0, doc="engine speed / rated, 8 values"
+    )
     torque_map_fuel: tuple[float, ...] = param(unit="-", lo=0.0, hi=1.0, doc="fuel index, 6 values")
-    torque_map: tuple[tuple[float, ...], ...] = param(unit="-", lo=-1.0, hi=2.0,
-                                                      doc="torque / rated torque, [speed][fuel]")
-    astern_torque_ratio: float = param(1.0, unit="-", lo=0.05, hi=1.0,
-                                       doc="astern torque / ahead torque (e.g. a steam plant's astern turbine)")
+    torque_map: tuple[tuple[float, ...], ...] = param(
+        unit="-", lo=-1.0, hi=2.0, doc="torque / rated torque, [speed][fuel]"
+    )
+    astern_torque_ratio: float = param(
+        1.0,
+        unit="-",
+        lo=0.05,
+        hi=1.0,
+        doc="astern torque / ahead torque (e.g. a steam plant's astern turbine)",
+    )
     governor_Kp: float = param(unit="-", lo=0.0, hi=100.0, doc="fuel index per relative speed error")
     governor_Ki: float = param(unit="1/s", lo=0.0, hi=100.0)
-    telegraph_rpm: tuple[float, ...] = param(unit="rpm", lo=-10000.0, hi=10000.0,
-                                             doc="propeller rpm for full astern ... stop ... full ahead (9)")
+    telegraph_rpm: tuple[float, ...] = param(
+        unit="rpm", lo=-10000.0, hi=10000.0, doc="propeller rpm for full astern ... stop ... full ahead (9)"
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -163,8 +202,9 @@ class Transmission:
     gear_ratio: float = param(1.0, unit="-", lo=0.05, hi=50.0, doc="engine rev / propeller rev")
     efficiency: float = param(0.98, unit="-", lo=0.5, hi=1.0)
     shaft_inertia_kgm2: float = param(unit="kg m^2", lo=1e-6, doc="propeller + entrained water + shafting")
-    friction_torque_fraction: float = param(0.02, unit="-", lo=0.0, hi=0.3,
-                                            doc="shaft friction at rated speed / rated torque")
+    friction_torque_fraction: float = param(
+        0.02, unit="-", lo=0.0, hi=0.3, doc="shaft friction at rated speed / rated torque"
+    )
     clutch_min_rpm: float = param(1.0, unit="rpm", lo=0.0, hi=1000.0, doc="|order| below: clutch out")
 
 
@@ -184,7 +224,9 @@ class Windage:
 @dataclass(frozen=True, kw_only=True)
 class WaveDrift:
     C_wp: float = param(0.85, unit="-", lo=0.5, hi=0.98, doc="waterplane coefficient of the drift waterline")
-    reflection: float = param(1.0, unit="-", lo=0.0, hi=1.0, doc="short-wave reflection factor (1: wall-sided)")
+    reflection: float = param(
+        1.0, unit="-", lo=0.0, hi=1.0, doc="short-wave reflection factor (1: wall-sided)"
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -347,7 +389,9 @@ def resolve_ship_path(ship: str | Path) -> Path:
         return Path(s)
     path = SHIP_DIR / f"{s}.toml"
     if not path.exists():
-        raise ShipFileError(f"{s}: unknown ship (built-in: {', '.join(builtin_ships())}; or give a .toml path)")
+        raise ShipFileError(
+            f"{s}: unknown ship (built-in: {', '.join(builtin_ships())}; or give a .toml path)"
+        )
     return path
 
 

@@ -78,7 +78,11 @@ class Simulation:
         if ship_index is None:
             ship_index = [0] * n if len(self.ships) == 1 else list(range(n))
         self.ship_index = np.asarray(ship_index, dtype=np.int64)
-        if self.ship_index.shape != (n,) or self.ship_index.min() < 0 or self.ship_index.max() >= len(self.ships):
+        if (
+            self.ship_index.shape != (n,)
+            or self.ship_index.min() < 0
+            or self.ship_index.max() >= len(self.ships)
+        ):
             raise ValueError(f"ship_index must have {n} entries in [0, {len(self.ships) - 1}]")
         if not (dt > 0.0 and math.isfinite(dt)):
             raise ValueError(f"dt must be a positive number of seconds, got {dt}")
@@ -112,8 +116,14 @@ class Simulation:
             self.env[j] = environment.row(s.particulars.L_m, s.particulars.T_m)
             self.environments[j] = environment
 
-    def reset(self, speed_m_s: float | np.ndarray | None = None, heading_deg: float | np.ndarray = 0.0,
-              x_m: float | np.ndarray = 0.0, y_m: float | np.ndarray = 0.0, k: int | None = None) -> None:
+    def reset(
+        self,
+        speed_m_s: float | np.ndarray | None = None,
+        heading_deg: float | np.ndarray = 0.0,
+        x_m: float | np.ndarray = 0.0,
+        y_m: float | np.ndarray = 0.0,
+        k: int | None = None,
+    ) -> None:
         """Put vessel k (all when None) in a steady straight approach at ``speed_m_s`` through the water.
 
         The shaft-speed order is solved for zero surge acceleration and the governor integrator is set to
@@ -143,8 +153,12 @@ class Simulation:
             self.t = 0.0
 
     # --- helm -----------------------------------------------------------------------------------------------
-    def set_helm(self, rudder_order_rad: float | np.ndarray | None = None,
-                 rev_order: float | np.ndarray | None = None, k: int | slice | None = None) -> None:
+    def set_helm(
+        self,
+        rudder_order_rad: float | np.ndarray | None = None,
+        rev_order: float | np.ndarray | None = None,
+        k: int | slice | None = None,
+    ) -> None:
         """Rudder order (rad, positive starboard) and propeller shaft-speed order (rev/s, negative astern)."""
         sl = slice(None) if k is None else k
         if rudder_order_rad is not None:
@@ -171,8 +185,18 @@ class Simulation:
             alive = self._step_python(nsteps)
         else:
             run = run_parallel if self.n >= PARALLEL_MIN_BATCH else run_serial
-            alive = run(self.Ps, self.ship_index, self.state, self.inputs, self.env, self.F_ext, self.dt,
-                        nsteps, self.method, self.alive)
+            alive = run(
+                self.Ps,
+                self.ship_index,
+                self.state,
+                self.inputs,
+                self.env,
+                self.F_ext,
+                self.dt,
+                nsteps,
+                self.method,
+                self.alive,
+            )
         self.t += nsteps * self.dt
         return int(alive)
 
@@ -283,8 +307,12 @@ class Simulation:
             return {"fuel_index": 0.0, "engine_rpm": 0.0, "torque_Nm": 0.0, "power_kW": 0.0}
         fuel, _di, s, n_e = governor(P, self.rev[k], self.state[k, lo.X_GOV], self.rev_order[k])
         q = engine_torque(P, n_e, fuel) if s != 0.0 else 0.0
-        return {"fuel_index": fuel, "engine_rpm": n_e * 60.0, "torque_Nm": q,
-                "power_kW": 2 * math.pi * n_e * q / 1e3}
+        return {
+            "fuel_index": fuel,
+            "engine_rpm": n_e * 60.0,
+            "torque_Nm": q,
+            "power_kW": 2 * math.pi * n_e * q / 1e3,
+        }
 
     def bridge(self, k: int = 0, telegraph: int = 0) -> BridgeReading:
         """Instrument readings of vessel k (Bridge & Navigation)."""
@@ -348,8 +376,9 @@ def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float) -> tuple[np.ndarra
 
     lo_n, hi_n = 0.0, n_max
     if f(hi_n) < 0.0:
-        raise SimulationError(f"{ship.name}: the propeller cannot make {speed_m_s / KNOT_M_S:.2f} kn "
-                              f"below {n_max * 60:.0f} rpm")
+        raise SimulationError(
+            f"{ship.name}: the propeller cannot make {speed_m_s / KNOT_M_S:.2f} kn below {n_max * 60:.0f} rpm"
+        )
     if f(lo_n) > 0.0:
         hi_n = 0.0
     for _ in range(80):
@@ -367,12 +396,14 @@ def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float) -> tuple[np.ndarra
     out = forces(P, x, inp, np.zeros(lo.NE), np.zeros(N_OUT))
     Q_prop = out[14]
     Q_need = (Q_prop + P[lo.P_Q_FRIC] * nrev / (P[lo.P_ENG_NRATED] / P[lo.P_GEAR])) / (
-        P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
+        P[lo.P_ETA_GEAR] * P[lo.P_GEAR]
+    )
     n_e = P[lo.P_GEAR] * nrev
     if engine_torque(P, n_e, 1.0) < Q_need:
         raise SimulationError(
             f"{ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for {speed_m_s / KNOT_M_S:.2f} kn "
-            f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)")
+            f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
+        )
     a, b = 0.0, 1.0
     for _ in range(60):
         mid = 0.5 * (a + b)

@@ -53,7 +53,9 @@ def mass_matrix(ship: Ship) -> np.ndarray:
     Y_rdot = dv.get("Y_rdot", 0.0) * f * L**4
     N_vdot = dv.get("N_vdot", 0.0) * f * L**4
     N_rdot = dv.get("N_rdot", 0.0) * f * L**5
-    return np.array([[m - X_udot, 0.0, 0.0], [0.0, m - Y_vdot, m * xG - Y_rdot], [0.0, m * xG - N_vdot, Iz - N_rdot]])
+    return np.array(
+        [[m - X_udot, 0.0, 0.0], [0.0, m - Y_vdot, m * xG - Y_rdot], [0.0, m * xG - N_vdot, Iz - N_rdot]]
+    )
 
 
 def _pack_terms(P: np.ndarray, derivs: dict) -> None:
@@ -91,10 +93,32 @@ def pack(ship: Ship) -> np.ndarray:
         my = h.m_y * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * d
         mx = h.m_x * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * d
         # Yasukawa & Yoshimura (2015) eq. 4: (m+m_y) v r + x_G m r^2 ; (m+m_x) u r ; x_G m u r
-        P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m + my, pt.x_G_m * m, m + mx, pt.x_G_m * m
-        for key in ("R_0", "X_vv", "X_vr", "X_rr", "X_vvvv", "Y_v", "Y_r", "Y_vvv", "Y_vvr", "Y_vrr", "Y_rrr",
-                    "N_v", "N_r", "N_vvv", "N_vvr", "N_vrr", "N_rrr"):
-            P[getattr(lo, "P_MMG_" + key.replace("_", "").upper()[0] + key.split("_")[1].upper())] = getattr(h, key)
+        P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = (
+            m + my,
+            pt.x_G_m * m,
+            m + mx,
+            pt.x_G_m * m,
+        )
+        for key in (
+            "R_0",
+            "X_vv",
+            "X_vr",
+            "X_rr",
+            "X_vvvv",
+            "Y_v",
+            "Y_r",
+            "Y_vvv",
+            "Y_vvr",
+            "Y_vrr",
+            "Y_rrr",
+            "N_v",
+            "N_r",
+            "N_vvv",
+            "N_vvr",
+            "N_vrr",
+            "N_rrr",
+        ):
+            P[getattr(lo, "P_MMG_" + key.replace("_", "").upper())] = getattr(h, key)
     else:
         assert isinstance(h, AbkowitzHull)
         P[lo.P_HULL_KIND] = lo.HULL_ABKOWITZ
@@ -116,7 +140,10 @@ def pack(ship: Ship) -> np.ndarray:
         P[lo.P_WP0], P[lo.P_TP], P[lo.P_XP] = pr.w_P0, pr.t_P, pr.x_P_prime
         P[lo.P_C1], P[lo.P_C2P], P[lo.P_C2M] = pr.C_1, pr.C_2_plus, pr.C_2_minus
         P[lo.P_AST_KT], P[lo.P_AST_KQ], P[lo.P_AST_SLOPE] = (
-            pr.astern_kt_ratio, pr.astern_kq_ratio, pr.astern_inflow_slope)
+            pr.astern_kt_ratio,
+            pr.astern_kq_ratio,
+            pr.astern_inflow_slope,
+        )
         eng, tr = ship.engine, ship.transmission
         P[lo.P_GEAR], P[lo.P_ETA_GEAR] = tr.gear_ratio, tr.efficiency
         P[lo.P_I_SHAFT] = tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2
@@ -146,7 +173,11 @@ def pack(ship: Ship) -> np.ndarray:
     else:
         P[lo.P_RUD_KIND] = lo.RUDDER_DERIVATIVES
     sg = ship.steering_gear
-    P[lo.P_DMAX], P[lo.P_DRATE], P[lo.P_DTAU] = sg.max_angle_deg * DEG, sg.max_rate_deg_s * DEG, sg.time_constant_s
+    P[lo.P_DMAX], P[lo.P_DRATE], P[lo.P_DTAU] = (
+        sg.max_angle_deg * DEG,
+        sg.max_rate_deg_s * DEG,
+        sg.time_constant_s,
+    )
 
     w = ship.windage
     if w is not None:
@@ -217,8 +248,28 @@ def forces(P, x, inp, env, out):
 
 
 N_OUT = 20
-FORCE_NAMES = ("X_H", "Y_H", "N_H", "X_P", "X_R", "Y_R", "N_R", "X_W", "Y_W", "N_W", "X_D", "Y_D", "N_D",
-               "thrust", "Q_prop", "w_P", "V_rw", "gamma_rw", "current_n", "current_e")
+FORCE_NAMES = (
+    "X_H",
+    "Y_H",
+    "N_H",
+    "X_P",
+    "X_R",
+    "Y_R",
+    "N_R",
+    "X_W",
+    "Y_W",
+    "N_W",
+    "X_D",
+    "Y_D",
+    "N_D",
+    "thrust",
+    "Q_prop",
+    "w_P",
+    "V_rw",
+    "gamma_rw",
+    "current_n",
+    "current_e",
+)
 
 
 @njit(cache=True)

@@ -1,0 +1,116 @@
+"""The command-line contract other tools rely on (JSON keys, exit codes, one-line errors)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from vessel_gym.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_turning_circle_json_keys(capsys):
+    code, out, _ = run(
+        capsys, "manoeuvre", "turning-circle", "--ship", "kvlcc2_l7", "--rudder", "35", "--json"
+    )
+    assert code == 0
+    d = json.loads(out)
+    for key in (
+        "advance_L",
+        "transfer_L",
+        "tactical_diameter_L",
+        "steady_diameter_L",
+        "advance_m",
+        "tactical_diameter_m",
+        "time_to_90_s",
+        "time_to_180_s",
+        "final_speed_kn",
+    ):
+        assert isinstance(d[key], float), key
+    assert 2.5 < d["advance_L"] < 3.5
+
+
+def test_zigzag_json_keys_and_sign(capsys):
+    code, out, _ = run(
+        capsys, "manoeuvre", "zigzag", "--ship", "kvlcc2_l7", "--rudder", "-10", "--heading", "10", "--json"
+    )
+    assert code == 0
+    d = json.loads(out)
+    assert len(d["overshoot_deg"]) >= 2 and all(o > 0 for o in d["overshoot_deg"])
+    assert d["period_s"] > 0
+
+
+def test_initial_turning_and_stopping_keys(capsys):
+    code, out, _ = run(capsys, "manoeuvre", "initial-turning", "--ship", "kvlcc2_l7", "--json")
+    assert code == 0 and {"distance_L", "time_s"} <= set(json.loads(out))
+    code, out, _ = run(capsys, "manoeuvre", "stopping", "--ship", "kvlcc2_l7", "--json")
+    d = json.loads(out)
+    assert code == 0 and {"track_reach_L", "head_reach_L", "lateral_deviation_L", "time_s"} <= set(d)
+    assert d["track_reach_L"] > 0
+
+
+def test_imo_json_contract(capsys, tmp_path):
+    code, out, _ = run(capsys, "imo", "kvlcc2", "--json", "--plot", str(tmp_path))
+    assert code == 0
+    d = json.loads(out)
+    assert {"ship", "L_m", "V_kn", "L_over_V_s", "criteria"} <= set(d)
+    names = {c["name"] for c in d["criteria"]}
+    assert names == {
+        "advance",
+        "tactical_diameter",
+        "initial_turning",
+        "zigzag_10_first_overshoot",
+        "zigzag_10_second_overshoot",
+        "zigzag_20_first_overshoot",
+        "stopping_track_reach",
+    }
+    for c in d["criteria"]:
+        assert {"name", "side", "value", "limit", "unit", "pass"} <= set(c)
+        assert isinstance(c["pass"], bool)
+    # L/V = 40 s -> 10/10 limits 20 and 40 deg (MSC.137(76) 5.3.3)
+    lim = {(c["name"]): c["limit"] for c in d["criteria"]}
+    assert lim["zigzag_10_first_overshoot"] == 20.0 and lim["zigzag_10_second_overshoot"] == 40.0
+    pngs = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert pngs == ["stopping.png", "turning_circle.png", "zigzag_10.png", "zigzag_20.png"]
+    assert all((tmp_path / p).stat().st_size > 10_000 for p in pngs)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ("manoeuvre", "turning-circle", "--ship", "nosuchship"),
+        ("manoeuvre", "turning-circle", "--ship", "kvlcc2", "--rudder", "abc"),
+        ("manoeuvre", "turning-circle", "--ship", "kvlcc2", "--rudder", "nan"),
+        ("manoeuvre", "zigzag", "--ship", "kvlcc2", "--heading", "95"),
+        ("manoeuvre", "turning-circle", "--ship", "kvlcc2", "--rudder", "50"),
+        ("imo", "/nonexistent/ship.toml"),
+        ("frobnicate",),
+    ],
+)
+def test_bad_input_exit_2_one_line(capsys, argv):
+    code, _out, err = run(capsys, *argv)
+    assert code == 2
+    assert err.strip() and len(err.strip().splitlines()) == 1
+
+
+def test_incomplete_manoeuvre_says_so(capsys):
+    # a 1 deg rudder at full scale cannot bring the ship round 180 deg within the time limit
+    code, out, err = run(
+        capsys, "manoeuvre", "turning-circle", "--ship", "kvlcc2", "--rudder", "0.5", "--json"
+    )
+    assert code == 1 and out == "" and "180" in err
+
+
+def test_console_script_runs():
+    res = subprocess.run(
+        [sys.executable, "-m", "vessel_gym.cli", "ships"], capture_output=True, text=True, check=True
+    )
+    assert "kvlcc2" in res.stdout.split()

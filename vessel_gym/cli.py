@@ -1,0 +1,181 @@
+"""The ``vessel-gym`` command. Exit codes: 0 success, 1 a manoeuvre could not complete, 2 bad input
+(one line on stderr naming what was wrong)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from collections.abc import Sequence
+
+
+class UsageError(Exception):
+    """Bad command-line input (exit code 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2 (argparse prints usage lines by default)
+        raise UsageError(f"{self.prog}: {message}")
+
+
+def _finite(kind: str, lo: float | None = None, hi: float | None = None):
+    def conv(text: str) -> float:
+        try:
+            x = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{kind} must be a number, got {text!r}") from None
+        if not math.isfinite(x):
+            raise argparse.ArgumentTypeError(f"{kind} must be finite, got {text!r}")
+        if (lo is not None and x < lo) or (hi is not None and x > hi):
+            raise argparse.ArgumentTypeError(f"{kind} {x:g} outside [{lo:g}, {hi:g}]")
+        return x
+
+    return conv
+
+
+def _json_default(o):
+    try:
+        return float(o)
+    except (TypeError, ValueError):
+        return str(o)
+
+
+def _emit(data: dict, as_json: bool, text: str) -> None:
+    if as_json:
+        print(json.dumps(data, default=_json_default, allow_nan=False))
+    else:
+        print(text)
+
+
+def _fmt(d: dict) -> str:
+    rows = []
+    for k, v in d.items():
+        if isinstance(v, float):
+            v = f"{v:.3f}"
+        elif isinstance(v, list):
+            v = ", ".join(f"{x:.2f}" if isinstance(x, float) else str(x) for x in v)
+        rows.append(f"{k:<24}{v}")
+    return "\n".join(rows)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="vessel-gym", description="Ship manoeuvring: IMO checks, manoeuvres, environments.")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+
+    imo = sub.add_parser("imo", help="all IMO MSC.137(76) criteria for a ship (name or .toml path)")
+    imo.add_argument("ship")
+    imo.add_argument("--json", action="store_true", help="machine-readable output")
+    imo.add_argument("--plot", metavar="DIR", help="write trajectory and heading plots (PNG) into DIR")
+
+    man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
+    msub = man.add_subparsers(dest="manoeuvre", parser_class=_Parser)
+    common = dict(help="ship name or .toml path")
+    tc = msub.add_parser("turning-circle")
+    tc.add_argument("--ship", required=True, **common)
+    tc.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=35.0, help="deg, + = starboard")
+    zz = msub.add_parser("zigzag")
+    zz.add_argument("--ship", required=True, **common)
+    zz.add_argument(
+        "--rudder",
+        type=_finite("--rudder", -70, 70),
+        default=10.0,
+        help="deg; positive = first execute to starboard",
+    )
+    zz.add_argument(
+        "--heading", type=_finite("--heading", 0.1, 89.9), default=None, help="deg (default |rudder|)"
+    )
+    zz.add_argument("--overshoots", type=int, default=3)
+    it = msub.add_parser("initial-turning")
+    it.add_argument("--ship", required=True, **common)
+    it.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=10.0)
+    stp = msub.add_parser("stopping")
+    stp.add_argument("--ship", required=True, **common)
+    po = msub.add_parser("pull-out")
+    po.add_argument("--ship", required=True, **common)
+    po.add_argument("--rudder", type=_finite("--rudder", 1, 70), default=20.0)
+    for sp in (tc, zz, it, stp, po):
+        sp.add_argument("--speed", type=_finite("--speed", 0.1, 60), default=None, help="approach speed, kn")
+        sp.add_argument("--json", action="store_true")
+        sp.add_argument("--plot", metavar="PNG", help="write the track plot to this PNG file")
+
+    sub.add_parser("ships", help="list the built-in ships")
+    return p
+
+
+def _cmd_imo(args) -> int:
+    from vessel_gym.manoeuvres.imo import imo_report
+
+    report = imo_report(args.ship)
+    if args.plot:
+        from vessel_gym.manoeuvres.plots import plot_report
+
+        files = plot_report(report, args.plot)
+        if not args.json:
+            print("plots: " + ", ".join(str(f) for f in files), file=sys.stderr)
+    _emit(report.to_dict(), args.json, report.table())
+    return 0
+
+
+def _cmd_manoeuvre(args) -> int:
+    from vessel_gym.manoeuvres import trials
+
+    kind = args.manoeuvre
+    if kind == "turning-circle":
+        res = trials.turning_circle(args.ship, args.rudder, args.speed)
+    elif kind == "zigzag":
+        res = trials.zigzag(args.ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots)
+    elif kind == "initial-turning":
+        res = trials.initial_turning(args.ship, args.rudder, args.speed)
+    elif kind == "stopping":
+        res = trials.stopping(args.ship, args.speed)
+    else:
+        res = trials.pull_out(args.ship, args.rudder, args.speed)
+    if args.plot and hasattr(res, "track"):
+        from vessel_gym.manoeuvres.plots import plot_track
+
+        plot_track(res, args.plot, f"{res.ship}: {kind}")
+    d = res.to_dict()
+    _emit(d, args.json, _fmt(d))
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    from vessel_gym.manoeuvres.trials import ManoeuvreIncomplete
+    from vessel_gym.physics.schema import SpecError
+    from vessel_gym.physics.simulation import SimulationError
+
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return 2
+        if args.command == "imo":
+            return _cmd_imo(args)
+        if args.command == "manoeuvre":
+            if args.manoeuvre is None:
+                raise UsageError(
+                    "vessel-gym manoeuvre: choose turning-circle, zigzag, initial-turning, "
+                    "stopping or pull-out"
+                )
+            return _cmd_manoeuvre(args)
+        if args.command == "ships":
+            from vessel_gym.physics.shipfile import builtin_ships
+
+            print("\n".join(builtin_ships()))
+            return 0
+        raise UsageError(f"vessel-gym: unknown command {args.command!r}")
+    except UsageError as exc:
+        print(str(exc), file=sys.stderr)
+        return 2
+    except (SpecError, ValueError) as exc:
+        print(f"vessel-gym: {exc}", file=sys.stderr)
+        return 2
+    except (ManoeuvreIncomplete, SimulationError) as exc:
+        print(f"vessel-gym: {exc}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

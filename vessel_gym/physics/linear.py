@@ -1,0 +1,65 @@
+"""Linearised sway-yaw dynamics and Nomoto indices of any ship model.
+
+The state derivative of the full model is differentiated numerically (central differences) about a straight
+run at speed U with v = r = delta = 0, surge speed held: [v', r'] = A [v, r] + b delta. Its rudder-to-yaw-rate
+transfer function is Nomoto's second-order model (Nomoto et al. 1957; Fossen 2011 eq. 7.49):
+
+    r/delta (s) = K (1 + T3 s) / ((1 + T1 s)(1 + T2 s)),  first-order approximation T = T1 + T2 - T3.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.shipfile import Ship, load_ship
+from vessel_gym.physics.vessel import N_OUT, derivatives, pack
+
+
+@dataclass(frozen=True)
+class Nomoto:
+    K: float  # 1/s
+    T1: float  # s
+    T2: float  # s
+    T3: float  # s
+
+    @property
+    def T(self) -> float:
+        """First-order Nomoto time constant T1 + T2 - T3, s."""
+        return self.T1 + self.T2 - self.T3
+
+
+def sway_yaw_matrices(ship: str | Ship, speed_m_s: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(A, b) of the linearised sway-yaw model at ``speed_m_s`` (default: the ship's test speed)."""
+    s = load_ship(ship)
+    U = s.test_speed_m_s if speed_m_s is None else speed_m_s
+    P = pack(s)
+    work = np.zeros(N_OUT)
+
+    def f(v: float, r: float, d: float) -> np.ndarray:
+        x = np.zeros(lo.NX)
+        x[lo.X_U], x[lo.X_V], x[lo.X_R], x[lo.X_DELTA] = U, v, r, d
+        xd = np.zeros(lo.NX)
+        derivatives(P, x, np.zeros(lo.NU), np.zeros(lo.NE), np.zeros(3), xd, work)
+        return np.array([xd[lo.X_V], xd[lo.X_R]])
+
+    hv = 1e-6 * U
+    hr = 1e-6 * U / s.particulars.L_m
+    hd = 1e-6
+    A = np.column_stack([(f(hv, 0, 0) - f(-hv, 0, 0)) / (2 * hv), (f(0, hr, 0) - f(0, -hr, 0)) / (2 * hr)])
+    b = (f(0, 0, hd) - f(0, 0, -hd)) / (2 * hd)
+    return A, b
+
+
+def nomoto(ship: str | Ship, speed_m_s: float | None = None) -> Nomoto:
+    """Nomoto indices K, T1, T2, T3 of the ship's linearised model (rudder positive to starboard)."""
+    A, b = sway_yaw_matrices(ship, speed_m_s)
+    det = float(np.linalg.det(A))
+    num0 = A[1, 0] * b[0] - A[0, 0] * b[1]
+    S = -float(np.trace(A)) / det  # T1 + T2
+    P = 1.0 / det  # T1 T2
+    disc = math.sqrt(max(S * S - 4.0 * P, 0.0))
+    return Nomoto(K=num0 / det, T1=(S + disc) / 2.0, T2=(S - disc) / 2.0, T3=b[1] / num0)
