@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vessel_gym.manoeuvres.helms import TurnHelm, ZigZagHelm
+from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import Telegraph
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.shipfile import Ship, load_ship
@@ -26,35 +27,51 @@ class ManoeuvreIncomplete(RuntimeError):
     """The manoeuvre's defining event was not reached (e.g. the ship never turned 180 deg)."""
 
 
-@dataclass
 class Track:
-    """Time histories of a trial (SI, radians; heading unwrapped, relative to the original course)."""
+    """Time histories of a trial (SI, radians; heading unwrapped, relative to the original course).
 
-    t: list[float] = field(default_factory=list)
-    x: list[float] = field(default_factory=list)  # along the original course, m
-    y: list[float] = field(default_factory=list)  # to starboard of the original course, m
-    psi: list[float] = field(default_factory=list)
-    u: list[float] = field(default_factory=list)
-    v: list[float] = field(default_factory=list)
-    r: list[float] = field(default_factory=list)
-    delta: list[float] = field(default_factory=list)
-    delta_c: list[float] = field(default_factory=list)
-    rpm: list[float] = field(default_factory=list)
+    Rows are recorded as copies of the state; the named arrays (x along the original course, y to
+    starboard of it, psi, u, v, r, delta, delta_c, rpm) are built on first access after the run.
+    """
+
+    _NAMES = {
+        "x": lo.X_N,
+        "y": lo.X_E,
+        "psi": lo.X_PSI,
+        "u": lo.X_U,
+        "v": lo.X_V,
+        "r": lo.X_R,
+        "delta": lo.X_DELTA,
+    }
+
+    def __init__(self) -> None:
+        self._t: list[float] = []
+        self._rows: list[np.ndarray] = []
+        self._dc: list[float] = []
+        self._cache: dict[str, np.ndarray] = {}
 
     def append(self, sim: Simulation) -> None:
-        self.t.append(sim.t)
-        self.x.append(float(sim.north[0]))
-        self.y.append(float(sim.east[0]))
-        self.psi.append(float(sim.heading[0]))
-        self.u.append(float(sim.u[0]))
-        self.v.append(float(sim.v[0]))
-        self.r.append(float(sim.r[0]))
-        self.delta.append(float(sim.rudder[0]))
-        self.delta_c.append(float(sim.rudder_order[0]))
-        self.rpm.append(float(sim.rev[0] * 60.0))
+        self._t.append(sim.t)
+        self._rows.append(sim.state[0].copy())
+        self._dc.append(sim.inputs[0, lo.U_DELTA_C])
+        self._cache = {}
+
+    def _arr(self, name: str) -> np.ndarray:
+        if name not in self._cache:
+            rows = np.asarray(self._rows)
+            self._cache = {k: rows[:, i] for k, i in self._NAMES.items()}
+            self._cache["t"] = np.asarray(self._t)
+            self._cache["delta_c"] = np.asarray(self._dc)
+            self._cache["rpm"] = rows[:, lo.X_REV] * 60.0
+        return self._cache[name]
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        if name in ("t", "delta_c", "rpm") or name in Track._NAMES:
+            return self._arr(name)
+        raise AttributeError(name)
 
     def arrays(self) -> dict[str, np.ndarray]:
-        return {k: np.asarray(v) for k, v in self.__dict__.items()}
+        return {k: self._arr(k) for k in ("t", *Track._NAMES, "delta_c", "rpm")}
 
     def at_heading(self, change_rad: float) -> tuple[float, float, float] | None:
         """(t, x, y) when |heading change| first reaches ``change_rad`` (linear interpolation), else None."""
@@ -70,8 +87,8 @@ class Track:
         return lerp(self.t), lerp(self.x), lerp(self.y)
 
     def path_length(self, upto: int | None = None) -> float:
-        x = np.asarray(self.x[:upto])
-        y = np.asarray(self.y[:upto])
+        x = self.x[:upto]
+        y = self.y[:upto]
         return float(np.hypot(np.diff(x), np.diff(y)).sum())
 
 
@@ -293,13 +310,13 @@ def zigzag(
 
     def done() -> bool:
         if state["armed"]:
-            psi = track.psi[-1]
+            psi = float(sim.heading[0])
             # the ship swings on past the execute heading until the yaw rate reverses
             side_of_swing = -helm.side  # the swing continues towards the side the rudder just left
             if side_of_swing * psi > state["peak"] - 1e-12:
                 state["peak"] = side_of_swing * psi
                 state["peak_t"] = sim.t
-            elif side_of_swing * track.r[-1] < 0.0:
+            elif side_of_swing * sim.r[0] < 0.0:
                 overs.append(math.degrees(state["peak"]) - heading_deg)
                 over_t.append(state["peak_t"])
                 state["armed"] = False

@@ -55,6 +55,8 @@ class Simulation:
         method: "rk4" (default) or "euler".
         environment: one :class:`Environment` for all vessels (``set_environment`` changes one vessel).
         components: user :class:`ForceComponent` objects (evaluated in Python at every RK stage).
+        replace: names of built-in force components switched off because a user component replaces them:
+            any of "hull", "rudder", "wind", "waves".
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
     """
 
@@ -67,6 +69,7 @@ class Simulation:
         method: str = "rk4",
         environment: Environment = CALM,
         components: Sequence[ForceComponent] = (),
+        replace: Sequence[str] = (),
         reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
     ) -> None:
         seq = [ships] if isinstance(ships, (str, Ship)) or not isinstance(ships, Sequence) else list(ships)
@@ -91,6 +94,16 @@ class Simulation:
         self.dt = float(dt)
         self.method = RK4 if method == "rk4" else EULER
         self.Ps = np.stack([pack(s) for s in self.ships])
+        switches = {
+            "hull": (lo.P_HULL_KIND, lo.HULL_NONE),
+            "rudder": (lo.P_RUD_KIND, lo.RUDDER_DERIVATIVES),
+            "wind": (lo.P_WIND_ON, 0.0),
+            "waves": (lo.P_WAVE_ON, 0.0),
+        }
+        for name in replace:
+            if name not in switches:
+                raise ValueError(f"replace: {name!r} is not one of {', '.join(switches)}")
+            self.Ps[:, switches[name][0]] = switches[name][1]
         self.n = n
         self.state = np.zeros((n, lo.NX))
         self.inputs = np.zeros((n, lo.NU))
@@ -140,7 +153,9 @@ class Simulation:
             si = int(self.ship_index[j])
             speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
             key = (si, speed)
-            if key not in cache:
+            if self.components:  # user forces take part in the equilibrium
+                cache[key] = steady_state(self.ships[si], self.Ps[si], speed, extra=self._extra_for(j))
+            elif key not in cache:
                 cache[key] = steady_state(self.ships[si], self.Ps[si], speed)
             xrow, urow = cache[key]
             self.state[j] = xrow
@@ -151,6 +166,14 @@ class Simulation:
             self.alive[j] = True
         if k is None:
             self.t = 0.0
+
+    def _extra_for(self, j: int):
+        def extra(xrow: np.ndarray) -> np.ndarray:
+            X = self.state.copy()
+            X[j] = xrow
+            return self._ext(X)[j]
+
+        return extra
 
     # --- helm -----------------------------------------------------------------------------------------------
     def set_helm(
@@ -351,16 +374,18 @@ def steps_for(duration_s: float, dt: float) -> int:
     return int(k)
 
 
-def _surge_accel(P: np.ndarray, x: np.ndarray, inp: np.ndarray) -> float:
+def _surge_accel(P: np.ndarray, x: np.ndarray, inp: np.ndarray, F: np.ndarray) -> float:
     from vessel_gym.physics.vessel import derivatives
 
     xd = np.zeros(lo.NX)
-    derivatives(P, x, inp, np.zeros(lo.NE), np.zeros(3), xd, np.zeros(N_OUT))
+    derivatives(P, x, inp, np.zeros(lo.NE), F, xd, np.zeros(N_OUT))
     return xd[lo.X_U]
 
 
-def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """(state row, input row) of a steady straight run at ``speed_m_s`` in calm water (heading 0, origin)."""
+def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float, extra=None) -> tuple[np.ndarray, np.ndarray]:
+    """(state row, input row) of a steady straight run at ``speed_m_s`` in calm water (heading 0, origin).
+
+    ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance."""
     x = np.zeros(lo.NX)
     inp = np.zeros(lo.NU)
     x[lo.X_U] = speed_m_s
@@ -372,7 +397,8 @@ def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float) -> tuple[np.ndarra
     def f(nrev: float) -> float:
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
-        return _surge_accel(P, x, inp)
+        F = np.zeros(3) if extra is None else np.asarray(extra(x.copy()), dtype=float)
+        return _surge_accel(P, x, inp, F)
 
     lo_n, hi_n = 0.0, n_max
     if f(hi_n) < 0.0:
