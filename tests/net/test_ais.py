@@ -41,7 +41,9 @@ def test_type1_south_west_starboard_and_vdo():
     _check_framing(lines)
     assert lines[0].startswith("!AIVDO,")
     d = _decode(lines)
-    assert d["lat"] == pytest.approx(-33.8568, abs=1.0 / 600000) and d["lon"] == pytest.approx(-151.2153, abs=2e-6)
+    assert d["lat"] == pytest.approx(-33.8568, abs=1.0 / 600000) and d["lon"] == pytest.approx(
+        -151.2153, abs=2e-6
+    )
     assert d["speed"] == pytest.approx(12.3) and d["course"] == pytest.approx(45.7) and d["heading"] == 46
     assert d["status"] == 3 and d["accuracy"] is True
     assert d["turn"] == pytest.approx(30.0, abs=2.0) and d["turn"] > 0
@@ -148,7 +150,9 @@ def test_type5_payload_equals_pyais_encoder():
 
 
 def test_text_is_truncated_and_mapped_to_the_ais_charset():
-    lines = ais.static_voyage(1, name="a very long ship name indeed", destination="Kiel~Canal", call_sign="abc")
+    lines = ais.static_voyage(
+        1, name="a very long ship name indeed", destination="Kiel~Canal", call_sign="abc"
+    )
     d = _decode(lines)
     assert d["shipname"] == "A VERY LONG SHIP NAM"
     assert d["destination"] == "KIEL?CANAL"

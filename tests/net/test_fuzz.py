@@ -6,6 +6,7 @@ import json
 import time
 
 import numpy as np
+import pytest
 
 from vessel_gym.net import protocol as P
 from vessel_gym.net.link import LinkConfig, UdpLink
@@ -13,6 +14,9 @@ from vessel_gym.net.link import LinkConfig, UdpLink
 from .helpers import Peer, make_reading
 
 BUDGET_S = 1.0 / 50.0  # one step of a 50 Hz loop
+# service() is timed in CPU time of this thread, so that other processes on a busy machine cannot make the test
+# fail; the work itself (parsing, counting, socket calls) is what must fit the budget.
+_cpu = time.thread_time
 
 _HOSTILE_VALUES = [
     "NaN",
@@ -77,13 +81,22 @@ def hostile_datagrams(n: int, seed: int = 0) -> list[bytes]:
             out.append(rng.choice([b"[]", b"null", b"42", b'"x"', b'{"v":2,"type":"bye"}', b'{"v":true}']))
         else:  # a valid message (some with stale or huge seq)
             seq = int(rng.choice([0, 1, 2**53 - 1, int(rng.integers(0, 1000))]))
-            msg = {"v": 1, "type": "helm", "seq": seq, "rudder_order_deg": float(rng.normal(0, 100)), "telegraph": 9}
+            msg = {
+                "v": 1,
+                "type": "helm",
+                "seq": seq,
+                "rudder_order_deg": float(rng.normal(0, 100)),
+                "telegraph": 9,
+            }
             out.append(rng.choice([json.dumps(msg).encode(), *valid]))
     return out
 
 
-def test_parser_never_raises_anything_but_protocol_error():
-    datagrams = hostile_datagrams(100_000, seed=1)
+@pytest.mark.parametrize(
+    ("n", "seed"), [(20_000, 1), pytest.param(100_000, 5, marks=pytest.mark.slow, id="100k")]
+)
+def test_parser_never_raises_anything_but_protocol_error(n, seed):
+    datagrams = hostile_datagrams(n, seed=seed)
     reasons: dict[str, int] = {}
     accepted = 0
     for data in datagrams:
@@ -101,7 +114,7 @@ def test_parser_never_raises_anything_but_protocol_error():
             assert 1.0 <= msg.rate_hz <= 50.0
     assert accepted + sum(reasons.values()) == len(datagrams)
     assert set(reasons) == set(P.REASONS)  # every rejection path was exercised
-    assert accepted > 1000
+    assert accepted > n // 100
 
 
 def test_link_survives_10k_hostile_datagrams_within_a_50hz_budget(peers):
@@ -127,9 +140,9 @@ def test_link_survives_10k_hostile_datagrams_within_a_50hz_budget(peers):
                 sent += 1
                 i += 1
             time.sleep(0.0005)
-            start = time.perf_counter()
+            start = _cpu()
             link.service(t, reading)
-            durations.append(time.perf_counter() - start)
+            durations.append(_cpu() - start)
             t += BUDGET_S
             if int(t) != int(t - BUDGET_S):
                 viewer.send(link.json_address, P.encode_hello("viewer", 50.0))
@@ -166,9 +179,9 @@ def test_a_full_receive_budget_of_garbage_fits_one_step():
         for data in junk:
             fuzzer.send(link.json_address, data)
         time.sleep(0.005)
-        start = time.perf_counter()
+        start = _cpu()
         link.service(0.0, make_reading())
-        elapsed = time.perf_counter() - start
+        elapsed = _cpu() - start
         stats = link.stats()
         assert stats["rx_datagrams"] == len(junk) and stats["rx_accepted"] == 0
         assert elapsed < BUDGET_S

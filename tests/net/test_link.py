@@ -311,7 +311,9 @@ def test_midships_stop_failsafe(peers):
         _helm(a, link, 1, -20.0, telegraph=4)
         assert link.service(0.0, make_reading()).telegraph == 4
         h = _run(link, 0.02, 1.2)
-        assert h.failsafe and not h.helm_ok and (h.rudder_order_deg, h.telegraph, h.rpm_order) == (0.0, 0, None)
+        assert (
+            h.failsafe and not h.helm_ok and (h.rudder_order_deg, h.telegraph, h.rpm_order) == (0.0, 0, None)
+        )
     with _link(failsafe="midships_stop") as link:
         a = peers()
         _hello(a, link, role="helm")
@@ -363,7 +365,9 @@ def test_clock_going_back_keeps_intervals(peers):
 
 
 def _target(i, mmsi, **kw):
-    r = make_reading(lat_deg=53.55 + 0.001 * i, lon_deg=9.99, sog_kn=8.0, cog_deg=300.0, hdg_deg=299.0, rot_dpm=5.0)
+    r = make_reading(
+        lat_deg=53.55 + 0.001 * i, lon_deg=9.99, sog_kn=8.0, cog_deg=300.0, hdg_deg=299.0, rot_dpm=5.0
+    )
     return P.Target(id=i, name=f"TARGET {i}", reading=r, length_m=200.0, beam_m=32.0, mmsi=mmsi, **kw)
 
 
@@ -389,7 +393,11 @@ def test_nmea_cycles_at_rate_to_every_destination(peers):
             assert len(lines) == 90
             assert all(len(line) + 2 <= 82 and nmea.verify(line) for line in lines)
             rmc = [pynmea2.parse(line) for line in lines if line.startswith("$GPRMC")]
-            assert [m.timestamp.strftime("%H%M%S.%f")[:9] for m in rmc[:3]] == ["120000.00", "120000.20", "120000.40"]
+            assert [m.timestamp.strftime("%H%M%S.%f")[:9] for m in rmc[:3]] == [
+                "120000.00",
+                "120000.20",
+                "120000.40",
+            ]
             assert rmc[0].datestamp.isoformat() == "2021-06-01"
         s = link.stats()
         assert s["tx_nmea_datagrams"] == 20 and s["tx_nmea_sentences"] == 90 and s["encode_error"] == 0
@@ -401,7 +409,19 @@ def test_nmea_talkers_and_optional_sentences(peers):
     with _link(nmea_destinations=[rx.address], talkers=talkers, nmea_gll=True, nmea_zda=True) as link:
         link.service(0.0, make_reading())
         heads = [line[1:6] for line in _lines(rx.raw(SETTLE_S))]
-        assert heads == ["GPRMC", "GPGGA", "GPGLL", "GPVTG", "GPZDA", "HEHDT", "HEROT", "IIRSA", "IIRPM", "IIVHW", "IIMWV"]
+        assert heads == [
+            "GPRMC",
+            "GPGGA",
+            "GPGLL",
+            "GPVTG",
+            "GPZDA",
+            "HEHDT",
+            "HEROT",
+            "IIRSA",
+            "IIRPM",
+            "IIVHW",
+            "IIMWV",
+        ]
 
 
 def test_absurd_reading_is_counted_not_raised(peers):
@@ -437,9 +457,12 @@ def test_ais_for_targets_type1_and_type5(peers):
     assert set(by_mmsi) == {211000001, 211000002}  # no AIS without an MMSI
     assert all(len(v) == 12 for v in by_mmsi.values())  # 1 s interval over 12 s
     d = by_mmsi[211000001][0]
-    assert d["msg_type"] == 1 and d["lat"] == pytest.approx(53.551, abs=2e-6) and d["lon"] == pytest.approx(9.99)
+    assert (
+        d["msg_type"] == 1 and d["lat"] == pytest.approx(53.551, abs=2e-6) and d["lon"] == pytest.approx(9.99)
+    )
     assert d["speed"] == 8.0 and d["course"] == 300.0 and d["heading"] == 299 and d["turn"] > 0
-    assert sorted(s["mmsi"] for s in statics) == [211000001, 211000001, 211000002, 211000002]  # at 0 s and 10 s
+    # type 5 of each ship at 0 s and again at 10 s
+    assert sorted(s["mmsi"] for s in statics) == [211000001] * 2 + [211000002] * 2
     s1 = next(s for s in statics if s["mmsi"] == 211000001)
     assert s1["shipname"] == "TARGET 1" and s1["callsign"] == "DA01"
     assert s1["to_bow"] + s1["to_stern"] == 200 and s1["to_port"] + s1["to_starboard"] == 32

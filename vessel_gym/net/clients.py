@@ -121,7 +121,9 @@ class ServerConnection:
             self._last_hello = now_s
             self._sendto(self._hello)
 
-    def send_helm(self, rudder_order_deg: float, telegraph: int | None = None, rpm_order: float | None = None):
+    def send_helm(
+        self, rudder_order_deg: float, telegraph: int | None = None, rpm_order: float | None = None
+    ) -> None:
         """Send one full helm command with the next ``seq``."""
         self._seq += 1
         self._sendto(protocol.encode_helm(self._seq, rudder_order_deg, telegraph, rpm_order))
@@ -135,8 +137,8 @@ class ServerConnection:
                 data, _ = self.sock.recvfrom(65536)
             except (BlockingIOError, InterruptedError):
                 return n
-            except OSError:
-                continue
+            except OSError:  # an error reported on the socket: try again next frame
+                return n
             try:
                 msg = protocol.parse_server_datagram(data)
             except ProtocolError:
@@ -351,7 +353,9 @@ def render(
     ccx, ccy = cx0 + cw / 2, h / 2
     pygame.draw.rect(surface, _SEA, (cx0, 0, cw, h))
     ox, oy = s.get("x_m"), s.get("y_m")
-    if not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in (ox, oy)):
+    if not all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in (ox, oy)
+    ):
         text("waiting for state ...", int(ccx) - 70, int(ccy), _DIM)
         return
     targets = [t for t in s.get("targets") or [] if isinstance(t, Mapping)]

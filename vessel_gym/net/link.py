@@ -57,6 +57,7 @@ Address = tuple[str, int]
 FAILSAFE_POLICIES = ("hold", "midships_stop")
 LINK_DROP_REASONS = ("unregistered", "not_helm", "not_owner", "stale_seq", "too_many_clients", "bad_token")
 NMEA_MAX_DATAGRAM_BYTES = 1400
+RECEIVE_BUFFER_BYTES = 1 << 20
 # A periodic send is made up to this fraction of its period early, so that rounding of a simulated clock
 # (k * dt against a sum of periods) never skips a send. Jitter of a wall clock needs no slack: a deadline that is
 # missed by a call stays behind the clock and is served by the next call, and deadlines advance by whole periods.
@@ -134,7 +135,9 @@ class LinkConfig:
             raise ValueError("LinkConfig.json_static_destinations must be a list of (host, port) pairs")
         put(
             "json_static_destinations",
-            tuple(_check_address("json_static_destinations", a, False) for a in self.json_static_destinations),
+            tuple(
+                _check_address("json_static_destinations", a, False) for a in self.json_static_destinations
+            ),
         )
         put("json_bind", _check_address("json_bind", self.json_bind, True))
         put("nmea_rate_hz", _check_number("nmea_rate_hz", self.nmea_rate_hz, 1.0, 10.0))
@@ -147,7 +150,10 @@ class LinkConfig:
             _check_number("ais_static_interval_s", self.ais_static_interval_s, 10.0, 3600.0),
         )
         put("static_rate_hz", _check_number("static_rate_hz", self.static_rate_hz, MIN_RATE_HZ, MAX_RATE_HZ))
-        put("default_rate_hz", _check_number("default_rate_hz", self.default_rate_hz, MIN_RATE_HZ, MAX_RATE_HZ))
+        put(
+            "default_rate_hz",
+            _check_number("default_rate_hz", self.default_rate_hz, MIN_RATE_HZ, MAX_RATE_HZ),
+        )
         put("watchdog_s", _check_number("watchdog_s", self.watchdog_s, 0.1, 10.0))
         put("client_timeout_s", _check_number("client_timeout_s", self.client_timeout_s, 0.5, 60.0))
         put("stats_interval_s", _check_number("stats_interval_s", self.stats_interval_s, 0.5, 3600.0))
@@ -265,6 +271,8 @@ class UdpLink:
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
             sock.setblocking(False)
+            # Room for bursts between two service() calls (the kernel caps this at net.core.rmem_max).
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RECEIVE_BUFFER_BYTES)
             sock.bind((bind_host, config.json_bind[1]))
             if any(ip.endswith(".255") for ip, _ in self._static_dest):
                 sock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
@@ -641,16 +649,18 @@ class UdpLink:
             live.add(t.id)
             try:
                 if now_s >= self._ais_static_due.get(t.id, -math.inf):
+                    # Position reference at midships on the centreline, in whole metres.
+                    bow, port = round(t.length_m / 2.0), round(t.beam_m / 2.0)
                     out += ais.static_voyage(
                         t.mmsi,
                         imo=t.imo,
                         call_sign=t.call_sign,
                         name=t.name,
                         ship_type=t.ship_type,
-                        to_bow_m=t.length_m / 2.0,
-                        to_stern_m=t.length_m / 2.0,
-                        to_port_m=t.beam_m / 2.0,
-                        to_starboard_m=t.beam_m / 2.0,
+                        to_bow_m=bow,
+                        to_stern_m=round(t.length_m) - bow,
+                        to_port_m=port,
+                        to_starboard_m=round(t.beam_m) - port,
                         draught_m=t.draught_m,
                         destination=t.destination,
                         seq_id=self._ais_seq_id,

@@ -31,6 +31,7 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from datetime import datetime, timezone
+from typing import NamedTuple
 
 from vessel_gym.physics.bridge import BridgeReading
 
@@ -39,7 +40,8 @@ KMH_PER_KN = 1.852  # km/h per knot (exact)
 
 _TALKER_RE = re.compile(r"[A-Z][A-Z0-9]\Z")
 _FORMATTER_RE = re.compile(r"[A-Z][A-Z0-9]{2}\Z")
-_RESERVED = frozenset("$!*,\r\n\\^~")
+# Characters a field may not hold: NMEA reserved characters (IEC 61162-1 Table 1) and anything not printable ASCII.
+_BAD_FIELD_CHAR = re.compile(r"[^\x20-\x7e]|[$!*,\\^~]")
 
 
 class NmeaError(ValueError):
@@ -48,9 +50,15 @@ class NmeaError(ValueError):
 
 def checksum(body: str) -> str:
     """XOR of the characters of ``body`` (the text strictly between ``$``/``!`` and ``*``), 2 upper-case hex."""
-    value = 0
-    for byte in body.encode("ascii"):
-        value ^= byte
+    # Fold the bytes as one integer, halving its width each round: the XOR of all bytes is preserved and the
+    # loop runs log2(len) times instead of once per character.
+    data = body.encode("ascii")
+    value = int.from_bytes(data, "little")
+    width = len(data)
+    while width > 1:
+        half = (width + 1) // 2
+        value = (value & ((1 << (8 * half)) - 1)) ^ (value >> (8 * half))
+        width = half
     return f"{value:02X}"
 
 
@@ -67,9 +75,9 @@ def sentence(talker: str, formatter: str, fields: Iterable[str], start: str = "$
     if not _FORMATTER_RE.match(formatter):
         raise NmeaError(f"sentence formatter must be 3 upper-case characters, not {formatter!r}")
     fields = list(fields)
-    for field in fields:
-        if any(c in _RESERVED or not " " <= c <= "~" for c in field):
-            raise NmeaError(f"field {field!r} holds a reserved or non-printable character")
+    if _BAD_FIELD_CHAR.search("".join(fields)):
+        bad = next(f for f in fields if _BAD_FIELD_CHAR.search(f))
+        raise NmeaError(f"field {bad!r} holds a reserved or non-printable character")
     body = talker + formatter + "," + ",".join(fields)
     text = f"{start}{body}*{checksum(body)}\r\n"
     if len(text) > MAX_SENTENCE_CHARS:
@@ -178,23 +186,67 @@ class Talkers:
 DEFAULT_TALKERS = Talkers()
 
 
-def rmc(reading: BridgeReading, utc: datetime, talker: str = "GP") -> str:
-    """RMC: UTC, status A, position, SOG (kn, 2 dp), COG (deg T, 1 dp), date, no magvar, mode S."""
-    lat, ns = fmt_lat(reading.lat_deg)
-    lon, ew = fmt_lon(reading.lon_deg)
-    status = "A" if lat and lon else "V"
-    fields = [fmt_time(utc), status, lat, ns, lon, ew, fmt_num(reading.sog_kn, 2), fmt_angle(reading.cog_deg)]
-    fields += [fmt_date(utc), "", "", "S" if status == "A" else "N"]
+class _Fix(NamedTuple):
+    """Time and position fields shared by the sentences of one cycle (formatted once)."""
+
+    time: str
+    date: str
+    lat: str
+    ns: str
+    lon: str
+    ew: str
+
+    @property
+    def valid(self) -> bool:
+        return bool(self.lat and self.lon)
+
+
+def _fix(reading: BridgeReading, utc: datetime) -> _Fix:
+    utc = _as_utc(utc)
+    return _Fix(fmt_time(utc), fmt_date(utc), *fmt_lat(reading.lat_deg), *fmt_lon(reading.lon_deg))
+
+
+def _rmc(reading: BridgeReading, f: _Fix, talker: str) -> str:
+    status = "A" if f.valid else "V"
+    fields = [
+        f.time,
+        status,
+        f.lat,
+        f.ns,
+        f.lon,
+        f.ew,
+        fmt_num(reading.sog_kn, 2),
+        fmt_angle(reading.cog_deg),
+    ]
+    fields += [f.date, "", "", "S" if f.valid else "N"]
     return sentence(talker, "RMC", fields)
 
 
-def gga(reading: BridgeReading, utc: datetime, talker: str = "GP") -> str:
-    """GGA: UTC, position, quality 1 (GPS), 8 satellites, HDOP 1.0, altitude 0.0 m, geoid separation 0.0 m."""
-    lat, ns = fmt_lat(reading.lat_deg)
-    lon, ew = fmt_lon(reading.lon_deg)
-    quality = "1" if lat and lon else "0"
-    fields = [fmt_time(utc), lat, ns, lon, ew, quality, "08", "1.0", "0.0", "M", "0.0", "M", "", ""]
+def _gga(f: _Fix, talker: str) -> str:
+    quality = "1" if f.valid else "0"
+    fields = [f.time, f.lat, f.ns, f.lon, f.ew, quality, "08", "1.0", "0.0", "M", "0.0", "M", "", ""]
     return sentence(talker, "GGA", fields)
+
+
+def _gll(f: _Fix, talker: str) -> str:
+    fields = [f.lat, f.ns, f.lon, f.ew, f.time, "A" if f.valid else "V", "S" if f.valid else "N"]
+    return sentence(talker, "GLL", fields)
+
+
+def rmc(reading: BridgeReading, utc: datetime, talker: str = "GP") -> str:
+    """RMC: UTC, status A, position, SOG (kn, 2 dp), COG (deg T, 1 dp), date, no magvar, mode S.
+
+    Without a position the status is V and the mode N.
+    """
+    return _rmc(reading, _fix(reading, utc), talker)
+
+
+def gga(reading: BridgeReading, utc: datetime, talker: str = "GP") -> str:
+    """GGA: UTC, position, quality 1 (GPS), 8 satellites, HDOP 1.0, altitude 0.0 m, geoid separation 0.0 m.
+
+    Without a position the quality is 0.
+    """
+    return _gga(_fix(reading, utc), talker)
 
 
 def vtg(reading: BridgeReading, talker: str = "GP") -> str:
@@ -245,16 +297,15 @@ def mwv(reading: BridgeReading, talker: str = "II") -> str:
 
 def gll(reading: BridgeReading, utc: datetime, talker: str = "GP") -> str:
     """GLL: position, UTC, status A, mode S."""
-    lat, ns = fmt_lat(reading.lat_deg)
-    lon, ew = fmt_lon(reading.lon_deg)
-    ok = bool(lat and lon)
-    return sentence(talker, "GLL", [lat, ns, lon, ew, fmt_time(utc), "A" if ok else "V", "S" if ok else "N"])
+    return _gll(_fix(reading, utc), talker)
 
 
 def zda(utc: datetime, talker: str = "GP") -> str:
     """ZDA: UTC time, day, month, 4-digit year, local zone 00:00."""
     u = _as_utc(utc)
-    return sentence(talker, "ZDA", [fmt_time(u), f"{u.day:02d}", f"{u.month:02d}", f"{u.year:04d}", "00", "00"])
+    return sentence(
+        talker, "ZDA", [fmt_time(u), f"{u.day:02d}", f"{u.month:02d}", f"{u.year:04d}", "00", "00"]
+    )
 
 
 def own_ship_sentences(
@@ -270,9 +321,10 @@ def own_ship_sentences(
     Order: RMC, GGA, [GLL], VTG, [ZDA], HDT, ROT, RSA, RPM, VHW, MWV. Position sentences come first so that a
     receiver that learns the cycle end from the first sentence type sees the full fix.
     """
-    out = [rmc(reading, utc, talkers.gnss), gga(reading, utc, talkers.gnss)]
+    f = _fix(reading, utc)
+    out = [_rmc(reading, f, talkers.gnss), _gga(f, talkers.gnss)]
     if gll_sentence:
-        out.append(gll(reading, utc, talkers.gnss))
+        out.append(_gll(f, talkers.gnss))
     out.append(vtg(reading, talkers.gnss))
     if zda_sentence:
         out.append(zda(utc, talkers.gnss))

@@ -38,7 +38,21 @@ SERVER_TYPES = ("welcome", "state", "stats")
 ROLES = ("viewer", "helm")
 
 # Reason codes of ProtocolError, in the order the checks are made.
-REASONS = ("oversize", "bad_utf8", "bad_json", "non_finite", "not_object", "bad_version", "bad_type", "bad_field")
+REASONS = (
+    "oversize",
+    "too_complex",
+    "bad_utf8",
+    "bad_json",
+    "non_finite",
+    "not_object",
+    "bad_version",
+    "bad_type",
+    "bad_field",
+)
+# Client messages are flat objects. Capping the number of '[' and '{' bounds the objects one datagram can make
+# the parser allocate: 2 kB of nested brackets would otherwise create ~1000 lists and can trigger a full
+# garbage collection of the host process (tens of ms) inside the caller's step.
+MAX_CONTAINERS = 32
 
 
 class ProtocolError(ValueError):
@@ -176,13 +190,15 @@ def parse_datagram(
 ) -> ClientMessage:
     """Validate one client datagram and return its typed message, or raise :class:`ProtocolError`.
 
-    Rejected: more than 2048 bytes, bad UTF-8, bad JSON (including nesting too deep to parse), NaN/Infinity or
+    Rejected: more than 2048 bytes, more than 32 ``[``/``{`` in total (``too_complex``), bad UTF-8, bad JSON (including nesting too deep to parse), NaN/Infinity or
     numbers that overflow a double, anything but an object, ``v`` other than 1, an unknown ``type``, and missing
     or ill-typed fields (booleans are not numbers). Clamped: ``rate_hz`` to 1-50, ``rudder_order_deg`` and
     ``rpm_order`` to ``limits``, ``telegraph`` to -4..4. Unknown keys are ignored (forward compatibility).
     """
     if len(data) > MAX_DATAGRAM_BYTES:
         raise ProtocolError("oversize", f"{len(data)} bytes")
+    if data.count(b"[") + data.count(b"{") > MAX_CONTAINERS:
+        raise ProtocolError("too_complex")
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError:
@@ -328,8 +344,12 @@ def encode_state(
     head = {"v": PROTOCOL_VERSION, "type": "state", "seq": int(seq)}
     head.update(own_state_fields(own))
     head["helm_ok"] = bool(helm_ok)
+    fields = [target_fields(t) for t in targets]
+    whole = _dumps({**head, "targets": fields, "part": 0, "parts": 1}).encode()
+    if len(whole) <= max_bytes:
+        return [whole]
     prefix = _dumps(head)[:-1] + ',"targets":['
-    items = [_dumps(target_fields(t)) for t in targets]
+    items = [_dumps(f) for f in fields]
     tail_room = len('],"part":99,"parts":99}')
     room = max_bytes - len(prefix.encode()) - tail_room
     chunks: list[list[str]] = [[]]
