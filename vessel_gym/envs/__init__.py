@@ -1,0 +1,40 @@
+"""Gymnasium environments: ZigZag, TurningCircle and HarbourApproach (``vessel_gym/<Name>-v0``).
+
+Importing this package registers the ids (cheaply: entry points are strings); the environment classes,
+configs and policies load on first attribute access.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from vessel_gym.envs.registration import ENVIRONMENTS, register_envs
+
+register_envs()
+
+_LAZY = {
+    "ZigZagEnv": "zigzag",
+    "ZigZagVectorEnv": "zigzag",
+    "ZigZagConfig": "zigzag",
+    "ZigZagReward": "zigzag",
+    "TurningCircleEnv": "turning",
+    "TurningCircleVectorEnv": "turning",
+    "TurningCircleConfig": "turning",
+    "TurningCircleReward": "turning",
+    "HarbourApproachEnv": "harbour",
+    "HarbourApproachVectorEnv": "harbour",
+    "HarbourApproachConfig": "harbour",
+    "HarbourApproachReward": "harbour",
+    "ShipEnvConfig": "config",
+    "ObservationLayout": "core",
+    "Feature": "core",
+}
+
+__all__ = ["ENVIRONMENTS", "register_envs", *_LAZY]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(f"vessel_gym.envs.{_LAZY[name]}"), name)
+    raise AttributeError(f"module 'vessel_gym.envs' has no attribute {name!r}")

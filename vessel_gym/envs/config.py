@@ -1,0 +1,101 @@
+"""Typed, strict environment configuration (the schema loader of ship and scenario files).
+
+Each environment has a frozen config dataclass; subclasses inherit and override defaults. A config is built
+from (in order) the class defaults, an optional TOML file or mapping or config instance, and keyword
+overrides; nested tables (``reward``) merge key by key. Unknown keys, wrong types and out-of-range values
+raise :class:`~vessel_gym.physics.schema.SpecError` with a one-line message naming the key.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TypeVar
+
+from vessel_gym.physics.schema import SpecError, build, param, read_toml
+
+C = TypeVar("C")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ShipEnvConfig:
+    """Settings shared by every vessel-gym environment."""
+
+    ship: str | None = param("kvlcc2_l7", doc="built-in ship name or ship file path")
+    dt_s: float = param(0.05, unit="s", lo=1e-4, hi=10.0, doc="physics step (fixed-step integrator)")
+    control_interval_s: float = param(
+        0.25, unit="s", lo=1e-4, hi=600.0, doc="time between actions; a whole multiple of dt_s or it raises"
+    )
+    method: str = param("rk4", choices=("rk4", "euler"), doc="integrator")
+    action_type: str = param("continuous", choices=("continuous", "discrete"), doc="action type")
+    engine_control: bool = param(False, doc="the agent also gives the engine order")
+    rudder_limit_deg: float | None = param(
+        None,
+        unit="deg",
+        lo=1.0,
+        hi=70.0,
+        doc="continuous: |action| = 1 orders this rudder (default: gear limit)",
+    )
+    rudder_orders_deg: tuple[float, ...] = param(
+        (-35.0, -20.0, -10.0, -5.0, 0.0, 5.0, 10.0, 20.0, 35.0),
+        unit="deg",
+        lo=-70.0,
+        hi=70.0,
+        doc="discrete: the helm orders, negative = port",
+    )
+    telegraph_steps: tuple[int, ...] = param(
+        (-4, -3, -2, -1, 0, 1, 2, 3, 4), unit="-", lo=-4, hi=4, doc="discrete: the telegraph steps offered"
+    )
+    observation_type: str = param(
+        "normalized",
+        choices=("normalized", "physical"),
+        doc="normalized: each feature / its scale in [-1, 1]; physical: SI units clipped to +-scale",
+    )
+
+
+def _as_table(value: Any) -> Any:
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _as_table(getattr(value, f.name)) for f in dataclasses.fields(value) if f.init}
+    if isinstance(value, tuple):
+        return [_as_table(v) for v in value]
+    return value
+
+
+def _merge(base: dict, over: Mapping) -> dict:
+    out = dict(base)
+    for k, v in over.items():
+        if isinstance(v, Mapping) and isinstance(out.get(k), Mapping):
+            out[k] = _merge(out[k], v)
+        elif isinstance(v, tuple):
+            out[k] = list(v)
+        else:
+            out[k] = _as_table(v) if dataclasses.is_dataclass(v) else v
+    return out
+
+
+def make_config(
+    cls: type[C], config: C | Mapping | str | Path | None = None, where: str = "", **overrides: Any
+) -> C:
+    """Build config ``cls`` from a config instance, mapping or TOML path, plus keyword overrides (strict)."""
+    where = where or f"{cls.__name__}"
+    table: dict = {}
+    if isinstance(config, (str, Path)):
+        where = str(config)
+        table = read_toml(Path(config))
+    elif isinstance(config, cls):
+        if not overrides:
+            return config
+        table = _as_table(config)
+    elif isinstance(config, Mapping):
+        table = _merge({}, config)
+    elif config is not None:
+        raise SpecError(f"{where}: config must be a {cls.__name__}, a mapping or a TOML path, got {config!r}")
+    table = _merge(table, overrides)
+    return build(cls, table, where)
+
+
+def config_fields(cls: type) -> list[dataclasses.Field]:
+    """The init fields of a config class (for documentation)."""
+    return [f for f in dataclasses.fields(cls) if f.init]

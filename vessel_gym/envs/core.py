@@ -1,0 +1,632 @@
+"""What every vessel-gym environment shares: helm (action types), observation layout, the batched task,
+the single environment and its native vector twin.
+
+A :class:`Task` owns one :class:`~vessel_gym.physics.simulation.Simulation` of N vessels and asks it for
+named quantities; the per-step task arithmetic runs in one compiled call for all N
+(:mod:`vessel_gym.envs.kernels`). :class:`ShipEnv` is a task of N = 1; :class:`ShipVectorEnv` is the same
+task of N = num_envs, so single and vector environments share every line of task code and vessel k of a
+vector environment seeded with s follows exactly the trajectory of a single environment seeded with s + k.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from vessel_gym.envs import kernels as kn
+from vessel_gym.envs.config import ShipEnvConfig, make_config
+from vessel_gym.physics.schema import SpecError
+from vessel_gym.physics.shipfile import Ship
+from vessel_gym.physics.simulation import Simulation, steps_for
+from vessel_gym.physics.units import DEG
+
+PHASE_SKIP = 0  # vessel untouched this call
+PHASE_STEP = 1  # vessel advanced one control step: update task state, reward terms, outcome
+PHASE_RESET = 2  # vessel just reset: features only
+
+
+# --- observations ----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Feature:
+    """One observation entry: name, unit (physical type), scale (normalized = value / scale), meaning."""
+
+    name: str
+    unit: str
+    scale: float
+    doc: str
+    column: int = 0  # column in the task's feature array
+
+
+class ObservationLayout:
+    """Names, units and scales of the observation vector; decodes observations into physical units."""
+
+    def __init__(self, features: Sequence[Feature], normalized: bool) -> None:
+        self.features = tuple(features)
+        self.normalized = normalized
+        self.names = tuple(f.name for f in self.features)
+        self.scale = np.array([f.scale for f in self.features], dtype=np.float64)
+        self.columns = np.array([f.column for f in self.features], dtype=np.int64)
+        self._index = {n: i for i, n in enumerate(self.names)}
+        if len(self._index) != len(self.names) or not np.all(self.scale > 0.0):
+            raise ValueError("observation features need unique names and positive scales")
+
+    def __len__(self) -> int:
+        return len(self.features)
+
+    def index(self, name: str) -> int:
+        """Position of feature ``name`` in the observation vector."""
+        try:
+            return self._index[name]
+        except KeyError:
+            raise KeyError(f"no observation feature {name!r} (have: {', '.join(self.names)})") from None
+
+    def value(self, obs: np.ndarray, name: str) -> np.ndarray:
+        """Feature ``name`` of an observation (or a batch) in physical units."""
+        i = self.index(name)
+        x = np.asarray(obs, dtype=np.float64)[..., i]
+        return x * self.scale[i] if self.normalized else x
+
+    def space(self) -> spaces.Box:
+        hi = np.ones(len(self)) if self.normalized else self.scale
+        return spaces.Box(-hi.astype(np.float32), hi.astype(np.float32), dtype=np.float32)
+
+    def table(self) -> str:
+        """Markdown table of the layout (for documentation)."""
+        rows = ["| # | name | unit | scale | meaning |", "|---|---|---|---|---|"]
+        rows += [
+            f"| {i} | `{f.name}` | {f.unit} | {f.scale:.4g} | {f.doc} |" for i, f in enumerate(self.features)
+        ]
+        return "\n".join(rows)
+
+
+# --- helm (action types) ---------------------------------------------------------------------------------------
+class Helm:
+    """Turns actions into rudder and shaft-speed orders for all N vessels (one ``set_helm`` call)."""
+
+    space: spaces.Space
+    engine: bool
+
+    def __init__(self, config: ShipEnvConfig, sim: Simulation) -> None:
+        self.sim = sim
+        self.engine = config.engine_control
+        n = sim.n
+        self.rev_table = np.stack([sim.telegraph_rev(t) for t in range(-4, 5)], axis=1)  # (N, 9) rev/s
+        self.telegraph = np.zeros(n, dtype=np.int64)  # last telegraph step (discrete helm), for the HUD
+
+    def apply(self, actions: np.ndarray) -> None:  # actions (N, ...) already validated
+        raise NotImplementedError
+
+    def batch(self, actions: Any, n: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def single(self, action: Any) -> np.ndarray:
+        raise NotImplementedError
+
+    def apply_single(self, action: Any) -> None:
+        """Apply one action to vessel 0 of a one-vessel simulation."""
+        self.apply(self.single(action))
+
+
+class ContinuousHelm(Helm):
+    """Box(-1, 1): a[0] rudder order as a fraction of the rudder limit (+ starboard); with engine control
+    a[1] shaft-speed order as a fraction of full ahead (a > 0) or full astern (a < 0) telegraph rpm.
+    Out-of-range values are clipped; NaN raises ValueError."""
+
+    def __init__(self, config: ShipEnvConfig, sim: Simulation) -> None:
+        super().__init__(config, sim)
+        limit = config.rudder_limit_deg
+        self.rudder_limit_rad = np.array(
+            [
+                (s.steering_gear.max_angle_deg if limit is None else limit) * DEG
+                for s in (sim.ship(k) for k in range(sim.n))
+            ]
+        )
+        self.dim = 2 if self.engine else 1
+        self.space = spaces.Box(-1.0, 1.0, shape=(self.dim,), dtype=np.float32)
+        self.full_ahead = self.rev_table[:, 8].copy()
+        self.full_astern = -self.rev_table[:, 0]
+        self._rudder = np.zeros(sim.n)
+        self._rev = np.zeros(sim.n)
+        self._lim0 = float(self.rudder_limit_rad[0])
+        self._fa0 = float(self.full_ahead[0])
+        self._fs0 = float(self.full_astern[0])
+
+    def single(self, action: Any) -> np.ndarray:
+        a = np.asarray(action, dtype=np.float64)
+        if a.size != self.dim:
+            raise ValueError(f"action must have {self.dim} values, got shape {a.shape}")
+        return a.reshape(1, self.dim)
+
+    def apply_single(self, action: Any) -> None:
+        # scalar fast path: the one-vessel environment's step should cost little beside the physics
+        if type(action) is np.ndarray and action.shape == (self.dim,):
+            a = action.tolist()
+        else:
+            a = self.single(action).tolist()[0]
+        x = a[0]
+        if x != x or a[-1] != a[-1]:
+            raise ValueError(f"action contains NaN: {action!r}")
+        x = -1.0 if x < -1.0 else (1.0 if x > 1.0 else x)
+        rev = None
+        if self.engine:
+            e = a[1]
+            e = -1.0 if e < -1.0 else (1.0 if e > 1.0 else e)
+            rev = e * self._fa0 if e >= 0.0 else e * self._fs0
+        self.sim.set_helm(rudder_order_rad=x * self._lim0, rev_order=rev)
+
+    def batch(self, actions: Any, n: int) -> np.ndarray:
+        a = np.asarray(actions, dtype=np.float64)
+        if a.shape != (n, self.dim):
+            raise ValueError(f"actions must have shape ({n}, {self.dim}), got {a.shape}")
+        return a
+
+    def apply(self, actions: np.ndarray) -> None:
+        if not kn.clip_helm(
+            actions,
+            self.rudder_limit_rad,
+            self.full_ahead,
+            self.full_astern,
+            self.engine,
+            self._rudder,
+            self._rev,
+        ):
+            raise ValueError(f"action contains NaN: {actions.tolist()!r}")
+        self.sim.set_helm(rudder_order_rad=self._rudder, rev_order=self._rev if self.engine else None)
+
+
+class DiscreteHelm(Helm):
+    """Helm orders from ``rudder_orders_deg`` (Discrete) or helm order x telegraph step (MultiDiscrete).
+    An index out of range raises ValueError (a discrete order cannot be clipped meaningfully)."""
+
+    def __init__(self, config: ShipEnvConfig, sim: Simulation) -> None:
+        super().__init__(config, sim)
+        self.orders_rad = np.asarray(config.rudder_orders_deg, dtype=np.float64) * DEG
+        self.steps = np.asarray(config.telegraph_steps, dtype=np.int64)
+        if len(self.orders_rad) < 2 or (self.engine and len(self.steps) < 2):
+            raise SpecError(
+                "discrete helm: rudder_orders_deg and telegraph_steps need at least 2 entries each"
+            )
+        self.nvec = np.array(
+            [len(self.orders_rad), len(self.steps)] if self.engine else [len(self.orders_rad)]
+        )
+        self.space = spaces.MultiDiscrete(self.nvec) if self.engine else spaces.Discrete(int(self.nvec[0]))
+        self.dim = len(self.nvec)
+
+    def _check(self, a: np.ndarray, raw: Any) -> np.ndarray:
+        if a.dtype.kind == "f":
+            if np.isnan(a).any():
+                raise ValueError(f"action contains NaN: {raw!r}")
+            if not np.all(a == np.round(a)):
+                raise ValueError(f"discrete action must be integers, got {raw!r}")
+        a = a.astype(np.int64)
+        if np.any(a < 0) or np.any(a >= self.nvec):
+            raise ValueError(f"discrete action {raw!r} out of range (sizes {self.nvec.tolist()})")
+        return a
+
+    def single(self, action: Any) -> np.ndarray:
+        a = np.asarray(action)
+        if a.size != self.dim:
+            raise ValueError(f"action must have {self.dim} values, got shape {a.shape}")
+        return self._check(a.reshape(1, self.dim), action)
+
+    def batch(self, actions: Any, n: int) -> np.ndarray:
+        a = np.asarray(actions).reshape(n, -1) if np.asarray(actions).size == n * self.dim else None
+        if a is None:
+            raise ValueError(f"actions must have {n} x {self.dim} entries, got shape {np.shape(actions)}")
+        return self._check(a, "actions")
+
+    def apply(self, actions: np.ndarray) -> None:
+        rev = None
+        if self.engine:
+            step = self.steps[actions[:, 1]]
+            self.telegraph[:] = step
+            rev = self.rev_table[np.arange(self.sim.n), step + 4]
+        self.sim.set_helm(rudder_order_rad=self.orders_rad[actions[:, 0]], rev_order=rev)
+
+
+def make_helm(config: ShipEnvConfig, sim: Simulation) -> Helm:
+    return ContinuousHelm(config, sim) if config.action_type == "continuous" else DiscreteHelm(config, sim)
+
+
+# --- task ------------------------------------------------------------------------------------------------------
+class Task:
+    """A task over one simulation of N vessels: start states, observations, reward terms, episode end.
+
+    Subclasses define ``Config`` (a :class:`ShipEnvConfig` subclass with a ``reward`` weights table),
+    ``features()``, ``reset_vessel()``, ``update()`` and ``info()``.
+    """
+
+    Config: ClassVar[type[ShipEnvConfig]] = ShipEnvConfig
+    n_features: ClassVar[int] = 0
+
+    def __init__(
+        self,
+        config: Any,
+        n: int,
+        ship: str | Ship | None = None,
+        reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
+    ) -> None:
+        self.config = config
+        self.n = n
+        try:
+            self.nsub = steps_for(config.control_interval_s, config.dt_s)
+        except ValueError:
+            raise SpecError(
+                f"control_interval_s = {config.control_interval_s:g} s is not a whole multiple of "
+                f"dt_s = {config.dt_s:g} s"
+            ) from None
+        self.sim = Simulation(
+            ship if ship is not None else config.ship,
+            n=n,
+            dt=config.dt_s,
+            method=config.method,
+            reference_latlon_deg=reference_latlon_deg,
+        )
+        self.ship: Ship = self.sim.ship(0)
+        self.helm = make_helm(config, self.sim)
+        self.U_T = self.ship.test_speed_m_s
+        self.L = self.ship.particulars.L_m
+        self.delta_max = float(self.ship.steering_gear.max_angle_deg * DEG)
+        self.rev_full = float(np.max(np.abs(self.helm.rev_table[0]))) or 1.0
+        self.layout = ObservationLayout(self.observation_features(), config.observation_type == "normalized")
+        self.term_names = tuple(f.name for f in dataclasses.fields(config.reward))
+        self.weights = np.array([getattr(config.reward, t) for t in self.term_names], dtype=np.float64)
+        self.feat = np.zeros((n, self.n_features))
+        self.terms = np.zeros((n, len(self.term_names)))  # weighted reward terms (they sum to the reward)
+        self.reward = np.zeros(n)
+        self.terminated = np.zeros(n, dtype=np.bool_)
+        self.phase = np.full(n, PHASE_STEP, dtype=np.int8)
+        self.rngs: Sequence[np.random.Generator] = ()  # per-vessel generators, set by the environment
+        self.enc = np.stack(
+            [
+                self.layout.columns.astype(np.float64),
+                self.layout.scale,
+                np.full(len(self.layout), 1.0 if self.layout.normalized else 0.0),
+            ],
+            axis=1,
+        )
+        self.obs = np.zeros((n, len(self.layout)), dtype=np.float32)
+        self._refresh_views()
+
+    def _refresh_views(self) -> None:
+        """Cache the simulation's named quantities (live views of its state; renewed if it reallocates)."""
+        sim = self.sim
+        self._state_ref = sim.state
+        self._inputs_ref = sim.inputs
+        self.q_u, self.q_v, self.q_r, self.q_heading = sim.u, sim.v, sim.r, sim.heading
+        self.q_north, self.q_east = sim.north, sim.east
+        self.q_rudder, self.q_rudder_order = sim.rudder, sim.rudder_order
+        self.q_rev, self.q_rev_order = sim.rev, sim.rev_order
+
+    def __getstate__(self) -> dict:
+        state = {
+            k: v for k, v in self.__dict__.items() if not k.startswith(("q_", "_state_ref", "_inputs_ref"))
+        }
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._refresh_views()
+
+    def views_current(self) -> None:
+        if self.sim.state is not self._state_ref or self.sim.inputs is not self._inputs_ref:
+            self._refresh_views()
+
+    # subclass interface
+    def observation_features(self) -> list[Feature]:
+        raise NotImplementedError
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        raise NotImplementedError
+
+    def update(self, phase: np.ndarray) -> None:
+        """Run the task kernel; fill ``feat``, ``terms`` and ``terminated`` for the vessels in ``phase``."""
+        raise NotImplementedError
+
+    def info(self, k: int) -> dict[str, Any]:
+        raise NotImplementedError
+
+    def batch_info(self) -> dict[str, Any]:
+        raise NotImplementedError
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        """What the chart draws besides the ship (target heading, goal, ...)."""
+        return {}
+
+    # shared
+    def advance(self) -> None:
+        self.sim.step(self.nsub)
+
+    def observe(self) -> np.ndarray:
+        """A new array of the current observations (N, obs_dim)."""
+        return self.obs.copy()
+
+    def weighted_terms(self, k: int) -> dict[str, float]:
+        return dict(zip(self.term_names, self.terms[k].tolist()))
+
+    def batch_weighted_terms(self) -> dict[str, np.ndarray]:
+        return {t: self.terms[:, i].copy() for i, t in enumerate(self.term_names)}
+
+
+def _uniform(rng: np.random.Generator, rng_range: Sequence[float]) -> float:
+    lo, hi = float(rng_range[0]), float(rng_range[1])
+    return lo if hi <= lo else float(rng.uniform(lo, hi))
+
+
+# --- single environment ----------------------------------------------------------------------------------------
+class ShipEnv(gym.Env):
+    """Base of the single environments (see each subclass's docstring for its spec sheet)."""
+
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
+    Task: ClassVar[type[Task]]
+    env_name: ClassVar[str] = "ShipEnv"
+
+    def __init__(self, render_mode: str | None = None, config: Any = None, **overrides: Any) -> None:
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.render_mode = render_mode
+        self.task = self.make_task(config, overrides, 1)
+        self.config = self.task.config
+        self.sim = self.task.sim
+        self.observation_layout = self.task.layout
+        self.action_space = self.task.helm.space
+        self.observation_space = self.task.layout.space()
+        self._renderer = None
+        self._track: list[tuple[float, float]] = []
+        self._step_phase = np.full(1, PHASE_STEP, dtype=np.int8)
+        self._reset_phase = np.full(1, PHASE_RESET, dtype=np.int8)
+        self._reset_done = False
+
+    @classmethod
+    def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
+        cfg = make_config(cls.Task.Config, config, where=f"{cls.env_name} config", **overrides)
+        return cls.Task(cfg, n)
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        self.task.rngs = (self.np_random,)
+        self.task.reset_vessel(0, self.np_random, options)
+        self.task.update(self._reset_phase)
+        self._reset_done = True
+        if self.render_mode is not None:
+            self._track = [(float(self.sim.north[0]), float(self.sim.east[0]))]
+            if self.render_mode == "human":
+                self.render()
+        return self.task.obs[0].copy(), self.task.info(0)
+
+    def step(self, action: Any):
+        if not self._reset_done:
+            raise RuntimeError("call reset() before step()")
+        task = self.task
+        task.helm.apply_single(action)
+        task.advance()
+        task.update(self._step_phase)
+        if self.render_mode is not None:
+            self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
+            if self.render_mode == "human":
+                self.render()
+        return task.obs[0].copy(), float(task.reward[0]), bool(task.terminated[0]), False, task.info(0)
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array' or 'human'")
+            return None
+        if self._renderer is None:
+            from vessel_gym.render import ChartRenderer
+
+            self._renderer = ChartRenderer(
+                self.render_mode,
+                ship=self.task.ship,
+                scenario=getattr(self.task, "scenario", None),
+                fps=1.0 / self.config.control_interval_s,
+            )
+        return self._renderer.draw(
+            self.sim, 0, self._track, telegraph=self._telegraph(), overlay=self.task.overlay(0)
+        )
+
+    def _telegraph(self) -> int | None:
+        return (
+            int(self.task.helm.telegraph[0])
+            if self.config.action_type == "discrete" and self.config.engine_control
+            else None
+        )
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_renderer"] = None
+        return state
+
+
+# --- native vector environment ---------------------------------------------------------------------------------
+class ShipVectorEnv(VectorEnv):
+    """Base of the native vector environments: N vessels in one simulation, stepped in one batched call.
+
+    Autoreset modes: next-step (default, as Gymnasium's SyncVectorEnv), same-step (``info["final_obs"]``,
+    ``info["final_info"]``) and disabled (reset with ``options={"reset_mask": mask}``). Vessel k seeded
+    with ``seed + k`` reproduces a single environment reset with that seed.
+    """
+
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": ["rgb_array"],
+        "render_fps": 4,
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+    Env: ClassVar[type[ShipEnv]]
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        max_episode_steps: int | None = None,
+        render_mode: str | None = None,
+        config: Any = None,
+        autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+        **overrides: Any,
+    ) -> None:
+        if num_envs < 1:
+            raise ValueError(f"num_envs must be >= 1, got {num_envs}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.autoreset_mode = AutoresetMode(autoreset_mode)
+        self.metadata = {**type(self).metadata, "autoreset_mode": self.autoreset_mode}
+        self.num_envs = num_envs
+        self.max_episode_steps = max_episode_steps
+        self.render_mode = render_mode
+        self.task = self.Env.make_task(config, overrides, num_envs)
+        self.config = self.task.config
+        self.sim = self.task.sim
+        self.observation_layout = self.task.layout
+        self.single_action_space = self.task.helm.space
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self.single_observation_space = self.task.layout.space()
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self._rngs: list[np.random.Generator] | None = None
+        self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._needs_reset = np.zeros(num_envs, dtype=np.bool_)
+        self._all_reset = np.full(num_envs, PHASE_RESET, dtype=np.int8)
+        self._renderer = None
+        self._tracks: list[list[tuple[float, float]]] = [[] for _ in range(min(num_envs, 4))]
+        self._reset_done = False
+
+    def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
+        for k in idx:
+            self.task.reset_vessel(int(k), self._rngs[k], options)
+            self._steps[k] = 0
+            if self.render_mode is not None and k < len(self._tracks):
+                self._tracks[k] = [(float(self.sim.north[k]), float(self.sim.east[k]))]
+
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
+        super().reset(seed=seed if isinstance(seed, int) else None)
+        n = self.num_envs
+        if seed is None:
+            seeds: list = [None] * n
+        elif isinstance(seed, int):
+            seeds = [seed + i for i in range(n)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != n:
+                raise ValueError(f"seed list must have {n} entries, got {len(seeds)}")
+        if self._rngs is None:
+            self._rngs = [seeding.np_random(s)[0] for s in seeds]
+        else:
+            for i, s in enumerate(seeds):
+                if s is not None:
+                    self._rngs[i] = seeding.np_random(s)[0]
+        self.task.rngs = self._rngs
+        opts = dict(options) if options else {}
+        mask = opts.pop("reset_mask", None)
+        if mask is not None:
+            mask = np.asarray(mask)
+            if mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
+                raise ValueError(f"options['reset_mask'] must be a boolean array of shape ({n},) with a True")
+            phase = np.where(mask, PHASE_RESET, 0).astype(np.int8)
+        else:
+            mask = np.ones(n, dtype=np.bool_)
+            phase = self._all_reset
+        self._reset_vessels(np.flatnonzero(mask), opts or None)
+        self._needs_reset[mask] = False
+        self.task.update(phase)
+        self._reset_done = True
+        return self.task.observe(), self.task.batch_info()
+
+    def step(self, actions: Any):
+        if not self._reset_done:
+            raise RuntimeError("call reset() before step()")
+        task = self.task
+        n = self.num_envs
+        a = task.helm.batch(actions, n)
+        done_prev = self._needs_reset
+        if self.autoreset_mode == AutoresetMode.DISABLED and done_prev.any():
+            raise RuntimeError("autoreset disabled: reset the finished sub-environments (options reset_mask)")
+        task.helm.apply(a)
+        task.advance()
+        if done_prev.any():
+            self._reset_vessels(np.flatnonzero(done_prev), None)
+            phase = np.where(done_prev, PHASE_RESET, PHASE_STEP).astype(np.int8)
+        else:
+            phase = task.phase
+        task.update(phase)
+        stepped = ~done_prev
+        self._steps[stepped] += 1
+        terminated = task.terminated & stepped
+        truncated = (
+            stepped & ~terminated & (self._steps >= self.max_episode_steps)
+            if self.max_episode_steps
+            else np.zeros(n, dtype=np.bool_)
+        )
+        rewards = task.reward.copy()
+        obs = task.observe()
+        info = task.batch_info()
+        done = terminated | truncated
+        if self.render_mode is not None:
+            for k in range(len(self._tracks)):
+                if stepped[k]:
+                    self._tracks[k].append((float(self.sim.north[k]), float(self.sim.east[k])))
+        if self.autoreset_mode == AutoresetMode.SAME_STEP and done.any():
+            idx = np.flatnonzero(done)
+            final_obs = np.full(n, None, dtype=object)
+            final_info = np.full(n, None, dtype=object)
+            for k in idx:
+                final_obs[k] = obs[k].copy()
+                final_info[k] = {
+                    key: (val[k] if isinstance(val, np.ndarray) else {t: v[k] for t, v in val.items()})
+                    for key, val in info.items()
+                    if not key.startswith("_")
+                }
+            self._reset_vessels(idx, None)
+            phase2 = np.where(done, PHASE_RESET, 0).astype(np.int8)
+            task.update(phase2)
+            obs[idx] = task.observe()[idx]
+            info["final_obs"] = final_obs
+            info["_final_obs"] = done.copy()
+            info["final_info"] = final_info
+            info["_final_info"] = done.copy()
+            self._needs_reset = np.zeros(n, dtype=np.bool_)
+        else:
+            self._needs_reset = done
+        return obs, rewards, terminated, truncated, info
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
+            return None
+        if self._renderer is None:
+            from vessel_gym.render import ChartRenderer
+
+            self._renderer = ChartRenderer(
+                "rgb_array",
+                ship=self.task.ship,
+                scenario=getattr(self.task, "scenario", None),
+                fps=1.0 / self.config.control_interval_s,
+            )
+        return tuple(
+            self._renderer.draw(self.sim, k, self._tracks[k], telegraph=None, overlay=self.task.overlay(k))
+            for k in range(len(self._tracks))
+        )
+
+    def close_extras(self, **kwargs: Any) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_renderer"] = None
+        return state

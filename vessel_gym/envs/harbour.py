@@ -1,0 +1,455 @@
+"""HarbourApproach: from outside a harbour, through the entrance, to a stop in the goal area."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from vessel_gym.envs import kernels as kn
+from vessel_gym.envs.config import ShipEnvConfig, make_config
+from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
+from vessel_gym.physics.environment import Environment
+from vessel_gym.physics.schema import param
+from vessel_gym.physics.seastate import current_earth
+from vessel_gym.physics.units import DEG
+from vessel_gym.scenarios import Scenario, load_scenario
+from vessel_gym.scenarios.geometry import hull_outline
+
+
+@dataclass(frozen=True, kw_only=True)
+class HarbourApproachReward:
+    """Weights of the HarbourApproach reward terms (reward = sum of weight x term)."""
+
+    progress: float = param(1.0, lo=-1e3, hi=1e3, doc="decrease of the distance to the goal point / L")
+    speed_excess: float = param(1.0, lo=-1e3, hi=1e3, doc="-(SOG above the allowed speed) / U_T")
+    proximity: float = param(0.5, lo=-1e3, hi=1e3, doc="-(1 - clearance / safe clearance) when closer")
+    rudder_activity: float = param(0.05, lo=-1e3, hi=1e3, doc="-|change of rudder order| / (2 rudder limit)")
+    time: float = param(0.01, lo=-1e3, hi=1e3, doc="-1 per step")
+    success: float = param(20.0, lo=-1e3, hi=1e3, doc="+1 on arrival")
+    collision: float = param(20.0, lo=-1e3, hi=1e3, doc="-1 on contact, grounding or divergence")
+    out_of_bounds: float = param(20.0, lo=-1e3, hi=1e3, doc="-1 on leaving the chart")
+
+
+@dataclass(frozen=True, kw_only=True)
+class HarbourApproachConfig(ShipEnvConfig):
+    """HarbourApproach-v0 configuration (see :class:`HarbourApproachEnv`)."""
+
+    scenario: str = param("harbour", doc="built-in scenario name or scenario file path")
+    ship: str | None = param(None, doc="ship name or file (default: the scenario's ship)")
+    engine_control: bool = param(True, doc="the agent also gives the engine order")
+    n_beams: int = param(16, unit="-", lo=0, hi=360, doc="range beams, evenly spaced clockwise from the bow")
+    beam_range_L: float = param(10.0, unit="L", lo=0.1, hi=1000.0, doc="range-beam reach in ship lengths")
+    slow_down_L: float = param(
+        8.0,
+        unit="L",
+        lo=0.1,
+        hi=1000.0,
+        doc="allowed speed falls linearly from U_T to the goal speed within this distance",
+    )
+    safe_clearance_L: float = param(
+        0.5, unit="L", lo=0.001, hi=100.0, doc="proximity term below this clearance"
+    )
+    reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
+
+
+class HarbourApproachTask(Task):
+    Config = HarbourApproachConfig
+
+    def __init__(self, config: HarbourApproachConfig, n: int, scenario: Scenario | None = None) -> None:
+        self.scenario = scenario if scenario is not None else load_scenario(config.scenario)
+        sc = self.scenario
+        ship = config.ship if config.ship is not None else sc.load_ship()
+        self.n_features = kn.HFN0 + config.n_beams
+        angles = np.arange(config.n_beams) * (2.0 * math.pi / max(config.n_beams, 1))
+        self.beam_dirs = np.stack([np.cos(angles), np.sin(angles)], axis=1).reshape(-1, 2)  # body-axis units
+        super().__init__(
+            config,
+            n,
+            ship=ship,
+            reference_latlon_deg=(sc.reference_latlon_deg[0], sc.reference_latlon_deg[1]),
+        )
+        T = self.ship.particulars.T_m
+        polys = [(1, pts) for _kind, _name, pts in sc.hard_obstacles()] + [
+            (2, pts) for _n, pts in sc.shoals(T)
+        ]
+        verts = [p for _k, pts in polys for p in pts]
+        self.verts = np.array(verts, dtype=np.float64).reshape(-1, 2)
+        self.pcount = np.array([len(pts) for _k, pts in polys], dtype=np.int64)
+        self.pstart = (
+            np.concatenate([[0], np.cumsum(self.pcount)[:-1]]).astype(np.int64)
+            if polys
+            else np.zeros(0, dtype=np.int64)
+        )
+        self.pkind = np.array([k for k, _pts in polys], dtype=np.int64)
+        self.pbox = np.array(
+            [
+                [
+                    min(p[0] for p in pts),
+                    max(p[0] for p in pts),
+                    min(p[1] for p in pts),
+                    max(p[1] for p in pts),
+                ]
+                for _k, pts in polys
+            ],
+            dtype=np.float64,
+        ).reshape(-1, 4)
+        self.hull = np.array(hull_outline(self.L, self.ship.particulars.B_m), dtype=np.float64)
+        self.goal_verts = np.array([(p[0], p[1]) for p in sc.goal.points], dtype=np.float64)
+        self.ts = np.zeros((n, kn.HSN))
+        self.flags = np.zeros(n, dtype=np.int64)
+        gn, ge = sc.goal_point
+        p = np.zeros(kn.HPN)
+        p[kn.HP_L] = self.L
+        p[kn.HP_DMAX] = getattr(self.helm, "rudder_limit_rad", np.array([self.delta_max]))[0]
+        p[kn.HP_DT] = config.control_interval_s
+        p[kn.HP_BEAM_RANGE] = self.beam_range
+        p[kn.HP_GOAL_N], p[kn.HP_GOAL_E] = gn, ge
+        p[kn.HP_GOAL_HDG] = sc.goal.heading_deg * DEG
+        p[kn.HP_GOAL_TOL] = sc.goal.heading_tolerance_deg * DEG
+        p[kn.HP_GOAL_VMAX] = sc.goal.max_speed_m_s
+        p[kn.HP_UT] = self.U_T
+        p[kn.HP_SLOW_DIST] = config.slow_down_L * self.L
+        p[kn.HP_CLEAR_REF] = config.safe_clearance_L * self.L
+        p[kn.HP_N_MIN], p[kn.HP_N_MAX], p[kn.HP_E_MIN], p[kn.HP_E_MAX] = sc.bounds_m
+        self.p = p
+        self._beams = np.empty(config.n_beams)
+
+    @property
+    def beam_range(self) -> float:
+        return self.config.beam_range_L * self.L
+
+    def observation_features(self) -> list[Feature]:
+        U, L, d, sc = self.U_T, self.L, self.delta_max, self.scenario
+        n0, n1, e0, e1 = sc.bounds_m
+        R = math.hypot(n1 - n0, e1 - e0)
+        w = sc.weather
+        wind = max(w.wind_speed_m_s[1], 1.0) + 2.0 * U
+        cur = max(w.current_speed_m_s[1], 0.1 * U)
+        rev = 1.5 * self.rev_full
+        f = [
+            Feature("u", "m/s", 1.5 * U, "surge velocity through the water", kn.HF_U),
+            Feature("v", "m/s", 0.5 * U, "sway velocity through the water (+ starboard)", kn.HF_V),
+            Feature("r", "rad/s", 2.0 * U / L, "rate of turn (+ starboard)", kn.HF_R),
+            Feature("rudder", "rad", d, "actual rudder angle", kn.HF_DELTA),
+            Feature("rudder_order", "rad", d, "rudder order", kn.HF_DELTA_C),
+            Feature("rev", "rev/s", rev, "propeller shaft speed (tachometer)", kn.HF_REV),
+            Feature("rev_order", "rev/s", rev, "shaft-speed order", kn.HF_REV_C),
+            Feature("goal_x", "m", R, "goal point ahead of midship (body x)", kn.HF_GOAL_X),
+            Feature("goal_y", "m", R, "goal point to starboard of midship (body y)", kn.HF_GOAL_Y),
+            Feature("goal_distance", "m", R, "distance to the goal point", kn.HF_GOAL_DIST),
+            Feature(
+                "goal_heading_error", "rad", math.pi, "goal heading - heading, wrapped", kn.HF_GOAL_HDG_ERR
+            ),
+            Feature("sog", "m/s", 1.5 * U, "speed over ground", kn.HF_SOG),
+            Feature("wind_speed", "m/s", wind, "apparent wind speed (anemometer)", kn.HF_WIND_SPEED),
+            Feature(
+                "wind_angle_sin",
+                "-",
+                1.0,
+                "sin of apparent wind angle from the bow (+ from starboard)",
+                kn.HF_WIND_SIN,
+            ),
+            Feature("wind_angle_cos", "-", 1.0, "cos of apparent wind angle", kn.HF_WIND_COS),
+            Feature("current_x", "m/s", cur, "current along the body x axis (GNSS minus log)", kn.HF_CUR_X),
+            Feature("current_y", "m/s", cur, "current along the body y axis", kn.HF_CUR_Y),
+        ]
+        for j in range(self.config.n_beams):
+            f.append(
+                Feature(
+                    f"beam_{j}",
+                    "m",
+                    self.beam_range,
+                    f"free range at {360.0 * j / self.config.n_beams:g} deg clockwise from the bow",
+                    kn.HFN0 + j,
+                )
+            )
+        return f
+
+    def _pose_clear(self, n: float, e: float, psi: float) -> bool:
+        flag, _c = kn.chart_query(
+            n,
+            e,
+            psi,
+            self.hull,
+            self.verts,
+            self.pstart,
+            self.pcount,
+            self.pkind,
+            self.pbox,
+            self.beam_dirs,
+            self.beam_range,
+            self._beams,
+            np.empty(len(self.hull)),
+            np.empty(len(self.hull)),
+        )
+        return flag == kn.OK
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        sc = self.scenario
+        st = sc.start
+        opts = dict(options or {})
+        pts = np.array([(p[0], p[1]) for p in st.points])
+        lo_, hi_ = pts.min(axis=0), pts.max(axis=0)
+        for _ in range(1000):
+            n0 = float(rng.uniform(lo_[0], hi_[0]))
+            e0 = float(rng.uniform(lo_[1], hi_[1]))
+            heading = _uniform(rng, st.heading_deg)
+            if kn._inside(n0, e0, pts, 0, len(pts)) and self._pose_clear(n0, e0, heading * DEG):
+                break
+        else:  # pragma: no cover - validated scenarios have room
+            raise RuntimeError(f"{sc.path or sc.name}: no clear start pose found in [start] points")
+        speed = _uniform(rng, st.speed_m_s)
+        w = sc.weather
+        env = Environment(
+            wind_speed_m_s=_uniform(rng, w.wind_speed_m_s),
+            wind_from_deg=_uniform(rng, w.wind_from_deg),
+            current_speed_m_s=_uniform(rng, w.current_speed_m_s),
+            current_to_deg=_uniform(rng, w.current_to_deg),
+            Hs_m=_uniform(rng, w.Hs_m),
+            Tp_s=_uniform(rng, w.Tp_s),
+            wave_from_deg=_uniform(rng, w.wave_from_deg),
+        )
+        n0 = float(opts.pop("north_m", n0))
+        e0 = float(opts.pop("east_m", e0))
+        heading = float(opts.pop("heading_deg", heading))
+        speed = float(opts.pop("speed_m_s", speed))
+        if "environment" in opts:
+            env = opts.pop("environment")
+        if opts:
+            raise ValueError(
+                f"unknown reset option(s) {sorted(opts)} (allowed: north_m, east_m, heading_deg, "
+                "speed_m_s, environment)"
+            )
+        self.sim.set_environment(env, k)
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=n0, y_m=e0, k=k)
+        s = self.ts[k]
+        s[:] = 0.0
+        s[kn.HS_CUR_N], s[kn.HS_CUR_E] = current_earth(env.current_speed_m_s, env.current_to_deg * DEG)
+        s[kn.HS_WIND_SPEED] = env.wind_speed_m_s
+        s[kn.HS_WIND_FROM] = env.wind_from_deg * DEG
+        s[kn.HS_D_PREV] = math.hypot(self.p[kn.HP_GOAL_N] - n0, self.p[kn.HP_GOAL_E] - e0)
+        s[kn.HS_PREV_N], s[kn.HS_PREV_E] = n0, e0
+        s[kn.HS_PREV_ORDER] = float(self.sim.rudder_order[k])
+        self.flags[k] = kn.OK
+
+    def update(self, phase: np.ndarray) -> None:
+        sim = self.sim
+        self.views_current()
+        kn.harbour_update(
+            self.q_u,
+            self.q_v,
+            self.q_r,
+            self.q_heading,
+            self.q_north,
+            self.q_east,
+            self.q_rudder,
+            self.q_rudder_order,
+            self.q_rev,
+            self.q_rev_order,
+            sim.alive,
+            self.ts,
+            self.p,
+            self.hull,
+            self.verts,
+            self.pstart,
+            self.pcount,
+            self.pkind,
+            self.pbox,
+            self.goal_verts,
+            self.beam_dirs,
+            self.weights,
+            self.enc,
+            phase,
+            self.feat,
+            self.obs,
+            self.terms,
+            self.reward,
+            self.flags,
+            self.terminated,
+        )
+
+    def info(self, k: int) -> dict[str, Any]:
+        s = self.ts[k].tolist()
+        f = int(self.flags[k])
+        return {
+            "reward_terms": self.weighted_terms(k),
+            "outcome": kn.OUTCOMES[f],
+            "success": f == kn.SUCCESS,
+            "contact": f == kn.CONTACT,
+            "grounding": f == kn.GROUNDING,
+            "out_of_bounds": f == kn.OUT_OF_BOUNDS,
+            "diverged": f == kn.DIVERGED,
+            "time_s": s[kn.HS_T],
+            "clearance_m": s[kn.HS_CLEAR],
+            "min_clearance_m": s[kn.HS_MIN_CLEAR],
+            "distance_to_goal_m": s[kn.HS_D_PREV],
+            "speed_over_ground_m_s": s[kn.HS_SOG],
+            "heading_error_deg": math.degrees(self.feat[k, kn.HF_GOAL_HDG_ERR]),
+            "path_m": s[kn.HS_PATH],
+        }
+
+    def batch_info(self) -> dict[str, Any]:
+        s = self.ts
+        f = self.flags
+        return {
+            "reward_terms": self.batch_weighted_terms(),
+            "outcome": np.array(kn.OUTCOMES, dtype=object)[f],
+            "success": f == kn.SUCCESS,
+            "contact": f == kn.CONTACT,
+            "grounding": f == kn.GROUNDING,
+            "out_of_bounds": f == kn.OUT_OF_BOUNDS,
+            "diverged": f == kn.DIVERGED,
+            "time_s": s[:, kn.HS_T].copy(),
+            "clearance_m": s[:, kn.HS_CLEAR].copy(),
+            "min_clearance_m": s[:, kn.HS_MIN_CLEAR].copy(),
+            "distance_to_goal_m": s[:, kn.HS_D_PREV].copy(),
+            "speed_over_ground_m_s": s[:, kn.HS_SOG].copy(),
+            "heading_error_deg": np.degrees(self.feat[:, kn.HF_GOAL_HDG_ERR]),
+            "path_m": s[:, kn.HS_PATH].copy(),
+        }
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        return {
+            "title": f"HarbourApproach: {self.scenario.name}",
+            "goal_point_m": self.scenario.goal_point,
+            "clearance_m": float(self.ts[k, kn.HS_CLEAR]),
+            "outcome": kn.OUTCOMES[int(self.flags[k])],
+        }
+
+
+def _make_task(cls: type, config: Any, overrides: Mapping[str, Any], n: int) -> HarbourApproachTask:
+    over = dict(overrides)
+    scenario = over.get("scenario")
+    if isinstance(scenario, Scenario):
+        over["scenario"] = scenario.path or scenario.name
+    else:
+        scenario = None
+    cfg = make_config(HarbourApproachConfig, config, where=f"{cls.env_name} config", **over)
+    return HarbourApproachTask(cfg, n, scenario=scenario)
+
+
+class HarbourApproachEnv(ShipEnv):
+    """Bring a ship from outside a harbour through the entrance to a stop in the goal area.
+
+    ## Description
+
+    The ship starts at a random pose and speed in the scenario's start region, under wind and current drawn
+    from the scenario's ranges. The agent gives rudder and engine orders and must pass the breakwater
+    entrance and stop in the goal area (berth or turning basin) with the required heading, without touching
+    land, breakwaters or quays and without grounding on depth areas shallower than the ship's draught. The
+    chart, start and goal regions, ship and weather come from a scenario file (:mod:`vessel_gym.scenarios`;
+    built-in ``harbour``: a harbour sized for the 7 m ``kvlcc2_l7`` model, 17 m entrance, a pier and a shoal
+    inside, turning basin in front of the north quay).
+
+    Physics step 0.05 s, control interval 0.25 s.
+
+    ## Action Space
+
+    ``Box(-1, 1, (2,), float32)`` (default ``action_type="continuous"``, ``engine_control=True``):
+
+    | Num | Action | Mapping |
+    |-----|--------|---------|
+    | 0 | rudder order | x rudder limit (35 deg), + starboard |
+    | 1 | engine order | x full-ahead rpm (a > 0) / x full-astern rpm (a < 0) of the telegraph table |
+
+    Clipped to [-1, 1]; NaN raises ``ValueError``. ``action_type="discrete"``: ``MultiDiscrete([helm orders,
+    telegraph steps])``, e.g. "port 20 / midships / starboard 10" x "half astern ... full ahead" from
+    ``rudder_orders_deg`` and ``telegraph_steps``; out-of-range indices raise.
+
+    ## Observation Space
+
+    ``Box(-1, 1, (17 + n_beams,), float32)`` normalized (value / scale, clipped) or ``"physical"`` (SI,
+    clipped to +-scale). U_T test speed, L ship length, R chart diagonal.
+
+    | Num | Name | Unit | Scale | Meaning |
+    |-----|------|------|-------|---------|
+    | 0 | u | m/s | 1.5 U_T | surge velocity through the water |
+    | 1 | v | m/s | 0.5 U_T | sway velocity (+ starboard) |
+    | 2 | r | rad/s | 2 U_T / L | rate of turn (+ starboard) |
+    | 3 | rudder | rad | rudder max | actual rudder angle |
+    | 4 | rudder_order | rad | rudder max | rudder order |
+    | 5 | rev | rev/s | 1.5 full rpm | shaft speed (tachometer) |
+    | 6 | rev_order | rev/s | 1.5 full rpm | shaft-speed order |
+    | 7 | goal_x | m | R | goal point ahead of midship (body frame) |
+    | 8 | goal_y | m | R | goal point to starboard (body frame) |
+    | 9 | goal_distance | m | R | distance to the goal point |
+    | 10 | goal_heading_error | rad | pi | required heading - heading |
+    | 11 | sog | m/s | 1.5 U_T | speed over ground |
+    | 12 | wind_speed | m/s | wind max + 2 U_T | apparent wind speed (anemometer) |
+    | 13-14 | wind_angle_sin, _cos | - | 1 | apparent wind angle from the bow (+ from starboard) |
+    | 15-16 | current_x, current_y | m/s | 1.5 current max | current in body axes (GNSS velocity - log) |
+    | 17.. | beam_j | m | beam_range_L x L | free range from midship, beam j at 360 j / n_beams deg from the bow |
+
+    Range beams see land, breakwaters, quays and depth areas shallower than the draught.
+
+    ## Rewards
+
+    reward = sum of weight x term (config ``reward``); weighted terms in ``info["reward_terms"]``.
+
+    | Term | Default weight | Value per step |
+    |------|----------------|----------------|
+    | progress | 1.0 | (previous - current distance to the goal point) / L |
+    | speed_excess | 1.0 | -max(0, SOG - allowed) / U_T; allowed falls from U_T to the goal speed within slow_down_L |
+    | proximity | 0.5 | -(1 - clearance / (safe_clearance_L L)) when the hull is closer than that to an obstacle |
+    | rudder_activity | 0.05 | -abs(change of rudder order) / (2 x rudder limit) |
+    | time | 0.01 | -1 |
+    | success | 20.0 | +1 on arrival |
+    | collision | 20.0 | -1 on contact, grounding or divergence |
+    | out_of_bounds | 20.0 | -1 on leaving the chart bounds |
+
+    ## Starting State
+
+    Midship point uniform in the scenario's ``[start] points`` (poses whose hull would touch an obstacle are
+    drawn again), heading and speed uniform in its ranges, steady approach (rpm solved), rudder amidships;
+    wind, current and waves uniform in ``[weather]``.
+
+    ## Episode End
+
+    * Termination, success: midship inside the goal polygon, speed over ground <= goal ``max_speed_m_s``,
+      heading within ``heading_tolerance_deg`` of the goal heading.
+    * Termination, failure: hull outline touching land, breakwater or quay (``info["contact"]``), or a depth
+      area shallower than the draught (``info["grounding"]``); midship outside ``bounds_m``
+      (``info["out_of_bounds"]``); divergence.
+    * Truncation: 1600 steps (400 s) by the registered time limit.
+
+    ## Info
+
+    ``reward_terms``, ``outcome`` (running/success/contact/grounding/out_of_bounds/diverged) and one flag per
+    outcome, ``time_s``, ``clearance_m`` (hull to the nearest obstacle edge, capped at the beam range),
+    ``min_clearance_m``, ``distance_to_goal_m``, ``speed_over_ground_m_s``, ``heading_error_deg``, ``path_m``.
+
+    ## Arguments
+
+    ``gymnasium.make("vessel_gym/HarbourApproach-v0", render_mode=None, config=None, scenario="harbour",
+    **overrides)``: ``scenario`` is a built-in name, a TOML path or a :class:`~vessel_gym.scenarios.Scenario`;
+    further keys: the shared ones (``ship`` overrides the scenario's, ``dt_s``, ``control_interval_s`` (0.25),
+    ``action_type``, ``engine_control`` (True), ``rudder_orders_deg``, ``telegraph_steps``,
+    ``observation_type``, ...), ``n_beams`` (16), ``beam_range_L`` (10), ``slow_down_L`` (8),
+    ``safe_clearance_L`` (0.5), ``reward``. Strict: unknown keys raise ``SpecError``.
+    ``reset(options={"north_m", "east_m", "heading_deg", "speed_m_s", "environment"})`` fixes the start.
+
+    ## Vectorized environment
+
+    ``gymnasium.make_vec("vessel_gym/HarbourApproach-v0", num_envs=N)``: :class:`HarbourApproachVectorEnv`.
+
+    ## Version History
+
+    * v0: initial version.
+    """
+
+    Task = HarbourApproachTask
+    env_name = "HarbourApproach-v0"
+
+    @classmethod
+    def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
+        return _make_task(cls, config, overrides, n)
+
+
+class HarbourApproachVectorEnv(ShipVectorEnv):
+    """Native vector version of :class:`HarbourApproachEnv` (one simulation of ``num_envs`` ships)."""
+
+    Env = HarbourApproachEnv

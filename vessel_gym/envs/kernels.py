@@ -1,0 +1,726 @@
+"""Compiled per-step task computations, batched over N vessels: one call per control step for all N.
+
+The environments and their vector twins call the same kernels (N = 1 and N = 1024 run the same code). Each
+task keeps its per-vessel task state in a float array ``ts`` (N, *N) whose named columns are defined here,
+reads the ship's motion through the simulation's named accessors (u, v, r, heading, ...), and fills
+features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
+apparent wind comes from :func:`vessel_gym.physics.atmosphere.apparent_wind`.
+
+numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
+keyed by a hash of this file and the physics package's sources (stale machine code is discarded).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+
+def _invalidate_stale_numba_cache() -> None:
+    here = Path(__file__).parent
+    digest = hashlib.sha256()
+    for src in [Path(__file__)] + sorted((here.parent / "physics").glob("*.py")):
+        digest.update(src.name.encode())
+        digest.update(src.read_bytes())
+    stamp_dir = here / "__pycache__"
+    stamp = stamp_dir / "numba-sources.sha256"
+    current = digest.hexdigest()
+    try:
+        if stamp.exists() and stamp.read_text() == current:
+            return
+        stamp_dir.mkdir(exist_ok=True)
+        for f in list(stamp_dir.glob("*.nbi")) + list(stamp_dir.glob("*.nbc")):
+            f.unlink()
+        stamp.write_text(current)
+    except OSError:  # read-only install: numba then caches elsewhere or compiles in memory
+        pass
+
+
+_invalidate_stale_numba_cache()
+
+from vessel_gym.physics.atmosphere import apparent_wind  # noqa: E402  (after the cache check)
+
+PI = math.pi
+TWO_PI = 2.0 * math.pi
+
+# outcome flags (HarbourApproach)
+OK = 0
+SUCCESS = 1
+CONTACT = 2
+GROUNDING = 3
+OUT_OF_BOUNDS = 4
+DIVERGED = 5
+OUTCOMES = ("running", "success", "contact", "grounding", "out_of_bounds", "diverged")
+
+
+@njit(cache=True)
+def wrap_pi(a):
+    """Angle in [-pi, pi)."""
+    return (a + PI) % TWO_PI - PI
+
+
+@njit(cache=True)
+def encode_row(feat, k, enc, out):
+    """Observation of vessel k from its features. ``enc`` rows: (feature column, scale, normalized flag);
+    normalized = clip(feature / scale, -1, 1), else clip(feature, -scale, scale); non-finite -> 0."""
+    for j in range(enc.shape[0]):
+        x = feat[k, int(enc[j, 0])]
+        sc = enc[j, 1]
+        if not math.isfinite(x):
+            x = 0.0
+        if enc[j, 2] > 0.0:
+            x = x / sc
+            x = -1.0 if x < -1.0 else (1.0 if x > 1.0 else x)
+        else:
+            x = -sc if x < -sc else (sc if x > sc else x)
+        out[k, j] = x
+
+
+@njit(cache=True)
+def _finish(terms, k, w, reward):
+    """Weight the terms of vessel k in place and sum them into its reward."""
+    tot = 0.0
+    for j in range(terms.shape[1]):
+        terms[k, j] *= w[j]
+        tot += terms[k, j]
+    reward[k] = tot
+
+
+@njit(cache=True)
+def clip_helm(actions, limit, full_ahead, full_astern, engine, rudder_order, rev_order):
+    """Continuous helm: clip actions to [-1, 1] and scale to rudder (rad) and shaft-speed (rev/s) orders.
+
+    Returns False if any action is NaN (nothing is written then).
+    """
+    for k in range(actions.shape[0]):
+        for j in range(actions.shape[1]):
+            if actions[k, j] != actions[k, j]:
+                return False
+    for k in range(actions.shape[0]):
+        a = min(max(actions[k, 0], -1.0), 1.0)
+        rudder_order[k] = a * limit[k]
+        if engine:
+            e = min(max(actions[k, 1], -1.0), 1.0)
+            rev_order[k] = e * full_ahead[k] if e >= 0.0 else e * full_astern[k]
+    return True
+
+
+# --- ZigZag -------------------------------------------------------------------------------------------------
+Z_PSI0 = 0  # original course, rad
+Z_TARGET = 1  # current target heading, rad (unwrapped, same branch as the heading)
+Z_SIDE = 2  # IMO schedule: side of the current target, +1 starboard / -1 port
+Z_LEG_SIGN = 3  # random schedule: direction of the course change of this leg
+Z_REACHED = 4  # random schedule: target of this leg reached
+Z_OS_ON = 5  # overshoot being measured
+Z_OS_SIGN = 6
+Z_OS_TGT = 7  # heading past which the overshoot is measured, rad
+Z_OS_MAX = 8  # largest excursion past it so far, rad
+Z_OS_N = 9  # overshoots completed
+Z_OS1 = 10  # first overshoot angle, rad
+Z_OS2 = 11  # second overshoot angle, rad
+Z_OS_LAST = 12  # last completed overshoot angle, rad
+Z_EXEC = 13  # rudder executes (target changes) so far
+Z_PREV_ORDER = 14  # rudder order of the previous step, rad
+Z_U0 = 15  # approach speed, m/s
+Z_T = 16  # time since the start of the episode, s
+Z_NEXT = 17  # random schedule: time of the next course change, s
+ZN = 18
+
+ZP_PSIZ = 0  # IMO heading deviation psi_z (or random-schedule overshoot reference), rad
+ZP_DMAX = 1  # rudder scale (limit), rad
+ZP_IMO = 2  # 1: IMO schedule, 0: random course changes
+ZP_DT = 3  # control interval, s
+ZPN = 4
+
+ZF_U, ZF_V, ZF_R, ZF_DELTA, ZF_DELTA_C, ZF_REV, ZF_HEAD_ERR, ZF_HEAD_DEV, ZF_TARGET_DEV = range(9)
+ZFN = 9
+ZT_HEADING, ZT_OVERSHOOT, ZT_RUDDER, ZT_SPEED = range(4)
+ZTN = 4
+
+
+@njit(cache=True)
+def _finish_overshoot(s):
+    s[Z_OS_ON] = 0.0
+    s[Z_OS_N] += 1.0
+    if s[Z_OS_N] == 1.0:
+        s[Z_OS1] = s[Z_OS_MAX]
+    elif s[Z_OS_N] == 2.0:
+        s[Z_OS2] = s[Z_OS_MAX]
+    s[Z_OS_LAST] = s[Z_OS_MAX]
+
+
+@njit(cache=True)
+def zigzag_update(
+    u, v, r, psi, delta, delta_c, rev, alive, ts, p, w, enc, phase, feat, obs, terms, reward, done
+):
+    """Zig-zag task: vessels in phase 1 advance one control step, phase 2 (just reset) get features only."""
+    psiz = p[ZP_PSIZ]
+    dmax = p[ZP_DMAX]
+    imo = p[ZP_IMO] > 0.0
+    for k in range(u.shape[0]):
+        if phase[k] == 0:
+            continue
+        s = ts[k]
+        for j in range(ZTN):
+            terms[k, j] = 0.0
+        if phase[k] == 1:
+            s[Z_T] += p[ZP_DT]
+            if s[Z_OS_ON] > 0.0:
+                exc = s[Z_OS_SIGN] * (psi[k] - s[Z_OS_TGT])
+                if exc > s[Z_OS_MAX]:
+                    s[Z_OS_MAX] = exc
+                if s[Z_OS_SIGN] * r[k] <= 0.0:
+                    _finish_overshoot(s)
+            crossed = False
+            sign = 0.0
+            if imo:
+                if s[Z_SIDE] * (psi[k] - s[Z_TARGET]) >= 0.0:
+                    crossed = True
+                    sign = s[Z_SIDE]
+            elif s[Z_REACHED] == 0.0 and s[Z_LEG_SIGN] * (psi[k] - s[Z_TARGET]) >= 0.0:
+                crossed = True
+                sign = s[Z_LEG_SIGN]
+                s[Z_REACHED] = 1.0
+            if crossed:
+                if s[Z_OS_ON] > 0.0:
+                    _finish_overshoot(s)
+                s[Z_OS_ON] = 1.0
+                s[Z_OS_SIGN] = sign
+                s[Z_OS_TGT] = s[Z_TARGET]
+                s[Z_OS_MAX] = sign * (psi[k] - s[Z_TARGET])
+                if imo:  # the IMO execute: the target flips to the other side of the original course
+                    s[Z_SIDE] = -s[Z_SIDE]
+                    s[Z_TARGET] = s[Z_PSI0] + s[Z_SIDE] * psiz
+                    s[Z_EXEC] += 1.0
+            err = wrap_pi(s[Z_TARGET] - psi[k])
+            terms[k, ZT_HEADING] = -abs(err) / PI
+            if s[Z_OS_ON] > 0.0:
+                exc = s[Z_OS_SIGN] * (psi[k] - s[Z_OS_TGT])
+                if exc > 0.0:
+                    terms[k, ZT_OVERSHOOT] = -min(exc / psiz, 1.0)
+            terms[k, ZT_RUDDER] = -abs(delta_c[k] - s[Z_PREV_ORDER]) / (2.0 * dmax)
+            U = math.sqrt(u[k] * u[k] + v[k] * v[k])
+            if U < s[Z_U0]:
+                terms[k, ZT_SPEED] = -(s[Z_U0] - U) / s[Z_U0]
+        done[k] = not alive[k]
+        if done[k]:
+            for j in range(ZTN):
+                terms[k, j] = 0.0
+        _finish(terms, k, w, reward)
+        s[Z_PREV_ORDER] = delta_c[k]
+        f = feat[k]
+        f[ZF_U] = u[k]
+        f[ZF_V] = v[k]
+        f[ZF_R] = r[k]
+        f[ZF_DELTA] = delta[k]
+        f[ZF_DELTA_C] = delta_c[k]
+        f[ZF_REV] = rev[k]
+        f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psi[k])
+        f[ZF_HEAD_DEV] = wrap_pi(psi[k] - s[Z_PSI0])
+        f[ZF_TARGET_DEV] = wrap_pi(s[Z_TARGET] - s[Z_PSI0])
+        encode_row(feat, k, enc, obs)
+
+
+# --- TurningCircle ------------------------------------------------------------------------------------------
+TC_PSI0 = 0  # heading at the rudder order (episode start), rad
+TC_N0 = 1  # midship position at the rudder order, m
+TC_E0 = 2
+TC_CMD = 3  # rate mode: commanded rate of turn, rad/s; radius mode: commanded curvature, 1/m
+TC_PREV_ORDER = 4
+TC_U0 = 5  # approach speed, m/s
+TC_T = 6
+TC_ADV = 7  # advance at 90 deg heading change, m
+TC_TRF = 8  # transfer at 90 deg, m
+TC_TD = 9  # tactical diameter (transfer at 180 deg), m
+TC_R90 = 10  # 90 deg reached
+TC_R180 = 11  # 180 deg reached
+TC_MAXADV = 12  # largest advance so far, m
+TC_MAXTRF = 13  # largest |transfer| so far, m
+TC_PREV_TURNED = 14  # |heading change| at the previous step, rad
+TC_PREV_ADV = 15  # advance and transfer at the previous step, m
+TC_PREV_TRF = 16
+TCN = 17
+
+TCP_MODE = 0  # 0 rate, 1 radius, 2 reverse
+TCP_L = 1
+TCP_DMAX = 2
+TCP_DT = 3
+TCPN = 4
+
+(
+    TCF_U,
+    TCF_V,
+    TCF_R,
+    TCF_DELTA,
+    TCF_DELTA_C,
+    TCF_REV,
+    TCF_CMD_RATE,
+    TCF_RATE_ERR,
+    TCF_CMD_CURV,
+    TCF_CURV_ERR,
+    TCF_HEAD_CHANGE,
+    TCF_ADVANCE,
+    TCF_TRANSFER,
+) = range(13)
+TCFN = 13
+TCT_TRACK, TCT_PROGRESS, TCT_FOOTPRINT, TCT_RUDDER, TCT_SPEED, TCT_TIME = range(6)
+TCTN = 6
+
+
+@njit(cache=True)
+def turning_update(
+    u,
+    v,
+    r,
+    psi,
+    north,
+    east,
+    delta,
+    delta_c,
+    rev,
+    alive,
+    ts,
+    p,
+    w,
+    enc,
+    phase,
+    feat,
+    obs,
+    terms,
+    reward,
+    done,
+):
+    """Turning task (phases as :func:`zigzag_update`); ``done`` set on a completed course reversal."""
+    mode = int(p[TCP_MODE])
+    L = p[TCP_L]
+    for k in range(u.shape[0]):
+        if phase[k] == 0:
+            continue
+        s = ts[k]
+        done[k] = False
+        for j in range(TCTN):
+            terms[k, j] = 0.0
+        c0 = math.cos(s[TC_PSI0])
+        s0 = math.sin(s[TC_PSI0])
+        dn = north[k] - s[TC_N0]
+        de = east[k] - s[TC_E0]
+        adv = c0 * dn + s0 * de
+        trf = -s0 * dn + c0 * de
+        turned = abs(psi[k] - s[TC_PSI0])
+        U = math.sqrt(u[k] * u[k] + v[k] * v[k])
+        U0 = s[TC_U0]
+        curv = r[k] / max(U, 0.1 * U0)
+        if phase[k] == 1:
+            s[TC_T] += p[TCP_DT]
+            tp = s[TC_PREV_TURNED]
+            if s[TC_R90] == 0.0 and turned >= 0.5 * PI:
+                fr = (0.5 * PI - tp) / (turned - tp) if turned > tp else 1.0
+                s[TC_ADV] = s[TC_PREV_ADV] + fr * (adv - s[TC_PREV_ADV])
+                s[TC_TRF] = abs(s[TC_PREV_TRF] + fr * (trf - s[TC_PREV_TRF]))
+                s[TC_R90] = 1.0
+            if s[TC_R180] == 0.0 and turned >= PI:
+                fr = (PI - tp) / (turned - tp) if turned > tp else 1.0
+                s[TC_TD] = abs(s[TC_PREV_TRF] + fr * (trf - s[TC_PREV_TRF]))
+                s[TC_R180] = 1.0
+            ma = max(s[TC_MAXADV], adv)
+            mt = max(s[TC_MAXTRF], abs(trf))
+            if mode == 0:
+                terms[k, TCT_TRACK] = -min(abs(r[k] - s[TC_CMD]) / abs(s[TC_CMD]), 1.0)
+            elif mode == 1:
+                terms[k, TCT_TRACK] = -min(abs(curv - s[TC_CMD]) / abs(s[TC_CMD]), 1.0)
+            else:
+                terms[k, TCT_PROGRESS] = (min(turned, PI) - min(tp, PI)) / PI
+                terms[k, TCT_FOOTPRINT] = -((ma - s[TC_MAXADV]) + (mt - s[TC_MAXTRF])) / L
+                terms[k, TCT_TIME] = -p[TCP_DT] * U0 / L
+                done[k] = turned >= PI
+            s[TC_MAXADV] = ma
+            s[TC_MAXTRF] = mt
+            terms[k, TCT_RUDDER] = -abs(delta_c[k] - s[TC_PREV_ORDER]) / (2.0 * p[TCP_DMAX])
+            if U < U0:
+                terms[k, TCT_SPEED] = -(U0 - U) / U0
+        if not alive[k]:
+            done[k] = True
+            for j in range(TCTN):
+                terms[k, j] = 0.0
+        _finish(terms, k, w, reward)
+        s[TC_PREV_ORDER] = delta_c[k]
+        s[TC_PREV_TURNED] = turned
+        s[TC_PREV_ADV] = adv
+        s[TC_PREV_TRF] = trf
+        f = feat[k]
+        f[TCF_U] = u[k]
+        f[TCF_V] = v[k]
+        f[TCF_R] = r[k]
+        f[TCF_DELTA] = delta[k]
+        f[TCF_DELTA_C] = delta_c[k]
+        f[TCF_REV] = rev[k]
+        f[TCF_CMD_RATE] = s[TC_CMD] if mode == 0 else 0.0
+        f[TCF_RATE_ERR] = s[TC_CMD] - r[k] if mode == 0 else 0.0
+        f[TCF_CMD_CURV] = s[TC_CMD] * L if mode == 1 else 0.0
+        f[TCF_CURV_ERR] = (s[TC_CMD] - curv) * L if mode == 1 else 0.0
+        f[TCF_HEAD_CHANGE] = psi[k] - s[TC_PSI0]
+        f[TCF_ADVANCE] = adv
+        f[TCF_TRANSFER] = trf
+        encode_row(feat, k, enc, obs)
+
+
+# --- geometry -------------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _cross(ax, ay, bx, by):
+    return ax * by - ay * bx
+
+
+@njit(cache=True)
+def _seg_intersect(ax, ay, bx, by, cx, cy, dx, dy):
+    d1 = _cross(bx - ax, by - ay, cx - ax, cy - ay)
+    d2 = _cross(bx - ax, by - ay, dx - ax, dy - ay)
+    d3 = _cross(dx - cx, dy - cy, ax - cx, ay - cy)
+    d4 = _cross(dx - cx, dy - cy, bx - cx, by - cy)
+    return ((d1 > 0.0) != (d2 > 0.0)) and ((d3 > 0.0) != (d4 > 0.0))
+
+
+@njit(cache=True)
+def _point_seg_dist(px, py, ax, ay, bx, by):
+    ex = bx - ax
+    ey = by - ay
+    ll = ex * ex + ey * ey
+    t = 0.0 if ll == 0.0 else ((px - ax) * ex + (py - ay) * ey) / ll
+    t = 0.0 if t < 0.0 else (1.0 if t > 1.0 else t)
+    qx = ax + t * ex - px
+    qy = ay + t * ey - py
+    return math.sqrt(qx * qx + qy * qy)
+
+
+@njit(cache=True)
+def _inside(px, py, verts, start, count):
+    inside = False
+    for i in range(count):
+        x0 = verts[start + i, 0]
+        y0 = verts[start + i, 1]
+        j = start + (i + 1) % count
+        x1 = verts[j, 0]
+        y1 = verts[j, 1]
+        if (y0 > py) != (y1 > py) and px < x0 + (py - y0) * (x1 - x0) / (y1 - y0):
+            inside = not inside
+    return inside
+
+
+@njit(cache=True)
+def _ray_hit(ox, oy, dx, dy, ax, ay, bx, by):
+    ex = bx - ax
+    ey = by - ay
+    den = _cross(dx, dy, ex, ey)
+    if den == 0.0:
+        return np.inf
+    t = _cross(ax - ox, ay - oy, ex, ey) / den
+    s = _cross(ax - ox, ay - oy, dx, dy) / den
+    if t >= 0.0 and 0.0 <= s <= 1.0:
+        return t
+    return np.inf
+
+
+@njit(cache=True)
+def chart_query(n0, e0, psi, hull, verts, pstart, pcount, pkind, pbox, beam_dirs, beam_range, beams, hn, he):
+    """Contact, grounding, clearance and range beams of one ship at (n0, e0, psi) among chart polygons.
+
+    ``hull``: outline in body axes (x forward, y starboard), m. ``pkind``: 1 hard obstacle, 2 shoal.
+    ``beam_dirs``: (n_beams, 2) unit vectors of the beams in body axes (x forward, y starboard).
+    Fills ``beams`` (m, capped at ``beam_range``) measured from the midship point; returns
+    (outcome flag OK/CONTACT/GROUNDING, clearance m = distance hull outline to the nearest polygon edge).
+    ``hn``, ``he``: scratch arrays of the hull's length.
+    """
+    c = math.cos(psi)
+    s = math.sin(psi)
+    nh = hull.shape[0]
+    hb0 = hb1 = hb2 = hb3 = 0.0
+    for i in range(nh):
+        hn[i] = n0 + c * hull[i, 0] - s * hull[i, 1]
+        he[i] = e0 + s * hull[i, 0] + c * hull[i, 1]
+        if i == 0 or hn[i] < hb0:
+            hb0 = hn[i]
+        if i == 0 or hn[i] > hb1:
+            hb1 = hn[i]
+        if i == 0 or he[i] < hb2:
+            hb2 = he[i]
+        if i == 0 or he[i] > hb3:
+            hb3 = he[i]
+    flag = OK
+    clear = beam_range
+    for j in range(beams.shape[0]):
+        beams[j] = beam_range
+    for q in range(pstart.shape[0]):
+        st = pstart[q]
+        cnt = pcount[q]
+        # bounding-box gap between hull and polygon: skip polygons farther than the clearance found so far
+        gn = max(pbox[q, 0] - hb1, hb0 - pbox[q, 1], 0.0)
+        ge = max(pbox[q, 2] - hb3, hb2 - pbox[q, 3], 0.0)
+        gap = math.sqrt(gn * gn + ge * ge)
+        if gap == 0.0:
+            hit = False
+            for i in range(nh):
+                if _inside(hn[i], he[i], verts, st, cnt):
+                    hit = True
+                    break
+            if not hit:
+                for i in range(nh):
+                    i2 = (i + 1) % nh
+                    for m in range(cnt):
+                        m2 = st + (m + 1) % cnt
+                        if _seg_intersect(
+                            hn[i],
+                            he[i],
+                            hn[i2],
+                            he[i2],
+                            verts[st + m, 0],
+                            verts[st + m, 1],
+                            verts[m2, 0],
+                            verts[m2, 1],
+                        ):
+                            hit = True
+                            break
+                    if hit:
+                        break
+            if hit:
+                clear = 0.0
+                if pkind[q] == 1:
+                    flag = CONTACT
+                elif flag == OK:
+                    flag = GROUNDING
+        if gap < clear:
+            for m in range(cnt):
+                m2 = st + (m + 1) % cnt
+                ax = verts[st + m, 0]
+                ay = verts[st + m, 1]
+                bx = verts[m2, 0]
+                by = verts[m2, 1]
+                for i in range(nh):
+                    d = _point_seg_dist(hn[i], he[i], ax, ay, bx, by)
+                    if d < clear:
+                        clear = d
+                    i2 = (i + 1) % nh
+                    d = _point_seg_dist(ax, ay, hn[i], he[i], hn[i2], he[i2])
+                    if d < clear:
+                        clear = d
+        # range beams from the midship point
+        bg_n = max(pbox[q, 0] - n0, n0 - pbox[q, 1], 0.0)
+        bg_e = max(pbox[q, 2] - e0, e0 - pbox[q, 3], 0.0)
+        if bg_n * bg_n + bg_e * bg_e < beam_range * beam_range:
+            for j in range(beams.shape[0]):
+                dn = c * beam_dirs[j, 0] - s * beam_dirs[j, 1]  # beam direction (north, east)
+                de = s * beam_dirs[j, 0] + c * beam_dirs[j, 1]
+                for m in range(cnt):
+                    m2 = st + (m + 1) % cnt
+                    t = _ray_hit(
+                        n0, e0, dn, de, verts[st + m, 0], verts[st + m, 1], verts[m2, 0], verts[m2, 1]
+                    )
+                    if t < beams[j]:
+                        beams[j] = t
+    return flag, clear
+
+
+# --- HarbourApproach -----------------------------------------------------------------------------------------
+HS_D_PREV = 0  # distance to the goal point at the previous step, m
+HS_PREV_ORDER = 1
+HS_CUR_N = 2  # current (north, east), m/s
+HS_CUR_E = 3
+HS_WIND_SPEED = 4  # true wind speed, m/s
+HS_WIND_FROM = 5  # true wind direction (from), rad
+HS_MIN_CLEAR = 6  # smallest clearance this episode, m
+HS_CLEAR = 7  # clearance now, m
+HS_T = 8
+HS_PATH = 9  # distance sailed over ground, m
+HS_PREV_N = 10
+HS_PREV_E = 11
+HS_SOG = 12  # speed over ground, m/s
+HSN = 13
+
+HP_L = 0
+HP_DMAX = 1
+HP_DT = 2
+HP_BEAM_RANGE = 3
+HP_GOAL_N = 4
+HP_GOAL_E = 5
+HP_GOAL_HDG = 6
+HP_GOAL_TOL = 7
+HP_GOAL_VMAX = 8
+HP_UT = 9  # ship test speed (speed scale), m/s
+HP_SLOW_DIST = 10  # distance from the goal inside which the allowed speed falls linearly, m
+HP_CLEAR_REF = 11  # clearance below which the proximity term grows, m
+HP_N_MIN = 12  # chart bounds, m
+HP_N_MAX = 13
+HP_E_MIN = 14
+HP_E_MAX = 15
+HPN = 16
+
+(
+    HF_U,
+    HF_V,
+    HF_R,
+    HF_DELTA,
+    HF_DELTA_C,
+    HF_REV,
+    HF_REV_C,
+    HF_GOAL_X,
+    HF_GOAL_Y,
+    HF_GOAL_DIST,
+    HF_GOAL_HDG_ERR,
+    HF_SOG,
+    HF_WIND_SPEED,
+    HF_WIND_SIN,
+    HF_WIND_COS,
+    HF_CUR_X,
+    HF_CUR_Y,
+) = range(17)
+HFN0 = 17  # range beams follow
+HT_PROGRESS, HT_SPEED, HT_PROXIMITY, HT_RUDDER, HT_TIME, HT_SUCCESS, HT_COLLISION, HT_OUT = range(8)
+HTN = 8
+
+
+@njit(cache=True)
+def harbour_update(
+    u,
+    v,
+    r,
+    psi,
+    north,
+    east,
+    delta,
+    delta_c,
+    rev,
+    rev_c,
+    alive,
+    ts,
+    p,
+    hull,
+    verts,
+    pstart,
+    pcount,
+    pkind,
+    pbox,
+    goal_verts,
+    beam_dirs,
+    w,
+    enc,
+    phase,
+    feat,
+    obs,
+    terms,
+    reward,
+    flags,
+    done,
+):
+    """Harbour task (phases as :func:`zigzag_update`); ``flags`` get the outcome of stepped vessels."""
+    nb = beam_dirs.shape[0]
+    beams = np.empty(nb)
+    hn = np.empty(hull.shape[0])
+    he = np.empty(hull.shape[0])
+    L = p[HP_L]
+    UT = p[HP_UT]
+    for k in range(u.shape[0]):
+        if phase[k] == 0:
+            continue
+        s = ts[k]
+        for j in range(HTN):
+            terms[k, j] = 0.0
+        c = math.cos(psi[k])
+        sn = math.sin(psi[k])
+        vn = c * u[k] - sn * v[k] + s[HS_CUR_N]
+        ve = sn * u[k] + c * v[k] + s[HS_CUR_E]
+        sog = math.sqrt(vn * vn + ve * ve)
+        flag, clear = chart_query(
+            north[k],
+            east[k],
+            psi[k],
+            hull,
+            verts,
+            pstart,
+            pcount,
+            pkind,
+            pbox,
+            beam_dirs,
+            p[HP_BEAM_RANGE],
+            beams,
+            hn,
+            he,
+        )
+        gn = p[HP_GOAL_N] - north[k]
+        ge = p[HP_GOAL_E] - east[k]
+        dist = math.sqrt(gn * gn + ge * ge)
+        herr = wrap_pi(p[HP_GOAL_HDG] - psi[k])
+        if flag == OK:
+            if not alive[k]:
+                flag = DIVERGED
+            elif not (p[HP_N_MIN] <= north[k] <= p[HP_N_MAX] and p[HP_E_MIN] <= east[k] <= p[HP_E_MAX]):
+                flag = OUT_OF_BOUNDS
+            elif (
+                sog <= p[HP_GOAL_VMAX]
+                and abs(herr) <= p[HP_GOAL_TOL]
+                and _inside(north[k], east[k], goal_verts, 0, goal_verts.shape[0])
+            ):
+                flag = SUCCESS
+        s[HS_CLEAR] = clear
+        if phase[k] == 1:
+            flags[k] = flag
+            s[HS_T] += p[HP_DT]
+            dpn = north[k] - s[HS_PREV_N]
+            dpe = east[k] - s[HS_PREV_E]
+            s[HS_PATH] += math.sqrt(dpn * dpn + dpe * dpe)
+            if clear < s[HS_MIN_CLEAR]:
+                s[HS_MIN_CLEAR] = clear
+            terms[k, HT_PROGRESS] = (s[HS_D_PREV] - dist) / L
+            allowed = max(p[HP_GOAL_VMAX], UT * min(1.0, dist / p[HP_SLOW_DIST]))
+            if sog > allowed:
+                terms[k, HT_SPEED] = -(sog - allowed) / UT
+            if clear < p[HP_CLEAR_REF]:
+                terms[k, HT_PROXIMITY] = -(1.0 - clear / p[HP_CLEAR_REF])
+            terms[k, HT_RUDDER] = -abs(delta_c[k] - s[HS_PREV_ORDER]) / (2.0 * p[HP_DMAX])
+            terms[k, HT_TIME] = -1.0
+            if flag == SUCCESS:
+                terms[k, HT_SUCCESS] = 1.0
+            elif flag == CONTACT or flag == GROUNDING or flag == DIVERGED:
+                terms[k, HT_COLLISION] = -1.0
+            elif flag == OUT_OF_BOUNDS:
+                terms[k, HT_OUT] = -1.0
+            if flag == DIVERGED:
+                for j in range(HTN):
+                    terms[k, j] = 0.0
+                terms[k, HT_COLLISION] = -1.0
+        else:
+            flags[k] = OK
+            s[HS_MIN_CLEAR] = clear
+        done[k] = flags[k] != OK
+        _finish(terms, k, w, reward)
+        s[HS_D_PREV] = dist
+        s[HS_PREV_ORDER] = delta_c[k]
+        s[HS_PREV_N] = north[k]
+        s[HS_PREV_E] = east[k]
+        s[HS_SOG] = sog
+        # body-frame quantities as sensed on the bridge
+        ug = u[k] + c * s[HS_CUR_N] + sn * s[HS_CUR_E]
+        vg = v[k] - sn * s[HS_CUR_N] + c * s[HS_CUR_E]
+        Vrw, gam = apparent_wind(ug, vg, psi[k], s[HS_WIND_SPEED], s[HS_WIND_FROM])
+        f = feat[k]
+        f[HF_U] = u[k]
+        f[HF_V] = v[k]
+        f[HF_R] = r[k]
+        f[HF_DELTA] = delta[k]
+        f[HF_DELTA_C] = delta_c[k]
+        f[HF_REV] = rev[k]
+        f[HF_REV_C] = rev_c[k]
+        f[HF_GOAL_X] = c * gn + sn * ge
+        f[HF_GOAL_Y] = -sn * gn + c * ge
+        f[HF_GOAL_DIST] = dist
+        f[HF_GOAL_HDG_ERR] = herr
+        f[HF_SOG] = sog
+        f[HF_WIND_SPEED] = Vrw
+        f[HF_WIND_SIN] = math.sin(gam)
+        f[HF_WIND_COS] = math.cos(gam)
+        f[HF_CUR_X] = c * s[HS_CUR_N] + sn * s[HS_CUR_E]
+        f[HF_CUR_Y] = -sn * s[HS_CUR_N] + c * s[HS_CUR_E]
+        for j in range(nb):
+            f[HFN0 + j] = beams[j]
+        encode_row(feat, k, enc, obs)
