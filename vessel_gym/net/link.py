@@ -28,7 +28,7 @@ import ipaddress
 import math
 import select
 import socket
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime, timedelta, timezone
 
@@ -364,13 +364,14 @@ class UdpLink:
     def service(
         self,
         now_s: float,
-        own: BridgeReading,
+        own: BridgeReading | Callable[[], BridgeReading],
         targets: Sequence[Target] = (),
         utc: datetime | None = None,
     ) -> HelmState:
         """Receive, apply helm commands, send what is due at time ``now_s`` (s), return the helm state.
 
-        ``own`` is the own ship's readings, ``targets`` the other ships (state targets and AIS). ``utc`` is the
+        ``own`` is the own ship's readings, or a function returning them that is called only when state or
+        NMEA is due (so a link with nobody listening costs no readings), ``targets`` the other ships (state targets and AIS). ``utc`` is the
         time stamped on NMEA/AIS; by default ``utc_epoch + own.t_s``. Never blocks; never raises because of
         peer input or socket errors (they are counted). After :meth:`close` it only returns the last state.
         """
@@ -384,11 +385,13 @@ class UdpLink:
             self._receive(now_s)
         if self._owner is not None and now_s - self._owner_cmd_time > self.config.watchdog_s:
             self._release(now_s, "helm_watchdog")
-        if self._clients:
+        serve = bool(self._clients) or bool(self._static_dest and now_s + self._static_slack >= self._static_due)
+        nmea = self._nmea_sock is not None and now_s + self._nmea_slack >= self._nmea_due
+        if (serve or nmea) and callable(own):
+            own = own()  # the readings are computed only when something is due
+        if serve:
             self._serve_clients(now_s, own, targets)
-        elif self._static_dest and now_s + self._static_slack >= self._static_due:
-            self._serve_clients(now_s, own, targets)
-        if self._nmea_sock is not None and now_s + self._nmea_slack >= self._nmea_due:
+        if nmea:
             self._send_nmea(now_s, own, targets, utc)
         return self._helm
 

@@ -1,0 +1,136 @@
+"""Load a helm policy by name or file: the scripted and classical baselines, or a trained SB3 agent.
+
+``load_policy(spec, env)`` returns a callable ``action = policy(observation)`` (single or batched
+observations) with a ``reset(mask=None)`` method:
+
+* ``"scripted"`` - the IMO reference helm of the task (zig-zag rule, 35 deg turn; the pilot for harbours),
+* ``"pid"`` - the heading PID autopilot with gains from the ship's Nomoto model (HarbourApproach: the
+  line-of-sight pilot with the same gains),
+* a path to a Stable-Baselines3 ``.zip`` (the algorithm is read from the file; needs the ``rl`` extra).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+BASELINES = ("pid", "scripted")
+
+
+class _SB3Policy:
+    def __init__(self, model: Any) -> None:
+        self.model = model
+
+    def reset(self, mask: np.ndarray | None = None) -> None:
+        pass
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        action, _ = self.model.predict(obs, deterministic=True)
+        return action
+
+
+def nomoto_pid_kwargs(env: Any) -> dict[str, float]:
+    """Gains of :class:`vessel_gym.envs.policies.PIDHeadingAutopilot` (nondimensional on L/U) from the
+    Nomoto pole placement of :func:`vessel_gym.control.nomoto_pid_gains` for the env's ship."""
+    from vessel_gym.control import nomoto_pid_gains
+
+    task = env.unwrapped.task
+    g = nomoto_pid_gains(task.ship, task.U_T)
+    T = task.L / task.U_T
+    return {"Kp": g.K_p, "Ki": g.K_i * T, "Kd": g.K_d / T}
+
+
+ALGORITHMS = ("PPO", "A2C", "SAC", "TD3", "DDPG", "DQN")
+
+
+def sb3_algorithm(path: str | Path) -> str:
+    """Algorithm of an SB3 model file from its name: ``agents/train.py`` saves ``<algo>[_...].zip``."""
+    stem = Path(path).stem.split("_")[0].upper()
+    if stem not in ALGORITHMS:
+        raise ValueError(
+            f"agent {str(path)!r}: cannot tell the algorithm from the file name; name it "
+            f"<algo>_....zip with algo one of {', '.join(a.lower() for a in ALGORITHMS)}"
+        )
+    return stem
+
+
+class RatePI:
+    """TurningCircle baseline: PI on the rate-of-turn error e = r_cmd - r (the observation's ``rate_error``).
+
+    On Nomoto's first-order model T r' + r = K delta, delta = K_p e + K_i int e dt gives the closed loop
+    T s^2 + (1 + K K_p) s + K K_i = 0; placing it at T (s^2 + 2 zeta omega s + omega^2) gives
+    K_p = (2 zeta omega T - 1)/K and K_i = omega^2 T / K (valid for course-unstable ships, T, K < 0, too).
+    omega = U/L, zeta = 1.
+    """
+
+    def __init__(self, env: Any, zeta: float = 1.0) -> None:
+        from vessel_gym.control import nomoto_pid_gains
+        from vessel_gym.envs.policies import HelmPolicy
+
+        self.helm = HelmPolicy(env)
+        task = env.unwrapped.task
+        m = nomoto_pid_gains(task.ship, task.U_T).model
+        w = task.U_T / task.L
+        self.Kp = (2.0 * zeta * w * m.T - 1.0) / m.K
+        self.Ki = w * w * m.T / m.K
+        self.dt = float(env.unwrapped.config.control_interval_s)
+        self.integral: np.ndarray | float = 0.0
+
+    def reset(self, mask: np.ndarray | None = None) -> None:
+        self.integral = (
+            0.0 if mask is None or np.ndim(self.integral) == 0 else np.where(mask, 0.0, self.integral)
+        )
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        e = self.helm.get(obs, "rate_error")
+        lim = self.helm.rudder_limit_rad
+        bound = lim / abs(self.Ki)
+        self.integral = np.clip(self.integral + e * self.dt, -bound, bound)
+        d = np.clip(self.Kp * e + self.Ki * self.integral, -lim, lim)
+        return self.helm.action(d, self.helm.hold_engine(obs))
+
+
+def load_policy(spec: str, env: Any, algo: str | None = None):
+    """A policy for ``env`` from a baseline name or an SB3 model file (see the module docstring)."""
+    from vessel_gym.envs import policies as P
+
+    base = env.unwrapped
+    kind = type(base).__name__
+    if spec in BASELINES:
+        if "Harbour" in kind:
+            return P.HarbourPilot(env, **nomoto_pid_kwargs(env)) if spec == "pid" else P.HarbourPilot(env)
+        if "Turning" in kind:
+            return RatePI(env) if spec == "pid" else P.TurningRule(env)
+        if spec == "pid":
+            return P.PIDHeadingAutopilot(env, **nomoto_pid_kwargs(env))
+        if "ZigZag" in kind:
+            return P.ZigZagRule(env)
+        raise ValueError(f"no scripted helm for {kind}")
+    path = Path(spec)
+    if not path.exists():
+        raise ValueError(f"agent {spec!r}: not a baseline ({', '.join(BASELINES)}) and no such file")
+    try:
+        import stable_baselines3 as sb3
+    except ImportError as exc:  # pragma: no cover - depends on the install
+        raise ValueError(
+            "loading a trained agent needs the 'rl' extra: pip install 'vessel-gym[rl]'"
+        ) from exc
+    name = (algo or sb3_algorithm(path)).upper()
+    cls = getattr(sb3, name, None)
+    if cls is None:
+        raise ValueError(f"agent {spec!r}: unknown algorithm {name!r}")
+    try:
+        model = cls.load(str(path), device="cpu")
+    except Exception as exc:  # a wrong/corrupt file: one clear line
+        raise ValueError(f"agent {spec!r}: cannot load as {name}: {exc}") from None
+    if model.observation_space.shape != base.observation_space.shape:
+        raise ValueError(
+            f"agent {spec!r}: observation shape {model.observation_space.shape} does not match "
+            f"the environment's {base.observation_space.shape}"
+        )
+    return _SB3Policy(model)
+
+
+__all__ = ["ALGORITHMS", "BASELINES", "RatePI", "load_policy", "nomoto_pid_kwargs"]
