@@ -100,7 +100,76 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument("--plot", metavar="PNG", help="write the track plot to this PNG file")
 
     sub.add_parser("ships", help="list the built-in ships")
+    sub.add_parser("scenarios", help="list the built-in scenarios")
+
+    pl = sub.add_parser("play", help="drive a scenario's ship with the keyboard (pygame), debrief at the end")
+    pl.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
+    pl.add_argument("--seed", type=int, default=None)
+    pl.add_argument("--speedup", type=_finite("--speedup", 0.25, 16), default=1.0, help="initial time factor")
+    pl.add_argument("--max-steps", type=int, default=None, help="stop after this many control steps")
+    pl.add_argument("--out", default=".", help="directory for the debrief track plot")
+
+    sv = sub.add_parser("serve", help="run a scenario in real time with the UDP link (NMEA, JSON state/helm)")
+    sv.add_argument("scenario", nargs="?", default="harbour")
+    sv.add_argument(
+        "--nmea",
+        metavar="HOST:PORT",
+        action="append",
+        default=None,
+        help="NMEA 0183 destination (repeatable; default 127.0.0.1:10110; 'off' for none)",
+    )
+    sv.add_argument(
+        "--json", metavar="HOST:PORT", default="127.0.0.1:10120", help="JSON channel bind address"
+    )
+    sv.add_argument(
+        "--view",
+        metavar="HOST:PORT",
+        action="append",
+        default=[],
+        help="listen-only JSON destination (a viewer that never says hello; repeatable)",
+    )
+    sv.add_argument("--time-factor", type=_finite("--time-factor", 0.1, 100), default=1.0)
+    sv.add_argument(
+        "--agent", default="pid", help="helm when no human holds it: pid, scripted or an SB3 .zip"
+    )
+    sv.add_argument("--allow-remote", action="store_true", help="allow binding to a non-loopback address")
+    sv.add_argument("--failsafe", choices=("hold", "midships_stop"), default="hold")
+    sv.add_argument(
+        "--duration",
+        type=_finite("--duration", 0.1, 1e7),
+        default=None,
+        help="stop after this many wall-clock seconds",
+    )
+    sv.add_argument("--seed", type=int, default=None)
+
+    hm = sub.add_parser("helm", help="pygame helm panel for a running 'vessel-gym serve'")
+    hm.add_argument("--server", metavar="HOST:PORT", default="127.0.0.1:10120")
+    hm.add_argument("--name", default="helm")
+    vw = sub.add_parser("view", help="passive pygame viewer of a running 'vessel-gym serve'")
+    vw.add_argument("--server", metavar="HOST:PORT", default="127.0.0.1:10120")
+    vw.add_argument(
+        "--listen",
+        metavar="HOST:PORT",
+        default=None,
+        help="wait for state sent to this address instead of saying hello (static destination)",
+    )
+    for sp in (hm, vw):
+        sp.add_argument("--duration", type=_finite("--duration", 0.1, 1e7), default=None)
     return p
+
+
+def host_port(text: str, what: str) -> tuple[str, int]:
+    """'HOST:PORT' -> (host, port); raises UsageError naming the option."""
+    host, sep, port = text.rpartition(":")
+    if not sep or not host:
+        raise UsageError(f"vessel-gym: {what}: expected HOST:PORT, got {text!r}")
+    try:
+        p = int(port)
+    except ValueError:
+        raise UsageError(f"vessel-gym: {what}: port must be an integer, got {port!r}") from None
+    if not 0 <= p <= 65535:
+        raise UsageError(f"vessel-gym: {what}: port {p} outside [0, 65535]")
+    return host, p
 
 
 def _cmd_imo(args) -> int:
@@ -164,6 +233,55 @@ def main(argv: Sequence[str] | None = None) -> int:
             from vessel_gym.physics.shipfile import builtin_ships
 
             print("\n".join(builtin_ships()))
+            return 0
+        if args.command == "scenarios":
+            from vessel_gym.scenarios import builtin_scenarios
+
+            print("\n".join(builtin_scenarios()))
+            return 0
+        if args.command == "play":
+            from vessel_gym.play import play
+            from vessel_gym.scenarios import load_scenario
+
+            load_scenario(args.scenario)  # bad names fail here, before a window opens
+            debrief = play(
+                args.scenario,
+                seed=args.seed,
+                max_steps=args.max_steps,
+                speedup=args.speedup,
+                out_dir=args.out,
+            )
+            print(debrief.summary())
+            return 0
+        if args.command == "serve":
+            from vessel_gym.net.serve import serve
+
+            nmea = (
+                []
+                if args.nmea == ["off"]
+                else [host_port(t, "--nmea") for t in (args.nmea or ["127.0.0.1:10110"])]
+            )
+            return serve(
+                args.scenario,
+                nmea=nmea,
+                json_bind=host_port(args.json, "--json"),
+                listen_only=[host_port(t, "--view") for t in args.view],
+                time_factor=args.time_factor,
+                agent=args.agent,
+                allow_remote=args.allow_remote,
+                failsafe=args.failsafe,
+                duration_s=args.duration,
+                seed=args.seed,
+            )
+        if args.command in ("helm", "view"):
+            from vessel_gym.net import clients
+
+            server = host_port(args.server, "--server")
+            if args.command == "helm":
+                clients.run_helm(server, name=args.name, duration_s=args.duration)
+            else:
+                listen = host_port(args.listen, "--listen") if args.listen else None
+                clients.run_viewer(server, listen=listen, duration_s=args.duration)
             return 0
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
