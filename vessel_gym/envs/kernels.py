@@ -12,35 +12,15 @@ keyed by a hash of this file and the physics package's sources (stale machine co
 
 from __future__ import annotations
 
-import hashlib
 import math
 from pathlib import Path
 
 import numpy as np
 from numba import njit
 
+from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache  # noqa: E402
 
-def _invalidate_stale_numba_cache() -> None:
-    here = Path(__file__).parent
-    digest = hashlib.sha256()
-    for src in [Path(__file__)] + sorted((here.parent / "physics").glob("*.py")):
-        digest.update(src.name.encode())
-        digest.update(src.read_bytes())
-    stamp_dir = here / "__pycache__"
-    stamp = stamp_dir / "numba-sources.sha256"
-    current = digest.hexdigest()
-    try:
-        if stamp.exists() and stamp.read_text() == current:
-            return
-        stamp_dir.mkdir(exist_ok=True)
-        for f in list(stamp_dir.glob("*.nbi")) + list(stamp_dir.glob("*.nbc")):
-            f.unlink()
-        stamp.write_text(current)
-    except OSError:  # read-only install: numba then caches elsewhere or compiles in memory
-        pass
-
-
-_invalidate_stale_numba_cache()
+invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES])
 
 from vessel_gym.physics.atmosphere import apparent_wind  # noqa: E402  (after the cache check)
 

@@ -11,24 +11,25 @@ import hashlib
 from pathlib import Path
 
 
-def _invalidate_stale_numba_cache() -> None:
-    here = Path(__file__).parent
+def invalidate_stale_numba_cache(cache_dir: Path, sources: list[Path]) -> None:
+    """Discard numba's cached machine code in ``cache_dir`` (a ``__pycache__``) unless ``sources`` are
+    unchanged since it was written (their hash is stored beside the cache)."""
     digest = hashlib.sha256()
-    for src in sorted(here.glob("*.py")):
+    for src in sources:
         digest.update(src.name.encode())
         digest.update(src.read_bytes())
-    stamp_dir = here / "__pycache__"
-    stamp = stamp_dir / "numba-sources.sha256"
+    stamp = cache_dir / "numba-sources.sha256"
     current = digest.hexdigest()
     try:
         if stamp.exists() and stamp.read_text() == current:
             return
-        stamp_dir.mkdir(exist_ok=True)
-        for f in list(stamp_dir.glob("*.nbi")) + list(stamp_dir.glob("*.nbc")):
+        cache_dir.mkdir(exist_ok=True)
+        for f in list(cache_dir.glob("*.nbi")) + list(cache_dir.glob("*.nbc")):
             f.unlink()
         stamp.write_text(current)
     except OSError:  # read-only install: numba then caches elsewhere or compiles in memory
         pass
 
 
-_invalidate_stale_numba_cache()
+PHYSICS_SOURCES = sorted(Path(__file__).parent.glob("*.py"))
+invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", PHYSICS_SOURCES)
