@@ -12,7 +12,7 @@ import numpy as np
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
-from vessel_gym.physics.schema import SpecError, param
+from vessel_gym.physics.schema import check_ranges, param
 
 MODES = ("rate", "radius", "reverse")
 
@@ -59,10 +59,7 @@ class TurningCircleTask(Task):
     n_features = kn.TCFN
 
     def __init__(self, config: TurningCircleConfig, n: int) -> None:
-        for key in ("rate_prime", "radius_L", "initial_heading_deg"):
-            rng = getattr(config, key)
-            if len(rng) != 2 or rng[0] > rng[1]:
-                raise SpecError(f"TurningCircle config {key}: expected [min, max], got {list(rng)}")
+        check_ranges(config, ("rate_prime", "radius_L", "initial_heading_deg"), "TurningCircle config")
         super().__init__(config, n)
         self.mode = MODES.index(config.mode)
         self.ts = np.zeros((n, kn.TCN))

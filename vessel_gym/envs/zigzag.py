@@ -12,7 +12,7 @@ import numpy as np
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.core import PHASE_STEP, Feature, ShipEnv, ShipVectorEnv, Task, _uniform
-from vessel_gym.physics.schema import SpecError, param
+from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
 
 
@@ -55,10 +55,7 @@ class ZigZagTask(Task):
     n_features = kn.ZFN
 
     def __init__(self, config: ZigZagConfig, n: int) -> None:
-        for key in ("course_change_deg", "leg_time_s", "initial_heading_deg"):
-            rng = getattr(config, key)
-            if len(rng) != 2 or rng[0] > rng[1]:
-                raise SpecError(f"ZigZag config {key}: expected [min, max], got {list(rng)}")
+        check_ranges(config, ("course_change_deg", "leg_time_s", "initial_heading_deg"), "ZigZag config")
         super().__init__(config, n)
         self.imo = config.schedule == "imo"
         self.psi_z = config.zigzag_heading_deg * DEG

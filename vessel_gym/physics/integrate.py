@@ -1,9 +1,16 @@
 """Fixed-step integrators over batched state arrays (RK4 default, explicit Euler for comparison).
 
 One compiled source serves a single ship and a batch of 16384: the per-vessel step below is called by a
-serial driver and by a parallel (``prange``) driver. Parameters are indexed per vessel through
-``ship_index`` so that a batch of identical ships shares one cached parameter row.
-A vessel whose state becomes non-finite stops integrating and is flagged (divergence detection).
+serial driver and by a parallel (``prange``) driver, so both give bitwise identical results. Parameters are
+indexed per vessel through ``ship_index`` so that a batch of identical ships shares one cached parameter row.
+A vessel whose state would become non-finite stops integrating, keeps its last finite state and is flagged
+(divergence detection): a diverged vessel never shows a NaN.
+
+Performance notes (figures in docs/performance.md): the drivers allocate their scratch rows once per call
+(serial) or once per thread chunk (parallel), never per vessel; stage loops run over the compile-time
+length ``layout.NX`` so that they unroll. The drivers do not use fastmath: the RK combination is a few
+percent of a step (the right-hand side dominates), and fastmath's no-NaN/no-Inf assumptions would let the
+compiler delete the divergence check.
 """
 
 from __future__ import annotations
@@ -19,10 +26,14 @@ from vessel_gym.physics.vessel import N_OUT, derivatives, forces
 RK4 = 0
 EULER = 1
 
+# parallel driver: the batch is split into at most this many contiguous chunks (each allocates its scratch once)
+# and the chunks are shared out evenly over the threads; a constant, so the compiled driver can be cached
+MAX_CHUNKS = 64
+
 
 @njit(cache=True)
 def _finite(x):
-    for i in range(x.shape[0]):
+    for i in range(lo.NX):
         if not math.isfinite(x[i]):
             return False
     return True
@@ -30,33 +41,41 @@ def _finite(x):
 
 @njit(cache=True)
 def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt, work):
-    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place. Returns False on divergence."""
-    n = x.shape[0]
+    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place.
+
+    ``k1``..``k4`` and ``xt`` are scratch rows of length NX, ``work`` of length N_OUT; the new state is
+    formed in ``xt`` and committed only if finite. Returns False on divergence, with ``x`` left at the last
+    finite state.
+    """
+    half = 0.5 * dt
+    sixth = dt / 6.0
     for _ in range(nsteps):
         derivatives(P, x, inp, env, F_ext, k1, work)
         if method == EULER:
-            for i in range(n):
-                x[i] += dt * k1[i]
+            for i in range(lo.NX):
+                xt[i] = x[i] + dt * k1[i]
         else:
-            for i in range(n):
-                xt[i] = x[i] + 0.5 * dt * k1[i]
+            for i in range(lo.NX):
+                xt[i] = x[i] + half * k1[i]
             derivatives(P, xt, inp, env, F_ext, k2, work)
-            for i in range(n):
-                xt[i] = x[i] + 0.5 * dt * k2[i]
+            for i in range(lo.NX):
+                xt[i] = x[i] + half * k2[i]
             derivatives(P, xt, inp, env, F_ext, k3, work)
-            for i in range(n):
+            for i in range(lo.NX):
                 xt[i] = x[i] + dt * k3[i]
             derivatives(P, xt, inp, env, F_ext, k4, work)
-            for i in range(n):
-                x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-        if not _finite(x):
+            for i in range(lo.NX):
+                xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        if not _finite(xt):
             return False
+        for i in range(lo.NX):
+            x[i] = xt[i]
     return True
 
 
 @njit(cache=True)
-def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
-    """Integrate every alive vessel of the batch; marks diverged vessels dead. Returns the number alive."""
+def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop):
+    """Integrate the alive vessels first..stop-1 with one set of scratch rows. Returns how many are alive."""
     k1 = np.empty(lo.NX)
     k2 = np.empty(lo.NX)
     k3 = np.empty(lo.NX)
@@ -64,7 +83,7 @@ def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
     xt = np.empty(lo.NX)
     work = np.empty(N_OUT)
     count = 0
-    for b in range(X.shape[0]):
+    for b in range(first, stop):
         if alive[b]:
             ok = step_vessel(
                 Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, k1, k2, k3, k4, xt, work
@@ -74,22 +93,23 @@ def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
     return count
 
 
+@njit(cache=True)
+def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
+    """Integrate every alive vessel of the batch; marks diverged vessels dead. Returns the number alive."""
+    return _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0])
+
+
 @njit(cache=True, parallel=True)
 def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
-    """Same as :func:`run_serial`, vessels spread over threads (large batches)."""
+    """Same as :func:`run_serial`, with contiguous chunks of vessels spread over threads (large batches)."""
     nb = X.shape[0]
-    for b in prange(nb):
-        if alive[b]:
-            k1 = np.empty(lo.NX)
-            k2 = np.empty(lo.NX)
-            k3 = np.empty(lo.NX)
-            k4 = np.empty(lo.NX)
-            xt = np.empty(lo.NX)
-            work = np.empty(N_OUT)
-            alive[b] = step_vessel(
-                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, k1, k2, k3, k4, xt, work
-            )
-    return int(alive.sum())
+    nchunks = min(nb, MAX_CHUNKS)
+    count = 0
+    for c in prange(nchunks):
+        count += _run_range(
+            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, c * nb // nchunks, (c + 1) * nb // nchunks
+        )
+    return count
 
 
 @njit(cache=True)

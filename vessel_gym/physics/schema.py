@@ -145,3 +145,34 @@ def describe(cls: type) -> list[tuple[str, str, str, str, str]]:
             (f.name + (" (required)" if req else ""), tname, md.get("unit", ""), rng, md.get("doc", ""))
         )
     return rows
+
+
+def builtin_names(directory: Path) -> list[str]:
+    """Names (file stems) of the TOML files in a data directory."""
+    return sorted(p.stem for p in directory.glob("*.toml"))
+
+
+def resolve_data_path(
+    name: str | Path, directory: Path, kind: str, error: type[SpecError] = SpecError
+) -> Path:
+    """A built-in name (a TOML file in ``directory``) or a path to a ``.toml`` file -> path.
+
+    An unknown built-in name raises ``error`` naming the ``kind`` ("ship", "scenario") and the choices.
+    """
+    s = str(name)
+    if s.endswith(".toml") or "/" in s or "\\" in s:
+        return Path(s)
+    path = directory / f"{s}.toml"
+    if not path.exists():
+        raise error(
+            f"{s}: unknown {kind} (built-in: {', '.join(builtin_names(directory))}; or give a .toml path)"
+        )
+    return path
+
+
+def check_ranges(config: Any, keys: tuple[str, ...], where: str) -> None:
+    """Each of ``keys`` of ``config`` must be a [min, max] pair with min <= max (SpecError otherwise)."""
+    for key in keys:
+        rng = getattr(config, key)
+        if len(rng) != 2 or rng[0] > rng[1]:
+            raise SpecError(f"{where} {key}: expected [min, max], got {list(rng)}")

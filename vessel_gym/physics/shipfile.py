@@ -12,7 +12,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from vessel_gym.physics.schema import SpecError, build, param, read_toml
+from vessel_gym.physics.schema import SpecError, build, builtin_names, param, read_toml, resolve_data_path
 
 SHIP_DIR = Path(__file__).parent / "data" / "ships"
 
@@ -379,20 +379,12 @@ def parse_ship(data: dict, where: str, name: str = "") -> Ship:
 
 def builtin_ships() -> list[str]:
     """Names of the ship files shipped with vessel-gym."""
-    return sorted(p.stem for p in SHIP_DIR.glob("*.toml"))
+    return builtin_names(SHIP_DIR)
 
 
 def resolve_ship_path(ship: str | Path) -> Path:
     """A built-in name or a path to a TOML file -> path. Raises ShipFileError naming the choices."""
-    s = str(ship)
-    if s.endswith(".toml") or "/" in s or "\\" in s:
-        return Path(s)
-    path = SHIP_DIR / f"{s}.toml"
-    if not path.exists():
-        raise ShipFileError(
-            f"{s}: unknown ship (built-in: {', '.join(builtin_ships())}; or give a .toml path)"
-        )
-    return path
+    return resolve_data_path(ship, SHIP_DIR, "ship", ShipFileError)
 
 
 def load_ship(ship: str | Path | Ship) -> Ship:

@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from vessel_gym.physics.schema import SpecError, build, param, read_toml
+from vessel_gym.physics.schema import SpecError, build, builtin_names, param, read_toml, resolve_data_path
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.scenarios import geometry as geo
 
@@ -148,20 +148,12 @@ def _pts(points: tuple[tuple[float, ...], ...]) -> list[tuple[float, float]]:
 
 def builtin_scenarios() -> list[str]:
     """Names of the scenario files shipped with vessel-gym."""
-    return sorted(p.stem for p in SCENARIO_DIR.glob("*.toml"))
+    return builtin_names(SCENARIO_DIR)
 
 
 def resolve_scenario_path(scenario: str | Path) -> Path:
     """A built-in name or a path to a TOML file -> path. Raises ScenarioError naming the choices."""
-    s = str(scenario)
-    if s.endswith(".toml") or "/" in s or "\\" in s:
-        return Path(s)
-    path = SCENARIO_DIR / f"{s}.toml"
-    if not path.exists():
-        raise ScenarioError(
-            f"{s}: unknown scenario (built-in: {', '.join(builtin_scenarios())}; or give a .toml path)"
-        )
-    return path
+    return resolve_data_path(scenario, SCENARIO_DIR, "scenario", ScenarioError)
 
 
 def load_scenario(scenario: str | Path | Scenario) -> Scenario:
