@@ -14,7 +14,8 @@ from vessel_gym.physics.shipfile import load_ship
 def _linear_dtc():
     # the DTC file's linear derivatives (seed Table 3 + Clarke 1983) without its nonlinear add-ons
     s = load_ship("dtc")
-    derivs = {k: v for k, v in s.hull.derivatives.items() if k != "X_vr"}
+    linear = {"Y_v", "Y_r", "N_v", "N_r", "Y_vdot", "Y_rdot", "N_vdot", "N_rdot", "X_udot"}
+    derivs = {k: v for k, v in s.hull.derivatives.items() if k in linear}
     return s.with_hull(dataclasses.replace(s.hull, cross_flow_Cd=0.0, derivatives=derivs))
 
 
