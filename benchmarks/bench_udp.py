@@ -1,7 +1,7 @@
 """UDP link benchmark: service() cost, a live 50 Hz loop with peers, and wall-clock pacing lateness.
 
-    python benchmarks/bench_udp.py            # about 20 s
-    python benchmarks/bench_udp.py --quick    # about 5 s
+    python benchmarks/bench_udp.py            # about 1 min
+    python benchmarks/bench_udp.py --quick    # about 20 s
 
 Figures printed:
 
@@ -11,6 +11,12 @@ Figures printed:
    viewers (10, 20 and 50 Hz) in a separate process: median and p99 of the service() time, and the CPU used by
    the loop's process as a share of one core.
 3. Lateness p50/p99 of a 20 Hz RealTimePacer loop over ``--pacing`` s.
+4. UdpLinkWrapper overhead: env.step() per CPU second (resets not counted) through ``gymnasium.make`` of each
+   environment: bare, in an empty wrapper (the noise floor of the comparison) and in the UdpLinkWrapper (the same
+   instance; no peers, NMEA off; interleaved blocks, median of ``--repeats``); the wrapper's own cost per step
+   timed around an environment that costs nothing (the robust figure on a busy machine); and HarbourApproach
+   steps per second with one helm panel (20 Hz commands), three viewers at 50 Hz and 2 Hz NMEA, without and
+   with the scenario's traffic (simulated too, sent as AIS).
 """
 
 from __future__ import annotations
@@ -24,10 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-try:
-    import vessel_gym  # noqa: F401
-except ImportError:  # running from a source checkout without installing
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+# Benchmark the checkout this file belongs to, whether or not (or wherever) vessel-gym is installed.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from vessel_gym.net import protocol as P
 from vessel_gym.net.link import LinkConfig, UdpLink
@@ -86,10 +90,12 @@ def bench_service(label: str, config: LinkConfig, n_targets: int, calls: int = 2
     print(f"  {label:<44} {np.median(runs) * 1e6:7.2f} us/call (median of 7 x {calls})")
 
 
-def _clients(server: tuple[str, int], duration_s: float) -> None:
-    """One helm panel at 20 Hz and viewers at 10/20/50 Hz, keep-alive every 0.5 s, draining their sockets."""
+def _clients(
+    server: tuple[str, int], duration_s: float, viewer_rates: tuple[float, ...] = (10.0, 20.0, 50.0)
+) -> None:
+    """One helm panel at 20 Hz and viewers at ``viewer_rates``, keep-alive every 0.5 s, draining their sockets."""
     socks = []
-    for role, rate in (("helm", 20.0), ("viewer", 10.0), ("viewer", 20.0), ("viewer", 50.0)):
+    for role, rate in (("helm", 20.0), *(("viewer", r) for r in viewer_rates)):
         s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         s.setblocking(False)
         s.bind(("127.0.0.1", 0))
@@ -167,14 +173,141 @@ def bench_pacing(duration_s: float) -> None:
     )
 
 
+def _block(env, action, steps: int) -> float:
+    """CPU seconds of this process per env.step() over ``steps`` steps, not counting resets at episode ends.
+
+    CPU time rather than wall time: on a shared machine the time other processes take the core is not counted.
+    """
+    clock = time.process_time
+    t0 = clock()
+    for _ in range(steps):
+        _o, _r, term, trunc, _i = env.step(action)
+        if term or trunc:
+            t1 = clock()
+            env.reset()
+            t0 += clock() - t1
+    return (clock() - t0) / steps
+
+
+def _zero_action(env):
+    import gymnasium as gym
+
+    space = env.action_space
+    if isinstance(space, gym.spaces.Box):
+        return np.zeros(space.shape, dtype=np.float32)
+    return space.sample() * 0
+
+
+class _PassThrough:
+    """A wrapper that only forwards step() (and sets the same info key): the control of the comparison."""
+
+    def __init__(self, env) -> None:
+        self.env = env
+
+    def step(self, action):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        info["helm"] = "agent"
+        return obs, reward, terminated, truncated, info
+
+    def reset(self, **kw):
+        return self.env.reset(**kw)
+
+
+class _NullEnv:
+    """Stands in for the environment inside a wrapper to time the wrapper alone."""
+
+    def step(self, action):
+        return None, 0.0, False, False, {}
+
+
+def bench_wrapper(repeats: int, block_steps: int, peers_s: float) -> None:
+    import gymnasium as gym
+
+    import vessel_gym.envs  # noqa: F401
+    from vessel_gym.net.wrapper import UdpLinkWrapper
+
+    no_peers = LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=())
+    for env_id in ("vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0"):
+        wrapped = UdpLinkWrapper(gym.make(env_id), no_peers)
+        bare = wrapped.env  # the same environment instance, stepped with and without the wrapper
+        control = _PassThrough(bare)  # an empty wrapper: the noise floor of the comparison
+        wrapped.reset(seed=0)
+        action = _zero_action(bare)
+        envs = {"bare": bare, "pass": control, "udp": wrapped}
+        times: dict[str, list[float]] = {k: [] for k in envs}
+        for e in envs.values():
+            _block(e, action, block_steps)  # warm-up (compilation, caches)
+        for r in range(repeats):
+            for k in list(envs)[:: 1 if r % 2 == 0 else -1]:
+                times[k].append(_block(envs[k], action, block_steps))
+        tb, tp, tw = (float(np.median(times[k])) for k in envs)
+        # the wrapper alone, around an environment that costs nothing
+        wrapped.env, null = _NullEnv(), _NullEnv()
+        own = []
+        for _ in range(repeats):
+            t_null = _block(null, action, 10 * block_steps)
+            own.append(_block(wrapped, action, 10 * block_steps) - t_null)
+        wrapped.env = bare
+        t_own = float(np.median(own))
+        name = env_id.split("/")[1]
+        print(
+            f"  {name:<18} bare {1.0 / tb:6.0f}, empty wrapper {1.0 / tp:6.0f} ({100.0 * (tp / tb - 1.0):+5.1f} %), "
+            f"UdpLinkWrapper {1.0 / tw:6.0f} steps/s ({100.0 * (tw / tb - 1.0):+5.1f} %); "
+            f"the wrapper alone {t_own * 1e6:.2f} us/step = {100.0 * t_own / tb:.1f} % of the bare step"
+        )
+        wrapped.close()
+
+    print("  HarbourApproach + 1 helm (20 Hz) + 3 viewers at 50 Hz + NMEA 2 Hz, stepped as fast as it goes:")
+    for traffic in (None, "auto"):
+        _wrapper_with_peers(traffic, block_steps, peers_s)
+
+
+def _wrapper_with_peers(traffic, block_steps: int, peers_s: float) -> None:
+    import gymnasium as gym
+
+    from vessel_gym.net.wrapper import UdpLinkWrapper
+
+    sink, port = sink_port()
+    config = LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=[("127.0.0.1", port)])
+    wrapped = UdpLinkWrapper(gym.make("vessel_gym/HarbourApproach-v0"), config, traffic=traffic)
+    bare = wrapped.env
+    wrapped.reset(seed=0)
+    action = _zero_action(bare)
+    proc = mp.get_context("fork").Process(
+        target=_clients, args=(wrapped.link.json_address, peers_s + 1.0, (50.0, 50.0, 50.0))
+    )
+    proc.start()
+    time.sleep(0.5)  # let the clients register
+    b, w = [], []
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < peers_s:
+        b.append(_block(bare, action, block_steps))
+        w.append(_block(wrapped, action, block_steps))
+    proc.join()
+    tb, tw = float(np.median(b)), float(np.median(w))
+    stats = wrapped.link.stats()
+    tr = wrapped.traffic
+    label = f"with {tr.n} traffic ships (simulated too, AIS)" if tr is not None else "without traffic"
+    print(
+        f"    {label:<42} bare {1.0 / tb:6.0f} steps/s, wrapped {1.0 / tw:6.0f} steps/s "
+        f"({100.0 * (tw / tb - 1.0):+4.0f} %); sent {stats['tx_state']} states, "
+        f"{stats['tx_nmea_datagrams']} NMEA datagrams, accepted {stats['rx_accepted']}; helm: {wrapped.steered_by}"
+    )
+    wrapped.close()
+    sink.close()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=5.0, help="live 50 Hz loop length, s")
     parser.add_argument("--pacing", type=float, default=10.0, help="20 Hz pacing run length, s")
-    parser.add_argument("--quick", action="store_true", help="short runs (2 s loop, 2 s pacing)")
+    parser.add_argument("--repeats", type=int, default=15, help="wrapper overhead: timing blocks per env")
+    parser.add_argument("--quick", action="store_true", help="short runs (2 s loop, 2 s pacing, 7 repeats)")
     args = parser.parse_args()
+    block_steps, peers_s = 1000, 5.0
     if args.quick:
-        args.duration, args.pacing = 2.0, 2.0
+        args.duration, args.pacing, args.repeats = 2.0, 2.0, 7
+        block_steps, peers_s = 500, 2.0
 
     print("1. service() with no peers")
     bind = ("127.0.0.1", 0)
@@ -192,6 +325,8 @@ def main() -> None:
     bench_live_loop(args.duration)
     print(f"3. 20 Hz pacing over {args.pacing:.0f} s")
     bench_pacing(args.pacing)
+    print(f"4. UdpLinkWrapper overhead (no peers, NMEA off; median of {args.repeats} x {block_steps} steps)")
+    bench_wrapper(args.repeats, block_steps, peers_s)
 
 
 if __name__ == "__main__":

@@ -85,6 +85,33 @@ class Weather:
 
 
 @dataclass(frozen=True, kw_only=True)
+class TrafficShip:
+    """Another ship following a route (``vessel_gym.net.traffic``); contact with it is not modelled."""
+
+    name: str = param(doc="ship name (AIS: 20 characters, upper-cased)")
+    ship: str = param("kvlcc2_l7", doc="built-in ship name or ship file path (relative to this file)")
+    mmsi: int | None = param(
+        None, lo=1, hi=999_999_999, doc="AIS MMSI (9 digits); without one no AIS is sent"
+    )
+    start_m: tuple[float, ...] = param(unit="m", lo=-1e6, hi=1e6, doc="[north, east] start of midship")
+    heading_deg: float = param(0.0, unit="deg", lo=-360.0, hi=360.0, doc="start heading")
+    speed_kn: float = param(
+        unit="kn", lo=0.0, hi=40.0, doc="steady speed through the water; 0 with no route: lying still"
+    )
+    route_m: tuple[tuple[float, ...], ...] = param(
+        (), unit="m", lo=-1e6, hi=1e6, doc="waypoints [[north, east], ...] steered for in turn"
+    )
+    at_end: str = param(
+        "loop",
+        choices=("loop", "stop"),
+        doc="after the last waypoint: loop to the first, or come to a stop (astern, then STOP)",
+    )
+    call_sign: str = param("", doc="AIS call sign (7 characters)")
+    destination: str = param("", doc="AIS destination (20 characters)")
+    ship_type: int = param(70, lo=0, hi=99, doc="AIS ship type code (70 cargo, 80 tanker, ...)")
+
+
+@dataclass(frozen=True, kw_only=True)
 class Scenario:
     """A harbour scenario (see docs/scenarios.md for the file format)."""
 
@@ -112,6 +139,7 @@ class Scenario:
     start: StartRegion = param(doc="[start] table")
     goal: GoalRegion = param(doc="[goal] table")
     weather: Weather = param(Weather(), doc="[weather] table")
+    traffic: tuple[TrafficShip, ...] = param((), doc="[[traffic]] other ships following routes (optional)")
     path: str = field(default="", init=False, compare=False)
 
     # --- derived --------------------------------------------------------------------------------------------
@@ -251,7 +279,67 @@ def validate(sc: Scenario, where: str = "scenario") -> None:
         for kind, name, obs in sc.hard_obstacles():
             if geo.point_in_polygon((p[0], p[1]), obs):
                 raise ScenarioError(f"{where} route_m[{i}]: on {kind} {name!r}")
+    _validate_traffic(sc, where, ship)
     if sc.start.speed_m_s[0] <= 0.0:
         raise ScenarioError(f"{where} start speed_m_s: the minimum must be > 0 (steady approach)")
     if not math.isfinite(sc.water_depth_m):  # pragma: no cover - schema already rejects
         raise ScenarioError(f"{where} water_depth_m: must be finite")
+
+
+def _leg_hits(a: tuple[float, float], b: tuple[float, float], poly: list[tuple[float, float]]) -> bool:
+    n = len(poly)
+    return any(geo.segments_intersect(a, b, poly[i], poly[(i + 1) % n]) for i in range(n))
+
+
+def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
+    """Checks of the ``[[traffic]]`` entries: ship, start, waypoints and legs in navigable water, MMSIs."""
+    n0, n1, e0, e1 = sc.bounds_m
+    hard = sc.hard_obstacles()
+    seen: dict[int, int] = {}
+    ships: dict[str, Ship] = {sc.ship: own_ship}
+    for i, t in enumerate(sc.traffic):
+        label = f"{where} {_label('traffic', i, t.name)}"
+        if not t.name.strip():
+            raise ScenarioError(f"{where} traffic[{i}] name: must not be empty")
+        if t.mmsi is not None:
+            if t.mmsi in seen:
+                raise ScenarioError(f"{label} mmsi: {t.mmsi} is also used by traffic[{seen[t.mmsi]}]")
+            seen[t.mmsi] = i
+        if t.ship not in ships:
+            s = t.ship
+            if (s.endswith(".toml") or "/" in s) and sc.path and not Path(s).is_absolute():
+                s = str(Path(sc.path).parent / s)
+            try:
+                ships[t.ship] = load_ship(s)
+            except SpecError as exc:
+                raise ScenarioError(f"{label} ship: {exc}") from None
+        draught = ships[t.ship].particulars.T_m
+        if len(t.start_m) != 2:
+            raise ScenarioError(f"{label} start_m: expected [north, east], got {len(t.start_m)} values")
+        if t.route_m and t.speed_kn <= 0.0:
+            raise ScenarioError(f"{label} speed_kn: must be > 0 for a ship with a route")
+        if t.at_end == "loop" and len(t.route_m) == 1:
+            raise ScenarioError(f'{label} route_m: a loop needs at least 2 waypoints (or at_end = "stop")')
+        for j, p in enumerate(t.route_m):
+            if len(p) != 2:
+                raise ScenarioError(f"{label} route_m[{j}]: a point is [north, east], got {len(p)} values")
+        pts = [("start_m", (float(t.start_m[0]), float(t.start_m[1])))] + [
+            (f"route_m[{j}]", (float(p[0]), float(p[1]))) for j, p in enumerate(t.route_m)
+        ]
+        shoals = sc.shoals(draught)
+        for key, p in pts:
+            if not (n0 <= p[0] <= n1 and e0 <= p[1] <= e1):
+                raise ScenarioError(f"{label} {key}: outside bounds_m")
+            for kind, name, obs in hard:
+                if geo.point_in_polygon(p, obs):
+                    raise ScenarioError(f"{label} {key}: on {kind} {name!r}")
+            for name, obs in shoals:
+                if geo.point_in_polygon(p, obs):
+                    raise ScenarioError(f"{label} {key}: in depth area {name!r}, shallower than the draught")
+        legs = [(pts[j][1], pts[j + 1][1], pts[j + 1][0]) for j in range(len(pts) - 1)]
+        if t.at_end == "loop" and len(t.route_m) >= 2:
+            legs.append((pts[-1][1], pts[1][1], "route_m[0]"))
+        for a, b, key in legs:
+            for kind, name, obs in hard:
+                if _leg_hits(a, b, obs):
+                    raise ScenarioError(f"{label} {key}: the leg to it crosses {kind} {name!r}")

@@ -1,0 +1,197 @@
+"""``serve()``: a scenario live on the UDP link, against real loopback sockets."""
+
+from __future__ import annotations
+
+import io
+import json
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from vessel_gym import cli
+from vessel_gym.net import protocol as P
+from vessel_gym.net.serve import outcome_line, serve
+from vessel_gym.physics.schema import SpecError
+
+from .helpers import Peer, free_udp_port
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+class _Server:
+    """serve() on a thread, its output collected; ``address`` read from the banner."""
+
+    def __init__(self, **kw) -> None:
+        self.out = io.StringIO()
+        self.result: list[object] = []
+        kw.setdefault("json_bind", ("127.0.0.1", 0))
+        kw.setdefault("nmea", [])
+        self.thread = threading.Thread(target=self._run, kwargs=kw, daemon=True)
+        self.thread.start()
+
+    def _run(self, **kw) -> None:
+        try:
+            self.result.append(serve("harbour", out=self.out, **kw))
+        except BaseException as exc:  # pragma: no cover - reported by the test
+            self.result.append(exc)
+
+    def address(self, timeout_s: float = 30.0) -> tuple[str, int]:
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            m = re.search(r"listening on ([\d.]+):(\d+)", self.out.getvalue())
+            if m:
+                return (m.group(1), int(m.group(2)))
+            if self.result:
+                raise AssertionError(f"serve ended early: {self.result[0]!r}")
+            time.sleep(0.01)
+        raise AssertionError("serve printed no JSON address")
+
+    def join(self, timeout_s: float = 30.0) -> object:
+        self.thread.join(timeout_s)
+        assert not self.thread.is_alive(), "serve did not stop"
+        return self.result[0]
+
+
+def test_serve_publishes_state_with_traffic_and_nmea_with_ais(peers):
+    nmea_sink = peers()
+    listen_only = peers()
+    srv = _Server(
+        nmea=[nmea_sink.address],
+        listen_only=[listen_only.address],
+        time_factor=20.0,
+        duration_s=2.0,
+        seed=0,
+    )
+    server = srv.address()
+    viewer = peers()
+    states: list[dict] = []
+    welcome = []
+    t0 = time.monotonic()
+    while srv.thread.is_alive() and time.monotonic() - t0 < 10.0:
+        viewer.send(server, P.encode_hello("viewer", 20.0, name="test viewer"))
+        time.sleep(0.25)
+        for m in viewer.messages():
+            (states if m["type"] == "state" else welcome).append(m)
+    assert srv.join() == 0
+    assert welcome and welcome[0]["type"] == "welcome" and welcome[0]["max_rpm"] == pytest.approx(720.0)
+    assert len(states) >= 10
+    last = states[-1]
+    assert [t["name"] for t in last["targets"]] == ["KVLCC2 LOOP", "KVLCC2 PIER"]
+    assert last["helm_ok"] is False
+    # about 20 simulated seconds per wall-clock second
+    span_sim = last["t_s"] - states[0]["t_s"]
+    assert 10.0 < span_sim < 45.0
+    nmea = b"".join(nmea_sink.raw()).decode()
+    assert "$GPRMC" in nmea and "!AIVDM" in nmea
+    assert listen_only.messages("state")  # the listen-only viewer got state without a hello
+    text = srv.out.getvalue()
+    assert f"sending to {nmea_sink.address[0]}:{nmea_sink.address[1]}" in text
+    assert f"listen-only viewers: {listen_only.address[0]}:{listen_only.address[1]}" in text
+    assert "traffic: 2 ship(s): KVLCC2 LOOP, KVLCC2 PIER" in text
+    assert "stopped after" in text.splitlines()[-1]
+
+
+def test_episode_end_prints_one_line_outcome_and_restarts():
+    srv = _Server(time_factor=100.0, duration_s=1.0, max_episode_steps=20, seed=1)
+    assert srv.join() == 0
+    lines = [ln for ln in srv.out.getvalue().splitlines() if ln.startswith("episode ")]
+    assert len(lines) >= 2
+    assert re.match(r"episode 1: time limit at t = 5\.0 s, path \d+ m, .*; helm: agent 100%$", lines[0])
+    assert lines[1].startswith("episode 2: ")
+
+
+def test_human_helm_takes_over_from_the_agent(peers):
+    srv = _Server(time_factor=10.0, duration_s=1.5, seed=0)
+    server = srv.address()
+    panel = peers()
+    panel.send(server, P.encode_hello("helm", 20.0))
+    seq = 0
+    got = []
+    t0 = time.monotonic()
+    while srv.thread.is_alive() and time.monotonic() - t0 < 10.0:
+        seq += 1
+        panel.send(server, P.encode_helm(seq, -20.0, telegraph=1))
+        time.sleep(0.05)
+        got += panel.messages("state")
+    assert srv.join() == 0
+    late = [s for s in got if s["helm_ok"]]
+    assert late and late[-1]["rudder_order_deg"] == pytest.approx(-20.0, abs=1e-3)
+    assert late[-1]["telegraph"] == 1
+    assert "helm takeovers 1" in srv.out.getvalue()
+
+
+def test_bad_agent_path_and_scenario_are_one_line_errors(tmp_path):
+    with pytest.raises(ValueError, match=r"agent '.*nope\.zip'.*no such file") as exc:
+        serve("harbour", agent=str(tmp_path / "nope.zip"), json_bind=("127.0.0.1", 0), nmea=[])
+    assert "\n" not in str(exc.value)
+    with pytest.raises(SpecError, match="unknown scenario") as exc:
+        serve("atlantis", json_bind=("127.0.0.1", 0), nmea=[])
+    assert "\n" not in str(exc.value)
+    with pytest.raises(ValueError, match="time_factor"):
+        serve("harbour", time_factor=0.0, nmea=[])
+
+
+def test_taken_port_is_a_one_line_error(peers):
+    taken = peers()
+    with pytest.raises(ValueError, match=r"cannot open the UDP link .*127\.0\.0\.1:\d+") as exc:
+        serve("harbour", json_bind=taken.address, nmea=[])
+    assert "\n" not in str(exc.value)
+
+
+def test_cli_maps_bad_agent_to_exit_code_2(capsys, tmp_path):
+    code = cli.main(
+        ["serve", "--agent", str(tmp_path / "missing.zip"), "--json", "127.0.0.1:0", "--nmea", "off"]
+    )
+    err = capsys.readouterr().err
+    assert code == 2
+    assert err.count("\n") == 1 and "missing.zip" in err
+
+
+def test_outcome_line():
+    info = {
+        "outcome": "success",
+        "time_s": 312.5,
+        "path_m": 240.4,
+        "min_clearance_m": 3.21,
+        "distance_to_goal_m": 1.0,
+    }
+    line = outcome_line(3, info, False, {"agent": 30, "human": 90, "failsafe": 0})
+    assert line == (
+        "episode 3: success at t = 312.5 s, path 240 m, min clearance 3.2 m, distance to goal 1.0 m; "
+        "helm: agent 25%, human 75%"
+    )
+    assert "time limit" in outcome_line(1, {**info, "outcome": "running"}, True, {"agent": 1})
+
+
+@pytest.mark.slow
+def test_ctrl_c_ends_cleanly_with_exit_code_0():
+    port = free_udp_port()
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "vessel_gym.cli", "serve", "--json", f"127.0.0.1:{port}", "--nmea", "off"],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        for line in proc.stdout:
+            if "Ctrl-C" in line:
+                break
+        viewer = Peer()
+        viewer.send(("127.0.0.1", port), P.encode_hello("viewer", 10.0))
+        time.sleep(0.5)
+        assert any(json.loads(d)["type"] == "state" for d in viewer.raw())
+        viewer.close()
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0, err
+    assert "stopped after" in out and "Traceback" not in err

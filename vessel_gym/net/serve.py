@@ -1,0 +1,241 @@
+"""``vessel-gym serve``: a HarbourApproach scenario in real time on the UDP link.
+
+The scenario runs paced to wall-clock time (times ``time_factor``) by a
+:class:`~vessel_gym.net.pacing.RealTimePacer` at the environment's control rate. A human with a helm panel
+(``vessel-gym helm``) takes the helm by sending orders; when nobody holds it, the ``agent`` policy steers (the
+PID pilot by default). Viewers (``vessel-gym view``, Unity, ...) get the JSON state with the scenario's traffic
+as ``targets``, chartplotters get NMEA 0183 with the traffic as AIS. Each episode ends on success, contact,
+grounding, leaving the chart or the time limit; a one-line outcome is printed and the scenario starts again.
+Ctrl-C (or ``duration_s``) ends the run with exit code 0.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from collections.abc import Sequence
+from typing import Any, TextIO
+
+from vessel_gym.net.link import Address, LinkConfig, UdpLink
+from vessel_gym.net.pacing import RealTimePacer
+
+
+def _addr(a: Address) -> str:
+    return f"{a[0]}:{a[1]}"
+
+
+def outcome_line(episode: int, info: dict[str, Any], truncated: bool, steps_by: dict[str, int]) -> str:
+    """One line describing how an episode ended and who steered it."""
+    outcome = "time limit" if truncated and info.get("outcome") == "running" else info.get("outcome", "?")
+    total = sum(steps_by.values()) or 1
+    shares = ", ".join(f"{who} {100.0 * n / total:.0f}%" for who, n in steps_by.items() if n)
+    return (
+        f"episode {episode}: {outcome} at t = {info.get('time_s', math.nan):.1f} s, "
+        f"path {info.get('path_m', math.nan):.0f} m, "
+        f"min clearance {info.get('min_clearance_m', math.nan):.1f} m, "
+        f"distance to goal {info.get('distance_to_goal_m', math.nan):.1f} m; helm: {shares or 'none'}"
+    )
+
+
+def serve(
+    scenario: str = "harbour",
+    *,
+    nmea: Sequence[Address] = (("127.0.0.1", 10110),),
+    json_bind: Address = ("127.0.0.1", 10120),
+    listen_only: Sequence[Address] = (),
+    time_factor: float = 1.0,
+    agent: str = "pid",
+    allow_remote: bool = False,
+    failsafe: str = "hold",
+    duration_s: float | None = None,
+    seed: int | None = None,
+    agent_resume_s: float | None = 5.0,
+    max_episode_steps: int | None = None,
+    out: TextIO | None = None,
+) -> int:
+    """Run ``scenario`` (built-in name or TOML path) live on the UDP link until Ctrl-C or ``duration_s``.
+
+    Args:
+        nmea: NMEA 0183 / AIS destinations (empty: no NMEA).
+        json_bind: address of the JSON state/helm channel (port 0: any free port).
+        listen_only: viewers that get the JSON state without saying hello.
+        time_factor: simulated seconds per wall-clock second.
+        agent: helm when no human holds it: ``"pid"``, ``"scripted"`` or an SB3 ``.zip``.
+        allow_remote: allow binding the JSON channel to a non-loopback address.
+        failsafe: ``"hold"`` or ``"midships_stop"``: the orders when a helm panel falls silent, for
+            ``agent_resume_s`` wall-clock seconds, after which the agent steers again.
+        duration_s: stop after this many wall-clock seconds (None: run until Ctrl-C).
+        seed: seed of the first episode (later episodes continue its random stream).
+        max_episode_steps: episode time limit in control steps (default: the environment's registered one).
+        out: where the messages go (default stdout).
+
+    Returns 0. A bad scenario raises :class:`~vessel_gym.physics.schema.SpecError`, a bad agent, address or
+    setting ``ValueError`` (one line each), before anything is bound or printed.
+    """
+    out = out if out is not None else sys.stdout
+    if isinstance(time_factor, bool) or not (math.isfinite(time_factor) and time_factor > 0.0):
+        raise ValueError(f"time_factor must be a positive number, not {time_factor!r}")
+    if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0.0):
+        raise ValueError(f"duration_s must be a positive number of seconds, not {duration_s!r}")
+    if max_episode_steps is not None and max_episode_steps < 1:
+        raise ValueError(f"max_episode_steps must be >= 1, not {max_episode_steps!r}")
+    try:
+        return _serve(
+            scenario=scenario,
+            nmea=nmea,
+            json_bind=json_bind,
+            listen_only=listen_only,
+            time_factor=time_factor,
+            agent=agent,
+            allow_remote=allow_remote,
+            failsafe=failsafe,
+            duration_s=duration_s,
+            seed=seed,
+            agent_resume_s=agent_resume_s,
+            max_episode_steps=max_episode_steps,
+            out=out,
+        )
+    except KeyboardInterrupt:  # Ctrl-C while loading: nothing to clean up beyond what _serve closed
+        print("vessel-gym serve: interrupted", file=out, flush=True)
+        return 0
+
+
+def _serve(
+    *,
+    scenario: str,
+    nmea: Sequence[Address],
+    json_bind: Address,
+    listen_only: Sequence[Address],
+    time_factor: float,
+    agent: str,
+    allow_remote: bool,
+    failsafe: str,
+    duration_s: float | None,
+    seed: int | None,
+    agent_resume_s: float | None,
+    max_episode_steps: int | None,
+    out: TextIO,
+) -> int:
+    import gymnasium as gym
+
+    import vessel_gym.envs  # noqa: F401  (registers the ids)
+    from vessel_gym.net.wrapper import UdpLinkWrapper
+    from vessel_gym.policy import load_policy
+    from vessel_gym.scenarios import load_scenario
+
+    sc = load_scenario(scenario)
+    make_kw: dict[str, Any] = {"scenario": sc}
+    if max_episode_steps is not None:
+        make_kw["max_episode_steps"] = max_episode_steps
+    env = gym.make("vessel_gym/HarbourApproach-v0", **make_kw)
+    try:
+        policy = load_policy(agent, env)
+        config = LinkConfig(
+            nmea_destinations=tuple(nmea),
+            json_bind=json_bind,
+            json_static_destinations=tuple(listen_only),
+            allow_remote=allow_remote,
+            failsafe=failsafe,
+        )
+        try:
+            wrapped = UdpLinkWrapper(
+                env, config, agent_resume_s=agent_resume_s, clock="wall", min_service_interval_s=0.0
+            )
+        except OSError as exc:  # port taken, unknown host name, ...
+            raise ValueError(
+                f"cannot open the UDP link (JSON channel {_addr(json_bind)}): {exc.strerror or exc}"
+            ) from None
+    except BaseException:
+        env.close()
+        raise
+    try:
+        return _run(wrapped, sc, policy, agent, time_factor, duration_s, seed, out)
+    finally:
+        wrapped.close()
+
+
+def _banner(wrapped: Any, sc: Any, agent: str, time_factor: float, out: TextIO) -> None:
+    link: UdpLink = wrapped.link
+    cfg = link.config
+    base = wrapped.unwrapped
+    ship = base.task.ship
+    rate = 1.0 / base.config.control_interval_s
+    p = lambda s: print(s, file=out, flush=True)  # noqa: E731
+    p(
+        f"vessel-gym serve: scenario {sc.name!r} ({sc.path}), ship {ship.name}, control {rate:g} Hz, "
+        f"time factor {time_factor:g}"
+    )
+    json_at = _addr(link.json_address)
+    p(f"  JSON state/helm: listening on {json_at}")
+    p(f"    join with: vessel-gym helm --server {json_at}   or   vessel-gym view --server {json_at}")
+    if cfg.nmea_destinations:
+        nmea = ", ".join(_addr(a) for a in cfg.nmea_destinations)
+        p(f"  NMEA 0183 + AIS: sending to {nmea} at {cfg.nmea_rate_hz:g} Hz")
+    else:
+        p("  NMEA 0183 + AIS: off")
+    views = ", ".join(_addr(a) for a in cfg.json_static_destinations) or "none"
+    p(f"  listen-only viewers: {views}")
+    tr = wrapped.traffic
+    names = ", ".join(s.name for s in tr.specs) if tr is not None else ""
+    p(f"  traffic: {tr.n} ship(s): {names}" if tr is not None else "  traffic: none")
+    resume = (
+        "stay until a panel commands again"
+        if wrapped.agent_resume_s is None
+        else f"then the agent after {wrapped.agent_resume_s:g} s"
+    )
+    p(
+        f"  helm: agent {agent!r} until a helm panel commands; failsafe {cfg.failsafe!r} after "
+        f"{cfg.watchdog_s:g} s of silence, {resume}"
+    )
+    p("  Ctrl-C to stop.")
+
+
+def _run(
+    wrapped: Any,
+    sc: Any,
+    policy: Any,
+    agent: str,
+    time_factor: float,
+    duration_s: float | None,
+    seed: int | None,
+    out: TextIO,
+) -> int:
+    control_interval = wrapped.unwrapped.config.control_interval_s
+    pacer = RealTimePacer(1.0 / control_interval, time_factor)
+    start = time.monotonic()
+    episode = 1
+    try:
+        _banner(wrapped, sc, agent, time_factor, out)
+        start = time.monotonic()
+        obs, _info = wrapped.reset(seed=seed)
+        policy.reset()
+        by_start = dict(wrapped.steps_by)
+        pacer.reset()
+        while duration_s is None or time.monotonic() - start < duration_s:
+            action = policy(obs)
+            obs, _r, terminated, truncated, info = wrapped.step(action)
+            if terminated or truncated:
+                by = {k: v - by_start[k] for k, v in wrapped.steps_by.items()}
+                print(outcome_line(episode, info, truncated and not terminated, by), file=out, flush=True)
+                episode += 1
+                obs, _info = wrapped.reset()
+                policy.reset()
+                by_start = dict(wrapped.steps_by)
+            pacer.wait()
+    except KeyboardInterrupt:
+        pass
+    stats = wrapped.link.stats()
+    late = pacer.stats()
+    print(
+        f"vessel-gym serve: stopped after {time.monotonic() - start:.1f} s, {episode - 1} episode(s) finished; "
+        f"sent {stats['tx_state']} states, {stats['tx_nmea_datagrams']} NMEA datagrams; "
+        f"helm takeovers {stats['helm_takeovers']}; pacing late p99 {late['late_p99_ms']:.1f} ms, "
+        f"skipped {late['skipped']}",
+        file=out,
+        flush=True,
+    )
+    return 0
+
+
+__all__ = ["outcome_line", "serve"]
