@@ -23,7 +23,7 @@ from vessel_gym.physics.integrate import EULER, RK4, derivatives_batch, forces_b
 from vessel_gym.physics.propulsion import engine_torque
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import DEG, KNOT_M_S
-from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, pack
+from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, forces, pack
 
 PARALLEL_MIN_BATCH = 256  # below this, thread start-up costs more than it saves
 
@@ -339,8 +339,12 @@ class Simulation:
 
     def bridge(self, k: int = 0, telegraph: int = 0) -> BridgeReading:
         """Instrument readings of vessel k (Bridge & Navigation)."""
-        vn, ve = self.ground_velocity()
-        f = self.forces()
+        out = np.zeros(N_OUT)
+        forces(self.Ps[self.ship_index[k]], self.state[k], self.inputs[k], self.env[k], out)  # vessel k only
+        f = {"gamma_rw": out[FORCE_NAMES.index("gamma_rw")], "V_rw": out[FORCE_NAMES.index("V_rw")]}
+        psi, u, v = float(self.heading[k]), float(self.u[k]), float(self.v[k])
+        vn = math.cos(psi) * u - math.sin(psi) * v + out[FORCE_NAMES.index("current_n")]
+        ve = math.sin(psi) * u + math.cos(psi) * v + out[FORCE_NAMES.index("current_e")]
         lat, lon = local_to_latlon(self.north[k], self.east[k], *self.reference_latlon_deg)
         e = self.environments[k]
         return BridgeReading(
@@ -350,8 +354,8 @@ class Simulation:
             lat_deg=lat,
             lon_deg=lon,
             hdg_deg=wrap_deg(math.degrees(self.heading[k])),
-            cog_deg=wrap_deg(math.degrees(math.atan2(ve[k], vn[k]))),
-            sog_kn=float(math.hypot(vn[k], ve[k]) / KNOT_M_S),
+            cog_deg=wrap_deg(math.degrees(math.atan2(ve, vn))),
+            sog_kn=float(math.hypot(vn, ve) / KNOT_M_S),
             stw_kn=float(self.u[k] / KNOT_M_S),
             stw_transverse_kn=float(self.v[k] / KNOT_M_S),
             rot_dpm=float(math.degrees(self.r[k]) * 60.0),
@@ -359,8 +363,8 @@ class Simulation:
             rudder_order_deg=float(math.degrees(self.rudder_order[k])),
             rpm=float(self.rev[k] * 60.0),
             telegraph=int(telegraph),
-            wind_rel_angle_deg=wrap_deg(math.degrees(f["gamma_rw"][k])),
-            wind_rel_speed_kn=float(f["V_rw"][k] / KNOT_M_S),
+            wind_rel_angle_deg=wrap_deg(math.degrees(f["gamma_rw"])),
+            wind_rel_speed_kn=float(f["V_rw"] / KNOT_M_S),
             wind_true_dir_deg=wrap_deg(e.wind_from_deg),
             wind_true_speed_kn=e.wind_speed_m_s / KNOT_M_S,
         )
