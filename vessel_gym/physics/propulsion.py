@@ -26,7 +26,8 @@ def propeller_thrust_torque(P, u_a, n):
     Quadrant 1 (n >= 0, u_a >= 0): the open-water quadratics K_T = k_0 + k_1 J + k_2 J^2 (and K_Q), written
     as T = rho D^2 (k_0 (nD)^2 + k_1 (nD) u_a + k_2 u_a^2) so that they stay finite at n = 0 (locked-propeller
     drag k_2 u_a^2) and need no division by n.
-    Quadrants 2-4 use the astern approximation documented in docs/ship-file.md: bollard values in quadrant 2;
+    Quadrants 2-4 use the astern approximation documented in docs/physics.md: bollard values in quadrant 2
+    (plus quadrant 3's locked-propeller drag, so that T and Q are continuous at n = 0);
     astern bollard coefficients ``astern_kt_ratio * k_0`` (and K_Q) in quadrants 3 and 4, with the
     magnitude growing linearly with ahead inflow in quadrant 4 (crash stop) at ``astern_inflow_slope``.
     """
@@ -45,9 +46,10 @@ def propeller_thrust_torque(P, u_a, n):
         if u_a >= 0.0:
             T = cT * (k0 * nD * nD + k1 * nD * u_a + k2 * u_a * u_a)
             Q = cQ * (q0 * nD * nD + q1 * nD * u_a + q2 * u_a * u_a)
-        else:
-            T = cT * k0 * nD * nD
-            Q = cQ * q0 * nD * nD
+        else:  # ship moving astern, propeller ahead: bollard values plus the locked-propeller drag of quadrant 3
+            w2 = u_a * u_a
+            T = cT * (k0 * nD * nD - P[lo.P_AST_KT] * k2 * w2)
+            Q = cQ * (q0 * nD * nD - P[lo.P_AST_KQ] * q2 * w2)
     else:
         m = -nD
         at = P[lo.P_AST_KT]

@@ -25,7 +25,11 @@ from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import DEG, KNOT_M_S
 from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, forces, pack
 
-PARALLEL_MIN_BATCH = 256  # below this, thread start-up costs more than it saves
+# The threaded driver pays when a call carries enough work to cover waking the worker threads: tens of
+# microseconds on an idle machine, milliseconds when other processes hold the cores. Both bounds are
+# measured with benchmarks/bench_physics.py --drivers (docs/performance.md).
+PARALLEL_MIN_BATCH = 64  # vessels
+PARALLEL_MIN_WORK = 4096  # vessel-steps per call (about 7 ms of single-thread work)
 
 
 class ForceComponent(Protocol):
@@ -152,15 +156,23 @@ class Simulation:
         for j in idx:
             si = int(self.ship_index[j])
             speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
-            key = (si, speed)
+            key = (si, speed, hd[j], self.env[j].tobytes())
             if self.components:  # user forces take part in the equilibrium
-                cache[key] = steady_state(self.ships[si], self.Ps[si], speed, extra=self._extra_for(j))
+                cache[key] = steady_state(
+                    self.ships[si],
+                    self.Ps[si],
+                    speed,
+                    extra=self._extra_for(j),
+                    env=self.env[j],
+                    heading_rad=hd[j] * DEG,
+                )
             elif key not in cache:
-                cache[key] = steady_state(self.ships[si], self.Ps[si], speed)
+                cache[key] = steady_state(
+                    self.ships[si], self.Ps[si], speed, env=self.env[j], heading_rad=hd[j] * DEG
+                )
             xrow, urow = cache[key]
             self.state[j] = xrow
             self.inputs[j] = urow
-            self.state[j, lo.X_PSI] = hd[j] * DEG
             self.state[j, lo.X_N] = xs[j]
             self.state[j, lo.X_E] = ys[j]
             self.alive[j] = True
@@ -207,7 +219,8 @@ class Simulation:
         if self.components:
             alive = self._step_python(nsteps)
         else:
-            run = run_parallel if self.n >= PARALLEL_MIN_BATCH else run_serial
+            threaded = self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK
+            run = run_parallel if threaded else run_serial
             alive = run(
                 self.Ps,
                 self.ship_index,
@@ -378,21 +391,34 @@ def steps_for(duration_s: float, dt: float) -> int:
     return int(k)
 
 
-def _surge_accel(P: np.ndarray, x: np.ndarray, inp: np.ndarray, F: np.ndarray) -> float:
+def _surge_accel(P: np.ndarray, x: np.ndarray, inp: np.ndarray, env: np.ndarray, F: np.ndarray) -> float:
     from vessel_gym.physics.vessel import derivatives
 
     xd = np.zeros(lo.NX)
-    derivatives(P, x, inp, np.zeros(lo.NE), F, xd, np.zeros(N_OUT))
+    derivatives(P, x, inp, env, F, xd, np.zeros(N_OUT))
     return xd[lo.X_U]
 
 
-def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float, extra=None) -> tuple[np.ndarray, np.ndarray]:
-    """(state row, input row) of a steady straight run at ``speed_m_s`` in calm water (heading 0, origin).
+def steady_state(
+    ship: Ship,
+    P: np.ndarray,
+    speed_m_s: float,
+    extra=None,
+    env: np.ndarray | None = None,
+    heading_rad: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(state row, input row) of a steady straight run at ``speed_m_s`` through the water on ``heading_rad``
+    at the origin, in the environment row ``env`` (default: calm water, still ISA air, whose drag on the
+    ship's own speed is part of the balance). Only the surge balance is solved: in wind, current or waves
+    the sway and yaw loads act from the first step.
 
     ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance."""
+    if env is None:
+        env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
     x = np.zeros(lo.NX)
     inp = np.zeros(lo.NU)
     x[lo.X_U] = speed_m_s
+    x[lo.X_PSI] = heading_rad
     if ship.propeller is None:
         return x, inp
     # thrust grows with rev: bisection on rev for zero surge acceleration
@@ -402,7 +428,7 @@ def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float, extra=None) -> tup
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
         F = np.zeros(3) if extra is None else np.asarray(extra(x.copy()), dtype=float)
-        return _surge_accel(P, x, inp, F)
+        return _surge_accel(P, x, inp, env, F)
 
     lo_n, hi_n = 0.0, n_max
     if f(hi_n) < 0.0:
@@ -421,9 +447,8 @@ def steady_state(ship: Ship, P: np.ndarray, speed_m_s: float, extra=None) -> tup
     x[lo.X_REV] = nrev
     inp[lo.U_REV_C] = nrev
     # governor integrator at the fuel index whose torque holds that shaft speed
-    from vessel_gym.physics.vessel import forces
 
-    out = forces(P, x, inp, np.zeros(lo.NE), np.zeros(N_OUT))
+    out = forces(P, x, inp, env, np.zeros(N_OUT))
     Q_prop = out[14]
     Q_need = (Q_prop + P[lo.P_Q_FRIC] * nrev / (P[lo.P_ENG_NRATED] / P[lo.P_GEAR])) / (
         P[lo.P_ETA_GEAR] * P[lo.P_GEAR]
