@@ -26,10 +26,6 @@ MIRROR = np.array([1.0, -1.0, -1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0])
 THROUGH_WATER = [lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA, lo.X_REV, lo.X_GOV]
 
 
-def _has_windage(name: str) -> bool:
-    return load_ship(name).windage is not None
-
-
 def _state_derivative(sim: Simulation, k: int = 0) -> np.ndarray:
     xd = np.zeros(lo.NX)
     P = sim.Ps[sim.ship_index[k]]
@@ -40,13 +36,7 @@ def _state_derivative(sim: Simulation, k: int = 0) -> np.ndarray:
 # --- equilibrium and steady approach -------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "kvlcc2_l7",
-        "kvlcc2",
-    ],
-)
+@pytest.mark.parametrize("name", ["kvlcc2_l7", "kvlcc2"])
 def test_symmetric_mmg_ship_runs_straight_for_ten_minutes(name):
     """Steady approach at the test speed, rudder amidships, calm: 10 min later nothing has changed.
 
@@ -114,10 +104,7 @@ def test_steady_state_solution_has_zero_surge_acceleration(name):
     assert x[lo.X_U] == ship.test_speed_m_s
 
 
-@pytest.mark.parametrize(
-    "name",
-    builtin_ships(),
-)
+@pytest.mark.parametrize("name", builtin_ships())
 def test_reset_is_steady_in_the_simulation_environment(name):
     """Simulation.reset() (what every trial and environment starts from) is steady where the ship will
     actually run: |u'| < 1e-9 m/s^2 and zero shaft rate in the simulation's calm environment (still air at

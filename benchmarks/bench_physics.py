@@ -1,0 +1,212 @@
+"""Throughput of the physics core, printed as figures (a benchmark, not a timed test).
+
+Measures vessel-RK4-steps per second of the full model -- hull, propeller with engine, governor and shaft,
+rudder and steering gear, wind loads -- through the public API, ``Simulation.step(nsteps)``:
+
+* kvlcc2 (MMG hull, MMG rudder) in a 12 m/s wind from 30 deg, and mariner (Abkowitz hull, rudder in the hull
+  derivatives) in the same wind;
+* batches of 1, 1024 and 16384 vessels, each turning with 10 deg of rudder from spread headings;
+* a reasonable number of steps per call (a control interval's worth or more) and nsteps=1, whose extra cost
+  per call is the Python-side overhead of one ``step``.
+
+Every figure is the median over ``--repeats`` timed repeats, after a warm-up call (compilation and caches).
+Targets on the 2-core reference machine: >= 1,000,000 steps/s for one ship, >= 5,000,000 vessel-steps/s
+batched; a missed target prints its gap. ``--drivers`` also times the serial and parallel batch drivers
+directly against each other (that is how ``PARALLEL_MIN_BATCH`` was chosen), ``--cli`` times
+``vessel-gym imo kvlcc2`` (target < 3 s wall) when the command exists.
+
+    python benchmarks/bench_physics.py [--repeats 7] [--drivers] [--cli] [--quick]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import math
+import os
+import platform
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+
+import numba
+import numpy as np
+
+from vessel_gym.physics.environment import Environment
+from vessel_gym.physics.integrate import RK4, run_parallel, run_serial
+from vessel_gym.physics.simulation import PARALLEL_MIN_BATCH, PARALLEL_MIN_WORK, Simulation
+
+TARGET_SINGLE = 1_000_000  # vessel-RK4-steps/s, one ship
+TARGET_BATCH = 5_000_000  # vessel-RK4-steps/s, batched
+TARGET_CLI_S = 3.0  # s wall, `vessel-gym imo kvlcc2`
+MIN_TIMED_S = 0.25  # each repeat runs whole calls until at least this long
+
+WIND = Environment(wind_speed_m_s=12.0, wind_from_deg=30.0)
+SHIPS = ("kvlcc2", "mariner")
+# (batch size, steps per call); a 0.1 s physics step, so 100 steps = 10 s of simulated time per call
+CASES = ((1, 1000), (1, 1), (1024, 100), (1024, 1), (16384, 10), (16384, 1))
+
+
+def make_sim(ship: str, n: int) -> Simulation:
+    """n copies of ``ship`` at their test speed, headings spread, 10 deg rudder to starboard, in wind."""
+    sim = Simulation(ship, n=n, dt=0.1, environment=WIND)
+    sim.reset(heading_deg=np.linspace(0.0, 360.0, n, endpoint=False))
+    sim.set_helm(rudder_order_rad=np.deg2rad(10.0))
+    return sim
+
+
+def time_calls(call, repeats: int) -> tuple[float, float]:
+    """(median, best) seconds per call over ``repeats`` repeats of at least MIN_TIMED_S each.
+
+    The median is the figure; the best repeat is printed next to it because on a shared machine it is the
+    closest to what an idle one does.
+    """
+    call()  # warm-up: compilation (or cache load) and first-touch of the arrays
+    per_call = []
+    for _ in range(repeats):
+        calls = 0
+        t0 = time.perf_counter()
+        while True:
+            call()
+            calls += 1
+            elapsed = time.perf_counter() - t0
+            if elapsed >= MIN_TIMED_S:
+                break
+        per_call.append(elapsed / calls)
+    return statistics.median(per_call), min(per_call)
+
+
+def fmt_rate(rate: float) -> str:
+    return f"{rate / 1e6:8.3f} M"
+
+
+def gap(rate: float, target: float) -> str:
+    if rate >= target:
+        return f"meets {target / 1e6:g} M"
+    return f"MISSES {target / 1e6:g} M by x{target / rate:.1f}"
+
+
+def bench_step(repeats: int, cases) -> None:
+    print("\nSimulation.step(nsteps): vessel-RK4-steps/s, median (best) over repeats, dt = 0.1 s")
+    print(
+        f"{'ship':8s} {'N':>6s} {'nsteps':>6s} {'steps/s':>10s} {'(best)':>9s} {'us/call':>11s} "
+        f"{'ns/vessel-step':>15s}  target"
+    )
+    for ship in SHIPS:
+        for n, nsteps in cases:
+            sim = make_sim(ship, n)
+            t, best = time_calls(lambda sim=sim, k=nsteps: sim.step(k), repeats)
+            rate = n * nsteps / t
+            target = TARGET_SINGLE if n == 1 else TARGET_BATCH
+            print(
+                f"{ship:8s} {n:6d} {nsteps:6d} {fmt_rate(rate):>10s} {fmt_rate(n * nsteps / best):>9s} "
+                f"{t * 1e6:11.1f} {1e9 / rate:15.1f}  {gap(rate, target)}"
+            )
+            if not sim.alive.all():
+                print(f"  warning: {int((~sim.alive).sum())} vessels diverged during the benchmark")
+
+
+def cpu_per_call(call, repeats: int) -> float:
+    """Best process CPU seconds (all threads) per call: the work a driver does, whatever else runs."""
+    call()
+    best = math.inf
+    for _ in range(repeats):
+        c0 = time.process_time()
+        call()
+        best = min(best, time.process_time() - c0)
+    return best
+
+
+def bench_drivers(repeats: int) -> None:
+    """Serial vs parallel driver on the same arrays: where threads start to pay (PARALLEL_MIN_*).
+
+    Wall time says what a user sees on this machine now; CPU time (all threads) says what the threads cost:
+    where the parallel driver's CPU time equals the serial one, an idle 2-core machine runs it twice as fast.
+    """
+    print(
+        "\nbatch drivers called directly (kvlcc2): vessel-steps/s (wall, median) and CPU ns per vessel-step"
+    )
+    print(
+        f"{'N':>6s} {'nsteps':>6s} {'work':>7s} {'serial':>10s} {'parallel':>10s}  "
+        f"{'CPU serial':>10s} {'CPU par.':>9s} {'ratio':>6s}  Simulation.step uses"
+    )
+    for n in (16, 64, 256, 1024, 4096):
+        sim = make_sim("kvlcc2", n)
+        for nsteps in (1, 10, 100):
+            if n * nsteps > 100_000:
+                continue
+            args = (
+                sim.Ps,
+                sim.ship_index,
+                sim.state,
+                sim.inputs,
+                sim.env,
+                sim.F_ext,
+                sim.dt,
+                nsteps,
+                RK4,
+                sim.alive,
+            )
+            work = n * nsteps
+            ts, _ = time_calls(lambda a=args: run_serial(*a), repeats)
+            tp, _ = time_calls(lambda a=args: run_parallel(*a), repeats)
+            cs = cpu_per_call(lambda a=args: run_serial(*a), repeats) / work * 1e9
+            cp = cpu_per_call(lambda a=args: run_parallel(*a), repeats) / work * 1e9
+            uses = "parallel" if n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK else "serial"
+            print(
+                f"{n:6d} {nsteps:6d} {work:7d} {fmt_rate(work / ts):>10s} {fmt_rate(work / tp):>10s}  "
+                f"{cs:10.0f} {cp:9.0f} {cp / cs:6.2f}  {uses}"
+            )
+
+
+def bench_cli(repeats: int) -> None:
+    print("\nvessel-gym imo kvlcc2 (wall, median of runs after one warm-up run)")
+    exe = shutil.which("vessel-gym")
+    if exe is None or importlib.util.find_spec("vessel_gym.cli") is None:
+        print("  skipped: the vessel-gym command (vessel_gym.cli) is not available")
+        return
+    walls = []
+    for i in range(repeats + 1):
+        t0 = time.perf_counter()
+        proc = subprocess.run([exe, "imo", "kvlcc2"], capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+        if proc.returncode != 0:
+            print(f"  failed (exit {proc.returncode}): {proc.stderr.strip().splitlines()[-1:]}")
+            return
+        if i > 0:
+            walls.append(wall)
+    w = statistics.median(walls)
+    verdict = "meets" if w < TARGET_CLI_S else f"MISSES by {w - TARGET_CLI_S:.2f} s"
+    print(
+        f"  {w:.2f} s (runs: {', '.join(f'{x:.2f}' for x in walls)})  target < {TARGET_CLI_S:g} s: {verdict}"
+    )
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=7, help="timed repeats per figure (median)")
+    ap.add_argument("--drivers", action="store_true", help="also time serial vs parallel drivers")
+    ap.add_argument("--cli", action="store_true", help="also time `vessel-gym imo kvlcc2`")
+    ap.add_argument("--quick", action="store_true", help="3 repeats, batches of 1 and 1024 only")
+    args = ap.parse_args(argv)
+    repeats = 3 if args.quick else args.repeats
+    cases = [c for c in CASES if not args.quick or c[0] <= 1024]
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(
+        f"python {platform.python_version()}, numpy {np.__version__}, "
+        f"numba {numba.__version__}, {os.cpu_count()} CPUs, "
+        f"load average {load:.2f}, {repeats} repeats"
+    )
+    bench_step(repeats, cases)
+    if args.drivers:
+        bench_drivers(repeats)
+    if args.cli:
+        bench_cli(min(repeats, 3))
+    if hasattr(os, "getloadavg"):
+        print(f"\nload average at the end {os.getloadavg()[0]:.2f} (2.0 = both cores busy)")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
