@@ -8,6 +8,7 @@ from :class:`MeshSpec` and :class:`FlowSpec`, so the generated text is reproduci
 from __future__ import annotations
 
 import math
+import re
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
@@ -470,10 +471,10 @@ def _write_solution(system: Path, steady: bool, residual_p: float = 1e-5) -> Non
             "SIMPLE": {
                 "nNonOrthogonalCorrectors": 0,
                 "consistent": True,
-                "residualControl": {"p": residual_p, "U": residual_p / 10, "\"(k|omega)\"": residual_p},
+                "residualControl": {"p": residual_p, "U": residual_p / 10, '"(k|omega)"': residual_p},
             }
         }
-        relax = {"equations": {"U": 0.9, "\".*\"": 0.7}}
+        relax = {"equations": {"U": 0.9, '".*"': 0.7}}
     else:
         solvers["(p|pcorr)Final"] = {
             "solver": "GAMG",
@@ -496,7 +497,7 @@ def _write_solution(system: Path, steady: bool, residual_p: float = 1e-5) -> Non
                 "correctPhi": False,
             }
         }
-        relax = {"equations": {"\".*\"": 1}}
+        relax = {"equations": {'".*"': 1}}
     quoted = {(f'"{k}"' if "|" in k else k): v for k, v in solvers.items()}
     foamdict.write(system / "fvSolution", {"solvers": quoted, **algo, "relaxationFactors": relax})
 
@@ -562,7 +563,7 @@ def write_steady_case(case: Path, mesh_case: Path, flow: FlowSpec, iterations: i
             "writeCompression": False,
             "timeFormat": "general",
             "timePrecision": 8,
-            "runTimeModifiable": False,
+            "runTimeModifiable": True,  # request_stop() ends a run whose forces have settled
             "functions": _function_objects(flow.rho, write_yplus=True),
         },
     )
@@ -571,6 +572,17 @@ def write_steady_case(case: Path, mesh_case: Path, flow: FlowSpec, iterations: i
     foamdict.write(system / "decomposeParDict", _decompose(procs))
     for name, (body, cls) in flow_fields(flow).items():
         foamdict.write(case / "0" / name, body, foam_class=cls)
+
+
+def request_stop(case: Path) -> bool:
+    """Ask a running solver to write its fields and stop (``stopAt writeNow``); False if already asked."""
+    path = case / "system" / "controlDict"
+    text = path.read_text()
+    new = re.sub(r"^(stopAt\s+)endTime;", r"\1writeNow;", text, count=1, flags=re.M)
+    if new == text:
+        return False
+    path.write_text(new)
+    return True
 
 
 # ---------------------------------------------------------------------------------- PMM motion
@@ -832,7 +844,7 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
                 "nAlphaSweepIter": 0,
                 "maxDeltaT": 1,
             },
-            "relaxationFactors": {"equations": {"\".*\"": 1}},
+            "relaxationFactors": {"equations": {'".*"': 1}},
         },
     )
     foamdict.write(

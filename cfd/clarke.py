@@ -48,3 +48,11 @@ def clarke83(L_m: float, B_m: float, T_m: float, C_B: float, normalisation: str 
     if normalisation == "rho_L2_U2":
         d = {k: 0.5 * v for k, v in d.items()}
     return d
+
+
+def soding_surge_added_mass(volume_m3: float, L_m: float, rho_kg_m3: float) -> float:
+    """Surge added mass A11 = −X_u̇ = 2.7 ρ ∇^(5/3) / L² (kg), Söding (1982), as in Fossen's MSS
+    ``addedMassSurge``. Used only where no CFD value exists."""
+    if min(volume_m3, L_m, rho_kg_m3) <= 0:
+        raise ValueError("volume, L and rho must be > 0")
+    return 2.7 * rho_kg_m3 * volume_m3 ** (5.0 / 3.0) / L_m**2

@@ -14,7 +14,11 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-import tomllib
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
+
 
 from .errors import InputError
 
@@ -90,9 +94,10 @@ class Study:
 
 
 # ---------------------------------------------------------------------------------- parsing helpers
-def _number(
+def parse_number(
     key: str, value: Any, lo: float, hi: float, *, lo_open: bool = False, integer: bool = False
 ) -> Any:
+    """A number (or integer) in [lo, hi] (or (lo, hi]) from a string or TOML value; InputError names ``key``."""
     rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}]"
     if isinstance(value, bool):
         raise InputError(key, f"must be a number in {rng} (got {value!r})")
@@ -119,9 +124,9 @@ def parse_list(
         text = value.strip()
         if text.count(":") == 2:
             a, b, n = text.split(":")
-            lo_v = _number(key, a, lo, hi, lo_open=lo_open)
-            hi_v = _number(key, b, lo, hi, lo_open=lo_open)
-            count = _number(key + " count", n, 1, max_count, integer=True)
+            lo_v = parse_number(key, a, lo, hi, lo_open=lo_open)
+            hi_v = parse_number(key, b, lo, hi, lo_open=lo_open)
+            count = parse_number(key + " count", n, 1, max_count, integer=True)
             if hi_v < lo_v:
                 raise InputError(key, f"range {text!r}: MAX must be >= MIN")
             if count == 1:
@@ -138,7 +143,7 @@ def parse_list(
         raise InputError(key, f"needs at least one value in [{lo:g}, {hi:g}]")
     if len(items) > max_count:
         raise InputError(key, f"at most {max_count} values (got {len(items)})")
-    vals = tuple(round(_number(key, v, lo, hi, lo_open=lo_open), 10) for v in items)
+    vals = tuple(round(parse_number(key, v, lo, hi, lo_open=lo_open), 10) for v in items)
     return tuple(sorted(set(vals)))
 
 
@@ -236,23 +241,23 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
         hull = str(hp)
     else:
         hull = "wigley"
-    lpp = _number("lpp", raw["lpp"], 0.0, 500.0, lo_open=True)
-    bwl = _number("bwl", raw["bwl"], 0.0, 0.5 * lpp, lo_open=True)
-    tm = _number("tm", raw["tm"], 0.0, 0.5 * lpp, lo_open=True)
+    lpp = parse_number("lpp", raw["lpp"], 0.0, 500.0, lo_open=True)
+    bwl = parse_number("bwl", raw["bwl"], 0.0, 0.5 * lpp, lo_open=True)
+    tm = parse_number("tm", raw["tm"], 0.0, 0.5 * lpp, lo_open=True)
     kw: dict[str, Any] = {"hull": hull, "lpp": lpp, "bwl": bwl, "tm": tm, "out": path(raw["out"])}
     if "grading" in raw:
-        kw["grading"] = _number("grading", raw["grading"], 1, 5, integer=True)
+        kw["grading"] = parse_number("grading", raw["grading"], 1, 5, integer=True)
     if "tests" in raw:
         kw["tests"] = parse_tests(raw["tests"])
     if "name" in raw:
         kw["name"] = str(raw["name"])
     for k in ("x_ap", "z_keel"):
         if raw.get(k) not in (None, ""):
-            kw[k] = _number(k, raw[k], -1e4, 1e4)
+            kw[k] = parse_number(k, raw[k], -1e4, 1e4)
     ncpu = max(os.cpu_count() or 1, 1)
     for k in ("procs", "mesh_procs"):
         if k in raw:
-            kw[k] = _number(k, raw[k], 1, 4 * ncpu, integer=True)
+            kw[k] = parse_number(k, raw[k], 1, 4 * ncpu, integer=True)
     if raw.get("template") not in (None, ""):
         tp = path(raw["template"])
         if not tp.is_file():
@@ -264,7 +269,9 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
         kw["template"] = tp
     vmax = 20.0
     speeds = parse_list("speeds", raw["speeds"], 0.0, vmax) if "speeds" in raw else ()
-    pmm = _number("pmm_speed", raw["pmm_speed"], 0.0, vmax, lo_open=True) if raw.get("pmm_speed") else 0.0
+    pmm = (
+        parse_number("pmm_speed", raw["pmm_speed"], 0.0, vmax, lo_open=True) if raw.get("pmm_speed") else 0.0
+    )
     if not speeds and not pmm:
         speeds = (round(0.2 * math.sqrt(9.81 * lpp), 6),)  # Fn = 0.2
     pmm = pmm or max(speeds)
@@ -272,10 +279,15 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
         speeds = (pmm,)
     kw["speeds"], kw["pmm_speed"] = speeds, pmm
     if "drift_deg" in raw:
-        kw["drift_deg"] = parse_list("drift_deg", raw["drift_deg"], 0.0, 30.0)
+        # 0 is allowed in the list: it is the straight tow at the same speed, run anyway
+        kw["drift_deg"] = tuple(
+            b for b in parse_list("drift_deg", raw["drift_deg"], 0.0, 30.0, lo_open=False) if b
+        )
+        if not kw["drift_deg"]:
+            raise InputError("drift_deg", "needs at least one angle in (0, 30] deg")
     for k in ("sway_period", "yaw_period"):
         default = math.pi * lpp / pmm  # omega' = omega L / U = 2
-        kw[k] = _number(k, raw[k], 0.0, 1e4, lo_open=True) if raw.get(k) else round(default, 6)
+        kw[k] = parse_number(k, raw[k], 0.0, 1e4, lo_open=True) if raw.get(k) else round(default, 6)
     amp_default = (round(0.025 * lpp, 6),)
     kw["sway_amplitude"] = (
         parse_list("sway_amplitude", raw["sway_amplitude"], 0.0, 0.5 * lpp)
@@ -293,32 +305,36 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
                 f"velocity of {v0 / pmm:.2f} U; allowed up to tan(30 deg) U",
             )
     if "cycles" in raw:
-        kw["cycles"] = _number("cycles", raw["cycles"], 1.5, 50.0)
+        kw["cycles"] = parse_number("cycles", raw["cycles"], 1.5, 50.0)
     if "fit_cycles" in raw:
-        kw["fit_cycles"] = _number("fit_cycles", raw["fit_cycles"], 1, 49, integer=True)
-    if kw.get("fit_cycles", 2) > kw.get("cycles", 3.0):
-        raise InputError("fit_cycles", f"must be <= cycles ({kw.get('cycles', 3.0):g})")
+        kw["fit_cycles"] = parse_number("fit_cycles", raw["fit_cycles"], 1, 49, integer=True)
+    if kw.get("fit_cycles", 2) > kw.get("cycles", 3.0) - 0.5:
+        raise InputError(
+            "fit_cycles",
+            f"must be <= cycles - 0.5 = {kw.get('cycles', 3.0) - 0.5:g} "
+            "(the first half period is the start ramp)",
+        )
     if "rho" in raw:
-        kw["rho"] = _number("rho", raw["rho"], 500.0, 2000.0)
+        kw["rho"] = parse_number("rho", raw["rho"], 500.0, 2000.0)
     if "nu" in raw:
-        kw["nu"] = _number("nu", raw["nu"], 1e-8, 1e-3)
+        kw["nu"] = parse_number("nu", raw["nu"], 1e-8, 1e-3)
     for k in ("layers", "free_surface"):
         if k in raw:
             kw[k] = _bool(k, raw[k])
     if "yplus" in raw:
-        kw["yplus"] = _number("yplus", raw["yplus"], 1.0, 1000.0)
+        kw["yplus"] = parse_number("yplus", raw["yplus"], 1.0, 1000.0)
     if "sizing" in raw:
         kw["sizing"] = _choice("sizing", raw["sizing"], ("grading", "yplus"))
     if "max_iterations" in raw:
-        kw["max_iterations"] = _number("max_iterations", raw["max_iterations"], 10, 100000, integer=True)
+        kw["max_iterations"] = parse_number("max_iterations", raw["max_iterations"], 10, 100000, integer=True)
     if "normalisation" in raw:
         kw["normalisation"] = _choice("normalisation", raw["normalisation"], NORMALISATIONS)
     if "scale_to" in raw:
         kw["scale_to"] = _choice("scale_to", raw["scale_to"], ("template", "cfd"))
     if raw.get("k_zz") not in (None, ""):
-        kw["k_zz"] = _number("k_zz", raw["k_zz"], 0.0, lpp, lo_open=True)
+        kw["k_zz"] = parse_number("k_zz", raw["k_zz"], 0.0, lpp, lo_open=True)
     if raw.get("form_factor") not in (None, ""):
-        kw["form_factor"] = _number("form_factor", raw["form_factor"], 0.0, 1.0)
+        kw["form_factor"] = parse_number("form_factor", raw["form_factor"], 0.0, 1.0)
     re_l = pmm * lpp / kw.get("nu", Study.nu)
     if re_l < 1e4:
         raise InputError(

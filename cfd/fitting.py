@@ -19,8 +19,9 @@ Conventions for every function here
   - ``"SI"``: dimensional (Y_v in N·s/m, Y_vdot in N·s²/m, N_r in N·m·s, ...);
   - ``"rho_L2_U2"`` (seed report eq. 5–9): force/(ρU²L²), moment/(ρU²L³), u' = v' = v/U, r' = rL/U,
     v̇' = v̇L/U², ṙ' = ṙL²/U²;
-  - ``"half_rho_L2_U2"`` (SNAME prime system, Clarke 1983): as above with ½ρ instead of ρ.
-    (MMG's ½ρLdU² differs by the factor d/L; :func:`nondimensionalise` does not produce it.)
+  - ``"half_rho_L2_U2"`` (SNAME prime system, Clarke 1983): as above with ½ρ instead of ρ;
+  - ``"half_rho_L_d_U2"`` (MMG, Yasukawa & Yoshimura 2015): force/(½ρLdU²), moment/(½ρL²dU²) with the
+    draught d; only through :func:`nondimensionalise` / :func:`dimensionalise` (pass ``T_m``).
 """
 
 from __future__ import annotations
@@ -32,7 +33,8 @@ from typing import Any
 
 import numpy as np
 
-NORMALISATIONS = ("SI", "rho_L2_U2", "half_rho_L2_U2")
+NORMALISATIONS = ("SI", "rho_L2_U2", "half_rho_L2_U2", "half_rho_L_d_U2")
+SHIP_NORMALISATIONS = ("rho_L2_U2", "half_rho_L2_U2")  # the prime systems of ship files
 
 _KEY = re.compile(r"^([XYNK])_(0|[uvrdp]+|[uvrp]dot)$")
 
@@ -55,12 +57,14 @@ def key_variables(key: str) -> tuple[str, tuple[str, ...]]:
     return force, tuple(body)
 
 
-def scale_factor(key: str, *, rho_kg_m3: float, L_m: float, U_m_s: float, normalisation: str) -> float:
+def scale_factor(
+    key: str, *, rho_kg_m3: float, L_m: float, U_m_s: float, normalisation: str, T_m: float | None = None
+) -> float:
     """Factor f with ``prime = f × SI`` for the derivative ``key``.
 
     With F = C·Πxᵢ and the scales F₀ (ρU²L² for X, Y; ρU²L³ for N and K; halved for
-    ``half_rho_L2_U2``) and x₀ (u, v: U; r, p: U/L; u̇, v̇: U²/L; ṙ, ṗ: U²/L²; δ: 1),
-    C' = C·Πx₀ᵢ / F₀.
+    ``half_rho_L2_U2``; ½ρU²L·d and ½ρU²L²·d for the MMG ``half_rho_L_d_U2``, which needs the
+    draught ``T_m``) and x₀ (u, v: U; r, p: U/L; u̇, v̇: U²/L; ṙ, ṗ: U²/L²; δ: 1), C' = C·Πx₀ᵢ / F₀.
     """
     if normalisation not in NORMALISATIONS:
         raise ValueError(f"normalisation must be one of {NORMALISATIONS} (got {normalisation!r})")
@@ -73,6 +77,10 @@ def scale_factor(key: str, *, rho_kg_m3: float, L_m: float, U_m_s: float, normal
     f0 = rho_kg_m3 * U**2 * L**2 * (L if force in "NK" else 1.0)
     if normalisation == "half_rho_L2_U2":
         f0 *= 0.5
+    elif normalisation == "half_rho_L_d_U2":
+        if T_m is None or T_m <= 0:
+            raise ValueError("the MMG normalisation half_rho_L_d_U2 needs the draught T_m > 0")
+        f0 *= 0.5 * T_m / L
     var_scale = {
         "u": U,
         "v": U,
@@ -97,10 +105,12 @@ def nondimensionalise(
     L_m: float,
     U_m_s: float,
     normalisation: str = "rho_L2_U2",
+    T_m: float | None = None,
 ) -> dict[str, float]:
     """Convert dimensional (SI) derivatives to ``normalisation`` (see the module docstring)."""
     return {
-        k: float(v) * scale_factor(k, rho_kg_m3=rho_kg_m3, L_m=L_m, U_m_s=U_m_s, normalisation=normalisation)
+        k: float(v)
+        * scale_factor(k, rho_kg_m3=rho_kg_m3, L_m=L_m, U_m_s=U_m_s, normalisation=normalisation, T_m=T_m)
         for k, v in derivatives.items()
     }
 
@@ -112,10 +122,12 @@ def dimensionalise(
     L_m: float,
     U_m_s: float,
     normalisation: str = "rho_L2_U2",
+    T_m: float | None = None,
 ) -> dict[str, float]:
     """Inverse of :func:`nondimensionalise`: prime values in ``normalisation`` to SI."""
     return {
-        k: float(v) / scale_factor(k, rho_kg_m3=rho_kg_m3, L_m=L_m, U_m_s=U_m_s, normalisation=normalisation)
+        k: float(v)
+        / scale_factor(k, rho_kg_m3=rho_kg_m3, L_m=L_m, U_m_s=U_m_s, normalisation=normalisation, T_m=T_m)
         for k, v in derivatives.items()
     }
 
@@ -123,8 +135,8 @@ def dimensionalise(
 def convert_normalisation(derivatives: Mapping[str, float], source: str, target: str) -> dict[str, float]:
     """Convert prime values between ``"rho_L2_U2"`` and ``"half_rho_L2_U2"`` (a factor 2)."""
     for n in (source, target):
-        if n not in NORMALISATIONS[1:]:
-            raise ValueError(f"normalisation must be one of {NORMALISATIONS[1:]} (got {n!r})")
+        if n not in SHIP_NORMALISATIONS:
+            raise ValueError(f"normalisation must be one of {SHIP_NORMALISATIONS} (got {n!r})")
     f = 1.0 if source == target else (2.0 if target == "half_rho_L2_U2" else 0.5)
     return {k: float(v) * f for k, v in derivatives.items()}
 
@@ -250,6 +262,8 @@ def _finish(
 ) -> FitResult:
     if normalisation == "SI":
         derivs = dict(si)
+    elif normalisation not in SHIP_NORMALISATIONS:
+        raise ValueError(f"fits give SI or one of {SHIP_NORMALISATIONS}; use nondimensionalise() for MMG")
     else:
         if rho is None or L is None:
             raise ValueError(f"normalisation {normalisation!r} needs rho_kg_m3 and L_m")
@@ -302,22 +316,30 @@ def fit_static_drift(
     X_N: Sequence[float] | None = None,
     normalisation: str = "rho_L2_U2",
     cubic: bool | None = None,
+    symmetric: bool = False,
 ) -> FitResult:
     """Static drift (oblique tow) at speed U: Y = Y_0 + Y_v v + Y_vvv v³, N likewise, X = X_0 + X_vv v².
 
     ``v_m_s`` is the body-axes sway velocity of each steady run (for drift angle β with the MMG
     convention β = −atan(v/u): v = −U sin β). ``cubic`` adds Y_vvv and N_vvv (default: when there are
-    at least four distinct v). Returns Y_0, Y_v, N_0, N_v (+ Y_vvv, N_vvv, X_0, X_vv).
+    at least three distinct non-zero |v|). ``symmetric=True`` states that the hull is port-starboard
+    symmetric: every run is mirrored (−v, −Y, −N, X), so Y_0 = N_0 = 0 and one-sided data cannot
+    trade the offset against the slope. Returns Y_0, Y_v, N_0, N_v (+ Y_vvv, N_vvv, X_0, X_vv).
     """
     v = np.asarray(v_m_s, dtype=float)
     Y = np.asarray(Y_N, dtype=float)
     N = np.asarray(N_Nm, dtype=float)
     if v.ndim != 1 or Y.shape != v.shape or N.shape != v.shape:
         raise ValueError("v_m_s, Y_N and N_Nm must be 1-D arrays of the same length")
+    X_in = None if X_N is None else np.asarray(X_N, dtype=float)
+    if symmetric:
+        v, Y, N = np.concatenate([v, -v]), np.concatenate([Y, -Y]), np.concatenate([N, -N])
+        X_in = None if X_in is None else np.concatenate([X_in, X_in])
     n_distinct = len(np.unique(np.round(v, 12)))
+    n_nonzero = len(np.unique(np.round(np.abs(v[v != 0]), 12)))
     if n_distinct < 2:
         raise ValueError("static drift needs at least two distinct sway velocities")
-    use_cubic = (n_distinct >= 4) if cubic is None else cubic
+    use_cubic = (n_nonzero >= 3) if cubic is None else cubic
     if use_cubic and n_distinct < 3:
         raise ValueError("a cubic fit needs at least three distinct sway velocities")
     cols = [np.ones_like(v), v] + ([v**3] if use_cubic else [])
@@ -328,9 +350,8 @@ def fit_static_drift(
         si[f"{name}_0"], si[f"{name}_v"] = float(coef[0]), float(coef[1])
         if use_cubic:
             si[f"{name}_vvv"] = float(coef[2])
-    if X_N is not None:
-        X = np.asarray(X_N, dtype=float)
-        coef, residuals["X"], _ = _lstsq([np.ones_like(v), v**2], X)
+    if X_in is not None:
+        coef, residuals["X"], _ = _lstsq([np.ones_like(v), v**2], X_in)
         si["X_0"], si["X_vv"] = float(coef[0]), float(coef[1])
     details = {"v_m_s": v, "Y_N": Y, "N_Nm": N, "cubic": use_cubic}
     return _finish(si, normalisation, rho_kg_m3, L_m, U_m_s, residuals, details)

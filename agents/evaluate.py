@@ -1,0 +1,124 @@
+"""Evaluate a trained agent or a classical baseline over seeded episodes.
+
+    python agents/evaluate.py --env vessel_gym/ZigZag-v0 --agent runs/ppo_ZigZag-v0_s0.zip --episodes 20
+    python agents/evaluate.py --env ZigZag-v0 --agent pid --episodes 20 --seed 0 --json
+    python agents/evaluate.py --env HarbourApproach-v0 --agent scripted --episodes 5
+
+Episode i starts from ``reset(seed=seed + i)``, so every agent meets the same starts. ``--agent``: ``pid``
+(heading PID with Nomoto pole-placement gains; HarbourApproach: the line-of-sight pilot with those gains;
+TurningCircle: rate PI), ``scripted`` (IMO zig-zag rule / 35 deg turn / harbour pilot) or a model saved by
+``train.py``. A model is evaluated with the environment arguments it was trained with (its run record
+``<stem>.yml``) unless ``--env-kwargs`` is given; compare baselines with the same ``--env-kwargs``.
+Bad arguments: exit code 2 and one line on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+if __package__ in (None, ""):  # run as a script: make the repository root importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from agents.common import UsageError, evaluate, parse_assignments  # noqa: E402
+
+#: summary keys printed (when present) with their labels
+LABELS = (
+    ("return", "return"),
+    ("success_rate", "success rate"),
+    ("heading_error_deg", "mean |heading error| (deg)"),
+    ("overshoot_deg", "overshoot per course change (deg)"),
+    ("max_overshoot_deg", "max overshoot (deg)"),
+    ("reached_pct", "targets reached (%)"),
+    ("rate_error_pct", "mean |rate error| (%)"),
+    ("min_clearance_m", "min clearance (m)"),
+    ("time_s", "episode time (s)"),
+    ("rudder_deg", "mean |rudder order| (deg)"),
+    ("rudder_rate_deg_s", "mean |rudder order rate| (deg/s)"),
+    ("length", "episode length (steps)"),
+)
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def _int(name: str, lo: int):
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}") from None
+        if v < lo:
+            raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
+        return v
+
+    return parse
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="evaluate.py", description="Evaluate an agent or baseline on a vessel-gym environment.")
+    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
+    p.add_argument("--agent", required=True, help="pid, scripted or a model .zip saved by train.py")
+    p.add_argument("--episodes", type=_int("--episodes", 1), default=20)
+    p.add_argument("--seed", type=_int("--seed", 0), default=0)
+    p.add_argument(
+        "--env-kwargs",
+        nargs="+",
+        metavar="KEY=VALUE",
+        default=None,
+        help="environment arguments (YAML values)",
+    )
+    p.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    return p
+
+
+def format_summary(result: dict[str, Any]) -> str:
+    """Human-readable summary of :func:`agents.common.evaluate`'s result."""
+    s = result["summary"]
+    lines = [
+        f"{result['agent']} on {result['env_id']} {result['env_kwargs'] or ''}: {s['episodes']} episodes"
+    ]
+    for key, label in LABELS:
+        if key == "success_rate" and key in s:
+            lines.append(f"  {label:34s} {100.0 * s[key]:.0f} %")
+        elif f"{key}_mean" in s:
+            m, d = s[f"{key}_mean"], s[f"{key}_std"]
+            lines.append(f"  {label:34s} " + ("n/a" if m is None else f"{m:.3f} +- {d:.3f}"))
+    if "outcomes" in s:
+        lines.append(
+            "  outcomes                           " + ", ".join(f"{k} {v}" for k, v in s["outcomes"].items())
+        )
+    return "\n".join(lines)
+
+
+def _clean(x: Any) -> Any:
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    if isinstance(x, dict):
+        return {k: _clean(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [_clean(v) for v in x]
+    return x
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        kwargs = parse_assignments(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None else None
+        result = evaluate(args.env, args.agent, args.episodes, args.seed, kwargs)
+    except UsageError as exc:
+        print(f"evaluate.py: error: {exc}", file=sys.stderr)
+        return 2
+    print(json.dumps(_clean(result)) if args.json else format_summary(result))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,125 @@
+"""Train a Stable-Baselines3 agent on a vessel-gym environment.
+
+    python agents/train.py --env vessel_gym/ZigZag-v0 --algo ppo --seed 0
+    python agents/train.py --env ZigZag-v0 --algo sac --seed 1 --timesteps 50000 --n-envs 4 --vec subproc
+
+Hyperparameters come from ``agents/hyperparams/<algo>.yml`` (the block of the env id); ``--timesteps`` and
+``--n-envs`` override its ``n_timesteps``/``n_envs``, ``--hyperparams KEY=VALUE`` any key (YAML values,
+dotted keys for nested ones: ``policy_kwargs.net_arch=[32,32]``, ``env_kwargs.schedule=imo``).
+Writes ``<out>/<algo>_<env>_s<seed>.zip`` (loadable by ``evaluate.py``, ``vessel_gym.policy.load_policy``
+and ``vessel-gym serve --agent``), its run record ``.yml``, the SB3 CSV log under ``<out>/logs/`` and
+checkpoints under ``<out>/checkpoints/``. Bad arguments: exit code 2 and one line on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+if __package__ in (None, ""):  # run as a script: make the repository root importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from agents.common import ALGOS, VEC_KINDS, UsageError, parse_assignments, resolve_env_id, train  # noqa: E402
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> None:  # one line, exit 2
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def _int(name: str, lo: int):
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}") from None
+        if v < lo:
+            raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
+        return v
+
+    return parse
+
+
+def _minutes(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"--time-budget must be a number of minutes, got {text!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"--time-budget must be > 0 minutes, got {text}")
+    return v
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="train.py", description="Train an SB3 agent on a vessel-gym environment.")
+    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
+    p.add_argument("--algo", required=True, type=str.lower, choices=sorted(ALGOS))
+    p.add_argument("--seed", type=_int("--seed", 0), default=0)
+    p.add_argument("--timesteps", type=_int("--timesteps", 1), default=None, help="override n_timesteps")
+    p.add_argument("--n-envs", type=_int("--n-envs", 1), default=None, help="override n_envs")
+    p.add_argument("--vec", choices=VEC_KINDS, default="dummy", help="vector environment (default dummy)")
+    p.add_argument("--out", default="runs", help="output directory (default runs/)")
+    p.add_argument(
+        "--hyperparams-file", default=None, help="YAML file instead of agents/hyperparams/<algo>.yml"
+    )
+    p.add_argument("--hyperparams", nargs="+", metavar="KEY=VALUE", default=None, help="override keys")
+    p.add_argument(
+        "--log-format",
+        nargs="+",
+        choices=("stdout", "csv", "json", "log", "tensorboard"),
+        default=["csv", "stdout"],
+        help="SB3 logger outputs (default csv stdout)",
+    )
+    p.add_argument("--checkpoint-freq", type=_int("--checkpoint-freq", 1), default=None, help="steps")
+    p.add_argument("--time-budget", type=_minutes, default=None, metavar="MIN", help="stop after MIN minutes")
+    p.add_argument(
+        "--eval-freq",
+        type=_int("--eval-freq", 1),
+        default=None,
+        help="evaluate every STEPS steps and keep the best model as <stem>_best.zip",
+    )
+    p.add_argument("--eval-episodes", type=_int("--eval-episodes", 1), default=5)
+    p.add_argument("--threads", type=_int("--threads", 1), default=1, help="torch threads (default 1)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        env_id = resolve_env_id(args.env)
+        result = train(
+            args.algo,
+            env_id,
+            args.seed,
+            timesteps=args.timesteps,
+            n_envs=args.n_envs,
+            vec=args.vec,
+            out=args.out,
+            hyperparams_file=args.hyperparams_file,
+            overrides=parse_assignments(args.hyperparams, "--hyperparams"),
+            log_formats=args.log_format,
+            checkpoint_freq=args.checkpoint_freq,
+            progress_bar=not args.no_progress,
+            threads=args.threads,
+            time_budget_s=None if args.time_budget is None else 60.0 * args.time_budget,
+            eval_freq=args.eval_freq,
+            eval_episodes=args.eval_episodes,
+        )
+    except UsageError as exc:
+        print(f"train.py: error: {exc}", file=sys.stderr)
+        return 2
+    if result.best_model_path is not None:
+        print(f"best model of the periodic evaluations: {result.best_model_path}")
+    print(
+        f"saved {result.model_path} ({result.n_timesteps} steps in {result.wall_time_s:.1f} s); "
+        f"evaluate: python agents/evaluate.py --env {env_id} --agent {result.model_path}"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,381 @@
+"""``vessel-cfd``: command line of the CFD tool.
+
+    vessel-cfd                      interactive set-up (the seed report's vesselScript flow)
+    vessel-cfd run --hull H --lpp L --bwl B --tm T --grading G --tests all --out DIR [...]
+    vessel-cfd run --study study.toml [--out DIR ...]
+    vessel-cfd wigley --lpp L --bwl B --tm T --out hull.stl
+    vessel-cfd clarke --lpp L --bwl B --tm T --cb CB
+
+Exit codes: 0 success, 1 a CFD step failed (one line on stderr naming the step and its log),
+2 bad input (one line on stderr naming the argument or key and the allowed range).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, NoReturn
+
+from . import __version__
+from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_file, parse_list, parse_number
+from .errors import CfdError, InputError
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error and exit code 2."""
+
+    def error(self, message: str) -> NoReturn:
+        print(f"vessel-cfd: error: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+RUN_OPTIONS: tuple[tuple[str, str], ...] = (
+    ("hull", "hull STL file (.stl or .stl.gz; bow to +x, z up, metres) or 'wigley'"),
+    ("lpp", "length between perpendiculars (m)"),
+    ("bwl", "waterline breadth (m)"),
+    ("tm", "mean draught (m)"),
+    ("grading", "mesh grading 1-5 (1 ULTRA COARSE ... 5 ULTRA FINE)"),
+    ("tests", "tests to run: all, or a comma list of tow,drift,sway,yaw"),
+    ("out", "output directory (ship.toml, report/, cases/)"),
+    ("procs", "processors for solving"),
+    ("mesh-procs", "processors for meshing"),
+    ("template", "ship file whose non-hull tables are copied (default: the built-in dtc ship)"),
+    ("name", "ship name in the ship file"),
+    ("x-ap", "x of the aft perpendicular in the STL (m; default: aft end of the underwater hull)"),
+    ("z-keel", "z of the keel in the STL (m; default: lowest point)"),
+    ("speeds", "tow speeds (m/s): 1.0 | 0.8,1.0,1.2 | MIN:MAX:COUNT"),
+    ("pmm-speed", "speed of the drift, sway and yaw tests (m/s; default: highest tow speed)"),
+    ("drift-deg", "drift angles (deg), list or MIN:MAX:COUNT"),
+    ("sway-period", "pure sway period (s; default pi L / U)"),
+    ("sway-amplitude", "pure sway amplitudes (m), list or MIN:MAX:COUNT"),
+    ("yaw-period", "pure yaw period (s; default pi L / U)"),
+    ("yaw-deg", "pure yaw heading amplitudes (deg), list or MIN:MAX:COUNT"),
+    ("cycles", "PMM periods simulated (first half period is a start ramp)"),
+    ("fit-cycles", "last whole PMM periods used in the fits"),
+    ("rho", "water density (kg/m3)"),
+    ("nu", "kinematic viscosity (m2/s)"),
+    ("layers", "add boundary layers sized for --yplus (true/false)"),
+    ("yplus", "target y+ of the first cell centre"),
+    ("sizing", "grading (default) or yplus (seed rule: background cell = wall cell x 2^levels)"),
+    ("free-surface", "also write (not run) an interFoam free-surface tow case (true/false)"),
+    ("max-iterations", "steady SIMPLE iterations (default by grading)"),
+    ("normalisation", "rho_L2_U2 (seed eq. 5-6) or half_rho_L2_U2 (SNAME prime)"),
+    ("scale-to", "template (scale particulars to the template's length) or cfd"),
+    ("k-zz", "yaw radius of gyration (m; default from the template, else 0.25 Lpp)"),
+    ("form-factor", "form factor k for ship-scale resistance (default: from the CFD)"),
+)
+
+
+def _parser() -> _Parser:
+    p = _Parser(prog="vessel-cfd", description="OpenFOAM PMM tests -> hydrodynamic derivatives -> ship file.")
+    p.add_argument("--version", action="version", version=f"vessel-cfd {__version__}")
+    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+    run = sub.add_parser("run", help="run a study non-interactively")
+    run.add_argument("--study", help="study TOML file (keys as the options below, with underscores)")
+    for opt, text in RUN_OPTIONS:
+        run.add_argument(f"--{opt}", help=text)
+    run.add_argument("--quiet", action="store_true", help="no progress lines")
+    sub.add_parser("interactive", help="interactive set-up (the default without a command)")
+    w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
+    for opt in ("lpp", "bwl", "tm", "out"):
+        w.add_argument(f"--{opt}", required=True)
+    c = sub.add_parser("clarke", help="print Clarke et al. (1983) linear derivatives")
+    for opt in ("lpp", "bwl", "tm", "cb"):
+        c.add_argument(f"--{opt}", required=True)
+    c.add_argument("--normalisation", default="half_rho_L2_U2")
+    return p
+
+
+def _run(args: argparse.Namespace) -> int:
+    raw = {opt.replace("-", "_"): getattr(args, opt.replace("-", "_")) for opt, _ in RUN_OPTIONS}
+    raw = {k: v for k, v in raw.items() if v is not None}
+    if args.study:
+        study = load_study_file(args.study, raw)
+    else:
+        study = build_study(raw)
+    return _execute(study, quiet=args.quiet)
+
+
+def _execute(study: Study, quiet: bool = False) -> int:
+    from .pipeline import Pipeline  # noqa: PLC0415 - keeps `vessel-cfd --help` light
+    from .runner import Progress  # noqa: PLC0415
+
+    result = Pipeline(study, Progress(quiet=quiet)).run()
+    d = result.derivatives
+    print(f"ship file: {result.ship_file}")
+    print(f"report:    {result.report_dir}")
+    keys = [k for k in ("Y_v", "N_v", "Y_r", "N_r", "Y_vdot", "N_rdot") if k in d]
+    print(f"derivatives ({result.normalisation}): " + ", ".join(f"{k} {d[k]:.5g}" for k in keys))
+    return 0
+
+
+# ---------------------------------------------------------------------------------- interactive
+def _ask(
+    prompt: str, check: Callable[[str], Any], default: str | None = None, read: Callable[[str], str] = input
+) -> Any:
+    """Ask until ``check`` accepts the answer; InputError messages are shown and the question repeated."""
+    while True:
+        shown = f"{prompt}{f' [{default}]' if default is not None else ''}: "
+        try:
+            answer = read(shown).strip()
+        except EOFError:
+            raise InputError("input", "ended before the set-up was complete") from None
+        if not answer and default is not None:
+            answer = default
+        try:
+            return check(answer)
+        except InputError as exc:
+            print(f"  invalid: {exc.message}. Please try again.", flush=True)
+
+
+def _range_prompt(
+    raw: dict[str, Any],
+    key: str,
+    what: str,
+    unit: str,
+    lo: float,
+    hi: float,
+    defaults: tuple[str, str, str],
+    read,
+) -> None:
+    mn = _ask(
+        f"Enter the minimum {what} ({unit})",
+        lambda a: parse_number(key, a, lo, hi, lo_open=True),
+        defaults[0],
+        read,
+    )
+
+    def check_max(a: str) -> float:
+        x = parse_number(key, a, lo, hi, lo_open=True)
+        if x < mn:
+            raise InputError(key, f"must be >= the minimum {mn:g}")
+        return x
+
+    mx = _ask(f"Enter the maximum {what} ({unit})", check_max, defaults[1], read)
+    n = (
+        1
+        if mx == mn
+        else _ask(
+            "How many cases (the range is divided equally)",
+            lambda a: parse_number(key + " count", a, 1, 20, integer=True),
+            defaults[2],
+            read,
+        )
+    )
+    raw[key] = f"{mn}:{mx}:{n}"
+
+
+def _yes_no(answer: str) -> bool:
+    if answer.lower() in ("y", "yes"):
+        return True
+    if answer.lower() in ("n", "no"):
+        return False
+    raise InputError("answer", "type y or n")
+
+
+def _list_check(key: str) -> Callable[[str], str]:
+    def check(answer: str) -> str:
+        parse_list(key, answer, 0, 20)
+        return answer
+
+    return check
+
+
+def interactive(read: Callable[[str], str] = input, run: bool = True) -> Study | int:
+    """The seed report's set-up dialogue; returns the Study (``run=False``) or runs it."""
+    bar = "-" * 60
+    print(
+        f"{bar}\nWELCOME TO vessel-cfd {__version__} for OpenFOAM v1912!\n"
+        f"TO START, PLEASE SELECT ONE OF THE FOLLOWING SIMULATION TYPES:\n{bar}"
+    )
+    for k, (name, _) in SIMULATION_TYPES.items():
+        print(f"{k}. {name}")
+    print(bar)
+    kind = _ask(
+        "Enter your simulation type [1-5]",
+        lambda a: parse_number("simulation type", a, 1, 5, integer=True),
+        None,
+        read,
+    )
+    tests = SIMULATION_TYPES[kind][1]
+    raw: dict[str, Any] = {"tests": ",".join(tests)}
+
+    def hull_check(a: str) -> str:
+        if a.lower() == "wigley":
+            return "wigley"
+        path = Path(a).expanduser()
+        if not (path.name.lower().endswith(".stl") or path.name.lower().endswith(".stl.gz")):
+            raise InputError("hull", "must be a .stl or .stl.gz file, or 'wigley'")
+        if not path.is_file():
+            raise InputError("hull", f"file {path} does not exist")
+        return str(path.resolve())
+
+    raw["hull"] = _ask(
+        "Enter the file name for the hull geometry (NOTE: must be .stl, or 'wigley')", hull_check, None, read
+    )
+    raw["lpp"] = _ask(
+        "Enter the Lpp value for the model (in metres)",
+        lambda a: parse_number("lpp", a, 0, 500, lo_open=True),
+        None,
+        read,
+    )
+    raw["bwl"] = _ask(
+        "Enter the Bwl value for the model (in metres)",
+        lambda a: parse_number("bwl", a, 0, 0.5 * raw["lpp"], lo_open=True),
+        None,
+        read,
+    )
+    raw["tm"] = _ask(
+        "Enter the Tm value for the model (in metres)",
+        lambda a: parse_number("tm", a, 0, 0.5 * raw["lpp"], lo_open=True),
+        None,
+        read,
+    )
+    ncpu = os.cpu_count() or 1
+    raw["mesh_procs"] = _ask(
+        "Enter the number of local processors available for meshing",
+        lambda a: parse_number("mesh_procs", a, 1, 4 * ncpu, integer=True),
+        "1",
+        read,
+    )
+    raw["procs"] = _ask(
+        "Enter the number of local processors available for solving",
+        lambda a: parse_number("procs", a, 1, 4 * ncpu, integer=True),
+        str(ncpu),
+        read,
+    )
+    print(f"{bar}\nMESH SETTINGS\n{bar}\nThese are the following options available for mesh grading.")
+    for k, name in GRADINGS.items():
+        print(f"{k}. {name}")
+    print(bar)
+    raw["grading"] = _ask(
+        "Enter your choice of grading [1-5]",
+        lambda a: parse_number("grading", a, 1, 5, integer=True),
+        "1",
+        read,
+    )
+    fn02 = round(0.2 * (9.81 * raw["lpp"]) ** 0.5, 4)
+    if "tow" in tests:
+        raw["speeds"] = _ask(
+            "Enter the towing speeds (m/s): one value, a list a,b,c or MIN:MAX:COUNT",
+            _list_check("speeds"),
+            str(fn02),
+            read,
+        )
+    if any(t in tests for t in ("drift", "sway", "yaw")):
+        raw["pmm_speed"] = _ask(
+            "Enter the forward speed for the drift/PMM tests (m/s)",
+            lambda a: parse_number("pmm_speed", a, 0, 20, lo_open=True),
+            str(fn02),
+            read,
+        )
+    if "drift" in tests:
+        _range_prompt(raw, "drift_deg", "drift angle", "deg", 0, 30, ("2", "10", "5"), read)
+    U = raw.get("pmm_speed", fn02)
+    period = f"{3.14159265 * raw['lpp'] / U:.4g}"
+    if "sway" in tests:
+        raw["sway_period"] = _ask(
+            "Enter the time period for each complete sway motion (s)",
+            lambda a: parse_number("sway_period", a, 0, 1e4, lo_open=True),
+            period,
+            read,
+        )
+        a0 = f"{0.02 * raw['lpp']:.4g}"
+        _range_prompt(raw, "sway_amplitude", "sway amplitude", "m", 0, 0.5 * raw["lpp"], (a0, a0, "1"), read)
+    if "yaw" in tests:
+        raw["yaw_period"] = _ask(
+            "Enter the time period for each complete yaw motion (s)",
+            lambda a: parse_number("yaw_period", a, 0, 1e4, lo_open=True),
+            period,
+            read,
+        )
+        _range_prompt(raw, "yaw_deg", "yaw angle amplitude", "deg", 0, 30, ("4", "4", "1"), read)
+    stem = "wigley" if raw["hull"] == "wigley" else Path(raw["hull"]).name.split(".")[0]
+    raw["out"] = _ask("Enter the output directory", lambda a: a, f"vessel-cfd-{stem}", read)
+    raw["template"] = (
+        _ask(
+            "Enter a template ship file for the non-hull tables (empty: built-in dtc)", lambda a: a, "", read
+        )
+        or None
+    )
+    if raw["template"] is None:
+        del raw["template"]
+    while True:
+        try:
+            study = build_study(raw)
+            break
+        except InputError as exc:
+            print(f"  invalid: {exc}. Please enter it again.", flush=True)
+            if exc.key not in raw:
+                raise
+            raw[exc.key] = _ask(f"Enter {exc.key}", lambda a: a, None, read)
+    print(f"{bar}\nSet-up complete:")
+    print(json.dumps(study.as_dict(), indent=1, default=str))
+    if not run:
+        return study
+    if not _ask("Start the run? (y/n)", _yes_no, "y", read):
+        print("Not started. The same study can be run with: vessel-cfd run --study FILE")
+        return 0
+    return _execute(study)
+
+
+# ---------------------------------------------------------------------------------- small commands
+def _wigley(args: argparse.Namespace) -> int:
+    from .geometry import hydrostatics, wigley_hull, write_stl  # noqa: PLC0415
+
+    L = parse_number("lpp", args.lpp, 0, 500, lo_open=True)
+    B = parse_number("bwl", args.bwl, 0, 0.5 * L, lo_open=True)
+    T = parse_number("tm", args.tm, 0, 0.5 * L, lo_open=True)
+    tris = wigley_hull(L, B, T)
+    path = write_stl(Path(args.out), tris)
+    h = hydrostatics(tris)
+    print(
+        f"{path}: {len(tris)} triangles, V = {h.volume_m3:.6g} m3, S = {h.wetted_area_m2:.6g} m2 below z = 0"
+    )
+    return 0
+
+
+def _clarke(args: argparse.Namespace) -> int:
+    from .clarke import clarke83  # noqa: PLC0415
+
+    L = parse_number("lpp", args.lpp, 0, 1e4, lo_open=True)
+    B = parse_number("bwl", args.bwl, 0, L, lo_open=True)
+    T = parse_number("tm", args.tm, 0, L, lo_open=True)
+    cb = parse_number("cb", args.cb, 0, 1, lo_open=True)
+    try:
+        d = clarke83(L, B, T, cb, args.normalisation)
+    except ValueError as exc:
+        raise InputError("normalisation", str(exc)) from None
+    print(json.dumps(d, indent=1))
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``vessel-cfd`` console script."""
+    args = _parser().parse_args(argv)
+    try:
+        if args.command == "run":
+            return _run(args)
+        if args.command == "wigley":
+            return _wigley(args)
+        if args.command == "clarke":
+            return _clarke(args)
+        result = interactive()
+        return result if isinstance(result, int) else 0
+    except InputError as exc:
+        print(f"vessel-cfd: error: {exc}", file=sys.stderr)
+        return 2
+    except CfdError as exc:
+        print(f"vessel-cfd: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("vessel-cfd: interrupted; finished cases are kept and a rerun resumes", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,437 @@
+"""The study pipeline: hull -> mesh -> steady and PMM cases -> fits -> ship file and report.
+
+Layout of ``out/``::
+
+    ship.toml                the ship file
+    report/                  plots, summary.md, derivatives.json
+    cases/hull.stl           the hull in the case frame
+    cases/mesh/              blockMesh + snappyHexMesh + checkMesh
+    cases/tow_U1.0000/       simpleFoam straight tow at 1 m/s
+    cases/drift_b06.00/      simpleFoam static drift at 6 deg
+    cases/sway_a0.03000/     pimpleFoam pure sway, amplitude 0.03 m
+    cases/yaw_p05.00/        pimpleFoam pure yaw, yaw amplitude 5 deg
+
+Every finished case holds a marker ``vessel-cfd.done.json`` with a hash of its inputs. A rerun
+skips cases whose marker matches and redoes the others (a changed mesh redoes everything).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import shutil
+import time
+from collections.abc import Callable
+from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from .case import (
+    HULL_PATCH,
+    FlowSpec,
+    MeshSpec,
+    Motion,
+    mesh_spec,
+    pmm_time_step,
+    request_stop,
+    write_free_surface_case,
+    write_mesh_case,
+    write_pmm_case,
+    write_steady_case,
+)
+from .config import Study
+from .errors import CfdError
+from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, write_stl
+from .postprocess import body_forces, forces_settled, read_forces, steady_forces
+from .runner import Progress, check_openfoam, mpi_available, parse_check_mesh, read_boundary, run_app
+
+DONE = "vessel-cfd.done.json"
+PARALLEL_CELLS = 200_000  # above this, each case runs MPI-parallel on all procs instead of side by side
+
+
+def _hash(obj: Any) -> str:
+    return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()[:16]
+
+
+def _latest_time(case: Path) -> Path:
+    times = []
+    for p in case.iterdir():
+        try:
+            times.append((float(p.name), p))
+        except ValueError:
+            continue
+    times = [tp for tp in times if tp[0] > 0]
+    if not times:
+        raise CfdError(f"results ({case.name})", "no time directory was written", case)
+    return max(times)[1]
+
+
+@dataclass
+class Job:
+    """One OpenFOAM case of the study."""
+
+    name: str
+    kind: str  # mesh, tow, drift, sway, yaw
+    label: str
+    key: dict[str, Any]
+    action: Callable[[Job, Path, int], dict[str, Any]]
+    params: dict[str, Any] = field(default_factory=dict)  # what the case imposes (speed, angle, motion)
+    summary: dict[str, Any] = field(default_factory=dict)  # what it gave (forces, cells, ...)
+
+
+@dataclass
+class StudyResult:
+    """What a finished study produced (paths and the derivative set)."""
+
+    ship_file: Path
+    report_dir: Path
+    derivatives: dict[str, float]
+    normalisation: str
+    provenance: dict[str, Any]
+
+
+class Pipeline:
+    """Runs a :class:`~cfd.config.Study` end to end. ``run()`` returns a :class:`StudyResult`."""
+
+    def __init__(self, study: Study, progress: Progress | None = None, plots: bool = True) -> None:
+        self.study = study
+        self.plots = plots
+        self.progress = progress or Progress()
+        self.out = Path(study.out)
+        self.cases = self.out / "cases"
+        self.hull: PlacedHull | None = None
+        self.spec: MeshSpec | None = None
+        self.mesh_key = ""
+        self.per_case_procs = 1
+        self.jobs: dict[str, Job] = {}
+        self.wall: dict[str, float] = {}
+
+    # ------------------------------------------------------------------ hull and mesh
+    def prepare_hull(self) -> PlacedHull:
+        s = self.study
+        if s.hull == "wigley":
+            tris = wigley_hull(s.lpp, s.bwl, s.tm)
+        else:
+            tris = read_stl(s.hull)
+        placed = place_hull(tris, s.lpp, s.bwl, s.tm, x_ap=s.x_ap, z_keel=s.z_keel)
+        self.cases.mkdir(parents=True, exist_ok=True)
+        stl = self.cases / "hull.stl"
+        write_stl(stl, placed.triangles, name=HULL_PATCH)
+        self.hull = placed
+        return placed
+
+    def _mesh_job(self) -> Job:
+        s = self.study
+        spec = self.spec
+        assert spec is not None and self.hull is not None
+        stl_hash = hashlib.sha256((self.cases / "hull.stl").read_bytes()).hexdigest()[:16]
+        key = {"stl": stl_hash, "spec": repr(spec), "mesh_procs": s.mesh_procs, "version": __version__}
+        self.mesh_key = _hash(key)
+
+        def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
+            write_mesh_case(case, spec, self.cases / "hull.stl", procs=s.mesh_procs)
+            run_app(["blockMesh"], case, "blockMesh (mesh)", progress=self.progress)
+            run_app(["surfaceFeatureExtract"], case, "surfaceFeatureExtract (mesh)", progress=self.progress)
+            if s.mesh_procs > 1:
+                run_app(["decomposePar", "-force"], case, "decomposePar (mesh)", progress=self.progress)
+                run_app(
+                    ["snappyHexMesh", "-overwrite"],
+                    case,
+                    "snappyHexMesh (mesh)",
+                    procs=s.mesh_procs,
+                    progress=self.progress,
+                )
+                run_app(
+                    ["reconstructParMesh", "-constant"],
+                    case,
+                    "reconstructParMesh (mesh)",
+                    progress=self.progress,
+                )
+                for p in case.glob("processor*"):
+                    shutil.rmtree(p)
+            else:
+                run_app(["snappyHexMesh", "-overwrite"], case, "snappyHexMesh (mesh)", progress=self.progress)
+            log = run_app(["checkMesh"], case, "checkMesh (mesh)", progress=self.progress)
+            check = parse_check_mesh(log)
+            patches = read_boundary(case)
+            hull = patches.get(HULL_PATCH)
+            if hull is None or int(hull.get("nFaces", "0")) == 0:
+                raise CfdError(
+                    "snappyHexMesh (mesh)",
+                    f"the mesh has no faces on patch '{HULL_PATCH}', so all "
+                    "forces would be zero; check that the STL is closed, in metres, bow to +x",
+                    case / "log.snappyHexMesh",
+                )
+            if check["fatal"] or (not check["ok"] and not check["warnings"]):
+                reason = "; ".join(check["fatal"]) or "checkMesh did not report 'Mesh OK'"
+                raise CfdError("checkMesh (mesh)", f"unusable mesh: {reason}", log)
+            for w in check["warnings"]:
+                self.progress("checkMesh", f"warning: {w}")
+            return {**check, "hull_faces": int(hull["nFaces"]), "patches": sorted(patches)}
+
+        return Job("mesh", "mesh", "mesh", key, action)
+
+    # ------------------------------------------------------------------ cases
+    def _steady_job(self, kind: str, U: float, beta: float) -> Job:
+        s = self.study
+        name = f"tow_U{U:.4f}" if kind == "tow" else f"drift_b{beta:05.2f}"
+        label = f"tow U={U:g} m/s" if kind == "tow" else f"drift beta={beta:g} deg"
+        flow = FlowSpec(U=U, beta_deg=beta, rho=s.rho, nu=s.nu)
+        key = {"mesh": self.mesh_key, "flow": repr(flow), "iterations": s.steady_iterations}
+
+        def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
+            write_steady_case(case, self.cases / "mesh", flow, s.steady_iterations, procs=procs)
+            stopped: list[int] = []
+
+            def settle() -> None:
+                if stopped or not (case / "postProcessing" / "forces").is_dir():
+                    return
+                try:
+                    history = read_forces(case)
+                except CfdError:
+                    return
+                if forces_settled(history, s.lpp) and request_stop(case):
+                    stopped.append(int(history.t[-1]))
+                    self.progress(job.label, f"forces settled at iteration {stopped[0]}: stopping")
+
+            self._solve(case, "simpleFoam", job.label, procs, end_time=s.steady_iterations, on_tick=settle)
+            sf = steady_forces(read_forces(case))
+            self._sanity(sf.X, sf.Y, sf.N, U, job.label, case)
+            summary = {
+                "X_N": sf.X,
+                "Y_N": sf.Y,
+                "N_Nm": sf.N,
+                "iterations": sf.iterations,
+                "converged": sf.iterations < s.steady_iterations,
+                "stopped_on_settled_forces": bool(stopped),
+                "band": sf.band,
+            }
+            yp = case / "postProcessing" / "yPlus"
+            files = sorted(yp.glob("*/yPlus.dat"))
+            if files:
+                rows = [r.split() for r in files[-1].read_text().splitlines() if r and not r.startswith("#")]
+                rows = [r for r in rows if len(r) >= 5 and r[1] == HULL_PATCH]
+                if rows:
+                    summary["yplus_min_max_mean"] = [float(x) for x in rows[-1][2:5]]
+            return summary
+
+        return Job(name, kind, label, key, action, params={"U": U, "beta": beta})
+
+    def _pmm_job(self, kind: str, amplitude: float, base: Job) -> Job:
+        """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw)."""
+        s = self.study
+        assert self.spec is not None
+        U = s.U_ref
+        period = s.sway_period if kind == "sway" else s.yaw_period
+        omega = 2.0 * math.pi / period
+        y0 = amplitude if kind == "sway" else U * math.tan(math.radians(amplitude)) / omega
+        motion = Motion(kind, y0, omega, U, 0.5 * period)
+        dt = pmm_time_step(self.spec, U, period)
+        t_end = s.cycles * period
+        flow = FlowSpec(U=U, rho=s.rho, nu=s.nu)
+        name = f"sway_a{amplitude:.5f}" if kind == "sway" else f"yaw_p{amplitude:05.2f}"
+        label = f"sway y0={amplitude:g} m" if kind == "sway" else f"yaw psi0={amplitude:g} deg"
+        key = {
+            "mesh": self.mesh_key,
+            "base": _hash(base.key),
+            "motion": repr(motion),
+            "dt": dt,
+            "t_end": t_end,
+            "flow": repr(flow),
+        }
+
+        def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
+            start = _latest_time(self.cases / base.name)
+            write_pmm_case(case, self.cases / "mesh", start, flow, motion, t_end, dt, procs=procs)
+            self._solve(case, "pimpleFoam", job.label, procs, end_time=t_end)
+            h = read_forces(case)
+            if len(h.t) == 0 or not np.all(np.isfinite(h.F)):
+                raise CfdError(
+                    f"pimpleFoam ({job.label})",
+                    "non-finite forces: the solution diverged",
+                    case / "log.pimpleFoam",
+                )
+            X, Y, N = body_forces(h, motion.y(h.t), motion.psi(h.t))
+            self._sanity(
+                float(np.max(np.abs(X))),
+                float(np.max(np.abs(Y))),
+                float(np.max(np.abs(N))),
+                U,
+                job.label,
+                case,
+                allow_zero_side=False,
+            )
+            return {
+                "y0_m": y0,
+                "omega_rad_s": omega,
+                "period_s": period,
+                "dt_s": dt,
+                "t_end_s": t_end,
+                "steps": len(h.t),
+                "psi0_deg": math.degrees(math.atan(y0 * omega / U)) if kind == "yaw" else 0.0,
+            }
+
+        return Job(
+            name, kind, label, key, action, params={"motion": motion, "t_end": t_end, "period": period}
+        )
+
+    def _solve(self, case: Path, app: str, label: str, procs: int, end_time: float, on_tick=None) -> None:
+        step = f"{app} ({label})"
+        if procs > 1:
+            run_app(["decomposePar", "-force"], case, f"decomposePar ({label})", progress=self.progress)
+            run_app(
+                [app], case, step, procs=procs, progress=self.progress, end_time=end_time, on_tick=on_tick
+            )
+            run_app(
+                ["reconstructPar", "-latestTime"], case, f"reconstructPar ({label})", progress=self.progress
+            )
+            for p in case.glob("processor*"):
+                shutil.rmtree(p)
+        else:
+            run_app([app], case, step, progress=self.progress, end_time=end_time, on_tick=on_tick)
+
+    def _sanity(
+        self, X: float, Y: float, N: float, U: float, label: str, case: Path, allow_zero_side: bool = True
+    ) -> None:
+        s = self.study
+        assert self.hull is not None
+        log = next(iter(sorted(case.glob("log.*Foam"))), case)
+        if not all(math.isfinite(v) for v in (X, Y, N)):
+            raise CfdError(f"solver ({label})", "non-finite forces: the solution diverged", log)
+        if X == 0.0:
+            raise CfdError(
+                f"solver ({label})", f"zero force on patch '{HULL_PATCH}' (missing hull patch?)", log
+            )
+        scale = 0.5 * s.rho * U**2 * self.hull.hydro.wetted_area_m2
+        if max(abs(X), abs(Y)) > 50.0 * scale:
+            raise CfdError(
+                f"solver ({label})",
+                f"force {max(abs(X), abs(Y)):.3g} N is more than 50 x 1/2 rho U^2 S: the solution diverged",
+                log,
+            )
+
+    def _run_job(self, job: Job, procs: int) -> dict[str, Any]:
+        case = self.cases / job.name
+        marker = case / DONE
+        key = _hash(job.key)
+        if marker.is_file():
+            try:
+                done = json.loads(marker.read_text())
+            except (OSError, json.JSONDecodeError):
+                done = {}
+            if done.get("key") == key:
+                self.progress(job.label, f"already done ({case.name}), skipped")
+                self.wall[job.name] = float(done.get("wall_s", 0.0))
+                return done.get("summary", {})
+        if case.exists():
+            shutil.rmtree(case)
+        case.mkdir(parents=True)
+        self.progress(job.label, f"started in {case}")
+        t0 = time.monotonic()
+        summary = job.action(job, case, procs)
+        wall = time.monotonic() - t0
+        self.wall[job.name] = wall
+        marker.write_text(
+            json.dumps(
+                {
+                    "key": key,
+                    "wall_s": wall,
+                    "finished": time.strftime("%Y-%m-%d %H:%M:%S"),
+                    "summary": summary,
+                },
+                indent=1,
+                default=str,
+            )
+        )
+        self.progress(job.label, f"finished in {wall:.0f} s")
+        return summary
+
+    def _run_parallel(self, jobs: list[Job]) -> None:
+        s = self.study
+        per = self.per_case_procs
+        workers = max(1, s.procs // per)
+        with ThreadPoolExecutor(max_workers=workers) as pool:
+            futures = {pool.submit(self._run_job, j, per): j for j in jobs}
+            done, pending = wait(futures, return_when=FIRST_EXCEPTION)
+            errors = [f.exception() for f in done if f.exception() is not None]
+            if errors:
+                for f in pending:
+                    f.cancel()
+                wait(pending)
+                raise errors[0]
+            for f, j in futures.items():
+                j.summary = f.result()
+
+    # ------------------------------------------------------------------ run
+    def plan(self) -> list[Job]:
+        """All jobs of the study in run order (mesh first, then the base tow)."""
+        s = self.study
+        assert self.hull is not None
+        self.spec = mesh_spec(
+            s.lpp, s.bwl, s.tm, s.grading, U=s.U_ref, nu=s.nu, layers=s.layers, yplus=s.yplus, sizing=s.sizing
+        )
+        mesh = self._mesh_job()
+        base = self._steady_job("tow", s.U_ref, 0.0)
+        jobs = [mesh, base]
+        later: list[Job] = []
+        if "sway" in s.tests:
+            later += [self._pmm_job("sway", a, base) for a in s.sway_amplitude]
+        if "yaw" in s.tests:
+            later += [self._pmm_job("yaw", a, base) for a in s.yaw_deg]
+        if "drift" in s.tests:
+            later += [self._steady_job("drift", s.U_ref, b) for b in s.drift_deg]
+        if "tow" in s.tests:
+            later += [self._steady_job("tow", u, 0.0) for u in s.speeds if not math.isclose(u, s.U_ref)]
+        return jobs + later
+
+    def run(self) -> StudyResult:
+        s = self.study
+        t0 = time.monotonic()
+        check_openfoam(parallel=s.mesh_procs > 1)
+        self.progress("hull", f"preparing {s.hull}")
+        hull = self.prepare_hull()
+        h = hull.hydro
+        self.progress(
+            "hull",
+            f"V = {h.volume_m3:.4g} m3, S = {h.wetted_area_m2:.4g} m2, "
+            f"C_B = {h.volume_m3 / (s.lpp * s.bwl * s.tm):.3f}, mirrored = {hull.mirrored}",
+        )
+        jobs = self.plan()
+        self.jobs = {j.name: j for j in jobs}
+        assert self.spec is not None
+        if s.free_surface:
+            fs = self.cases / "free_surface_tow"
+            if fs.exists():
+                shutil.rmtree(fs)
+            write_free_surface_case(
+                fs,
+                self.spec,
+                self.cases / "hull.stl",
+                FlowSpec(U=s.U_ref, rho=s.rho, nu=s.nu),
+                s.steady_iterations * 4,
+            )
+            self.progress("free surface", f"interFoam case written to {fs} (not run; see docs/cfd.md)")
+        mesh, base, *later = jobs
+        mesh.summary = self._run_job(mesh, s.mesh_procs)
+        cells = int(mesh.summary.get("cells", 0))
+        self.progress("mesh", f"{cells} cells, {mesh.summary.get('hull_faces')} faces on the hull")
+        self.per_case_procs = s.procs if (cells >= PARALLEL_CELLS and s.procs > 1) else 1
+        if self.per_case_procs > 1 and not mpi_available():
+            self.progress("solver", "mpirun/decomposePar not found: cases run serially side by side")
+            self.per_case_procs = 1
+        base.summary = self._run_job(base, self.per_case_procs)
+        if later:
+            self._run_parallel(later)
+        self.wall["total"] = time.monotonic() - t0
+        return self.finish()
+
+    def finish(self) -> StudyResult:
+        """Fit, write the ship file and the report from the finished cases."""
+        from .analysis import analyse  # local: keeps the module graph acyclic
+
+        return analyse(self)

@@ -1,0 +1,73 @@
+"""Command lines: bad arguments exit with code 2 and one line on stderr."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from agents import evaluate, results, train, tune_ray
+
+REPO = Path(__file__).resolve().parents[2]
+
+BAD = [
+    (train, ["--algo", "ppo"]),  # --env missing
+    (train, ["--env", "ZigZag-v0", "--algo", "dqn"]),
+    (train, ["--env", "CartPole-v1", "--algo", "ppo"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--seed", "-1"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--timesteps", "0"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--vec", "ray"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--time-budget", "nan"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams", "n_step=64"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams", "gamma"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams", "env_kwargs.schedule=sometimes"]),
+    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams-file", "/nonexistent.yml"]),
+    (evaluate, ["--env", "ZigZag-v0"]),  # --agent missing
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--episodes", "0"]),
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--episodes", "two"]),
+    (evaluate, ["--env", "Nope-v0", "--agent", "pid"]),
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "lqr"]),
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "/nonexistent/ppo_x.zip"]),
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--env-kwargs", "speed=3"]),
+    (results, ["--budget", "0"]),
+    (results, ["--algos", "dqn"]),
+    (results, ["--envs", "Nope-v0", "--skip-train"]),
+    (tune_ray, ["--env", "ZigZag-v0", "--algo", "ppo", "--samples", "0"]),
+    (tune_ray, ["--env", "ZigZag-v0"]),
+]
+
+
+@pytest.mark.parametrize(
+    "module, argv", BAD, ids=[f"{m.__name__.split('.')[-1]}:{' '.join(a)}" for m, a in BAD]
+)
+def test_bad_arguments_exit_2_with_one_line(module, argv, capsys, tmp_path: Path) -> None:
+    if module is results:
+        argv = [*argv, "--out", str(tmp_path / "out"), "--doc", str(tmp_path / "results.md")]
+    with pytest.raises(SystemExit) as exc:
+        code = module.main(argv)
+        raise SystemExit(code)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "error" in err
+
+
+@pytest.mark.parametrize("script", ["train.py", "evaluate.py", "results.py", "tune_ray.py"])
+def test_scripts_run_as_scripts(script: str) -> None:
+    """``python agents/<script>`` from any directory: --help works, a bad option exits 2 in one line."""
+    path = REPO / "agents" / script
+    ok = subprocess.run([sys.executable, str(path), "--help"], capture_output=True, text=True, cwd="/")
+    assert ok.returncode == 0 and "usage" in ok.stdout
+    bad = subprocess.run([sys.executable, str(path), "--bogus"], capture_output=True, text=True, cwd="/")
+    assert bad.returncode == 2 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
+
+
+def test_evaluate_json_baseline(capsys) -> None:
+    import json
+
+    assert evaluate.main(["--env", "ZigZag-v0", "--agent", "pid", "--episodes", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["agent"] == "pid" and out["summary"]["episodes"] == 1
+    assert out["summary"]["heading_error_deg_mean"] > 0.0

@@ -1,0 +1,125 @@
+"""Hyperparameter files, run configuration, names and the evaluation metrics (fast)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+from agents import common
+from agents.common import UsageError
+from vessel_gym.policy import sb3_algorithm
+
+ENV_IDS = ["vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0"]
+
+
+@pytest.mark.parametrize("algo", sorted(common.ALGOS))
+def test_every_hyperparameter_block_is_valid(algo: str) -> None:
+    data = yaml.safe_load((common.HYPERPARAMS_DIR / f"{algo}.yml").read_text())
+    assert sorted(data) == sorted(ENV_IDS), f"{algo}.yml should have one block per registered id"
+    for env_id in ENV_IDS:
+        cfg = common.run_config(algo, env_id, common.load_hyperparams(algo, env_id))
+        assert cfg.n_timesteps >= 1000 and cfg.n_envs >= 1
+        common.make_env(env_id, cfg.env_kwargs).close()
+        common.make_env(env_id, cfg.eval_env_kwargs).close()
+        if cfg.normalize is not None:  # keep models loadable by load_policy without statistics
+            assert not cfg.normalize["norm_obs"], f"{algo}.yml {env_id}: norm_obs needs the saved statistics"
+
+
+def test_unknown_hyperparameter_is_named() -> None:
+    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", overrides={"n_step": 64})
+    with pytest.raises(UsageError, match="n_step"):
+        common.run_config("ppo", "vessel_gym/ZigZag-v0", hp)
+
+
+@pytest.mark.parametrize(
+    "override, match",
+    [
+        ({"n_timesteps": -5}, "n_timesteps"),
+        ({"n_envs": 1.5}, "n_envs"),
+        ({"learning_rate": "fast"}, "learning_rate"),
+        ({"policy_kwargs": {"activation_fn": "sigmoid"}}, "activation_fn"),
+        ({"normalize": {"norm_obz": True}}, "norm_obz"),
+        ({"env_kwargs": [1, 2]}, "env_kwargs"),
+    ],
+)
+def test_bad_values_raise_with_the_key(override: dict, match: str) -> None:
+    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", overrides=override)
+    with pytest.raises(UsageError, match=match):
+        common.run_config("ppo", "vessel_gym/ZigZag-v0", hp)
+
+
+def test_linear_schedule_and_nested_overrides() -> None:
+    over = common.parse_assignments(
+        ["learning_rate=lin_1e-3", "policy_kwargs.net_arch=[32, 32]", "env_kwargs.reward.overshoot=2"], "x"
+    )
+    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", overrides=over)
+    cfg = common.run_config("ppo", "vessel_gym/ZigZag-v0", hp)
+    assert cfg.algo_kwargs["learning_rate"](0.5) == pytest.approx(5e-4)
+    assert cfg.policy_kwargs["net_arch"] == [32, 32]
+    assert cfg.env_kwargs["reward"]["overshoot"] == 2  # merged into the file's other reward weights
+    assert cfg.env_kwargs["schedule"] == "random"  # merged, not replaced
+
+
+def test_missing_block_and_file(tmp_path: Path) -> None:
+    f = tmp_path / "h.yml"
+    f.write_text("vessel_gym/ZigZag-v0: {n_timesteps: 1000}\n")
+    with pytest.raises(UsageError, match="no hyperparameters for vessel_gym/HarbourApproach-v0"):
+        common.load_hyperparams("ppo", "vessel_gym/HarbourApproach-v0", f)
+    with pytest.raises(UsageError, match="cannot read"):
+        common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", tmp_path / "nope.yml")
+    f.write_text("[1, 2")
+    with pytest.raises(UsageError, match="not valid YAML"):
+        common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", f)
+
+
+@pytest.mark.parametrize("bad", ["key", "=1", "a=[1,"])
+def test_parse_assignments_rejects(bad: str) -> None:
+    with pytest.raises(UsageError):
+        common.parse_assignments([bad], "--hyperparams")
+
+
+def test_names() -> None:
+    assert common.resolve_env_id("ZigZag-v0") == "vessel_gym/ZigZag-v0"
+    with pytest.raises(UsageError, match="unknown environment"):
+        common.resolve_env_id("CartPole-v1")
+    with pytest.raises(UsageError, match="unknown algorithm"):
+        common.check_algo("dqn")
+    for algo in common.ALGOS:
+        stem = common.model_stem(algo, "vessel_gym/HarbourApproach-v0", 3)
+        assert stem == f"{algo}_HarbourApproach-v0_s3"
+        assert sb3_algorithm(f"runs/{stem}.zip") == common.ALGOS[algo]
+
+
+def test_baseline_metrics_zigzag() -> None:
+    res = common.evaluate("ZigZag-v0", "scripted", episodes=1, seed=0)
+    s = res["summary"]
+    assert s["episodes"] == 1 and res["env_kwargs"] == {}
+    # the scripted rule in the registered env is the IMO 10/10 zig-zag: +-10 deg rudder, overshoots measured
+    assert s["rudder_deg_mean"] == pytest.approx(10.0, abs=1e-6)
+    assert s["overshoot_deg_mean"] > 1.0 and s["reached_pct_mean"] > 50.0
+    ep = res["episodes"][0]
+    assert ep["length"] == 480 and math.isfinite(ep["return"])
+
+
+def test_baseline_metrics_harbour_and_turning() -> None:
+    h = common.evaluate("HarbourApproach-v0", "pid", episodes=1, seed=0)["summary"]
+    assert h["success_rate"] == 1.0 and h["outcomes"] == {"success": 1}
+    assert h["min_clearance_m_mean"] > 0.0
+    t = common.evaluate("TurningCircle-v0", "pid", episodes=1, seed=0)["summary"]
+    assert 0.0 < t["rate_error_pct_mean"] < 20.0
+
+
+def test_evaluate_rejects_bad_input(tmp_path: Path) -> None:
+    with pytest.raises(UsageError, match="no such file"):
+        common.evaluate("ZigZag-v0", str(tmp_path / "ppo_x.zip"), 1)
+    with pytest.raises(UsageError, match="episodes"):
+        common.evaluate("ZigZag-v0", "pid", 0)
+    with pytest.raises(UsageError, match="schedul"):
+        common.evaluate("ZigZag-v0", "pid", 1, env_kwargs={"schedul": "random"})
+    bogus = tmp_path / "ppo_bogus.zip"
+    bogus.write_bytes(b"not a zip")
+    with pytest.raises(UsageError, match="cannot load"):
+        common.evaluate("ZigZag-v0", str(bogus), 1)

@@ -1,0 +1,86 @@
+"""results.py: the generated tables and verdicts, and the marker-delimited rewrite of docs/results.md."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from agents import results
+
+
+def _row(agent, trained=False, **summary):
+    return {
+        "agent": agent,
+        "summary": {"episodes": 20, "return_mean": -40.0, "return_std": 5.0, **summary},
+        "training": {"num_timesteps": 150000, "train_time_s": 600.0, "cpu_time_s": 200.0, "budget_hit": True}
+        if trained
+        else None,
+    }
+
+
+def _zz(agent, he, os_, rud, rate, trained=False):
+    return _row(
+        agent,
+        trained,
+        heading_error_deg_mean=he,
+        heading_error_deg_std=1.0,
+        overshoot_deg_mean=os_,
+        overshoot_deg_std=0.1,
+        reached_pct_mean=50.0,
+        reached_pct_std=10.0,
+        rudder_deg_mean=rud,
+        rudder_deg_std=1.0,
+        rudder_rate_deg_s_mean=rate,
+        rudder_rate_deg_s_std=0.1,
+    )
+
+
+def test_zigzag_verdict() -> None:
+    pid = _zz("pid", 13.0, 1.0, 4.0, 2.0)
+    good = _zz("ppo_ZigZag-v0_s0", 9.0, 0.5, 5.0, 2.5, trained=True)
+    bad = _zz("ppo_ZigZag-v0_s0", 9.0, 0.5, 14.0, 7.0, trained=True)
+    assert results.verdict("zigzag", [pid, good]).startswith("**Beats")
+    assert results.verdict("zigzag", [pid, bad]).startswith("**Does not beat")
+    table = results.table("zigzag", [pid, good])
+    assert "| pid | — | — | -40.0 ± 5.0 | 13.0 ± 1.0 |" in table
+    assert "150k (budget) | 10.0 (3.3)" in table
+
+
+def test_harbour_verdict_and_table() -> None:
+    extra = {"min_clearance_m_mean": 6.0, "min_clearance_m_std": 1.0, "time_s_mean": 300.0, "time_s_std": 9.0}
+    extra |= {"rudder_deg_mean": 7.0, "rudder_deg_std": 1.0, "rudder_rate_deg_s_mean": 0.4}
+    extra |= {"rudder_rate_deg_s_std": 0.1}
+    pid = _row("pid", success_rate=1.0, outcomes={"success": 20}, **extra)
+    rl = _row(
+        "sac_HarbourApproach-v0_s0", True, success_rate=0.25, outcomes={"success": 5, "contact": 15}, **extra
+    )
+    assert results.verdict("harbour", [pid, rl]).startswith("**Does not beat")
+    assert "contact 15, success 5" in results.table("harbour", [pid, rl])
+
+
+def test_write_doc_keeps_the_discussion(tmp_path: Path) -> None:
+    doc = tmp_path / "results.md"
+    doc.write_text(f"# Results\n\nintro\n\n{results.BEGIN}\nold\n{results.END}\n\ndiscussion\n")
+    results.write_doc(doc, f"{results.BEGIN}\nnew\n{results.END}")
+    text = doc.read_text()
+    assert "intro" in text and "discussion" in text and "new" in text and "old" not in text
+    fresh = tmp_path / "fresh.md"
+    results.write_doc(fresh, f"{results.BEGIN}\nnew\n{results.END}")
+    assert fresh.read_text().startswith("# Results")
+
+
+@pytest.mark.slow
+def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
+    """A whole results.py run on one environment with a seconds-long budget, then a --skip-train rerun."""
+    monkeypatch.setattr(results, "EXTRA_EVALS", {})
+    doc = tmp_path / "results.md"
+    argv = ["--envs", "ZigZag-v0", "--algos", "ppo", "--budget", "0.05", "--episodes", "1"]
+    argv += ["--out", str(tmp_path / "out"), "--doc", str(doc)]
+    assert results.main(argv) == 0
+    data = json.loads((tmp_path / "out" / "results.json").read_text())
+    agents = [r["agent"] for r in data["sections"][0]["rows"]]
+    assert agents == ["pid", "scripted", "ppo_ZigZag-v0_s0"]
+    assert "### vessel_gym/ZigZag-v0" in doc.read_text()
+    assert results.main([*argv, "--skip-train"]) == 0

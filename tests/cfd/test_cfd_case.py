@@ -1,0 +1,202 @@
+"""OpenFOAM case generation: mesh sizing, dictionaries (parsed back with foamlib), PMM motion tables."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cfd import foamdict
+from cfd.case import (
+    TABLE2,
+    FlowSpec,
+    Motion,
+    cell_count_estimate,
+    hull_level_for,
+    ittc57,
+    mesh_spec,
+    motion_table,
+    pmm_time_step,
+    ramp,
+    wall_distance,
+    write_free_surface_case,
+    write_mesh_case,
+    write_pmm_case,
+    write_steady_case,
+)
+from cfd.foamdict import Named, Words
+from cfd.geometry import wigley_hull, write_stl
+
+L, B, T = 1.0, 0.1, 0.0625
+
+
+def _parse(path: Path) -> dict:
+    foamlib = pytest.importorskip("foamlib")
+    return foamlib.FoamFile(path).as_dict()
+
+
+def test_foamdict_text_is_parsed_back_by_foamlib(tmp_path):
+    entries = {
+        "solvers": {'"(U|k)"': {"solver": "smoothSolver", "tolerance": 1e-8}},
+        "vertices": [(0, 0, 0), (1.5, 0, -2)],
+        "blocks": [Words("hex", tuple(range(8)), (4, 2, 1), "simpleGrading", (1, 1, 1))],
+        "boundary": [Named("farfield", {"type": "patch", "faces": [(0, 4, 7, 3)]})],
+        "flag": True,
+        "internalField": Words("uniform", (1.0, 0.0, 0.0)),
+    }
+    d = _parse(foamdict.write(tmp_path / "system" / "testDict", entries))
+    assert d["solvers"]['"(U|k)"']["tolerance"] == pytest.approx(1e-8)
+    assert np.asarray(d["vertices"])[1].tolist() == [1.5, 0, -2]
+    assert d["flag"] is True
+    with pytest.raises(ValueError, match="non-finite"):
+        foamdict.dumps({"x": float("nan")})
+
+
+def test_mesh_spec_grading_scales_levels_and_boxes():
+    levels = [hull_level_for(g, L, T) for g in range(1, 6)]
+    assert levels == [3, 4, 5, 6, 7]  # 4 cells across the draught at grading 1, halving per step
+    assert hull_level_for(1, 5.976, 0.244) == 4  # the DTC's smaller T/L needs one more level
+    s1 = mesh_spec(L, B, T, 1, U=1.0, nu=1e-6)
+    s5 = mesh_spec(L, B, T, 5, U=1.0, nu=1e-6)
+    assert s1.h0 == pytest.approx(L / 8) and s1.cells == (40, 24, 8)
+    assert s1.lo == pytest.approx((-3.0, -1.5, -1.0)) and s1.hi == pytest.approx((2.0, 1.5, 0.0))
+    assert [b.name for b in s1.boxes] == ["box5", "box6"] and [b.level for b in s1.boxes] == [1, 2]
+    assert [b.level for b in s5.boxes] == [1, 2, 3, 4, 5, 6]  # the seed's full six-level scheme
+    box6 = s5.boxes[-1]
+    assert box6.lo[0] == pytest.approx((TABLE2[-1][1] - 0.5) * L)  # Table 2 x from the AP, about midship
+    assert box6.hi[0] == pytest.approx((TABLE2[-1][2] - 0.5) * L)
+    assert box6.hi[1] > B / 2 and box6.lo[2] < -T  # boxes enclose the hull
+    assert cell_count_estimate(s5) > 30 * cell_count_estimate(s1)
+    x, y, z = s1.location
+    assert abs(y) > B and z < -T  # the fluid point is away from the hull
+
+
+def test_wall_distance_and_layers():
+    # Re = 9.1e6 (DTC model): the first cell centre for y+ = 150 is a few millimetres off the wall
+    y = wall_distance(1.668, 5.976, 1.09e-6, 150.0)
+    assert 1e-3 < y < 5e-3
+    assert wall_distance(1.668, 5.976, 1.09e-6, 30.0) == pytest.approx(y / 5)
+    spec = mesh_spec(5.976, 0.859, 0.244, 3, U=1.668, nu=1.09e-6, layers=True, yplus=30.0)
+    assert spec.n_layers >= 1 and spec.first_layer_m == pytest.approx(
+        2 * wall_distance(1.668, 5.976, 1.09e-6, 30)
+    )
+    seed = mesh_spec(5.976, 0.859, 0.244, 1, U=1.668, nu=1.09e-6, sizing="yplus")
+    assert seed.h_hull == pytest.approx(
+        2 * y
+    )  # the seed's rule: hull cell = wall cell, background x 2^levels
+    assert ittc57(1e6) == pytest.approx(0.075 / 16)
+
+
+@pytest.fixture(scope="module")
+def mesh_case(tmp_path_factory):
+    root = tmp_path_factory.mktemp("cases")
+    stl = write_stl(root / "hull.stl", wigley_hull(L, B, T))
+    spec = mesh_spec(L, B, T, 1, U=1.0, nu=1e-6, layers=True, yplus=30)
+    write_mesh_case(root / "mesh", spec, stl, procs=2)
+    poly = root / "mesh" / "constant" / "polyMesh"
+    poly.mkdir(parents=True)
+    (poly / "boundary").write_text("placeholder\n")
+    return root, spec
+
+
+def test_mesh_dictionaries(mesh_case):
+    root, spec = mesh_case
+    mesh = root / "mesh"
+    bm = _parse(mesh / "system" / "blockMeshDict")
+    assert np.asarray(bm["vertices"]).shape == (8, 3)
+    assert "hex" in str(bm["blocks"]) and "40" in str(bm["blocks"])
+    names = str(bm["boundary"])
+    assert all(n in names for n in ("farfield", "bottom", "waterline", "symmetryPlane"))
+    sn = _parse(mesh / "system" / "snappyHexMeshDict")
+    c = sn["castellatedMeshControls"]
+    assert list(c["refinementSurfaces"]["hull"]["level"]) == [spec.hull_level, spec.hull_level]
+    assert c["refinementSurfaces"]["hull"]["patchInfo"]["type"] == "wall"
+    assert list(c["locationInMesh"]) == pytest.approx(spec.location)
+    assert set(c["refinementRegions"]) == {b.name for b in spec.boxes}
+    assert sn["addLayers"] is True
+    assert sn["addLayersControls"]["layers"]["hull"]["nSurfaceLayers"] == spec.n_layers
+    dec = _parse(mesh / "system" / "decomposeParDict")
+    assert dec["method"] == "hierarchical" and dec["numberOfSubdomains"] == 2
+    assert (mesh / "constant" / "triSurface" / "hull.stl").is_file()
+    assert _parse(mesh / "system" / "surfaceFeatureExtractDict")["hull.stl"]["extractFromSurfaceCoeffs"]
+
+
+def test_steady_case_fields(mesh_case):
+    root, _ = mesh_case
+    flow = FlowSpec(U=1.2, beta_deg=6.0, rho=1000.0, nu=1e-6)
+    case = root / "drift"
+    write_steady_case(case, root / "mesh", flow, 300)
+    U = _parse(case / "0" / "U")
+    ux, uy, uz = U["internalField"]
+    assert (ux, uy, uz) == pytest.approx(
+        (-1.2 * math.cos(math.radians(6)), -1.2 * math.sin(math.radians(6)), 0)
+    )
+    assert U["boundaryField"]["farfield"]["type"] == "freestreamVelocity"
+    assert U["boundaryField"]["hull"]["type"] == "movingWallVelocity"
+    assert U["boundaryField"]["waterline"]["type"] == "symmetryPlane"  # double body
+    assert _parse(case / "0" / "p")["boundaryField"]["farfield"]["type"] == "freestreamPressure"
+    assert _parse(case / "0" / "nut")["boundaryField"]["hull"]["type"] == "nutUSpaldingWallFunction"
+    cd = _parse(case / "system" / "controlDict")
+    assert cd["application"] == "simpleFoam" and cd["endTime"] == 300
+    f = cd["functions"]["forces"]
+    assert list(f["patches"]) == ["hull"] and f["rhoInf"] == 1000 and list(f["CofR"]) == [0, 0, 0]
+    sol = _parse(case / "system" / "fvSolution")
+    assert sol["SIMPLE"]["consistent"] is True and '"(k|omega)"' in sol["SIMPLE"]["residualControl"]
+    assert (case / "constant" / "polyMesh" / "boundary").is_file()
+    assert flow.k == pytest.approx(1.5 * (0.01 * 1.2) ** 2) and flow.omega == pytest.approx(flow.k / 1e-5)
+
+
+def test_pmm_case_and_motion_table(mesh_case):
+    root, spec = mesh_case
+    start = root / "tow" / "200"
+    start.mkdir(parents=True)
+    for name in ("U", "p", "k", "omega", "nut"):
+        (start / name).write_text(f"{name} placeholder\n")
+    period = 2.0
+    motion = Motion("yaw", 0.03, 2 * math.pi / period, 1.0, 0.5 * period)
+    dt = pmm_time_step(spec, 1.0, period)
+    assert period / dt == pytest.approx(round(period / dt))  # whole steps per period
+    assert dt * 1.0 / spec.h_hull == pytest.approx(1.25, rel=0.05)  # Courant number on the hull cells
+    case = root / "yaw"
+    write_pmm_case(case, root / "mesh", start, FlowSpec(U=1.0), motion, 3 * period, dt)
+    dyn = _parse(case / "constant" / "dynamicMeshDict")
+    assert dyn["solidBodyMotionFunction"] == "tabulated6DoFMotion"
+    cd = _parse(case / "system" / "controlDict")
+    assert cd["application"] == "pimpleFoam" and cd["endTime"] == pytest.approx(3 * period)
+    assert (case / "0" / "U").read_text() == "U placeholder\n"
+    text = (case / "constant" / "6DoF.dat").read_text()
+    n = int(text.split("\n", 1)[0])
+    rows = [r for r in text.splitlines()[2:-1]]
+    assert len(rows) == n
+    t_last = float(rows[-1].strip("(").split()[0])
+    assert t_last > 3 * period * 1.05  # the table outlasts endTime (v1912 stops otherwise)
+
+
+def test_motion_kinematics():
+    U, w = 1.5, 2.0
+    m = Motion("yaw", 0.05, w, U, 1.0)
+    t = np.linspace(0, 8, 8001)
+    assert ramp(np.array([0.0, 0.5, 1.0, 2.0]), 1.0) == pytest.approx([0, 0.5, 1, 1])
+    ydot = np.gradient(m.y(t), t)
+    assert m.y_dot(t)[10:-10] == pytest.approx(ydot[10:-10], abs=1e-4)
+    assert m.psi(t) == pytest.approx(np.arctan2(m.y_dot(t), U))  # heading tangent to the path: v = 0
+    sway = Motion("sway", 0.05, w, U, 1.0)
+    assert np.all(sway.psi(t) == 0)
+    assert "((0 0 0) (0 0 0))" in motion_table(sway, 1.0, 0.1).splitlines()[2]
+
+
+def test_free_surface_case_is_generated(tmp_path):
+    stl = write_stl(tmp_path / "hull.stl", wigley_hull(L, B, T))
+    spec = mesh_spec(L, B, T, 1, U=1.0, nu=1e-6)
+    case = tmp_path / "vof"
+    write_free_surface_case(case, spec, stl, FlowSpec(U=1.0), 1000)
+    assert _parse(case / "system" / "controlDict")["application"] == "interFoam"
+    bm = _parse(case / "system" / "blockMeshDict")
+    assert "atmosphere" in str(bm["boundary"])
+    assert np.asarray(bm["vertices"])[:, 2].max() > 0  # air above the waterline
+    for f in ("alpha.water", "U", "p_rgh", "k", "omega", "nut"):
+        assert (case / "0.orig" / f).is_file()
+    assert "NOT validated" in (case / "Allrun").read_text()
+    assert _parse(case / "system" / "setFieldsDict")["regions"]
