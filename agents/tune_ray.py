@@ -57,7 +57,7 @@ def search_space(algo: str) -> dict[str, Any]:
     return {**common, **spaces[check_algo(algo)]}
 
 
-def trial(config: dict[str, Any]) -> dict[str, Any]:
+def trial(config: dict[str, Any]) -> None:
     """One Ray Tune trial: train with the sampled hyperparameters, evaluate, report ``mean_return``."""
     from ray import tune
 
@@ -86,7 +86,6 @@ def trial(config: dict[str, Any]) -> dict[str, Any]:
         if s.get(key) is not None:
             metrics[key] = s[key]
     tune.report(metrics)
-    return metrics
 
 
 class _Parser(argparse.ArgumentParser):
