@@ -1,6 +1,6 @@
 """Train agents within a wall-clock budget, evaluate them and the baselines, write ``docs/results.md``.
 
-    python agents/results.py                                  # everything (about an hour on 2 cores)
+    python agents/results.py                                  # everything (30-60 minutes on 2 cores)
     python agents/results.py --envs ZigZag-v0 --algos ppo --budget 5
     python agents/results.py --skip-train                     # re-evaluate the saved models
 

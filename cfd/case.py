@@ -131,10 +131,9 @@ def mesh_spec(
     lo, hi, cells = [], [], []
     for a, b in DOMAIN:
         n = max(1, math.ceil(round((b - a) * L / h0, 9)))
-        centre = 0.5 * (a + b) * L if a < 0 < b else None
-        if centre is None:  # keep the waterplane (b = 0) exactly at z = 0
-            lo.append(b * L - n * h0)
-            hi.append(b * L)
+        if b == 0.0:  # the waterplane stays exactly at z = 0
+            lo.append(-n * h0)
+            hi.append(0.0)
         else:
             lo.append(a * L)
             hi.append(a * L + n * h0)
