@@ -17,10 +17,12 @@ the command lines turn it into exit code 2 with one line on stderr.
 
 from __future__ import annotations
 
+import argparse
 import copy
 import inspect
 import math
 import os
+import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -819,3 +821,42 @@ __all__ = [
     "summarize",
     "train",
 ]
+
+
+# --- command-line helpers shared by the scripts --------------------------------------------------------------
+class OneLineParser(argparse.ArgumentParser):
+    """argparse with a one-line error on stderr and exit code 2 (argparse prints the usage too)."""
+
+    def error(self, message: str) -> None:
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def int_at_least(name: str, lo: int):
+    """argparse type: an integer >= lo, the message naming the option."""
+
+    def parse(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}") from None
+        if v < lo:
+            raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
+        return v
+
+    return parse
+
+
+def positive(kind: type, name: str):
+    """argparse type: a finite number > 0 of ``kind`` (int or float), the message naming the option."""
+
+    def parse(text: str) -> Any:
+        try:
+            v = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name}: not a number: {text!r}") from None
+        if not (math.isfinite(v) and v > 0):
+            raise argparse.ArgumentTypeError(f"{name} must be > 0, got {text}")
+        return v
+
+    return parse

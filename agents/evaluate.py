@@ -24,7 +24,7 @@ from typing import Any
 if __package__ in (None, ""):  # run as a script: make the repository root importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from agents.common import UsageError, evaluate, parse_assignments  # noqa: E402
+from agents.common import OneLineParser, UsageError, evaluate, int_at_least, parse_assignments  # noqa: E402
 
 #: summary keys printed (when present) with their labels
 LABELS = (
@@ -43,31 +43,14 @@ LABELS = (
 )
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, exit 2
-        print(f"{self.prog}: error: {message}", file=sys.stderr)
-        raise SystemExit(2)
-
-
-def _int(name: str, lo: int):
-    def parse(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}") from None
-        if v < lo:
-            raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
-        return v
-
-    return parse
-
-
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="evaluate.py", description="Evaluate an agent or baseline on a vessel-gym environment.")
+    p = OneLineParser(
+        prog="evaluate.py", description="Evaluate an agent or baseline on a vessel-gym environment."
+    )
     p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
     p.add_argument("--agent", required=True, help="pid, scripted or a model .zip saved by train.py")
-    p.add_argument("--episodes", type=_int("--episodes", 1), default=20)
-    p.add_argument("--seed", type=_int("--seed", 0), default=0)
+    p.add_argument("--episodes", type=int_at_least("--episodes", 1), default=20)
+    p.add_argument("--seed", type=int_at_least("--seed", 0), default=0)
     p.add_argument(
         "--env-kwargs",
         nargs="+",

@@ -32,11 +32,13 @@ if __package__ in (None, ""):  # run as a script: make the repository root impor
 from agents.common import (  # noqa: E402
     ALGOS,
     BASELINES,
+    OneLineParser,
     UsageError,
     env_short_name,
     evaluate,
     load_hyperparams,
     model_stem,
+    positive,
     resolve_env_id,
     run_config,
     run_record,
@@ -59,27 +61,8 @@ BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 REPO = Path(__file__).resolve().parents[1]
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, exit 2
-        print(f"{self.prog}: error: {message}", file=sys.stderr)
-        raise SystemExit(2)
-
-
-def _positive(kind: type, name: str):
-    def parse(text: str) -> Any:
-        try:
-            v = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}: not a number: {text!r}") from None
-        if not (math.isfinite(v) and v > 0):
-            raise argparse.ArgumentTypeError(f"{name} must be > 0, got {text}")
-        return v
-
-    return parse
-
-
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="results.py", description="Train, evaluate and write the results table.")
+    p = OneLineParser(prog="results.py", description="Train, evaluate and write the results table.")
     p.add_argument("--envs", nargs="+", default=list(DEFAULT_ENVS))
     p.add_argument(
         "--algos",
@@ -90,17 +73,17 @@ def build_parser() -> argparse.ArgumentParser:
         help="algorithms for every env (default: PLAN, PPO everywhere and SAC on ZigZag)",
     )
     p.add_argument(
-        "--budget", type=_positive(float, "--budget"), default=10.0, help="minutes per training run"
+        "--budget", type=positive(float, "--budget"), default=10.0, help="minutes per training run"
     )
-    p.add_argument("--episodes", type=_positive(int, "--episodes"), default=20)
+    p.add_argument("--episodes", type=positive(int, "--episodes"), default=20)
     p.add_argument("--seed", type=int, default=0, help="training seed; evaluation episodes use seed+1000+i")
     p.add_argument("--out", default="runs/results", help="models, logs and results.json")
     p.add_argument("--doc", default=str(REPO / "docs" / "results.md"))
     p.add_argument("--skip-train", action="store_true", help="evaluate the models already in --out")
-    p.add_argument("--threads", type=_positive(int, "--threads"), default=1, help="torch threads")
+    p.add_argument("--threads", type=positive(int, "--threads"), default=1, help="torch threads")
     p.add_argument(
         "--eval-freq",
-        type=_positive(int, "--eval-freq"),
+        type=positive(int, "--eval-freq"),
         default=50_000,
         help="periodic evaluation during training (steps); the best model is evaluated too",
     )

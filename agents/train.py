@@ -21,26 +21,16 @@ from pathlib import Path
 if __package__ in (None, ""):  # run as a script: make the repository root importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from agents.common import ALGOS, VEC_KINDS, UsageError, parse_assignments, resolve_env_id, train  # noqa: E402
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, exit 2
-        print(f"{self.prog}: error: {message}", file=sys.stderr)
-        raise SystemExit(2)
-
-
-def _int(name: str, lo: int):
-    def parse(text: str) -> int:
-        try:
-            v = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be an integer, got {text!r}") from None
-        if v < lo:
-            raise argparse.ArgumentTypeError(f"{name} must be >= {lo}, got {v}")
-        return v
-
-    return parse
+from agents.common import (  # noqa: E402
+    ALGOS,
+    VEC_KINDS,
+    OneLineParser,
+    UsageError,
+    int_at_least,
+    parse_assignments,
+    resolve_env_id,
+    train,
+)
 
 
 def _minutes(text: str) -> float:
@@ -54,12 +44,14 @@ def _minutes(text: str) -> float:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="train.py", description="Train an SB3 agent on a vessel-gym environment.")
+    p = OneLineParser(prog="train.py", description="Train an SB3 agent on a vessel-gym environment.")
     p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
     p.add_argument("--algo", required=True, type=str.lower, choices=sorted(ALGOS))
-    p.add_argument("--seed", type=_int("--seed", 0), default=0)
-    p.add_argument("--timesteps", type=_int("--timesteps", 1), default=None, help="override n_timesteps")
-    p.add_argument("--n-envs", type=_int("--n-envs", 1), default=None, help="override n_envs")
+    p.add_argument("--seed", type=int_at_least("--seed", 0), default=0)
+    p.add_argument(
+        "--timesteps", type=int_at_least("--timesteps", 1), default=None, help="override n_timesteps"
+    )
+    p.add_argument("--n-envs", type=int_at_least("--n-envs", 1), default=None, help="override n_envs")
     p.add_argument("--vec", choices=VEC_KINDS, default="dummy", help="vector environment (default dummy)")
     p.add_argument("--out", default="runs", help="output directory (default runs/)")
     p.add_argument(
@@ -73,16 +65,18 @@ def build_parser() -> argparse.ArgumentParser:
         default=["csv", "stdout"],
         help="SB3 logger outputs (default csv stdout)",
     )
-    p.add_argument("--checkpoint-freq", type=_int("--checkpoint-freq", 1), default=None, help="steps")
+    p.add_argument("--checkpoint-freq", type=int_at_least("--checkpoint-freq", 1), default=None, help="steps")
     p.add_argument("--time-budget", type=_minutes, default=None, metavar="MIN", help="stop after MIN minutes")
     p.add_argument(
         "--eval-freq",
-        type=_int("--eval-freq", 1),
+        type=int_at_least("--eval-freq", 1),
         default=None,
         help="evaluate every STEPS steps and keep the best model as <stem>_best.zip",
     )
-    p.add_argument("--eval-episodes", type=_int("--eval-episodes", 1), default=5)
-    p.add_argument("--threads", type=_int("--threads", 1), default=1, help="torch threads (default 1)")
+    p.add_argument("--eval-episodes", type=int_at_least("--eval-episodes", 1), default=5)
+    p.add_argument(
+        "--threads", type=int_at_least("--threads", 1), default=1, help="torch threads (default 1)"
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
 

@@ -17,7 +17,6 @@ is started. Bad arguments: exit code 2 and one line on stderr.
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -27,11 +26,13 @@ if __package__ in (None, ""):  # run as a script: make the repository root impor
 
 from agents.common import (  # noqa: E402
     ALGOS,
+    OneLineParser,
     UsageError,
     check_algo,
     evaluate,
     load_hyperparams,
     merge,
+    positive,
     resolve_env_id,
     run_config,
     train,
@@ -88,35 +89,16 @@ def trial(config: dict[str, Any]) -> None:
     tune.report(metrics)
 
 
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # one line, exit 2
-        print(f"{self.prog}: error: {message}", file=sys.stderr)
-        raise SystemExit(2)
-
-
-def _positive(kind: type, name: str):
-    def parse(text: str) -> Any:
-        try:
-            v = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name}: not a number: {text!r}") from None
-        if not (math.isfinite(v) and v > 0):
-            raise argparse.ArgumentTypeError(f"{name} must be > 0, got {text}")
-        return v
-
-    return parse
-
-
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(
+    p = OneLineParser(
         prog="tune_ray.py", description="Ray Tune hyperparameter sweep over a vessel-gym environment."
     )
     p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
     p.add_argument("--algo", required=True, type=str.lower, choices=sorted(ALGOS))
-    p.add_argument("--samples", type=_positive(int, "--samples"), default=8, help="number of trials")
-    p.add_argument("--timesteps", type=_positive(int, "--timesteps"), default=50_000, help="per trial")
-    p.add_argument("--n-envs", type=_positive(int, "--n-envs"), default=None, help="override n_envs")
-    p.add_argument("--eval-episodes", type=_positive(int, "--eval-episodes"), default=5)
+    p.add_argument("--samples", type=positive(int, "--samples"), default=8, help="number of trials")
+    p.add_argument("--timesteps", type=positive(int, "--timesteps"), default=50_000, help="per trial")
+    p.add_argument("--n-envs", type=positive(int, "--n-envs"), default=None, help="override n_envs")
+    p.add_argument("--eval-episodes", type=positive(int, "--eval-episodes"), default=5)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument(
         "--hyperparams-file", default=None, help="YAML file instead of agents/hyperparams/<algo>.yml"
@@ -125,9 +107,9 @@ def build_parser() -> argparse.ArgumentParser:
         "--address", default=None, help="Ray cluster address ('auto' after `ray start`); default local"
     )
     p.add_argument(
-        "--num-cpus", type=_positive(int, "--num-cpus"), default=None, help="local Ray: CPUs to use"
+        "--num-cpus", type=positive(int, "--num-cpus"), default=None, help="local Ray: CPUs to use"
     )
-    p.add_argument("--cpus-per-trial", type=_positive(float, "--cpus-per-trial"), default=1.0)
+    p.add_argument("--cpus-per-trial", type=positive(float, "--cpus-per-trial"), default=1.0)
     p.add_argument("--storage", default="runs/tune", help="results directory (made absolute)")
     p.add_argument("--name", default=None, help="experiment name (default <algo>_<env>)")
     return p
