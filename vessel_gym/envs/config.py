@@ -55,6 +55,18 @@ class ShipEnvConfig:
     )
 
 
+@dataclass(frozen=True, kw_only=True)
+class OpenWaterConfig(ShipEnvConfig):
+    """Settings shared by the open-water tasks (ZigZag, TurningCircle): the steady approach they start from."""
+
+    approach_speed_m_s: float | None = param(
+        None, unit="m/s", lo=0.01, hi=30.0, doc="steady approach speed (default: ship test speed)"
+    )
+    initial_heading_deg: tuple[float, ...] = param(
+        (0.0, 0.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
+    )
+
+
 def _as_table(value: Any) -> Any:
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         return {f.name: _as_table(getattr(value, f.name)) for f in dataclasses.fields(value) if f.init}

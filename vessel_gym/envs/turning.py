@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import ShipEnvConfig
+from vessel_gym.envs.config import OpenWaterConfig
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
 from vessel_gym.physics.schema import check_ranges, param
 
@@ -30,7 +30,7 @@ class TurningCircleReward:
 
 
 @dataclass(frozen=True, kw_only=True)
-class TurningCircleConfig(ShipEnvConfig):
+class TurningCircleConfig(OpenWaterConfig):
     """TurningCircle-v0 configuration (see :class:`TurningCircleEnv`)."""
 
     mode: str = param("rate", choices=MODES, doc="task: hold a rate of turn, a radius, or reverse course")
@@ -45,12 +45,6 @@ class TurningCircleConfig(ShipEnvConfig):
         doc="radius: [min, max] commanded turning radius in ship lengths",
     )
     side: str = param("random", choices=("random", "starboard", "port"), doc="side of the commanded turn")
-    approach_speed_m_s: float | None = param(
-        None, unit="m/s", lo=0.01, hi=30.0, doc="steady approach speed (default: ship test speed)"
-    )
-    initial_heading_deg: tuple[float, ...] = param(
-        (0.0, 0.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
-    )
     reward: TurningCircleReward = param(TurningCircleReward(), doc="reward weights")
 
 

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import ShipEnvConfig
+from vessel_gym.envs.config import OpenWaterConfig
 from vessel_gym.envs.core import PHASE_STEP, Feature, ShipEnv, ShipVectorEnv, Task, _uniform
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
@@ -27,7 +27,7 @@ class ZigZagReward:
 
 
 @dataclass(frozen=True, kw_only=True)
-class ZigZagConfig(ShipEnvConfig):
+class ZigZagConfig(OpenWaterConfig):
     """ZigZag-v0 configuration (see :class:`ZigZagEnv`)."""
 
     schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
@@ -40,12 +40,6 @@ class ZigZagConfig(ShipEnvConfig):
     )
     leg_time_s: tuple[float, ...] = param(
         (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
-    )
-    approach_speed_m_s: float | None = param(
-        None, unit="m/s", lo=0.01, hi=30.0, doc="steady approach speed (default: ship test speed)"
-    )
-    initial_heading_deg: tuple[float, ...] = param(
-        (0.0, 0.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
     )
     reward: ZigZagReward = param(ZigZagReward(), doc="reward weights")
 
