@@ -247,6 +247,10 @@ class Simulation:
         return F
 
     def _step_python(self, nsteps: int) -> int:
+        with np.errstate(all="ignore"):  # a diverging vessel overflows; it is flagged below, not warned about
+            return self._rk_python(nsteps)
+
+    def _rk_python(self, nsteps: int) -> int:
         dt = self.dt
         for _ in range(nsteps):
             x = self.state
