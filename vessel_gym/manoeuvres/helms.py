@@ -6,7 +6,6 @@ so the same objects drive the manoeuvre runners here and the scripted policies o
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 
@@ -50,10 +49,3 @@ class ZigZagHelm:
             self.executes.append(heading_change_rad)
         return self.side * self.magnitude
 
-
-def wrap_pi(angle_rad: float) -> float:
-    """Angle in (-pi, pi]."""
-    a = math.fmod(angle_rad + math.pi, 2.0 * math.pi)
-    if a <= 0.0:
-        a += 2.0 * math.pi
-    return a - math.pi
