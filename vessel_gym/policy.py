@@ -66,12 +66,12 @@ class RatePI:
     """
 
     def __init__(self, env: Any, zeta: float = 1.0) -> None:
-        from vessel_gym.control import nomoto_pid_gains
         from vessel_gym.envs.policies import HelmPolicy
+        from vessel_gym.physics.linear import nomoto
 
         self.helm = HelmPolicy(env)
         task = env.unwrapped.task
-        m = nomoto_pid_gains(task.ship, task.U_T).model
+        m = nomoto(task.ship, task.U_T)
         w = task.U_T / task.L
         self.Kp = (2.0 * zeta * w * m.T - 1.0) / m.K
         self.Ki = w * w * m.T / m.K
