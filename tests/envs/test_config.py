@@ -28,7 +28,7 @@ def test_out_of_range_and_wrong_type_raise():
 
 def test_control_interval_must_be_whole_multiple_of_dt():
     with pytest.raises(SpecError, match="whole multiple"):
-        gym.make("vessel_gym/ZigZag-v0", control_interval_s=0.23)
+        gym.make("vessel_gym/ZigZag-v0", control_interval_s=0.23, dt_s=0.05)
     env = gym.make("vessel_gym/ZigZag-v0", control_interval_s=0.5, dt_s=0.05)
     assert env.unwrapped.task.nsub == 10
 

@@ -24,7 +24,14 @@ class ShipEnvConfig:
     """Settings shared by every vessel-gym environment."""
 
     ship: str | None = param("kvlcc2_l7", doc="built-in ship name or ship file path")
-    dt_s: float = param(0.05, unit="s", lo=1e-4, hi=10.0, doc="physics step (fixed-step integrator)")
+    dt_s: float | None = param(
+        None,
+        unit="s",
+        lo=1e-4,
+        hi=10.0,
+        doc="physics step (default: the longest whole fraction of the control interval within half the "
+        "integrator's stable step for the ship)",
+    )
     control_interval_s: float = param(
         0.25, unit="s", lo=1e-4, hi=600.0, doc="time between actions; a whole multiple of dt_s or it raises"
     )

@@ -11,6 +11,7 @@ vector environment seeded with s follows exactly the trajectory of a single envi
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -25,7 +26,8 @@ from gymnasium.vector.utils import batch_space
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig, make_config
 from vessel_gym.physics.schema import SpecError
-from vessel_gym.physics.shipfile import Ship
+from vessel_gym.physics.linear import stable_step
+from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.simulation import Simulation, steps_for
 from vessel_gym.physics.units import DEG
 
@@ -238,6 +240,28 @@ def make_helm(config: ShipEnvConfig, sim: Simulation) -> Helm:
 
 
 # --- task ------------------------------------------------------------------------------------------------------
+# The default physics step keeps the ship's fastest mode (on small models the steering gear's lag) within
+# half the integrator's stability limit: a 2x margin for operating points away from the steady run, where the
+# shaft and rudder modes are faster or slower (docs/envs.md, "Physics step", has the convergence study).
+STEP_MARGIN = 0.5
+
+
+def physics_step(config: ShipEnvConfig, ship: Ship) -> float:
+    """``config.dt_s``, or the default: the longest control_interval_s / k within STEP_MARGIN x stable step.
+
+    An explicit ``dt_s`` beyond the stable step raises SpecError (the integration would diverge).
+    """
+    limit = stable_step(ship, config.method)
+    if config.dt_s is None:
+        return config.control_interval_s / math.ceil(config.control_interval_s / (STEP_MARGIN * limit) - 1e-9)
+    if config.dt_s > limit:
+        raise SpecError(
+            f"dt_s = {config.dt_s:g} s is beyond the stable {config.method} step of ship {ship.name!r}, "
+            f"{limit:.3g} s (set by its fastest mode); use a shorter dt_s or leave it unset"
+        )
+    return float(config.dt_s)
+
+
 class Task:
     """A task over one simulation of N vessels: start states, observations, reward terms, episode end.
 
@@ -257,17 +281,19 @@ class Task:
     ) -> None:
         self.config = config
         self.n = n
+        ship = load_ship(ship if ship is not None else config.ship)
+        self.dt = physics_step(config, ship)
         try:
-            self.nsub = steps_for(config.control_interval_s, config.dt_s)
+            self.nsub = steps_for(config.control_interval_s, self.dt)
         except ValueError:
             raise SpecError(
                 f"control_interval_s = {config.control_interval_s:g} s is not a whole multiple of "
-                f"dt_s = {config.dt_s:g} s"
+                f"dt_s = {self.dt:g} s"
             ) from None
         self.sim = Simulation(
-            ship if ship is not None else config.ship,
+            ship,
             n=n,
-            dt=config.dt_s,
+            dt=self.dt,
             method=config.method,
             reference_latlon_deg=reference_latlon_deg,
         )

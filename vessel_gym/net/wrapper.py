@@ -121,7 +121,7 @@ class UdpLinkWrapper(gym.Wrapper):
         if traffic == "auto":
             scenario = getattr(task, "scenario", None)
             traffic = (
-                Traffic.from_scenario(scenario, base.config.dt_s, base.config.control_interval_s)
+                Traffic.from_scenario(scenario, base.task.dt, base.config.control_interval_s)
                 if scenario is not None
                 else None
             )

@@ -26,6 +26,11 @@ from vessel_gym.physics.vessel import N_OUT, derivatives, forces
 RK4 = 0
 EULER = 1
 
+# Largest |lambda dt| on the negative real axis for which each method is stable (a decaying mode of the
+# model decays in the integration too): explicit Euler 2, classical RK4 2.785 (Hairer & Wanner, Solving
+# ODEs II, sec. IV.2, Fig. 2.1). Indexed by the method codes above.
+STABILITY_LIMIT = (2.785, 2.0)
+
 # parallel driver: the batch is split into at most this many contiguous chunks (each allocates its scratch once)
 # and the chunks are shared out evenly over the threads; a constant, so the compiled driver can be cached
 MAX_CHUNKS = 64

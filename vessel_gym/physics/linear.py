@@ -1,4 +1,4 @@
-"""Linearised sway-yaw dynamics and Nomoto indices of any ship model.
+"""Linearised dynamics of any ship model: sway-yaw Nomoto indices and the fastest mode of the full model.
 
 The state derivative of the full model is differentiated numerically (central differences) about a straight
 run at speed U with v = r = delta = 0, surge speed held: [v', r'] = A [v, r] + b delta. Its rudder-to-yaw-rate
@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.integrate import EULER, RK4, STABILITY_LIMIT
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.vessel import N_OUT, derivatives, pack
 
@@ -63,3 +64,38 @@ def nomoto(ship: str | Ship, speed_m_s: float | None = None) -> Nomoto:
     P = 1.0 / det  # T1 T2
     disc = math.sqrt(max(S * S - 4.0 * P, 0.0))
     return Nomoto(K=num0 / det, T1=(S + disc) / 2.0, T2=(S - disc) / 2.0, T3=b[1] / num0)
+
+
+def fastest_rate(ship: str | Ship, speed_m_s: float | None = None) -> float:
+    """Largest |eigenvalue| (1/s) of the full model's Jacobian at a steady straight run (default: test speed).
+
+    All nine states are perturbed (central differences), so the steering gear's lag, the shaft and governor
+    take part: on small models these, not the hull, are the fastest modes (kvlcc2_l7: the 0.1 s steering-gear
+    lag, 10 1/s).
+    """
+    from vessel_gym.physics.simulation import Simulation  # the steady approach lives there
+
+    sim = Simulation(load_ship(ship), dt=1.0)
+    sim.reset(speed_m_s=speed_m_s)
+    P, x0, inp, env = sim.Ps[0], sim.state[0].copy(), sim.inputs[0], sim.env[0]
+    work = np.zeros(N_OUT)
+
+    def f(x: np.ndarray) -> np.ndarray:
+        xd = np.zeros(lo.NX)
+        derivatives(P, x, inp, env, np.zeros(3), xd, work)
+        return xd
+
+    J = np.zeros((lo.NX, lo.NX))
+    for j in range(lo.NX):
+        h = 1e-6 * max(1.0, abs(x0[j]))
+        xp, xm = x0.copy(), x0.copy()
+        xp[j] += h
+        xm[j] -= h
+        J[:, j] = (f(xp) - f(xm)) / (2.0 * h)
+    return float(np.max(np.abs(np.linalg.eigvals(J))))
+
+
+def stable_step(ship: str | Ship, method: str = "rk4", speed_m_s: float | None = None) -> float:
+    """The longest fixed step (s) at which ``method`` ("rk4" or "euler") integrates the fastest mode stably."""
+    limit = STABILITY_LIMIT[RK4 if method == "rk4" else EULER]
+    return limit / max(fastest_rate(ship, speed_m_s), 1e-9)

@@ -29,7 +29,7 @@ from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, forces, pack
 # microseconds on an idle machine, milliseconds when other processes hold the cores. Both bounds are
 # measured with benchmarks/bench_physics.py --drivers (docs/performance.md).
 PARALLEL_MIN_BATCH = 64  # vessels
-PARALLEL_MIN_WORK = 4096  # vessel-steps per call (about 7 ms of single-thread work)
+PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread work)
 
 
 class ForceComponent(Protocol):
