@@ -235,3 +235,41 @@ def test_air_density_at_isa_sea_level():
     assert Environment().row(320.0, 20.8)[lo.E_RHO_AIR] == air_density()
     with pytest.raises(ValueError, match="positive"):
         air_density(101325.0, 0.0)
+
+
+# --- the vessel's combined kernel -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("ship", ["kvlcc2", "mariner"])
+def test_vessel_forces_equal_the_component_functions(ship):
+    """vessel.forces evaluates the rudder, wind and hull through their fast forms (one drift angle, wind
+    direction as a unit vector, Abkowitz monomials merged); they equal the documented component functions."""
+    from vessel_gym.physics.hull import hull_forces
+    from vessel_gym.physics.steering import mmg_rudder_forces
+    from vessel_gym.physics.vessel import N_OUT, forces
+
+    P = pack(load_ship(ship))
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        x = np.zeros(lo.NX)
+        x[[lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA, lo.X_REV]] = rng.uniform(
+            [-2.0, -2.0, -0.02, -4.0, -0.6, -1.0], [10.0, 2.0, 0.02, 4.0, 0.6, 2.0]
+        )
+        e = Environment(
+            wind_speed_m_s=rng.uniform(0.0, 25.0),
+            wind_from_deg=rng.uniform(0.0, 360.0),
+            current_speed_m_s=rng.uniform(0.0, 2.0),
+            current_to_deg=rng.uniform(0.0, 360.0),
+        ).row(P[lo.P_L], P[lo.P_T])
+        f = forces(P, x, np.zeros(lo.NU), e, np.zeros(N_OUT))
+        u, v, r, psi, delta = x[[lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA]]
+        np.testing.assert_allclose(f[0:3], hull_forces(P, u, v, r, delta), rtol=1e-12, atol=1e-9)
+        if P[lo.P_RUD_KIND] == lo.RUDDER_MMG:
+            rudder = mmg_rudder_forces(P, u, v, r, delta, f[15], f[13])
+            np.testing.assert_allclose(f[4:7], rudder, rtol=1e-12, atol=1e-9)
+        ug = u + math.cos(psi) * f[18] + math.sin(psi) * f[19]
+        vg = v - math.sin(psi) * f[18] + math.cos(psi) * f[19]
+        V, g = apparent_wind(ug, vg, psi, e[lo.E_WIND_SPEED], e[lo.E_WIND_FROM])
+        assert f[16] == pytest.approx(V, rel=1e-12) and f[17] == pytest.approx(g, rel=1e-12, abs=1e-12)
+        wind = blendermann_wind_forces(P, V, g, e[lo.E_RHO_AIR])
+        np.testing.assert_allclose(f[7:10], wind, rtol=1e-9, atol=1e-9)

@@ -24,32 +24,58 @@ def air_density(pressure_pa: float = P_ISA_PA, temperature_k: float = T_ISA_K) -
 
 
 @njit(cache=True)
+def air_velocity_earth(wind_speed, wind_from):
+    """Air velocity (north, east) in m/s of a wind of ``wind_speed`` (m/s) from ``wind_from`` (rad): it blows
+    *towards* wind_from + pi. Stored in the environment row (layout.E_WIND_N, E_WIND_E)."""
+    return -wind_speed * math.cos(wind_from), -wind_speed * math.sin(wind_from)
+
+
+@njit(cache=True)
+def relative_wind(u_g, v_g, cos_psi, sin_psi, w_n, w_e):
+    """Apparent wind in the body frame from the air velocity (w_n, w_e) over ground (m/s, north/east).
+
+    (u_g, v_g) is the ship's velocity over ground in body axes, (cos_psi, sin_psi) its heading.
+    Returns (V m/s, gamma rad, cos gamma, sin gamma): speed and the angle the wind comes from relative to the
+    bow, positive from starboard, also as a unit vector (cos gamma = -w_x/V, sin gamma = -w_y/V, exact, so
+    that the wind loads need no trigonometry of gamma); gamma = 0 in still air.
+    """
+    wx = cos_psi * w_n + sin_psi * w_e - u_g  # air relative to the ship, body axes
+    wy = -sin_psi * w_n + cos_psi * w_e - v_g
+    V = math.sqrt(wx * wx + wy * wy)
+    if V > 0.0:
+        return V, math.atan2(-wy, -wx), -wx / V, -wy / V
+    return V, 0.0, 1.0, 0.0
+
+
+@njit(cache=True)
 def apparent_wind(u_g, v_g, psi, wind_speed, wind_from):
     """Apparent wind in the body frame: (speed m/s, angle from the bow rad, positive from starboard).
 
     (u_g, v_g) is the ship's velocity over ground in body axes.
     """
-    # air velocity (earth, north/east): it blows *towards* wind_from + pi
-    wn = -wind_speed * math.cos(wind_from)
-    we = -wind_speed * math.sin(wind_from)
-    c = math.cos(psi)
-    s = math.sin(psi)
-    wx = c * wn + s * we - u_g  # air relative to the ship, body axes
-    wy = -s * wn + c * we - v_g
-    V = math.sqrt(wx * wx + wy * wy)
-    gamma = math.atan2(-wy, -wx) if V > 0.0 else 0.0
+    w_n, w_e = air_velocity_earth(wind_speed, wind_from)
+    V, gamma, _, _ = relative_wind(u_g, v_g, math.cos(psi), math.sin(psi), w_n, w_e)
     return V, gamma
 
 
 @njit(cache=True)
 def blendermann_wind_forces(P, V_rw, gamma, rho_air):
+    """Wind forces by Blendermann (1994) at apparent wind speed V_rw (m/s) from gamma (rad, relative to the
+    bow, positive from starboard): see :func:`blendermann_wind_loads`. Returns (X, Y, N) in N, N, N m."""
+    return blendermann_wind_loads(P, V_rw, gamma, math.cos(gamma), math.sin(gamma), rho_air)
+
+
+@njit(cache=True)
+def blendermann_wind_loads(P, V_rw, gamma, cos_gamma, sin_gamma, rho_air):
     """Wind forces by Blendermann (1994), as presented in Fossen (2011) eq. 8.27-8.30.
 
     C_X = -CD_l (A_L/A_F) cos(g) / den,  C_Y = CD_t sin(g) / den,  den = 1 - delta/2 (1 - CD_l/CD_t) sin^2(2g)
     C_N = [s_L/L - 0.18 (g - pi/2)] C_Y, with CD_l = CD_l,AF(0) A_F/A_L for |g| <= pi/2, CD_l,AF(pi) A_F/A_L
     otherwise; X = q C_X A_F, Y = q C_Y A_L, N = q C_N A_L L, q = 1/2 rho_air V_rw^2.
     gamma is the angle the wind comes from relative to the bow (positive from starboard), so a head wind
-    (gamma = 0) gives X < 0 and a wind from starboard pushes the ship to port (Y < 0).
+    (gamma = 0) gives X < 0 and a wind from starboard pushes the ship to port (Y < 0); cos_gamma and sin_gamma
+    are its cosine and sine (from :func:`relative_wind`), so that g = |gamma| has cos g = cos_gamma,
+    sin g = |sin_gamma| and sin 2g = 2 sin g cos g without further trigonometry.
     Returns (X, Y, N) in N, N, N m.
     """
     if P[lo.P_WIND_ON] == 0.0 or V_rw <= 0.0:
@@ -59,12 +85,14 @@ def blendermann_wind_forces(P, V_rw, gamma, rho_air):
     L = P[lo.P_L]
     CDt = P[lo.P_CDT]
     g = abs(gamma)
+    cos_g = cos_gamma
+    sin_g = abs(sin_gamma)
     CDl_AF = P[lo.P_CDL0] if g <= 0.5 * math.pi else P[lo.P_CDLPI]
     CDl = CDl_AF * AF / AL
-    s2 = math.sin(2.0 * g)
+    s2 = 2.0 * sin_g * cos_g
     den = 1.0 - 0.5 * P[lo.P_BDELTA] * (1.0 - CDl / CDt) * s2 * s2
-    CX = -CDl * (AL / AF) * math.cos(g) / den
-    CY = CDt * math.sin(g) / den
+    CX = -CDl * (AL / AF) * cos_g / den
+    CY = CDt * sin_g / den
     CN = (P[lo.P_SL] / L - 0.18 * (g - 0.5 * math.pi)) * CY
     q = 0.5 * rho_air * V_rw * V_rw
     sgn = -1.0 if gamma >= 0.0 else 1.0  # wind from starboard pushes to port

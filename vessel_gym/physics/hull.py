@@ -25,12 +25,10 @@ def _clip(x, lo_, hi):
 
 
 @njit(cache=True)
-def _abk_sum(P, base, count, pu, pv, pr, pd):
-    s = 0.0
-    for k in range(count):
-        j = base + 5 * k
-        s += P[j] * pu[int(P[j + 1])] * pv[int(P[j + 2])] * pr[int(P[j + 3])] * pd[int(P[j + 4])]
-    return s
+def drift_angle(u, v, U):
+    """Hull drift angle beta = atan2(-v, u), rad, in the MMG sign convention (Yasukawa & Yoshimura 2015);
+    0 at rest (U = sqrt(u^2 + v^2) <= 1e-9 m/s), where it is undefined. Wake and rudder share it."""
+    return math.atan2(-v, u) if U > 1e-9 else 0.0
 
 
 @njit(cache=True)
@@ -54,10 +52,20 @@ def abkowitz_forces(P, u, v, r, delta):
     pv = (1.0, vp, vp * vp, vp * vp * vp, vp * vp * vp * vp)
     pr = (1.0, rp, rp * rp, rp * rp * rp, rp * rp * rp * rp)
     pd = (1.0, delta, delta * delta, delta * delta * delta, delta * delta * delta * delta)
+    # one pass over the distinct monomials, each feeding the X, Y and N sums (vessel._pack_terms)
+    Xs = 0.0
+    Ys = 0.0
+    Ns = 0.0
+    for k in range(int(P[lo.P_ABK_NM])):
+        j = lo.P_ABK_M + lo.ABK_STRIDE * k
+        m = pu[int(P[j])] * pv[int(P[j + 1])] * pr[int(P[j + 2])] * pd[int(P[j + 3])]
+        Xs += P[j + 4] * m
+        Ys += P[j + 5] * m
+        Ns += P[j + 6] * m
     q = P[lo.P_HULL_FNORM] * L * L * Ue * Ue  # rho folded into FNORM
-    X = q * _abk_sum(P, lo.P_ABK_X, int(P[lo.P_ABK_NX]), pu, pv, pr, pd)
-    Y = q * _abk_sum(P, lo.P_ABK_Y, int(P[lo.P_ABK_NY]), pu, pv, pr, pd)
-    N = q * L * _abk_sum(P, lo.P_ABK_N, int(P[lo.P_ABK_NN]), pu, pv, pr, pd)
+    X = q * Xs
+    Y = q * Ys
+    N = q * L * Ns
     # resistance curve of a propelled Abkowitz ship (R = R_res u|u|), see shipfile docs
     X -= P[lo.P_HULL_RES] * u * abs(u)
     if P[lo.P_HULL_CD] > 0.0:

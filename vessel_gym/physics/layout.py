@@ -41,7 +41,12 @@ E_HS = 5  # significant wave height, m (0: calm)
 E_TP = 6  # peak period, s
 E_WAVE_FROM = 7  # mean wave direction, rad, "from", clockwise from north
 E_ZETA2 = 8  # effective squared wave amplitude for mean drift, m^2 (seastate.effective_zeta2)
-NE = 9
+# the same current and wind as velocity components, so that the kernels need no sin/cos of a constant direction
+E_CUR_N = 9  # current velocity, north, m/s (seastate.current_earth)
+E_CUR_E = 10  # current velocity, east, m/s
+E_WIND_N = 11  # air velocity, north, m/s (atmosphere.air_velocity_earth: it blows towards wind_from + pi)
+E_WIND_E = 12  # air velocity, east, m/s
+NE = 13
 
 # --- parameter row P[k, :] -------------------------------------------------------------------------------------
 # Filled by vessel.pack(); names follow the literature. Grouped by component.
@@ -85,14 +90,13 @@ P_HULL_CD = _field("cross_flow_Cd")  # 2-D cross-flow drag coefficient of the hu
 P_RP_MAX = _field("r_prime_max")  # clip of r' in nonlinear terms at low speed, - (see hull.py)
 P_U_MIN = _field("U_min")  # speed below which nondimensional hull terms are faded out, m/s
 
-# Abkowitz polynomial terms: per equation (X, Y, N) a count and MAX_TERMS x (coef, e_u, e_v, e_r, e_d)
-MAX_TERMS = 40
-P_ABK_NX = _field("abk_nX")
-P_ABK_NY = _field("abk_nY")
-P_ABK_NN = _field("abk_nN")
-P_ABK_X = _field("abk_X", 5 * MAX_TERMS)
-P_ABK_Y = _field("abk_Y", 5 * MAX_TERMS)
-P_ABK_N = _field("abk_N", 5 * MAX_TERMS)
+# Abkowitz polynomial terms merged by monomial u'^e_u v'^e_v r'^e_r delta^e_d: a count and MAX_MONOMIALS x
+# (e_u, e_v, e_r, e_d, c_X, c_Y, c_N), so that a monomial shared by X, Y and N (e.g. Y_vvr, N_vvr) is
+# evaluated once; a coefficient is 0 where the equation has no such term
+MAX_MONOMIALS = 80
+ABK_STRIDE = 7
+P_ABK_NM = _field("abk_n_monomials")
+P_ABK_M = _field("abk_monomials", ABK_STRIDE * MAX_MONOMIALS)
 
 # MMG hull (Yasukawa & Yoshimura 2015, eq. 8-10), nondimensional on 1/2 rho L d U^2 (1/2 rho L^2 d U^2 for N)
 P_MMG_R0 = _field("R_0")

@@ -66,20 +66,19 @@ def propeller_thrust_torque(P, u_a, n):
 
 
 @njit(cache=True)
-def effective_wake(P, u, v, r):
+def effective_wake(P, U, beta, r):
     """Wake fraction at the propeller in a manoeuvre, Yasukawa & Yoshimura (2015) eq. 15-16.
 
-    (1 - w_P)/(1 - w_P0) = 1 + (1 - exp(-C_1 |beta_P|)) (C_2 - 1),  beta_P = beta - x'_P r'.
+    (1 - w_P)/(1 - w_P0) = 1 + (1 - exp(-C_1 |beta_P|)) (C_2 - 1),  beta_P = beta - x'_P r',
+    at the ship's speed U = sqrt(u^2 + v^2) (m/s) and drift angle beta (rad, :func:`hull.drift_angle`).
     C_1 = 0 gives the straight-running wake w_P0 for all motions. Returns w_P (-).
     """
     w0 = P[lo.P_WP0]
     C1 = P[lo.P_C1]
     if C1 == 0.0:
         return w0
-    U = math.sqrt(u * u + v * v)
     if U < 1e-6:
         return w0
-    beta = math.atan2(-v, u)
     betaP = beta - P[lo.P_XP] * r * P[lo.P_L] / U
     C2 = P[lo.P_C2P] if betaP > 0.0 else P[lo.P_C2M]
     one_minus_w = (1.0 - w0) * (1.0 + (1.0 - math.exp(-C1 * abs(betaP))) * (C2 - 1.0))

@@ -7,6 +7,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.hull import drift_angle
 
 
 @njit(cache=True)
@@ -26,7 +27,16 @@ def steering_gear_rate(P, delta, delta_c):
 
 @njit(cache=True)
 def mmg_rudder_forces(P, u, v, r, delta, w_P, thrust):
-    """Rudder forces, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship).
+    """Rudder forces, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship): see
+    :func:`mmg_rudder_forces_beta`, which this calls with the ship's speed and drift angle."""
+    U = math.sqrt(u * u + v * v)
+    return mmg_rudder_forces_beta(P, u, U, drift_angle(u, v, U), r, delta, w_P, thrust)
+
+
+@njit(cache=True)
+def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust):
+    """Rudder forces, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship), at surge speed u,
+    speed U = sqrt(u^2 + v^2) and drift angle beta (:func:`hull.drift_angle`), which the vessel computes once.
 
     F_N = 1/2 rho A_R U_R^2 f_alpha sin(alpha_R), alpha_R = delta - atan2(v_R, u_R),
     v_R = U gamma_R beta_R, beta_R = beta - l'_R r'.
@@ -34,11 +44,12 @@ def mmg_rudder_forces(P, u, v, r, delta, w_P, thrust):
     u_R = eps sqrt(eta (u_P + kappa (sqrt(u_P^2 + 8 T/(rho pi D^2)) - u_P))^2 + (1 - eta) u_P^2),
     which equals the published form for n > 0 and stays finite at J -> 0 (bollard pull, low-speed
     harbour work). Astern thrust gives no slipstream over the rudder (u_R = eps u_P).
-    atan2 keeps the normal force physical when the inflow reverses (ship moving astern).
+    The normal force is evaluated as F_N = 1/2 rho A_R f_alpha U_R (u_R sin(delta) - v_R cos(delta)),
+    U_R = sqrt(u_R^2 + v_R^2): the same equation (expand sin(delta - atan2(v_R, u_R))) without the atan2,
+    physical when the inflow reverses (ship moving astern) and 0 at U_R = 0.
     """
     L = P[lo.P_L]
     rho = P[lo.P_RHO]
-    U = math.sqrt(u * u + v * v)
     Ue = max(U, P[lo.P_U_MIN])
     u_P = u * (1.0 - w_P)
     D = P[lo.P_DP]
@@ -50,15 +61,15 @@ def mmg_rudder_forces(P, u, v, r, delta, w_P, thrust):
         u_R = eps * math.sqrt(eta * a * a + (1.0 - eta) * u_P * u_P)
     else:
         u_R = eps * u_P
-    beta = math.atan2(-v, u) if U > 1e-9 else 0.0
     rp = r * L / Ue
     beta_R = beta - P[lo.P_LRP] * rp
     gamma = P[lo.P_GRM] if beta_R < 0.0 else P[lo.P_GRP]
     v_R = Ue * gamma * beta_R if U >= P[lo.P_U_MIN] else U * gamma * beta_R
-    alpha_R = delta - math.atan2(v_R, u_R) if (u_R != 0.0 or v_R != 0.0) else delta
-    F_N = 0.5 * rho * P[lo.P_AR] * (u_R * u_R + v_R * v_R) * P[lo.P_FALPHA] * math.sin(alpha_R)
+    U_R = math.sqrt(u_R * u_R + v_R * v_R)
+    sd = math.sin(delta)
     cd = math.cos(delta)
-    X_R = -(1.0 - P[lo.P_TR]) * F_N * math.sin(delta)
+    F_N = 0.5 * rho * P[lo.P_AR] * P[lo.P_FALPHA] * U_R * (u_R * sd - v_R * cd)
+    X_R = -(1.0 - P[lo.P_TR]) * F_N * sd
     Y_R = -(1.0 + P[lo.P_AH]) * F_N * cd
     N_R = -(P[lo.P_XRP] + P[lo.P_AH] * P[lo.P_XHP]) * L * F_N * cd
     return X_R, Y_R, N_R

@@ -22,12 +22,12 @@ import numpy as np
 from numba import njit
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.atmosphere import apparent_wind, blendermann_wind_forces
-from vessel_gym.physics.hull import hull_forces
+from vessel_gym.physics.atmosphere import blendermann_wind_loads, relative_wind
+from vessel_gym.physics.hull import drift_angle, hull_forces
 from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
-from vessel_gym.physics.seastate import current_earth, drift_coefficient_table, wave_drift_forces
+from vessel_gym.physics.seastate import drift_coefficient_table, wave_drift_forces
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, abkowitz_term
-from vessel_gym.physics.steering import mmg_rudder_forces, steering_gear_rate
+from vessel_gym.physics.steering import mmg_rudder_forces_beta, steering_gear_rate
 from vessel_gym.physics.units import DEG, RPM
 
 
@@ -59,18 +59,22 @@ def mass_matrix(ship: Ship) -> np.ndarray:
 
 
 def _pack_terms(P: np.ndarray, derivs: dict) -> None:
-    slots = {"X": (lo.P_ABK_NX, lo.P_ABK_X), "Y": (lo.P_ABK_NY, lo.P_ABK_Y), "N": (lo.P_ABK_NN, lo.P_ABK_N)}
+    """Abkowitz terms merged by monomial (layout.P_ABK_M): one row (e_u, e_v, e_r, e_d, c_X, c_Y, c_N) per
+    distinct monomial, in the order of first appearance in the ship file."""
+    column = {"X": 4, "Y": 5, "N": 6}
+    monomials: dict[tuple[int, int, int, int], list[float]] = {}
     for name, value in derivs.items():
         term = abkowitz_term(name)
         if term is None or value == 0.0:
             continue
-        eq, eu, ev, er, ed = term
-        n_slot, base = slots[eq]
-        k = int(P[n_slot])
-        if k >= lo.MAX_TERMS:
-            raise ValueError(f"more than {lo.MAX_TERMS} {eq}-terms")
-        P[base + 5 * k : base + 5 * k + 5] = (value, eu, ev, er, ed)
-        P[n_slot] = k + 1
+        eq, *exponents = term
+        row = monomials.setdefault(tuple(exponents), [*exponents, 0.0, 0.0, 0.0])
+        row[column[eq]] += value  # two names of one term (Y_vr, Y_rv) add, as two terms would
+    if len(monomials) > lo.MAX_MONOMIALS:
+        raise ValueError(f"more than {lo.MAX_MONOMIALS} distinct Abkowitz monomials")
+    for k, row in enumerate(monomials.values()):
+        P[lo.P_ABK_M + lo.ABK_STRIDE * k : lo.P_ABK_M + lo.ABK_STRIDE * (k + 1)] = row
+    P[lo.P_ABK_NM] = len(monomials)
 
 
 def pack(ship: Ship) -> np.ndarray:
@@ -193,12 +197,21 @@ def pack(ship: Ship) -> np.ndarray:
     return P
 
 
-@njit(cache=True)
-def forces(P, x, inp, env, out):
-    """All component forces for one vessel at state ``x``; fills ``out`` (length N_OUT) and returns it.
+# The hot call chain (the integrators' step -> derivatives -> force_terms -> components) is compiled without
+# reference counting (numba's `_nrt=False`): these functions allocate nothing and only read and write arrays
+# their caller owns, so counting references is pure overhead -- atomic increments and decrements of every
+# array argument around every call, ~5-10 % of a step (docs/performance.md). A function compiled this way
+# cannot allocate or return an array: `forces`, which returns its output row to Python, keeps counting.
+_NO_REFCOUNT = {"_nrt": False}
 
-    out = [X_H, Y_H, N_H, X_P, X_R, Y_R, N_R, X_W, Y_W, N_W, X_D, Y_D, N_D, thrust, Q_prop, w_P,
-           V_rw, gamma_rw, cur_n, cur_e]
+
+@njit(cache=True, **_NO_REFCOUNT)
+def force_terms(P, x, env):
+    """All component forces for one vessel at state ``x``, as a tuple of N_OUT + 2 floats: the N_OUT values
+    of :func:`forces`, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
+
+    A tuple, not an output array: a store into an array that the compiler cannot prove distinct from ``P``
+    and ``x`` would make it load them again (see :func:`derivatives`).
     """
     u = x[lo.X_U]
     v = x[lo.X_V]
@@ -207,43 +220,43 @@ def forces(P, x, inp, env, out):
     delta = x[lo.X_DELTA]
     n = x[lo.X_REV]
     XH, YH, NH = hull_forces(P, u, v, r, delta)
+    has_prop = P[lo.P_PROP_ON] > 0.0
+    mmg_rudder = P[lo.P_RUD_KIND] == lo.RUDDER_MMG
+    # one speed and drift angle for wake and rudder; the atan2 only where a model reads beta
+    U = math.sqrt(u * u + v * v)
+    beta = drift_angle(u, v, U) if mmg_rudder or (has_prop and P[lo.P_C1] != 0.0) else 0.0
     T = 0.0
     Qp = 0.0
     wP = P[lo.P_WP0]
-    if P[lo.P_PROP_ON] > 0.0:
-        wP = effective_wake(P, u, v, r)
+    if has_prop:
+        wP = effective_wake(P, U, beta, r)
         T, Qp = propeller_thrust_torque(P, u * (1.0 - wP), n)
     XR = YR = NR = 0.0
-    if P[lo.P_RUD_KIND] == lo.RUDDER_MMG:
-        XR, YR, NR = mmg_rudder_forces(P, u, v, r, delta, wP, T)
-    cn, ce = current_earth(env[lo.E_CUR_SPEED], env[lo.E_CUR_TO])
+    if mmg_rudder:
+        XR, YR, NR = mmg_rudder_forces_beta(P, u, U, beta, r, delta, wP, T)
+    cn = env[lo.E_CUR_N]
+    ce = env[lo.E_CUR_E]
     c = math.cos(psi)
     s = math.sin(psi)
     u_g = u + c * cn + s * ce
     v_g = v - s * cn + c * ce
-    Vrw, gam = apparent_wind(u_g, v_g, psi, env[lo.E_WIND_SPEED], env[lo.E_WIND_FROM])
-    XW, YW, NW = blendermann_wind_forces(P, Vrw, gam, env[lo.E_RHO_AIR])
+    Vrw, gam, cos_gam, sin_gam = relative_wind(u_g, v_g, c, s, env[lo.E_WIND_N], env[lo.E_WIND_E])
+    XW, YW, NW = blendermann_wind_loads(P, Vrw, gam, cos_gam, sin_gam, env[lo.E_RHO_AIR])
     XD, YD, ND = wave_drift_forces(P, env[lo.E_ZETA2], env[lo.E_WAVE_FROM], psi)
-    out[0] = XH
-    out[1] = YH
-    out[2] = NH
-    out[3] = (1.0 - P[lo.P_TP]) * T
-    out[4] = XR
-    out[5] = YR
-    out[6] = NR
-    out[7] = XW
-    out[8] = YW
-    out[9] = NW
-    out[10] = XD
-    out[11] = YD
-    out[12] = ND
-    out[13] = T
-    out[14] = Qp
-    out[15] = wP
-    out[16] = Vrw
-    out[17] = gam
-    out[18] = cn
-    out[19] = ce
+    XP = (1.0 - P[lo.P_TP]) * T
+    return (XH, YH, NH, XP, XR, YR, NR, XW, YW, NW, XD, YD, ND, T, Qp, wP, Vrw, gam, cn, ce, c, s)
+
+
+@njit(cache=True)
+def forces(P, x, inp, env, out):
+    """All component forces for one vessel at state ``x``; fills ``out`` (length N_OUT) and returns it.
+
+    out = [X_H, Y_H, N_H, X_P, X_R, Y_R, N_R, X_W, Y_W, N_W, X_D, Y_D, N_D, thrust, Q_prop, w_P,
+           V_rw, gamma_rw, cur_n, cur_e]
+    """
+    f = force_terms(P, x, env)
+    for i in range(N_OUT):
+        out[i] = f[i]
     return out
 
 
@@ -272,33 +285,35 @@ FORCE_NAMES = (
 )
 
 
-@njit(cache=True)
+@njit(cache=True, **_NO_REFCOUNT)
 def derivatives(P, x, inp, env, F_ext, xdot, work):
-    """State derivative of one vessel: fills ``xdot`` (length NX). ``work`` is scratch of length N_OUT.
+    """State derivative of one vessel: fills ``xdot`` (length NX).
 
-    F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions).
+    F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions). ``work``
+    (length N_OUT) is no longer needed -- the forces travel as a tuple -- and stays in the signature for
+    the callers. Every result is computed before the first store into ``xdot``: the compiler cannot rule
+    out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
-    f = forces(P, x, inp, env, work)
+    f = force_terms(P, x, env)
     u = x[lo.X_U]
     v = x[lo.X_V]
     r = x[lo.X_R]
-    psi = x[lo.X_PSI]
     X = f[0] + f[3] + f[4] + f[7] + f[10] + F_ext[0] + P[lo.P_CX_VR] * v * r + P[lo.P_CX_RR] * r * r
     Y = f[1] + f[5] + f[8] + f[11] + F_ext[1] - P[lo.P_CY_UR] * u * r
     N = f[2] + f[6] + f[9] + f[12] + F_ext[2] - P[lo.P_CN_UR] * u * r
+    c = f[20]  # cos(psi), sin(psi) from force_terms
+    s = f[21]
+    delta_dot = steering_gear_rate(P, x[lo.X_DELTA], inp[lo.U_DELTA_C])
+    ndot = 0.0
+    gdot = 0.0
+    if P[lo.P_PROP_ON] > 0.0:
+        ndot, gdot, _fuel, _ne, _qe = shaft_acceleration(P, x[lo.X_REV], x[lo.X_GOV], inp[lo.U_REV_C], f[14])
     xdot[lo.X_U] = X / P[lo.P_M11]
     xdot[lo.X_V] = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
     xdot[lo.X_R] = P[lo.P_MI32] * Y + P[lo.P_MI33] * N
-    c = math.cos(psi)
-    s = math.sin(psi)
     xdot[lo.X_N] = c * u - s * v + f[18]
     xdot[lo.X_E] = s * u + c * v + f[19]
     xdot[lo.X_PSI] = r
-    xdot[lo.X_DELTA] = steering_gear_rate(P, x[lo.X_DELTA], inp[lo.U_DELTA_C])
-    if P[lo.P_PROP_ON] > 0.0:
-        ndot, gdot, _fuel, _ne, _qe = shaft_acceleration(P, x[lo.X_REV], x[lo.X_GOV], inp[lo.U_REV_C], f[14])
-        xdot[lo.X_REV] = ndot
-        xdot[lo.X_GOV] = gdot
-    else:
-        xdot[lo.X_REV] = 0.0
-        xdot[lo.X_GOV] = 0.0
+    xdot[lo.X_DELTA] = delta_dot
+    xdot[lo.X_REV] = ndot
+    xdot[lo.X_GOV] = gdot
