@@ -25,8 +25,8 @@ from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig, make_config
-from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.linear import stable_step
+from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.simulation import Simulation, steps_for
 from vessel_gym.physics.units import DEG
@@ -321,31 +321,6 @@ class Task:
             axis=1,
         )
         self.obs = np.zeros((n, len(self.layout)), dtype=np.float32)
-        self._refresh_views()
-
-    def _refresh_views(self) -> None:
-        """Cache the simulation's named quantities (live views of its state; renewed if it reallocates)."""
-        sim = self.sim
-        self._state_ref = sim.state
-        self._inputs_ref = sim.inputs
-        self.q_u, self.q_v, self.q_r, self.q_heading = sim.u, sim.v, sim.r, sim.heading
-        self.q_north, self.q_east = sim.north, sim.east
-        self.q_rudder, self.q_rudder_order = sim.rudder, sim.rudder_order
-        self.q_rev, self.q_rev_order = sim.rev, sim.rev_order
-
-    def __getstate__(self) -> dict:
-        state = {
-            k: v for k, v in self.__dict__.items() if not k.startswith(("q_", "_state_ref", "_inputs_ref"))
-        }
-        return state
-
-    def __setstate__(self, state: dict) -> None:
-        self.__dict__.update(state)
-        self._refresh_views()
-
-    def views_current(self) -> None:
-        if self.sim.state is not self._state_ref or self.sim.inputs is not self._inputs_ref:
-            self._refresh_views()
 
     # subclass interface
     def observation_features(self) -> list[Feature]:

@@ -97,6 +97,7 @@ class HarbourApproachTask(Task):
             ],
             dtype=np.float64,
         ).reshape(-1, 4)
+        self.ebox = kn.edge_boxes(self.verts, self.pstart, self.pcount)
         self.hull = np.array(hull_outline(self.L, self.ship.particulars.B_m), dtype=np.float64)
         self.goal_verts = np.array([(p[0], p[1]) for p in sc.goal.points], dtype=np.float64)
         self.ts = np.zeros((n, kn.HSN))
@@ -180,6 +181,7 @@ class HarbourApproachTask(Task):
             self.pcount,
             self.pkind,
             self.pbox,
+            self.ebox,
             self.beam_dirs,
             self.beam_range,
             self._beams,
@@ -238,18 +240,9 @@ class HarbourApproachTask(Task):
 
     def update(self, phase: np.ndarray) -> None:
         sim = self.sim
-        self.views_current()
         kn.harbour_update(
-            self.q_u,
-            self.q_v,
-            self.q_r,
-            self.q_heading,
-            self.q_north,
-            self.q_east,
-            self.q_rudder,
-            self.q_rudder_order,
-            self.q_rev,
-            self.q_rev_order,
+            sim.state,
+            sim.inputs,
             sim.alive,
             self.ts,
             self.p,
@@ -259,6 +252,7 @@ class HarbourApproachTask(Task):
             self.pcount,
             self.pkind,
             self.pbox,
+            self.ebox,
             self.goal_verts,
             self.beam_dirs,
             self.weights,

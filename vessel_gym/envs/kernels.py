@@ -2,12 +2,16 @@
 
 The environments and their vector twins call the same kernels (N = 1 and N = 1024 run the same code). Each
 task keeps its per-vessel task state in a float array ``ts`` (N, *N) whose named columns are defined here,
-reads the ship's motion through the simulation's named accessors (u, v, r, heading, ...), and fills
-features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
+reads the ship's motion from the simulation's state and input rows (``sim.state``, ``sim.inputs``, columns
+named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
 apparent wind comes from :func:`vessel_gym.physics.atmosphere.apparent_wind`.
 
 numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
 keyed by a hash of this file and the physics package's sources (stale machine code is discarded).
+
+Why whole rows and not the named accessors (``sim.u``, ...): a numba call unboxes every array argument, about
+0.06 us for a contiguous array and 0.15 us for a strided view such as ``sim.u``; ten views cost a one-ship
+environment step more than its task arithmetic.
 """
 
 from __future__ import annotations
@@ -18,11 +22,12 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache  # noqa: E402
+from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache
 
 invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES])
 
-from vessel_gym.physics.atmosphere import apparent_wind  # noqa: E402  (after the cache check)
+from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
+from vessel_gym.physics.atmosphere import apparent_wind  # noqa: E402
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
@@ -135,33 +140,52 @@ def _finish_overshoot(s):
 
 @njit(cache=True)
 def zigzag_update(
-    u, v, r, psi, delta, delta_c, rev, alive, ts, p, w, enc, phase, feat, obs, terms, reward, done
+    x,
+    inp,
+    alive,
+    ts,
+    p,
+    w,
+    enc,
+    phase,
+    feat,
+    obs,
+    terms,
+    reward,
+    done,
 ):
     """Zig-zag task: vessels in phase 1 advance one control step, phase 2 (just reset) get features only."""
     psiz = p[ZP_PSIZ]
     dmax = p[ZP_DMAX]
     imo = p[ZP_IMO] > 0.0
-    for k in range(u.shape[0]):
+    for k in range(x.shape[0]):
         if phase[k] == 0:
             continue
+        uk = x[k, lo.X_U]
+        vk = x[k, lo.X_V]
+        rk = x[k, lo.X_R]
+        psik = x[k, lo.X_PSI]
+        dk = x[k, lo.X_DELTA]
+        dck = inp[k, lo.U_DELTA_C]
+        revk = x[k, lo.X_REV]
         s = ts[k]
         for j in range(ZTN):
             terms[k, j] = 0.0
         if phase[k] == 1:
             s[Z_T] += p[ZP_DT]
             if s[Z_OS_ON] > 0.0:
-                exc = s[Z_OS_SIGN] * (psi[k] - s[Z_OS_TGT])
+                exc = s[Z_OS_SIGN] * (psik - s[Z_OS_TGT])
                 if exc > s[Z_OS_MAX]:
                     s[Z_OS_MAX] = exc
-                if s[Z_OS_SIGN] * r[k] <= 0.0:
+                if s[Z_OS_SIGN] * rk <= 0.0:
                     _finish_overshoot(s)
             crossed = False
             sign = 0.0
             if imo:
-                if s[Z_SIDE] * (psi[k] - s[Z_TARGET]) >= 0.0:
+                if s[Z_SIDE] * (psik - s[Z_TARGET]) >= 0.0:
                     crossed = True
                     sign = s[Z_SIDE]
-            elif s[Z_REACHED] == 0.0 and s[Z_LEG_SIGN] * (psi[k] - s[Z_TARGET]) >= 0.0:
+            elif s[Z_REACHED] == 0.0 and s[Z_LEG_SIGN] * (psik - s[Z_TARGET]) >= 0.0:
                 crossed = True
                 sign = s[Z_LEG_SIGN]
                 s[Z_REACHED] = 1.0
@@ -171,19 +195,19 @@ def zigzag_update(
                 s[Z_OS_ON] = 1.0
                 s[Z_OS_SIGN] = sign
                 s[Z_OS_TGT] = s[Z_TARGET]
-                s[Z_OS_MAX] = sign * (psi[k] - s[Z_TARGET])
+                s[Z_OS_MAX] = sign * (psik - s[Z_TARGET])
                 if imo:  # the IMO execute: the target flips to the other side of the original course
                     s[Z_SIDE] = -s[Z_SIDE]
                     s[Z_TARGET] = s[Z_PSI0] + s[Z_SIDE] * psiz
                     s[Z_EXEC] += 1.0
-            err = wrap_pi(s[Z_TARGET] - psi[k])
+            err = wrap_pi(s[Z_TARGET] - psik)
             terms[k, ZT_HEADING] = -abs(err) / PI
             if s[Z_OS_ON] > 0.0:
-                exc = s[Z_OS_SIGN] * (psi[k] - s[Z_OS_TGT])
+                exc = s[Z_OS_SIGN] * (psik - s[Z_OS_TGT])
                 if exc > 0.0:
                     terms[k, ZT_OVERSHOOT] = -min(exc / psiz, 1.0)
-            terms[k, ZT_RUDDER] = -abs(delta_c[k] - s[Z_PREV_ORDER]) / (2.0 * dmax)
-            U = math.sqrt(u[k] * u[k] + v[k] * v[k])
+            terms[k, ZT_RUDDER] = -abs(dck - s[Z_PREV_ORDER]) / (2.0 * dmax)
+            U = math.sqrt(uk * uk + vk * vk)
             if U < s[Z_U0]:
                 terms[k, ZT_SPEED] = -(s[Z_U0] - U) / s[Z_U0]
         done[k] = not alive[k]
@@ -191,16 +215,16 @@ def zigzag_update(
             for j in range(ZTN):
                 terms[k, j] = 0.0
         _finish(terms, k, w, reward)
-        s[Z_PREV_ORDER] = delta_c[k]
+        s[Z_PREV_ORDER] = dck
         f = feat[k]
-        f[ZF_U] = u[k]
-        f[ZF_V] = v[k]
-        f[ZF_R] = r[k]
-        f[ZF_DELTA] = delta[k]
-        f[ZF_DELTA_C] = delta_c[k]
-        f[ZF_REV] = rev[k]
-        f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psi[k])
-        f[ZF_HEAD_DEV] = wrap_pi(psi[k] - s[Z_PSI0])
+        f[ZF_U] = uk
+        f[ZF_V] = vk
+        f[ZF_R] = rk
+        f[ZF_DELTA] = dk
+        f[ZF_DELTA_C] = dck
+        f[ZF_REV] = revk
+        f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psik)
+        f[ZF_HEAD_DEV] = wrap_pi(psik - s[Z_PSI0])
         f[ZF_TARGET_DEV] = wrap_pi(s[Z_TARGET] - s[Z_PSI0])
         encode_row(feat, k, enc, obs)
 
@@ -253,15 +277,8 @@ TCTN = 6
 
 @njit(cache=True)
 def turning_update(
-    u,
-    v,
-    r,
-    psi,
-    north,
-    east,
-    delta,
-    delta_c,
-    rev,
+    x,
+    inp,
     alive,
     ts,
     p,
@@ -277,23 +294,32 @@ def turning_update(
     """Turning task (phases as :func:`zigzag_update`); ``done`` set on a completed course reversal."""
     mode = int(p[TCP_MODE])
     L = p[TCP_L]
-    for k in range(u.shape[0]):
+    for k in range(x.shape[0]):
         if phase[k] == 0:
             continue
+        uk = x[k, lo.X_U]
+        vk = x[k, lo.X_V]
+        rk = x[k, lo.X_R]
+        psik = x[k, lo.X_PSI]
+        nk = x[k, lo.X_N]
+        ek = x[k, lo.X_E]
+        dk = x[k, lo.X_DELTA]
+        dck = inp[k, lo.U_DELTA_C]
+        revk = x[k, lo.X_REV]
         s = ts[k]
         done[k] = False
         for j in range(TCTN):
             terms[k, j] = 0.0
         c0 = math.cos(s[TC_PSI0])
         s0 = math.sin(s[TC_PSI0])
-        dn = north[k] - s[TC_N0]
-        de = east[k] - s[TC_E0]
+        dn = nk - s[TC_N0]
+        de = ek - s[TC_E0]
         adv = c0 * dn + s0 * de
         trf = -s0 * dn + c0 * de
-        turned = abs(psi[k] - s[TC_PSI0])
-        U = math.sqrt(u[k] * u[k] + v[k] * v[k])
+        turned = abs(psik - s[TC_PSI0])
+        U = math.sqrt(uk * uk + vk * vk)
         U0 = s[TC_U0]
-        curv = r[k] / max(U, 0.1 * U0)
+        curv = rk / max(U, 0.1 * U0)
         if phase[k] == 1:
             s[TC_T] += p[TCP_DT]
             tp = s[TC_PREV_TURNED]
@@ -309,7 +335,7 @@ def turning_update(
             ma = max(s[TC_MAXADV], adv)
             mt = max(s[TC_MAXTRF], abs(trf))
             if mode == 0:
-                terms[k, TCT_TRACK] = -min(abs(r[k] - s[TC_CMD]) / abs(s[TC_CMD]), 1.0)
+                terms[k, TCT_TRACK] = -min(abs(rk - s[TC_CMD]) / abs(s[TC_CMD]), 1.0)
             elif mode == 1:
                 terms[k, TCT_TRACK] = -min(abs(curv - s[TC_CMD]) / abs(s[TC_CMD]), 1.0)
             else:
@@ -319,7 +345,7 @@ def turning_update(
                 done[k] = turned >= PI
             s[TC_MAXADV] = ma
             s[TC_MAXTRF] = mt
-            terms[k, TCT_RUDDER] = -abs(delta_c[k] - s[TC_PREV_ORDER]) / (2.0 * p[TCP_DMAX])
+            terms[k, TCT_RUDDER] = -abs(dck - s[TC_PREV_ORDER]) / (2.0 * p[TCP_DMAX])
             if U < U0:
                 terms[k, TCT_SPEED] = -(U0 - U) / U0
         if not alive[k]:
@@ -327,22 +353,22 @@ def turning_update(
             for j in range(TCTN):
                 terms[k, j] = 0.0
         _finish(terms, k, w, reward)
-        s[TC_PREV_ORDER] = delta_c[k]
+        s[TC_PREV_ORDER] = dck
         s[TC_PREV_TURNED] = turned
         s[TC_PREV_ADV] = adv
         s[TC_PREV_TRF] = trf
         f = feat[k]
-        f[TCF_U] = u[k]
-        f[TCF_V] = v[k]
-        f[TCF_R] = r[k]
-        f[TCF_DELTA] = delta[k]
-        f[TCF_DELTA_C] = delta_c[k]
-        f[TCF_REV] = rev[k]
+        f[TCF_U] = uk
+        f[TCF_V] = vk
+        f[TCF_R] = rk
+        f[TCF_DELTA] = dk
+        f[TCF_DELTA_C] = dck
+        f[TCF_REV] = revk
         f[TCF_CMD_RATE] = s[TC_CMD] if mode == 0 else 0.0
-        f[TCF_RATE_ERR] = s[TC_CMD] - r[k] if mode == 0 else 0.0
+        f[TCF_RATE_ERR] = s[TC_CMD] - rk if mode == 0 else 0.0
         f[TCF_CMD_CURV] = s[TC_CMD] * L if mode == 1 else 0.0
         f[TCF_CURV_ERR] = (s[TC_CMD] - curv) * L if mode == 1 else 0.0
-        f[TCF_HEAD_CHANGE] = psi[k] - s[TC_PSI0]
+        f[TCF_HEAD_CHANGE] = psik - s[TC_PSI0]
         f[TCF_ADVANCE] = adv
         f[TCF_TRANSFER] = trf
         encode_row(feat, k, enc, obs)
@@ -364,7 +390,8 @@ def _seg_intersect(ax, ay, bx, by, cx, cy, dx, dy):
 
 
 @njit(cache=True)
-def _point_seg_dist(px, py, ax, ay, bx, by):
+def _point_seg_dist2(px, py, ax, ay, bx, by):
+    """Squared distance from point p to segment ab, m^2 (callers take one sqrt of the minimum)."""
     ex = bx - ax
     ey = by - ay
     ll = ex * ex + ey * ey
@@ -372,7 +399,7 @@ def _point_seg_dist(px, py, ax, ay, bx, by):
     t = 0.0 if t < 0.0 else (1.0 if t > 1.0 else t)
     qx = ax + t * ex - px
     qy = ay + t * ey - py
-    return math.sqrt(qx * qx + qy * qy)
+    return qx * qx + qy * qy
 
 
 @njit(cache=True)
@@ -391,27 +418,58 @@ def _inside(px, py, verts, start, count):
 
 @njit(cache=True)
 def _ray_hit(ox, oy, dx, dy, ax, ay, bx, by):
+    """Distance along the ray o + t d (d a unit vector) to segment ab, m; inf if it misses."""
     ex = bx - ax
     ey = by - ay
     den = _cross(dx, dy, ex, ey)
     if den == 0.0:
         return np.inf
+    sn = _cross(ax - ox, ay - oy, dx, dy)  # s = sn / den is the hit's place on ab, in [0, 1] if it is on it
+    if (sn < 0.0 or sn > den) if den > 0.0 else (sn > 0.0 or sn < den):
+        return np.inf  # most beam-edge pairs miss: decided before the divisions
     t = _cross(ax - ox, ay - oy, ex, ey) / den
-    s = _cross(ax - ox, ay - oy, dx, dy) / den
-    if t >= 0.0 and 0.0 <= s <= 1.0:
-        return t
-    return np.inf
+    return t if t >= 0.0 else np.inf
+
+
+def edge_boxes(verts: np.ndarray, pstart: np.ndarray, pcount: np.ndarray) -> np.ndarray:
+    """Bounding box (n min, n max, e min, e max) of every polygon edge, row m = edge from vertex m to the next
+    vertex of its polygon: lets :func:`chart_query` skip edges that cannot matter."""
+    boxes = np.zeros((verts.shape[0], 4))
+    for st, cnt in zip(pstart, pcount):
+        a = verts[st : st + cnt]
+        b = np.roll(a, -1, axis=0)
+        boxes[st : st + cnt] = np.stack(
+            [np.minimum(a[:, 0], b[:, 0]), np.maximum(a[:, 0], b[:, 0]),
+             np.minimum(a[:, 1], b[:, 1]), np.maximum(a[:, 1], b[:, 1])],
+            axis=1,
+        )  # fmt: skip
+    return boxes
 
 
 @njit(cache=True)
-def chart_query(n0, e0, psi, hull, verts, pstart, pcount, pkind, pbox, beam_dirs, beam_range, beams, hn, he):
+def _box_gap2(n0, n1, e0, e1, box):
+    """Squared distance between the box [n0, n1] x [e0, e1] and ``box`` (n min, n max, e min, e max), m^2."""
+    gn = max(box[0] - n1, n0 - box[1], 0.0)
+    ge = max(box[2] - e1, e0 - box[3], 0.0)
+    return gn * gn + ge * ge
+
+
+@njit(cache=True)
+def chart_query(
+    n0, e0, psi, hull, verts, pstart, pcount, pkind, pbox, ebox, beam_dirs, beam_range, beams, hn, he
+):
     """Contact, grounding, clearance and range beams of one ship at (n0, e0, psi) among chart polygons.
 
     ``hull``: outline in body axes (x forward, y starboard), m. ``pkind``: 1 hard obstacle, 2 shoal.
+    ``pbox``, ``ebox``: bounding boxes of the polygons and of their edges (:func:`edge_boxes`).
     ``beam_dirs``: (n_beams, 2) unit vectors of the beams in body axes (x forward, y starboard).
     Fills ``beams`` (m, capped at ``beam_range``) measured from the midship point; returns
     (outcome flag OK/CONTACT/GROUNDING, clearance m = distance hull outline to the nearest polygon edge).
     ``hn``, ``he``: scratch arrays of the hull's length.
+
+    Polygons and edges whose bounding box is farther than the clearance found so far (or than the beam
+    range) are skipped: the distance to a box bounds the distance to what is inside it, so the results are
+    those of testing every edge.
     """
     c = math.cos(psi)
     s = math.sin(psi)
@@ -429,17 +487,15 @@ def chart_query(n0, e0, psi, hull, verts, pstart, pcount, pkind, pbox, beam_dirs
         if i == 0 or he[i] > hb3:
             hb3 = he[i]
     flag = OK
-    clear = beam_range
+    range2 = beam_range * beam_range
+    clear2 = range2  # squared clearance so far
     for j in range(beams.shape[0]):
         beams[j] = beam_range
     for q in range(pstart.shape[0]):
         st = pstart[q]
         cnt = pcount[q]
-        # bounding-box gap between hull and polygon: skip polygons farther than the clearance found so far
-        gn = max(pbox[q, 0] - hb1, hb0 - pbox[q, 1], 0.0)
-        ge = max(pbox[q, 2] - hb3, hb2 - pbox[q, 3], 0.0)
-        gap = math.sqrt(gn * gn + ge * ge)
-        if gap == 0.0:
+        gap2 = _box_gap2(hb0, hb1, hb2, hb3, pbox[q])
+        if gap2 == 0.0:
             hit = False
             for i in range(nh):
                 if _inside(hn[i], he[i], verts, st, cnt):
@@ -465,41 +521,45 @@ def chart_query(n0, e0, psi, hull, verts, pstart, pcount, pkind, pbox, beam_dirs
                     if hit:
                         break
             if hit:
-                clear = 0.0
+                clear2 = 0.0
                 if pkind[q] == 1:
                     flag = CONTACT
                 elif flag == OK:
                     flag = GROUNDING
-        if gap < clear:
+        if gap2 < clear2:
             for m in range(cnt):
+                if _box_gap2(hb0, hb1, hb2, hb3, ebox[st + m]) >= clear2:
+                    continue
                 m2 = st + (m + 1) % cnt
                 ax = verts[st + m, 0]
                 ay = verts[st + m, 1]
                 bx = verts[m2, 0]
                 by = verts[m2, 1]
                 for i in range(nh):
-                    d = _point_seg_dist(hn[i], he[i], ax, ay, bx, by)
-                    if d < clear:
-                        clear = d
+                    d2 = _point_seg_dist2(hn[i], he[i], ax, ay, bx, by)
+                    if d2 < clear2:
+                        clear2 = d2
                     i2 = (i + 1) % nh
-                    d = _point_seg_dist(ax, ay, hn[i], he[i], hn[i2], he[i2])
-                    if d < clear:
-                        clear = d
+                    d2 = _point_seg_dist2(ax, ay, hn[i], he[i], hn[i2], he[i2])
+                    if d2 < clear2:
+                        clear2 = d2
         # range beams from the midship point
-        bg_n = max(pbox[q, 0] - n0, n0 - pbox[q, 1], 0.0)
-        bg_e = max(pbox[q, 2] - e0, e0 - pbox[q, 3], 0.0)
-        if bg_n * bg_n + bg_e * bg_e < beam_range * beam_range:
-            for j in range(beams.shape[0]):
-                dn = c * beam_dirs[j, 0] - s * beam_dirs[j, 1]  # beam direction (north, east)
-                de = s * beam_dirs[j, 0] + c * beam_dirs[j, 1]
-                for m in range(cnt):
-                    m2 = st + (m + 1) % cnt
-                    t = _ray_hit(
-                        n0, e0, dn, de, verts[st + m, 0], verts[st + m, 1], verts[m2, 0], verts[m2, 1]
-                    )
+        if _box_gap2(n0, n0, e0, e0, pbox[q]) < range2:
+            for m in range(cnt):
+                if _box_gap2(n0, n0, e0, e0, ebox[st + m]) >= range2:
+                    continue
+                m2 = st + (m + 1) % cnt
+                ax = verts[st + m, 0]
+                ay = verts[st + m, 1]
+                bx = verts[m2, 0]
+                by = verts[m2, 1]
+                for j in range(beams.shape[0]):
+                    dn = c * beam_dirs[j, 0] - s * beam_dirs[j, 1]  # beam direction (north, east)
+                    de = s * beam_dirs[j, 0] + c * beam_dirs[j, 1]
+                    t = _ray_hit(n0, e0, dn, de, ax, ay, bx, by)
                     if t < beams[j]:
                         beams[j] = t
-    return flag, clear
+    return flag, math.sqrt(clear2)
 
 
 # --- HarbourApproach -----------------------------------------------------------------------------------------
@@ -562,16 +622,8 @@ HTN = 8
 
 @njit(cache=True)
 def harbour_update(
-    u,
-    v,
-    r,
-    psi,
-    north,
-    east,
-    delta,
-    delta_c,
-    rev,
-    rev_c,
+    x,
+    inp,
     alive,
     ts,
     p,
@@ -581,6 +633,7 @@ def harbour_update(
     pcount,
     pkind,
     pbox,
+    ebox,
     goal_verts,
     beam_dirs,
     w,
@@ -600,54 +653,65 @@ def harbour_update(
     he = np.empty(hull.shape[0])
     L = p[HP_L]
     UT = p[HP_UT]
-    for k in range(u.shape[0]):
+    for k in range(x.shape[0]):
         if phase[k] == 0:
             continue
+        uk = x[k, lo.X_U]
+        vk = x[k, lo.X_V]
+        rk = x[k, lo.X_R]
+        psik = x[k, lo.X_PSI]
+        nk = x[k, lo.X_N]
+        ek = x[k, lo.X_E]
+        dk = x[k, lo.X_DELTA]
+        dck = inp[k, lo.U_DELTA_C]
+        revk = x[k, lo.X_REV]
+        revck = inp[k, lo.U_REV_C]
         s = ts[k]
         for j in range(HTN):
             terms[k, j] = 0.0
-        c = math.cos(psi[k])
-        sn = math.sin(psi[k])
-        vn = c * u[k] - sn * v[k] + s[HS_CUR_N]
-        ve = sn * u[k] + c * v[k] + s[HS_CUR_E]
+        c = math.cos(psik)
+        sn = math.sin(psik)
+        vn = c * uk - sn * vk + s[HS_CUR_N]
+        ve = sn * uk + c * vk + s[HS_CUR_E]
         sog = math.sqrt(vn * vn + ve * ve)
         flag, clear = chart_query(
-            north[k],
-            east[k],
-            psi[k],
+            nk,
+            ek,
+            psik,
             hull,
             verts,
             pstart,
             pcount,
             pkind,
             pbox,
+            ebox,
             beam_dirs,
             p[HP_BEAM_RANGE],
             beams,
             hn,
             he,
         )
-        gn = p[HP_GOAL_N] - north[k]
-        ge = p[HP_GOAL_E] - east[k]
+        gn = p[HP_GOAL_N] - nk
+        ge = p[HP_GOAL_E] - ek
         dist = math.sqrt(gn * gn + ge * ge)
-        herr = wrap_pi(p[HP_GOAL_HDG] - psi[k])
+        herr = wrap_pi(p[HP_GOAL_HDG] - psik)
         if flag == OK:
             if not alive[k]:
                 flag = DIVERGED
-            elif not (p[HP_N_MIN] <= north[k] <= p[HP_N_MAX] and p[HP_E_MIN] <= east[k] <= p[HP_E_MAX]):
+            elif not (p[HP_N_MIN] <= nk <= p[HP_N_MAX] and p[HP_E_MIN] <= ek <= p[HP_E_MAX]):
                 flag = OUT_OF_BOUNDS
             elif (
                 sog <= p[HP_GOAL_VMAX]
                 and abs(herr) <= p[HP_GOAL_TOL]
-                and _inside(north[k], east[k], goal_verts, 0, goal_verts.shape[0])
+                and _inside(nk, ek, goal_verts, 0, goal_verts.shape[0])
             ):
                 flag = SUCCESS
         s[HS_CLEAR] = clear
         if phase[k] == 1:
             flags[k] = flag
             s[HS_T] += p[HP_DT]
-            dpn = north[k] - s[HS_PREV_N]
-            dpe = east[k] - s[HS_PREV_E]
+            dpn = nk - s[HS_PREV_N]
+            dpe = ek - s[HS_PREV_E]
             s[HS_PATH] += math.sqrt(dpn * dpn + dpe * dpe)
             if clear < s[HS_MIN_CLEAR]:
                 s[HS_MIN_CLEAR] = clear
@@ -657,7 +721,7 @@ def harbour_update(
                 terms[k, HT_SPEED] = -(sog - allowed) / UT
             if clear < p[HP_CLEAR_REF]:
                 terms[k, HT_PROXIMITY] = -(1.0 - clear / p[HP_CLEAR_REF])
-            terms[k, HT_RUDDER] = -abs(delta_c[k] - s[HS_PREV_ORDER]) / (2.0 * p[HP_DMAX])
+            terms[k, HT_RUDDER] = -abs(dck - s[HS_PREV_ORDER]) / (2.0 * p[HP_DMAX])
             terms[k, HT_TIME] = -1.0
             if flag == SUCCESS:
                 terms[k, HT_SUCCESS] = 1.0
@@ -675,22 +739,22 @@ def harbour_update(
         done[k] = flags[k] != OK
         _finish(terms, k, w, reward)
         s[HS_D_PREV] = dist
-        s[HS_PREV_ORDER] = delta_c[k]
-        s[HS_PREV_N] = north[k]
-        s[HS_PREV_E] = east[k]
+        s[HS_PREV_ORDER] = dck
+        s[HS_PREV_N] = nk
+        s[HS_PREV_E] = ek
         s[HS_SOG] = sog
         # body-frame quantities as sensed on the bridge
-        ug = u[k] + c * s[HS_CUR_N] + sn * s[HS_CUR_E]
-        vg = v[k] - sn * s[HS_CUR_N] + c * s[HS_CUR_E]
-        Vrw, gam = apparent_wind(ug, vg, psi[k], s[HS_WIND_SPEED], s[HS_WIND_FROM])
+        ug = uk + c * s[HS_CUR_N] + sn * s[HS_CUR_E]
+        vg = vk - sn * s[HS_CUR_N] + c * s[HS_CUR_E]
+        Vrw, gam = apparent_wind(ug, vg, psik, s[HS_WIND_SPEED], s[HS_WIND_FROM])
         f = feat[k]
-        f[HF_U] = u[k]
-        f[HF_V] = v[k]
-        f[HF_R] = r[k]
-        f[HF_DELTA] = delta[k]
-        f[HF_DELTA_C] = delta_c[k]
-        f[HF_REV] = rev[k]
-        f[HF_REV_C] = rev_c[k]
+        f[HF_U] = uk
+        f[HF_V] = vk
+        f[HF_R] = rk
+        f[HF_DELTA] = dk
+        f[HF_DELTA_C] = dck
+        f[HF_REV] = revk
+        f[HF_REV_C] = revck
         f[HF_GOAL_X] = c * gn + sn * ge
         f[HF_GOAL_Y] = -sn * gn + c * ge
         f[HF_GOAL_DIST] = dist

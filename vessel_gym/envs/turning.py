@@ -12,6 +12,7 @@ import numpy as np
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import OpenWaterConfig
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
+from vessel_gym.physics import layout as lo
 from vessel_gym.physics.schema import check_ranges, param
 
 MODES = ("rate", "radius", "reverse")
@@ -136,17 +137,9 @@ class TurningCircleTask(Task):
 
     def update(self, phase: np.ndarray) -> None:
         sim = self.sim
-        self.views_current()
         kn.turning_update(
-            self.q_u,
-            self.q_v,
-            self.q_r,
-            self.q_heading,
-            self.q_north,
-            self.q_east,
-            self.q_rudder,
-            self.q_rudder_order,
-            self.q_rev,
+            sim.state,
+            sim.inputs,
             sim.alive,
             self.ts,
             self.p,
@@ -166,8 +159,9 @@ class TurningCircleTask(Task):
         return np.where(r > 1e-9, U / np.maximum(r, 1e-9), 0.0)
 
     def _radius_k(self, k: int) -> float:
-        r = abs(float(self.q_r[k]))
-        return math.hypot(float(self.q_u[k]), float(self.q_v[k])) / r if r > 1e-9 else 0.0
+        x = self.sim.state[k]
+        r = abs(float(x[lo.X_R]))
+        return math.hypot(float(x[lo.X_U]), float(x[lo.X_V])) / r if r > 1e-9 else 0.0
 
     def info(self, k: int) -> dict[str, Any]:
         s = self.ts[k].tolist()
@@ -176,7 +170,7 @@ class TurningCircleTask(Task):
             "reward_terms": self.weighted_terms(k),
             "time_s": s[kn.TC_T],
             "heading_change_deg": math.degrees(self.feat[k, kn.TCF_HEAD_CHANGE]),
-            "rate_of_turn_deg_s": math.degrees(self.q_r[k]),
+            "rate_of_turn_deg_s": math.degrees(self.sim.state[k, lo.X_R]),
             "turning_radius_m": self._radius_k(k),
             "commanded_rate_deg_s": float(math.degrees(cmd)) if self.mode == 0 else 0.0,
             "commanded_radius_m": float(1.0 / cmd) if self.mode == 1 else 0.0,

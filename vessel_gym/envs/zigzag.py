@@ -126,15 +126,9 @@ class ZigZagTask(Task):
             )
             for k in np.flatnonzero(due):
                 self._new_leg(int(k), self.rngs[k])
-        self.views_current()
         kn.zigzag_update(
-            self.q_u,
-            self.q_v,
-            self.q_r,
-            self.q_heading,
-            self.q_rudder,
-            self.q_rudder_order,
-            self.q_rev,
+            sim.state,
+            sim.inputs,
             sim.alive,
             self.ts,
             self.p,
