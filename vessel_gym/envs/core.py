@@ -265,12 +265,13 @@ def physics_step(config: ShipEnvConfig, ship: Ship) -> float:
 class Task:
     """A task over one simulation of N vessels: start states, observations, reward terms, episode end.
 
-    Subclasses define ``Config`` (a :class:`ShipEnvConfig` subclass with a ``reward`` weights table),
-    ``features()``, ``reset_vessel()``, ``update()`` and ``info()``.
+    Subclasses define ``Config`` (a :class:`ShipEnvConfig` subclass with a ``reward`` weights table), their
+    compiled ``kernel`` and its ``kernel_args()``, ``observation_features()``, ``reset_vessel()`` and ``info()``.
     """
 
     Config: ClassVar[type[ShipEnvConfig]] = ShipEnvConfig
     n_features: ClassVar[int] = 0
+    kernel: ClassVar[Any]  # compiled update, batched over vessels: kernel(phase, *kernel_args())
 
     def __init__(
         self,
@@ -321,6 +322,7 @@ class Task:
             axis=1,
         )
         self.obs = np.zeros((n, len(self.layout)), dtype=np.float32)
+        self._kernel_args: tuple | None = None
 
     # subclass interface
     def observation_features(self) -> list[Feature]:
@@ -329,9 +331,19 @@ class Task:
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         raise NotImplementedError
 
+    def kernel_args(self) -> tuple:
+        """The arguments of the task's compiled ``kernel`` after ``phase``: arrays that live as long as the task.
+
+        Bound once, on the first update: a step then costs one call with no attribute look-ups.
+        """
+        raise NotImplementedError
+
     def update(self, phase: np.ndarray) -> None:
         """Run the task kernel; fill ``feat``, ``terms`` and ``terminated`` for the vessels in ``phase``."""
-        raise NotImplementedError
+        args = self._kernel_args
+        if args is None:
+            args = self._kernel_args = self.kernel_args()
+        self.kernel(phase, *args)
 
     def info(self, k: int) -> dict[str, Any]:
         raise NotImplementedError

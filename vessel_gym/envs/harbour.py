@@ -58,6 +58,7 @@ class HarbourApproachConfig(ShipEnvConfig):
 
 class HarbourApproachTask(Task):
     Config = HarbourApproachConfig
+    kernel = staticmethod(kn.harbour_update)
 
     def __init__(self, config: HarbourApproachConfig, n: int, scenario: Scenario | None = None) -> None:
         self.scenario = scenario if scenario is not None else load_scenario(config.scenario)
@@ -238,12 +239,11 @@ class HarbourApproachTask(Task):
         s[kn.HS_PREV_ORDER] = float(self.sim.rudder_order[k])
         self.flags[k] = kn.OK
 
-    def update(self, phase: np.ndarray) -> None:
-        sim = self.sim
-        kn.harbour_update(
-            sim.state,
-            sim.inputs,
-            sim.alive,
+    def kernel_args(self) -> tuple:
+        return (
+            self.sim.state,
+            self.sim.inputs,
+            self.sim.alive,
             self.ts,
             self.p,
             self.hull,
@@ -257,7 +257,6 @@ class HarbourApproachTask(Task):
             self.beam_dirs,
             self.weights,
             self.enc,
-            phase,
             self.feat,
             self.obs,
             self.terms,

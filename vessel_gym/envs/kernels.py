@@ -140,6 +140,7 @@ def _finish_overshoot(s):
 
 @njit(cache=True)
 def zigzag_update(
+    phase,
     x,
     inp,
     alive,
@@ -147,7 +148,6 @@ def zigzag_update(
     p,
     w,
     enc,
-    phase,
     feat,
     obs,
     terms,
@@ -277,6 +277,7 @@ TCTN = 6
 
 @njit(cache=True)
 def turning_update(
+    phase,
     x,
     inp,
     alive,
@@ -284,7 +285,6 @@ def turning_update(
     p,
     w,
     enc,
-    phase,
     feat,
     obs,
     terms,
@@ -622,6 +622,7 @@ HTN = 8
 
 @njit(cache=True)
 def harbour_update(
+    phase,
     x,
     inp,
     alive,
@@ -638,7 +639,6 @@ def harbour_update(
     beam_dirs,
     w,
     enc,
-    phase,
     feat,
     obs,
     terms,

@@ -51,6 +51,7 @@ class TurningCircleConfig(OpenWaterConfig):
 
 class TurningCircleTask(Task):
     Config = TurningCircleConfig
+    kernel = staticmethod(kn.turning_update)
     n_features = kn.TCFN
 
     def __init__(self, config: TurningCircleConfig, n: int) -> None:
@@ -135,17 +136,15 @@ class TurningCircleTask(Task):
         s[kn.TC_U0] = speed
         s[kn.TC_PREV_ORDER] = float(self.sim.rudder_order[k])
 
-    def update(self, phase: np.ndarray) -> None:
-        sim = self.sim
-        kn.turning_update(
-            sim.state,
-            sim.inputs,
-            sim.alive,
+    def kernel_args(self) -> tuple:
+        return (
+            self.sim.state,
+            self.sim.inputs,
+            self.sim.alive,
             self.ts,
             self.p,
             self.weights,
             self.enc,
-            phase,
             self.feat,
             self.obs,
             self.terms,

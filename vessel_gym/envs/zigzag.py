@@ -46,6 +46,7 @@ class ZigZagConfig(OpenWaterConfig):
 
 class ZigZagTask(Task):
     Config = ZigZagConfig
+    kernel = staticmethod(kn.zigzag_update)
     n_features = kn.ZFN
 
     def __init__(self, config: ZigZagConfig, n: int) -> None:
@@ -118,29 +119,30 @@ class ZigZagTask(Task):
         s[kn.Z_EXEC] += 1.0
         s[kn.Z_NEXT] = s[kn.Z_T] + _uniform(rng, c.leg_time_s)
 
-    def update(self, phase: np.ndarray) -> None:
-        sim = self.sim
-        if not self.imo:  # random schedule: a new leg on vessels whose leg time is up
-            due = (phase == PHASE_STEP) & (
-                self.ts[:, kn.Z_T] + self.config.control_interval_s >= self.ts[:, kn.Z_NEXT] - 1e-9
-            )
-            for k in np.flatnonzero(due):
-                self._new_leg(int(k), self.rngs[k])
-        kn.zigzag_update(
-            sim.state,
-            sim.inputs,
-            sim.alive,
+    def kernel_args(self) -> tuple:
+        return (
+            self.sim.state,
+            self.sim.inputs,
+            self.sim.alive,
             self.ts,
             self.p,
             self.weights,
             self.enc,
-            phase,
             self.feat,
             self.obs,
             self.terms,
             self.reward,
             self.terminated,
         )
+
+    def update(self, phase: np.ndarray) -> None:
+        if not self.imo:  # random schedule: a new leg on vessels whose leg time is up
+            due = (phase == PHASE_STEP) & (
+                self.ts[:, kn.Z_T] + self.config.control_interval_s >= self.ts[:, kn.Z_NEXT] - 1e-9
+            )
+            for k in np.flatnonzero(due):
+                self._new_leg(int(k), self.rngs[k])
+        super().update(phase)
 
     # --- info -------------------------------------------------------------------------------------------
     def info(self, k: int) -> dict[str, Any]:
