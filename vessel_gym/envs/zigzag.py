@@ -199,8 +199,8 @@ class ZigZagEnv(ShipEnv):
     target before the ship turns back). The scripted IMO rule
     (:class:`vessel_gym.envs.policies.ZigZagRule`) applied here is the IMO zig-zag test itself.
 
-    Default ship: ``kvlcc2_l7`` (7 m KVLCC2 model, 1.18 m/s test speed), physics step 0.05 s,
-    control interval 0.25 s.
+    Default ship: ``kvlcc2_l7`` (7 m KVLCC2 model, 1.18 m/s test speed), physics step 0.125 s (chosen from
+    the ship, docs/envs.md), control interval 0.25 s.
 
     ## Action Space
 
@@ -269,7 +269,7 @@ class ZigZagEnv(ShipEnv):
     ``gymnasium.make("vessel_gym/ZigZag-v0", render_mode=None, config=None, **overrides)``: ``config`` is a
     :class:`ZigZagConfig`, a mapping or a TOML file; keyword overrides are config keys. Unknown keys and
     out-of-range values raise ``SpecError``; ``control_interval_s`` must be a whole multiple of ``dt_s``.
-    Keys: ``ship``, ``dt_s`` (0.05), ``control_interval_s`` (0.25), ``method``, ``action_type``,
+    Keys: ``ship``, ``dt_s`` (default from the ship), ``control_interval_s`` (0.25), ``method``, ``action_type``,
     ``engine_control`` (False), ``rudder_limit_deg``, ``rudder_orders_deg``, ``telegraph_steps``,
     ``observation_type``, ``schedule`` ("imo" | "random"), ``zigzag_heading_deg`` (10), ``first_side``,
     ``course_change_deg``, ``leg_time_s``, ``approach_speed_m_s``, ``initial_heading_deg``, ``reward``.
