@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
+from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import BridgeReading
@@ -23,7 +24,7 @@ from vessel_gym.physics.integrate import EULER, RK4, derivatives_batch, forces_b
 from vessel_gym.physics.propulsion import engine_torque
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import DEG, KNOT_M_S
-from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, forces, pack
+from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, pack
 
 # The threaded driver pays when a call carries enough work to cover waking the worker threads: tens of
 # microseconds on an idle machine, milliseconds when other processes hold the cores. Both bounds are
@@ -395,12 +396,56 @@ def steps_for(duration_s: float, dt: float) -> int:
     return int(k)
 
 
-def _surge_accel(P: np.ndarray, x: np.ndarray, inp: np.ndarray, env: np.ndarray, F: np.ndarray) -> float:
-    from vessel_gym.physics.vessel import derivatives
+@njit(cache=True)
+def _surge_balance_rev(P, x, inp, env, F, hi_n):
+    """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
 
+    Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
+    resets a ship every few steps, and each reset solves this.
+    """
     xd = np.zeros(lo.NX)
-    derivatives(P, x, inp, env, F, xd, np.zeros(N_OUT))
-    return xd[lo.X_U]
+    work = np.zeros(N_OUT)
+
+    def surge_accel(nrev):
+        x[lo.X_REV] = nrev
+        inp[lo.U_REV_C] = nrev
+        derivatives(P, x, inp, env, F, xd, work)
+        return xd[lo.X_U]
+
+    lo_n = 0.0
+    if surge_accel(0.0) > 0.0:
+        hi_n = 0.0
+    for _ in range(80):
+        mid = 0.5 * (lo_n + hi_n)
+        if surge_accel(mid) > 0.0:
+            if hi_n == mid:
+                break  # the bracket stopped shrinking: the remaining halvings would repeat this one
+            hi_n = mid
+        else:
+            if lo_n == mid:
+                break
+            lo_n = mid
+    nrev = 0.5 * (lo_n + hi_n)
+    x[lo.X_REV] = nrev
+    inp[lo.U_REV_C] = nrev
+    return nrev
+
+
+@njit(cache=True)
+def _fuel_index_for(P, n_e, Q_need):
+    """Governor fuel index in [0, 1] whose engine torque at ``n_e`` rev/s is ``Q_need`` N m (bisection)."""
+    a, b = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (a + b)
+        if engine_torque(P, n_e, mid) < Q_need:
+            if a == mid:
+                break  # as in _surge_balance_rev
+            a = mid
+        else:
+            if b == mid:
+                break
+            b = mid
+    return 0.5 * (a + b)
 
 
 def steady_state(
@@ -416,7 +461,9 @@ def steady_state(
     ship's own speed is part of the balance). Only the surge balance is solved: in wind, current or waves
     the sway and yaw loads act from the first step.
 
-    ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance."""
+    ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance; they are evaluated at the
+    solved shaft speed and the balance is solved again until they no longer change (at once for forces
+    that do not depend on the shaft speed)."""
     if env is None:
         env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
     x = np.zeros(lo.NX)
@@ -425,33 +472,26 @@ def steady_state(
     x[lo.X_PSI] = heading_rad
     if ship.propeller is None:
         return x, inp
-    # thrust grows with rev: bisection on rev for zero surge acceleration
     n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
+    xd = np.zeros(lo.NX)
 
-    def f(nrev: float) -> float:
-        x[lo.X_REV] = nrev
-        inp[lo.U_REV_C] = nrev
-        F = np.zeros(3) if extra is None else np.asarray(extra(x.copy()), dtype=float)
-        return _surge_accel(P, x, inp, env, F)
+    def extra_forces() -> np.ndarray:
+        return np.zeros(3) if extra is None else np.asarray(extra(x.copy()), dtype=float)
 
-    lo_n, hi_n = 0.0, n_max
-    if f(hi_n) < 0.0:
+    x[lo.X_REV] = inp[lo.U_REV_C] = n_max
+    F = extra_forces()
+    derivatives(P, x, inp, env, F, xd, np.zeros(N_OUT))
+    if xd[lo.X_U] < 0.0:
         raise SimulationError(
             f"{ship.name}: the propeller cannot make {speed_m_s / KNOT_M_S:.2f} kn below {n_max * 60:.0f} rpm"
         )
-    if f(lo_n) > 0.0:
-        hi_n = 0.0
-    for _ in range(80):
-        mid = 0.5 * (lo_n + hi_n)
-        if f(mid) > 0.0:
-            hi_n = mid
-        else:
-            lo_n = mid
-    nrev = 0.5 * (lo_n + hi_n)
-    x[lo.X_REV] = nrev
-    inp[lo.U_REV_C] = nrev
+    for _ in range(20 if extra is not None else 1):
+        nrev = _surge_balance_rev(P, x, inp, env, F, n_max)
+        F_new = extra_forces()
+        if np.array_equal(F_new, F):
+            break
+        F = F_new
     # governor integrator at the fuel index whose torque holds that shaft speed
-
     out = forces(P, x, inp, env, np.zeros(N_OUT))
     Q_prop = out[14]
     Q_need = (Q_prop + P[lo.P_Q_FRIC] * nrev / (P[lo.P_ENG_NRATED] / P[lo.P_GEAR])) / (
@@ -463,12 +503,5 @@ def steady_state(
             f"{ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for {speed_m_s / KNOT_M_S:.2f} kn "
             f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
         )
-    a, b = 0.0, 1.0
-    for _ in range(60):
-        mid = 0.5 * (a + b)
-        if engine_torque(P, n_e, mid) < Q_need:
-            a = mid
-        else:
-            b = mid
-    x[lo.X_GOV] = 0.5 * (a + b)
+    x[lo.X_GOV] = _fuel_index_for(P, n_e, Q_need)
     return x.copy(), inp.copy()
