@@ -29,6 +29,7 @@ from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, p
 # The threaded driver pays when a call carries enough work to cover waking the worker threads: tens of
 # microseconds on an idle machine, milliseconds when other processes hold the cores. Both bounds are
 # measured with benchmarks/bench_physics.py --drivers (docs/performance.md).
+STEADY_CACHE_SIZE = 1024  # entries (two rows of 9 and 2 floats each)
 PARALLEL_MIN_BATCH = 64  # vessels
 PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread work)
 
@@ -115,6 +116,9 @@ class Simulation:
         self.env = np.zeros((n, lo.NE))
         self.F_ext = np.zeros((n, 3))
         self.alive = np.ones(n, dtype=np.bool_)
+        # steady approaches solved so far, by (parameter row, speed, heading, environment row): environments
+        # reset ships one at a time, mostly to the same approach
+        self._steady_cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.t = 0.0
         self.components = list(components)
         self.reference_latlon_deg = reference_latlon_deg
@@ -153,11 +157,13 @@ class Simulation:
         hd = np.broadcast_to(np.asarray(heading_deg, dtype=float), (self.n,))
         xs = np.broadcast_to(np.asarray(x_m, dtype=float), (self.n,))
         ys = np.broadcast_to(np.asarray(y_m, dtype=float), (self.n,))
-        cache: dict[tuple[int, float], np.ndarray] = {}
+        cache = self._steady_cache
+        if len(cache) > STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
+            cache.clear()
         for j in idx:
             si = int(self.ship_index[j])
             speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
-            key = (si, speed, hd[j], self.env[j].tobytes())
+            key = (self.Ps[si].tobytes(), speed, hd[j], self.env[j].tobytes())  # parameters as they are now
             if self.components:  # user forces take part in the equilibrium
                 cache[key] = steady_state(
                     self.ships[si],
