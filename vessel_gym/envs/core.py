@@ -367,7 +367,13 @@ class Task:
         return dict(zip(self.term_names, self.terms[k].tolist()))
 
     def batch_weighted_terms(self) -> dict[str, np.ndarray]:
-        return {t: self.terms[:, i].copy() for i, t in enumerate(self.term_names)}
+        cols = self.terms.T.copy()  # one copy; its rows are the terms, contiguous
+        return dict(zip(self.term_names, cols))
+
+    def task_columns(self) -> np.ndarray:
+        """A new (n_columns, N) copy of the task state: row j is column j of ``ts`` for all vessels (for the
+        batched ``info``: one copy instead of one per entry)."""
+        return self.ts.T.copy()
 
 
 def _uniform(rng: np.random.Generator, rng_range: Sequence[float]) -> float:

@@ -286,7 +286,7 @@ class HarbourApproachTask(Task):
         }
 
     def batch_info(self) -> dict[str, Any]:
-        s = self.ts
+        s = self.task_columns()
         f = self.flags
         return {
             "reward_terms": self.batch_weighted_terms(),
@@ -296,13 +296,13 @@ class HarbourApproachTask(Task):
             "grounding": f == kn.GROUNDING,
             "out_of_bounds": f == kn.OUT_OF_BOUNDS,
             "diverged": f == kn.DIVERGED,
-            "time_s": s[:, kn.HS_T].copy(),
-            "clearance_m": s[:, kn.HS_CLEAR].copy(),
-            "min_clearance_m": s[:, kn.HS_MIN_CLEAR].copy(),
-            "distance_to_goal_m": s[:, kn.HS_D_PREV].copy(),
-            "speed_over_ground_m_s": s[:, kn.HS_SOG].copy(),
+            "time_s": s[kn.HS_T],
+            "clearance_m": s[kn.HS_CLEAR],
+            "min_clearance_m": s[kn.HS_MIN_CLEAR],
+            "distance_to_goal_m": s[kn.HS_D_PREV],
+            "speed_over_ground_m_s": s[kn.HS_SOG],
             "heading_error_deg": np.degrees(self.feat[:, kn.HF_GOAL_HDG_ERR]),
-            "path_m": s[:, kn.HS_PATH].copy(),
+            "path_m": s[kn.HS_PATH],
         }
 
     def overlay(self, k: int) -> dict[str, Any]:

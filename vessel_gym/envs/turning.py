@@ -183,22 +183,22 @@ class TurningCircleTask(Task):
         }
 
     def batch_info(self) -> dict[str, Any]:
-        s = self.ts
-        cmd = s[:, kn.TC_CMD]
+        s = self.task_columns()
+        cmd = s[kn.TC_CMD]
         zeros = np.zeros(self.n)
         return {
             "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[:, kn.TC_T].copy(),
+            "time_s": s[kn.TC_T],
             "heading_change_deg": np.degrees(self.feat[:, kn.TCF_HEAD_CHANGE]),
             "rate_of_turn_deg_s": np.degrees(self.sim.r),
             "turning_radius_m": self._radius(slice(None)),
             "commanded_rate_deg_s": np.degrees(cmd) if self.mode == 0 else zeros,
             "commanded_radius_m": 1.0 / cmd if self.mode == 1 else zeros.copy(),
-            "advance_m": s[:, kn.TC_ADV].copy(),
-            "transfer_m": s[:, kn.TC_TRF].copy(),
-            "tactical_diameter_m": s[:, kn.TC_TD].copy(),
-            "reached_90": s[:, kn.TC_R90] > 0.0,
-            "reached_180": s[:, kn.TC_R180] > 0.0,
+            "advance_m": s[kn.TC_ADV],
+            "transfer_m": s[kn.TC_TRF],
+            "tactical_diameter_m": s[kn.TC_TD],
+            "reached_90": s[kn.TC_R90] > 0.0,
+            "reached_180": s[kn.TC_R180] > 0.0,
             "success": self.terminated & self.sim.alive,
             "diverged": ~self.sim.alive,
         }

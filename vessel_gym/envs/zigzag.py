@@ -161,17 +161,17 @@ class ZigZagTask(Task):
         }
 
     def batch_info(self) -> dict[str, Any]:
-        s = self.ts
+        s = self.task_columns()
         return {
             "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[:, kn.Z_T].copy(),
-            "target_heading_deg": np.degrees(s[:, kn.Z_TARGET]) % 360.0,
+            "time_s": s[kn.Z_T],
+            "target_heading_deg": np.degrees(s[kn.Z_TARGET]) % 360.0,
             "heading_error_deg": np.degrees(self.feat[:, kn.ZF_HEAD_ERR]),
-            "executes": s[:, kn.Z_EXEC].astype(np.int64),
-            "overshoot_count": s[:, kn.Z_OS_N].astype(np.int64),
-            "overshoot_1_deg": np.degrees(s[:, kn.Z_OS1]),
-            "overshoot_2_deg": np.degrees(s[:, kn.Z_OS2]),
-            "last_overshoot_deg": np.degrees(s[:, kn.Z_OS_LAST]),
+            "executes": s[kn.Z_EXEC].astype(np.int64),
+            "overshoot_count": s[kn.Z_OS_N].astype(np.int64),
+            "overshoot_1_deg": np.degrees(s[kn.Z_OS1]),
+            "overshoot_2_deg": np.degrees(s[kn.Z_OS2]),
+            "last_overshoot_deg": np.degrees(s[kn.Z_OS_LAST]),
             "diverged": ~self.sim.alive,
         }
 
