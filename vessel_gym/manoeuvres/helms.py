@@ -48,4 +48,3 @@ class ZigZagHelm:
             self.side = -self.side
             self.executes.append(heading_change_rad)
         return self.side * self.magnitude
-

@@ -385,7 +385,9 @@ class UdpLink:
             self._receive(now_s)
         if self._owner is not None and now_s - self._owner_cmd_time > self.config.watchdog_s:
             self._release(now_s, "helm_watchdog")
-        serve = bool(self._clients) or bool(self._static_dest and now_s + self._static_slack >= self._static_due)
+        serve = bool(self._clients) or bool(
+            self._static_dest and now_s + self._static_slack >= self._static_due
+        )
         nmea = self._nmea_sock is not None and now_s + self._nmea_slack >= self._nmea_due
         if (serve or nmea) and callable(own):
             own = own()  # the readings are computed only when something is due
