@@ -56,6 +56,11 @@ class HarbourApproachConfig(ShipEnvConfig):
     reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
 
 
+# batches from this size run the task kernel on all threads (about 1 us of work per ship; waking the threads
+# costs tens of microseconds on an idle machine)
+PARALLEL_MIN_SHIPS = 256
+
+
 class HarbourApproachTask(Task):
     Config = HarbourApproachConfig
     kernel = staticmethod(kn.harbour_update)
@@ -119,6 +124,8 @@ class HarbourApproachTask(Task):
         p[kn.HP_N_MIN], p[kn.HP_N_MAX], p[kn.HP_E_MIN], p[kn.HP_E_MAX] = sc.bounds_m
         self.p = p
         self._beams = np.empty(config.n_beams)
+        if n >= PARALLEL_MIN_SHIPS:
+            self.kernel = kn.harbour_update_parallel
 
     @property
     def beam_range(self) -> float:

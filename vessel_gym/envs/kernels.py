@@ -20,7 +20,7 @@ import math
 from pathlib import Path
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache
 
@@ -28,6 +28,7 @@ invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file
 
 from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
 from vessel_gym.physics.atmosphere import apparent_wind  # noqa: E402
+from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
@@ -621,7 +622,9 @@ HTN = 8
 
 
 @njit(cache=True)
-def harbour_update(
+def _harbour_range(
+    k0,
+    k1,
     phase,
     x,
     inp,
@@ -646,14 +649,15 @@ def harbour_update(
     flags,
     done,
 ):
-    """Harbour task (phases as :func:`zigzag_update`); ``flags`` get the outcome of stepped vessels."""
+    """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
+    stepped vessels."""
     nb = beam_dirs.shape[0]
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
     he = np.empty(hull.shape[0])
     L = p[HP_L]
     UT = p[HP_UT]
-    for k in range(x.shape[0]):
+    for k in range(k0, k1):
         if phase[k] == 0:
             continue
         uk = x[k, lo.X_U]
@@ -768,3 +772,19 @@ def harbour_update(
         for j in range(nb):
             f[HFN0 + j] = beams[j]
         encode_row(feat, k, enc, obs)
+
+
+@njit(cache=True)
+def harbour_update(phase, x, *args):
+    """Harbour task over all vessels (arguments after ``x`` as :func:`_harbour_range`)."""
+    _harbour_range(0, x.shape[0], phase, x, *args)
+
+
+@njit(cache=True, parallel=True)
+def harbour_update_parallel(phase, x, *args):
+    """:func:`harbour_update` with contiguous chunks of vessels spread over threads (large batches: the chart
+    query costs about a microsecond per vessel, the threads' wake-up tens of microseconds)."""
+    n = x.shape[0]
+    nchunks = min(n, MAX_CHUNKS)
+    for c in prange(nchunks):
+        _harbour_range(c * n // nchunks, (c + 1) * n // nchunks, phase, x, *args)
