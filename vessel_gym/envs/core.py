@@ -25,6 +25,7 @@ from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig, make_config
+from vessel_gym.physics import layout as lo
 from vessel_gym.physics.linear import stable_step
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.shipfile import Ship, load_ship
@@ -158,12 +159,12 @@ class ContinuousHelm(Helm):
         if x != x or a[-1] != a[-1]:
             raise ValueError(f"action contains NaN: {action!r}")
         x = -1.0 if x < -1.0 else (1.0 if x > 1.0 else x)
-        rev = None
+        inp = self.sim.inputs  # the orders go straight into the input row (what Simulation.set_helm writes)
+        inp[0, lo.U_DELTA_C] = x * self._lim0
         if self.engine:
             e = a[1]
             e = -1.0 if e < -1.0 else (1.0 if e > 1.0 else e)
-            rev = e * self._fa0 if e >= 0.0 else e * self._fs0
-        self.sim.set_helm(rudder_order_rad=x * self._lim0, rev_order=rev)
+            inp[0, lo.U_REV_C] = e * self._fa0 if e >= 0.0 else e * self._fs0
 
     def batch(self, actions: Any, n: int) -> np.ndarray:
         a = np.asarray(actions, dtype=np.float64)

@@ -82,28 +82,7 @@ class HarbourApproachTask(Task):
         polys = [(1, pts) for _kind, _name, pts in sc.hard_obstacles()] + [
             (2, pts) for _n, pts in sc.shoals(T)
         ]
-        verts = [p for _k, pts in polys for p in pts]
-        self.verts = np.array(verts, dtype=np.float64).reshape(-1, 2)
-        self.pcount = np.array([len(pts) for _k, pts in polys], dtype=np.int64)
-        self.pstart = (
-            np.concatenate([[0], np.cumsum(self.pcount)[:-1]]).astype(np.int64)
-            if polys
-            else np.zeros(0, dtype=np.int64)
-        )
-        self.pkind = np.array([k for k, _pts in polys], dtype=np.int64)
-        self.pbox = np.array(
-            [
-                [
-                    min(p[0] for p in pts),
-                    max(p[0] for p in pts),
-                    min(p[1] for p in pts),
-                    max(p[1] for p in pts),
-                ]
-                for _k, pts in polys
-            ],
-            dtype=np.float64,
-        ).reshape(-1, 4)
-        self.ebox = kn.edge_boxes(self.verts, self.pstart, self.pcount)
+        self.edges, self.polys, self.pbox = kn.chart_tables(polys)
         self.hull = np.array(hull_outline(self.L, self.ship.particulars.B_m), dtype=np.float64)
         self.goal_verts = np.array([(p[0], p[1]) for p in sc.goal.points], dtype=np.float64)
         self.ts = np.zeros((n, kn.HSN))
@@ -184,12 +163,9 @@ class HarbourApproachTask(Task):
             e,
             psi,
             self.hull,
-            self.verts,
-            self.pstart,
-            self.pcount,
-            self.pkind,
+            self.edges,
+            self.polys,
             self.pbox,
-            self.ebox,
             self.beam_dirs,
             self.beam_range,
             self._beams,
@@ -254,12 +230,9 @@ class HarbourApproachTask(Task):
             self.ts,
             self.p,
             self.hull,
-            self.verts,
-            self.pstart,
-            self.pcount,
-            self.pkind,
+            self.edges,
+            self.polys,
             self.pbox,
-            self.ebox,
             self.goal_verts,
             self.beam_dirs,
             self.weights,
