@@ -437,13 +437,15 @@ def chart_tables(polygons: list[tuple[int, list]]) -> tuple[np.ndarray, np.ndarr
     obstacle, 2 shoal): three arrays, because every array argument of a compiled call costs a little.
 
     ``edges`` (n_vertices, 6): vertex (north, east), then the bounding box (n min, n max, e min, e max) of
-    the edge from it to the next vertex of its polygon; ``polys`` (n_polygons, 3) int: first vertex row,
-    vertex count, kind; ``pbox`` (n_polygons, 4): each polygon's bounding box.
+    the edge from it to the next vertex of its polygon; ``polys`` (n_polygons, 4) int: first vertex row,
+    vertex count, kind, orientation (+1 if the vertices run anticlockwise in (north, east) axes, i.e. the
+    interior lies left of each edge, else -1); ``pbox`` (n_polygons, 4): each polygon's bounding box.
     """
     verts = np.array([p for _k, pts in polygons for p in pts], dtype=np.float64).reshape(-1, 2)
     count = np.array([len(pts) for _k, pts in polygons], dtype=np.int64)
     start = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64) if polygons else count
-    polys = np.stack([start, count, np.array([k for k, _p in polygons], dtype=np.int64)], axis=1)
+    kind = np.array([k for k, _p in polygons], dtype=np.int64)
+    polys = np.stack([start, count, kind, np.ones_like(count)], axis=1)
     edges = np.zeros((verts.shape[0], 6))
     pbox = np.zeros((len(polygons), 4))
     for q, (st, cnt) in enumerate(zip(start, count)):
@@ -455,7 +457,9 @@ def chart_tables(polygons: list[tuple[int, list]]) -> tuple[np.ndarray, np.ndarr
         edges[st : st + cnt, 4] = np.minimum(a[:, 1], b[:, 1])
         edges[st : st + cnt, 5] = np.maximum(a[:, 1], b[:, 1])
         pbox[q] = a[:, 0].min(), a[:, 0].max(), a[:, 1].min(), a[:, 1].max()
-    return edges, polys.reshape(-1, 3), pbox
+        area2 = float(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]))  # shoelace: twice the signed area
+        polys[q, 3] = 1 if area2 > 0.0 else -1
+    return edges, polys.reshape(-1, 4), pbox
 
 
 @njit(cache=True)
@@ -467,7 +471,7 @@ def _box_gap2(n0, n1, e0, e1, box):
 
 
 @njit(cache=True)
-def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, beams, hn, he):
+def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, beams, hn, he, bw):
     """Contact, grounding, clearance and range beams of one ship at (n0, e0, psi) among chart polygons.
 
     ``hull``: outline in body axes (x forward, y starboard), m. ``edges``, ``polys``, ``pbox``: the chart
@@ -475,11 +479,12 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
     ``beam_dirs``: (n_beams, 2) unit vectors of the beams in body axes (x forward, y starboard).
     Fills ``beams`` (m, capped at ``beam_range``) measured from the midship point; returns
     (outcome flag OK/CONTACT/GROUNDING, clearance m = distance hull outline to the nearest polygon edge).
-    ``hn``, ``he``: scratch arrays of the hull's length.
+    ``hn``, ``he``: scratch arrays of the hull's length; ``bw``: scratch of the shape of ``beam_dirs``.
 
     Polygons and edges whose bounding box is farther than the clearance found so far (or than the beam
     range) are skipped: the distance to a box bounds the distance to what is inside it, so the results are
-    those of testing every edge.
+    those of testing every edge. The polygon nearest to the hull's box goes first, so that the clearance
+    shrinks early and skips most edges of the others.
     """
     c = math.cos(psi)
     s = math.sin(psi)
@@ -501,7 +506,18 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
     clear2 = range2  # squared clearance so far
     for j in range(beams.shape[0]):
         beams[j] = beam_range
-    for q in range(polys.shape[0]):
+        bw[j, 0] = c * beam_dirs[j, 0] - s * beam_dirs[j, 1]  # beam direction (north, east)
+        bw[j, 1] = s * beam_dirs[j, 0] + c * beam_dirs[j, 1]
+    npoly = polys.shape[0]
+    q0 = 0
+    g0 = np.inf
+    for q in range(npoly):
+        g = _box_gap2(hb0, hb1, hb2, hb3, pbox[q])
+        if g < g0:
+            g0 = g
+            q0 = q
+    for i in range(npoly):
+        q = q0 if i == 0 else (i - 1 if i <= q0 else i)  # the nearest first, then the others in order
         st = polys[q, 0]
         cnt = polys[q, 1]
         gap2 = _box_gap2(hb0, hb1, hb2, hb3, pbox[q])
@@ -553,8 +569,13 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
                     d2 = _point_seg_dist2(ax, ay, hn[i], he[i], hn[i2], he[i2])
                     if d2 < clear2:
                         clear2 = d2
-        # range beams from the midship point
-        if _box_gap2(n0, n0, e0, e0, pbox[q]) < range2:
+        # range beams from the midship point. A ray from outside a polygon meets it first on an edge that
+        # faces the ray's origin (it enters there), so edges that face away are skipped, unless the
+        # midship point is inside this polygon (aground or in contact).
+        pgap2 = _box_gap2(n0, n0, e0, e0, pbox[q])
+        if pgap2 < range2:
+            orient = polys[q, 3]
+            inside = pgap2 == 0.0 and _inside(n0, e0, edges, st, cnt)
             for m in range(cnt):
                 if _box_gap2(n0, n0, e0, e0, edges[st + m, 2:]) >= range2:
                     continue
@@ -563,10 +584,10 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
                 ay = edges[st + m, 1]
                 bx = edges[m2, 0]
                 by = edges[m2, 1]
+                if not inside and orient * _cross(bx - ax, by - ay, n0 - ax, e0 - ay) > 0.0:
+                    continue  # the midship point is on the interior side of this edge's line
                 for j in range(beams.shape[0]):
-                    dn = c * beam_dirs[j, 0] - s * beam_dirs[j, 1]  # beam direction (north, east)
-                    de = s * beam_dirs[j, 0] + c * beam_dirs[j, 1]
-                    t = _ray_hit(n0, e0, dn, de, ax, ay, bx, by)
+                    t = _ray_hit(n0, e0, bw[j, 0], bw[j, 1], ax, ay, bx, by)
                     if t < beams[j]:
                         beams[j] = t
     return flag, math.sqrt(clear2)
@@ -661,6 +682,7 @@ def _harbour_range(
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
     he = np.empty(hull.shape[0])
+    bw = np.empty((nb, 2))
     L = p[HP_L]
     UT = p[HP_UT]
     for k in range(k0, k1):
@@ -697,6 +719,7 @@ def _harbour_range(
             beams,
             hn,
             he,
+            bw,
         )
         gn = p[HP_GOAL_N] - nk
         ge = p[HP_GOAL_E] - ek
