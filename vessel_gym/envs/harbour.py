@@ -244,6 +244,8 @@ class HarbourApproachTask(Task):
             self.reward,
             self.flags,
             self.terminated,
+            0,
+            self.n,
         )
 
     def info(self, k: int) -> dict[str, Any]:

@@ -652,9 +652,7 @@ HTN = 8
 
 
 @njit(cache=True)
-def _harbour_range(
-    k0,
-    k1,
+def harbour_update(
     phase,
     x,
     inp,
@@ -675,9 +673,11 @@ def _harbour_range(
     reward,
     flags,
     done,
+    k0,
+    k1,
 ):
     """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
-    stepped vessels."""
+    stepped vessels. The range comes last, so that the task binds (0, N) with the other arguments."""
     nb = beam_dirs.shape[0]
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
@@ -800,62 +800,12 @@ def _harbour_range(
         encode_row(feat, k, enc, obs)
 
 
-@njit(cache=True)
-def harbour_update(
-    phase,
-    x,
-    inp,
-    alive,
-    ts,
-    p,
-    hull,
-    edges,
-    polys,
-    pbox,
-    goal_verts,
-    beam_dirs,
-    w,
-    enc,
-    feat,
-    obs,
-    terms,
-    reward,
-    flags,
-    done,
-):
-    """Harbour task over all vessels (see :func:`_harbour_range`). The arguments are spelled out: a call
-    with ``*args`` costs ~0.4 us more to dispatch."""
-    _harbour_range(
-        0,
-        x.shape[0],
-        phase,
-        x,
-        inp,
-        alive,
-        ts,
-        p,
-        hull,
-        edges,
-        polys,
-        pbox,
-        goal_verts,
-        beam_dirs,
-        w,
-        enc,
-        feat,
-        obs,
-        terms,
-        reward,
-        flags,
-        done,
-    )
-
-
 @njit(cache=True, parallel=True)
 def harbour_update_parallel(phase, x, *args):
-    """:func:`harbour_update` with contiguous chunks of vessels spread over threads (large batches: the chart
-    query costs about a microsecond per vessel, the threads' wake-up tens of microseconds)."""
+    """:func:`harbour_update` (same arguments; its range is ignored: all vessels) with contiguous chunks of
+    vessels spread over threads (large batches: the chart query costs about a microsecond per vessel, the
+    threads' wake-up tens of microseconds)."""
     n = x.shape[0]
     nchunks = min(n, MAX_CHUNKS)
     for c in prange(nchunks):
-        _harbour_range(c * n // nchunks, (c + 1) * n // nchunks, phase, x, *args)
+        harbour_update(phase, x, *args[:-2], c * n // nchunks, (c + 1) * n // nchunks)
