@@ -152,11 +152,11 @@ class Simulation:
         the fuel index that holds it (IMO trials start from a steady approach). Speed None: the ship's
         IMO test speed. Raises SimulationError if the engine cannot make that speed.
         """
-        idx = list(range(self.n)) if k is None else [k]
-        sp = np.broadcast_to(np.asarray(np.nan if speed_m_s is None else speed_m_s, dtype=float), (self.n,))
-        hd = np.broadcast_to(np.asarray(heading_deg, dtype=float), (self.n,))
-        xs = np.broadcast_to(np.asarray(x_m, dtype=float), (self.n,))
-        ys = np.broadcast_to(np.asarray(y_m, dtype=float), (self.n,))
+        idx = range(self.n) if k is None else (k,)
+        sp = self._per_vessel(np.nan if speed_m_s is None else speed_m_s)
+        hd = self._per_vessel(heading_deg)
+        xs = self._per_vessel(x_m)
+        ys = self._per_vessel(y_m)
         cache = self._steady_cache
         if len(cache) > STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
             cache.clear()
@@ -185,6 +185,12 @@ class Simulation:
             self.alive[j] = True
         if k is None:
             self.t = 0.0
+
+    def _per_vessel(self, value: float | np.ndarray) -> np.ndarray:
+        """``value`` as one float per vessel (a scalar is repeated without copying)."""
+        if isinstance(value, (float, int)):
+            return _Repeat(float(value))
+        return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))
 
     def _extra_for(self, j: int):
         def extra(xrow: np.ndarray) -> np.ndarray:
@@ -392,6 +398,18 @@ class Simulation:
             wind_true_dir_deg=wrap_deg(e.wind_from_deg),
             wind_true_speed_kn=e.wind_speed_m_s / KNOT_M_S,
         )
+
+
+class _Repeat:
+    """A scalar indexed like a per-vessel array (``Simulation.reset`` of one vessel should cost little)."""
+
+    __slots__ = ("value",)
+
+    def __init__(self, value: float) -> None:
+        self.value = value
+
+    def __getitem__(self, j: int) -> float:
+        return self.value
 
 
 def steps_for(duration_s: float, dt: float) -> int:
