@@ -171,7 +171,7 @@ class HarbourApproachTask(Task):
             self._beams,
             np.empty(len(self.hull)),
             np.empty(len(self.hull)),
-            np.empty_like(self.beam_dirs),
+            np.empty((2, len(self.beam_dirs))),
         )
         return flag == kn.OK
 

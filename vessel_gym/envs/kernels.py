@@ -417,21 +417,6 @@ def _inside(px, py, verts, start, count):
     return inside
 
 
-@njit(cache=True)
-def _ray_hit(ox, oy, dx, dy, ax, ay, bx, by):
-    """Distance along the ray o + t d (d a unit vector) to segment ab, m; inf if it misses."""
-    ex = bx - ax
-    ey = by - ay
-    den = _cross(dx, dy, ex, ey)
-    if den == 0.0:
-        return np.inf
-    sn = _cross(ax - ox, ay - oy, dx, dy)  # s = sn / den is the hit's place on ab, in [0, 1] if it is on it
-    if (sn < 0.0 or sn > den) if den > 0.0 else (sn > 0.0 or sn < den):
-        return np.inf  # most beam-edge pairs miss: decided before the divisions
-    t = _cross(ax - ox, ay - oy, ex, ey) / den
-    return t if t >= 0.0 else np.inf
-
-
 def chart_tables(polygons: list[tuple[int, list]]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The chart as :func:`chart_query` reads it, from (kind, [(north, east), ...]) polygons (kind 1 hard
     obstacle, 2 shoal): three arrays, because every array argument of a compiled call costs a little.
@@ -470,7 +455,7 @@ def _box_gap2(n0, n1, e0, e1, box):
     return gn * gn + ge * ge
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, beams, hn, he, bw):
     """Contact, grounding, clearance and range beams of one ship at (n0, e0, psi) among chart polygons.
 
@@ -479,7 +464,9 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
     ``beam_dirs``: (n_beams, 2) unit vectors of the beams in body axes (x forward, y starboard).
     Fills ``beams`` (m, capped at ``beam_range``) measured from the midship point; returns
     (outcome flag OK/CONTACT/GROUNDING, clearance m = distance hull outline to the nearest polygon edge).
-    ``hn``, ``he``: scratch arrays of the hull's length; ``bw``: scratch of the shape of ``beam_dirs``.
+    ``hn``, ``he``: scratch arrays of the hull's length; ``bw``: scratch of shape (2, n_beams). Compiled
+    with numpy's floating-point error model: a division by zero gives inf or nan (no exception check in the
+    beam loop, so that it vectorises).
 
     Polygons and edges whose bounding box is farther than the clearance found so far (or than the beam
     range) are skipped: the distance to a box bounds the distance to what is inside it, so the results are
@@ -506,8 +493,8 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
     clear2 = range2  # squared clearance so far
     for j in range(beams.shape[0]):
         beams[j] = beam_range
-        bw[j, 0] = c * beam_dirs[j, 0] - s * beam_dirs[j, 1]  # beam direction (north, east)
-        bw[j, 1] = s * beam_dirs[j, 0] + c * beam_dirs[j, 1]
+        bw[0, j] = c * beam_dirs[j, 0] - s * beam_dirs[j, 1]  # beam direction (north, east)
+        bw[1, j] = s * beam_dirs[j, 0] + c * beam_dirs[j, 1]
     npoly = polys.shape[0]
     q0 = 0
     g0 = np.inf
@@ -584,12 +571,23 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
                 ay = edges[st + m, 1]
                 bx = edges[m2, 0]
                 by = edges[m2, 1]
-                if not inside and orient * _cross(bx - ax, by - ay, n0 - ax, e0 - ay) > 0.0:
+                ex = bx - ax
+                ey = by - ay
+                aon = ax - n0
+                aoe = ay - e0
+                if not inside and orient * _cross(ex, ey, -aon, -aoe) > 0.0:
                     continue  # the midship point is on the interior side of this edge's line
+                tn = _cross(aon, aoe, ex, ey)
                 for j in range(beams.shape[0]):
-                    t = _ray_hit(n0, e0, bw[j, 0], bw[j, 1], ax, ay, bx, by)
-                    if t < beams[j]:
-                        beams[j] = t
+                    # ray o + t d meets a + s e at t = (a - o) x e / (d x e), s = (a - o) x d / (d x e);
+                    # branch-free so that the beams run in SIMD lanes (d x e = 0 gives inf or nan: no hit)
+                    dn = bw[0, j]
+                    de = bw[1, j]
+                    den = _cross(dn, de, ex, ey)
+                    t = tn / den
+                    sp = _cross(aon, aoe, dn, de) / den
+                    hit = (t >= 0.0) & (sp >= 0.0) & (sp <= 1.0) & (t < beams[j])
+                    beams[j] = t if hit else beams[j]
     return flag, math.sqrt(clear2)
 
 
@@ -682,7 +680,7 @@ def harbour_update(
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
     he = np.empty(hull.shape[0])
-    bw = np.empty((nb, 2))
+    bw = np.empty((2, nb))
     L = p[HP_L]
     UT = p[HP_UT]
     for k in range(k0, k1):
