@@ -370,9 +370,10 @@ class UdpLink:
     ) -> HelmState:
         """Receive, apply helm commands, send what is due at time ``now_s`` (s), return the helm state.
 
-        ``own`` is the own ship's readings, or a function returning them that is called only when state or
-        NMEA is due (so a link with nobody listening costs no readings), ``targets`` the other ships (state targets and AIS). ``utc`` is the
-        time stamped on NMEA/AIS; by default ``utc_epoch + own.t_s``. Never blocks; never raises because of
+        ``own`` is the own ship's readings, or a function returning them that is called at most once, and
+        only when a state message or NMEA is due (so a link with nobody due costs no readings); ``targets``
+        the other ships (state targets and AIS). ``utc`` is the time stamped on NMEA/AIS; by default
+        ``utc_epoch + own.t_s``. Never blocks; never raises because of
         peer input or socket errors (they are counted). After :meth:`close` it only returns the last state.
         """
         if self._closed:
@@ -389,12 +390,18 @@ class UdpLink:
             self._static_dest and now_s + self._static_slack >= self._static_due
         )
         nmea = self._nmea_sock is not None and now_s + self._nmea_slack >= self._nmea_due
-        if (serve or nmea) and callable(own):
-            own = own()  # the readings are computed only when something is due
-        if serve:
-            self._serve_clients(now_s, own, targets)
-        if nmea:
-            self._send_nmea(now_s, own, targets, utc)
+        if serve or nmea:
+            readings: list[BridgeReading] = []
+
+            def reading() -> BridgeReading:  # computed on first use: registered clients may not be due
+                if not readings:
+                    readings.append(own() if callable(own) else own)
+                return readings[0]
+
+            if serve:
+                self._serve_clients(now_s, reading, targets)
+            if nmea:
+                self._send_nmea(now_s, reading(), targets, utc)
         return self._helm
 
     # -- receive ----------------------------------------------------------------------------------------------
@@ -561,7 +568,9 @@ class UdpLink:
     def _stats_message(self, now_s: float) -> bytes:
         return encode_stats(self._next_seq(), now_s, self._counters, len(self._clients))
 
-    def _serve_clients(self, now_s: float, own: BridgeReading, targets: Sequence[Target]) -> None:
+    def _serve_clients(
+        self, now_s: float, own: Callable[[], BridgeReading], targets: Sequence[Target]
+    ) -> None:
         timeout = self.config.client_timeout_s
         parts: list[bytes] | None = None
         expired = []
@@ -572,7 +581,7 @@ class UdpLink:
             if now_s + _SLACK / c.rate_hz < c.next_due:
                 continue
             if parts is None:
-                parts = self._encode_state(own, targets)
+                parts = self._encode_state(own(), targets)
             for data in parts:
                 self._send(addr, data, "tx_state")
             c.next_due = _advance(c.next_due, 1.0 / c.rate_hz, now_s)
@@ -583,7 +592,7 @@ class UdpLink:
                 self._release(now_s, "helm_watchdog")
         if self._static_dest and now_s + self._static_slack >= self._static_due:
             if parts is None:
-                parts = self._encode_state(own, targets)
+                parts = self._encode_state(own(), targets)
             for addr in self._static_dest:
                 for data in parts:
                     self._send(addr, data, "tx_state")
