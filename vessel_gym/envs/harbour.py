@@ -12,6 +12,7 @@ import numpy as np
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig, make_config
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
+from vessel_gym.physics.atmosphere import air_velocity_earth
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.schema import param
 from vessel_gym.physics.seastate import current_earth
@@ -216,8 +217,7 @@ class HarbourApproachTask(Task):
         s = self.ts[k]
         s[:] = 0.0
         s[kn.HS_CUR_N], s[kn.HS_CUR_E] = current_earth(env.current_speed_m_s, env.current_to_deg * DEG)
-        s[kn.HS_WIND_SPEED] = env.wind_speed_m_s
-        s[kn.HS_WIND_FROM] = env.wind_from_deg * DEG
+        s[kn.HS_WIND_N], s[kn.HS_WIND_E] = air_velocity_earth(env.wind_speed_m_s, env.wind_from_deg * DEG)
         s[kn.HS_D_PREV] = math.hypot(self.p[kn.HP_GOAL_N] - n0, self.p[kn.HP_GOAL_E] - e0)
         s[kn.HS_PREV_N], s[kn.HS_PREV_E] = n0, e0
         s[kn.HS_PREV_ORDER] = float(self.sim.rudder_order[k])

@@ -4,7 +4,7 @@ The environments and their vector twins call the same kernels (N = 1 and N = 102
 task keeps its per-vessel task state in a float array ``ts`` (N, *N) whose named columns are defined here,
 reads the ship's motion from the simulation's state and input rows (``sim.state``, ``sim.inputs``, columns
 named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
-apparent wind comes from :func:`vessel_gym.physics.atmosphere.apparent_wind`.
+apparent wind comes from :func:`vessel_gym.physics.atmosphere.relative_wind`.
 
 numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
 keyed by a hash of this file and the physics package's sources (stale machine code is discarded).
@@ -27,7 +27,7 @@ from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache
 invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES])
 
 from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
-from vessel_gym.physics.atmosphere import apparent_wind  # noqa: E402
+from vessel_gym.physics.atmosphere import relative_wind  # noqa: E402
 from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
 
 PI = math.pi
@@ -596,8 +596,8 @@ HS_D_PREV = 0  # distance to the goal point at the previous step, m
 HS_PREV_ORDER = 1
 HS_CUR_N = 2  # current (north, east), m/s
 HS_CUR_E = 3
-HS_WIND_SPEED = 4  # true wind speed, m/s
-HS_WIND_FROM = 5  # true wind direction (from), rad
+HS_WIND_N = 4  # air velocity over ground (north, east), m/s (the true wind blows towards it)
+HS_WIND_E = 5
 HS_MIN_CLEAR = 6  # smallest clearance this episode, m
 HS_CLEAR = 7  # clearance now, m
 HS_T = 8
@@ -774,7 +774,7 @@ def harbour_update(
         # body-frame quantities as sensed on the bridge
         ug = uk + c * s[HS_CUR_N] + sn * s[HS_CUR_E]
         vg = vk - sn * s[HS_CUR_N] + c * s[HS_CUR_E]
-        Vrw, gam = apparent_wind(ug, vg, psik, s[HS_WIND_SPEED], s[HS_WIND_FROM])
+        Vrw, _gamma, cos_g, sin_g = relative_wind(ug, vg, c, sn, s[HS_WIND_N], s[HS_WIND_E])
         f = feat[k]
         f[HF_U] = uk
         f[HF_V] = vk
@@ -789,8 +789,8 @@ def harbour_update(
         f[HF_GOAL_HDG_ERR] = herr
         f[HF_SOG] = sog
         f[HF_WIND_SPEED] = Vrw
-        f[HF_WIND_SIN] = math.sin(gam)
-        f[HF_WIND_COS] = math.cos(gam)
+        f[HF_WIND_SIN] = sin_g
+        f[HF_WIND_COS] = cos_g
         f[HF_CUR_X] = c * s[HS_CUR_N] + sn * s[HS_CUR_E]
         f[HF_CUR_Y] = -sn * s[HS_CUR_N] + c * s[HS_CUR_E]
         for j in range(nb):
