@@ -186,7 +186,9 @@ class HarbourApproachTask(Task):
             n0 = float(rng.uniform(lo_[0], hi_[0]))
             e0 = float(rng.uniform(lo_[1], hi_[1]))
             heading = _uniform(rng, st.heading_deg)
-            if kn._inside(n0, e0, pts, 0, len(pts)) and self._pose_clear(n0, e0, heading * DEG):
+            if kn._inside(n0, e0, pts[:, 0], pts[:, 1], 0, len(pts)) and self._pose_clear(
+                n0, e0, heading * DEG
+            ):
                 break
         else:  # pragma: no cover - validated scenarios have room
             raise RuntimeError(f"{sc.path or sc.name}: no clear start pose found in [start] points")

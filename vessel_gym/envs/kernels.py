@@ -404,14 +404,15 @@ def _point_seg_dist2(px, py, ax, ay, bx, by):
 
 
 @njit(cache=True)
-def _inside(px, py, verts, start, count):
+def _inside(px, py, xs, ys, start, count):
+    """Point (px, py) inside the polygon of vertices (xs, ys)[start : start + count] (even-odd rule)."""
     inside = False
     for i in range(count):
-        x0 = verts[start + i, 0]
-        y0 = verts[start + i, 1]
+        x0 = xs[start + i]
+        y0 = ys[start + i]
         j = start + (i + 1) % count
-        x1 = verts[j, 0]
-        y1 = verts[j, 1]
+        x1 = xs[j]
+        y1 = ys[j]
         if (y0 > py) != (y1 > py) and px < x0 + (py - y0) * (x1 - x0) / (y1 - y0):
             inside = not inside
     return inside
@@ -503,36 +504,28 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
         if g < g0:
             g0 = g
             q0 = q
-    for i in range(npoly):
-        q = q0 if i == 0 else (i - 1 if i <= q0 else i)  # the nearest first, then the others in order
+    vn = edges[:, 0]
+    ve = edges[:, 1]
+    for qi in range(npoly):
+        q = q0 if qi == 0 else (qi - 1 if qi <= q0 else qi)  # the nearest first, then the others in order
         st = polys[q, 0]
         cnt = polys[q, 1]
         gap2 = _box_gap2(hb0, hb1, hb2, hb3, pbox[q])
-        if gap2 == 0.0:
+        if gap2 == 0.0:  # the boxes overlap: does the hull touch the polygon?
             hit = False
-            for i in range(nh):
-                if _inside(hn[i], he[i], edges, st, cnt):
-                    hit = True
-                    break
-            if not hit:
+            for m in range(cnt):
+                if _box_gap2(hb0, hb1, hb2, hb3, edges[st + m, 2:]) > 0.0:
+                    continue  # an edge outside the hull's box cannot cross the hull
+                m2 = st + (m + 1) % cnt
                 for i in range(nh):
                     i2 = (i + 1) % nh
-                    for m in range(cnt):
-                        m2 = st + (m + 1) % cnt
-                        if _seg_intersect(
-                            hn[i],
-                            he[i],
-                            hn[i2],
-                            he[i2],
-                            edges[st + m, 0],
-                            edges[st + m, 1],
-                            edges[m2, 0],
-                            edges[m2, 1],
-                        ):
-                            hit = True
-                            break
-                    if hit:
+                    if _seg_intersect(hn[i], he[i], hn[i2], he[i2], vn[st + m], ve[st + m], vn[m2], ve[m2]):
+                        hit = True
                         break
+                if hit:
+                    break
+            # no crossing: each outline lies wholly inside or wholly outside the other
+            hit = hit or _inside(hn[0], he[0], vn, ve, st, cnt) or _inside(vn[st], ve[st], hn, he, 0, nh)
             if hit:
                 clear2 = 0.0
                 if polys[q, 2] == 1:
@@ -562,7 +555,7 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
         pgap2 = _box_gap2(n0, n0, e0, e0, pbox[q])
         if pgap2 < range2:
             orient = polys[q, 3]
-            inside = pgap2 == 0.0 and _inside(n0, e0, edges, st, cnt)
+            inside = pgap2 == 0.0 and _inside(n0, e0, vn, ve, st, cnt)
             for m in range(cnt):
                 if _box_gap2(n0, n0, e0, e0, edges[st + m, 2:]) >= range2:
                     continue
@@ -731,7 +724,7 @@ def harbour_update(
             elif (
                 sog <= p[HP_GOAL_VMAX]
                 and abs(herr) <= p[HP_GOAL_TOL]
-                and _inside(nk, ek, goal_verts, 0, goal_verts.shape[0])
+                and _inside(nk, ek, goal_verts[:, 0], goal_verts[:, 1], 0, goal_verts.shape[0])
             ):
                 flag = SUCCESS
         s[HS_CLEAR] = clear
