@@ -50,6 +50,24 @@ def wrap_pi(a):
 
 
 @njit(cache=True)
+def motion(x, inp, k):
+    """Vessel k's (u, v, r, heading, north, east, rudder, rudder order, rev, rev order) from the simulation's
+    state and input rows (layout columns)."""
+    return (
+        x[k, lo.X_U],
+        x[k, lo.X_V],
+        x[k, lo.X_R],
+        x[k, lo.X_PSI],
+        x[k, lo.X_N],
+        x[k, lo.X_E],
+        x[k, lo.X_DELTA],
+        inp[k, lo.U_DELTA_C],
+        x[k, lo.X_REV],
+        inp[k, lo.U_REV_C],
+    )
+
+
+@njit(cache=True)
 def encode_row(feat, k, enc, out):
     """Observation of vessel k from its features. ``enc`` rows: (feature column, scale, normalized flag);
     normalized = clip(feature / scale, -1, 1), else clip(feature, -scale, scale); non-finite -> 0."""
@@ -162,13 +180,7 @@ def zigzag_update(
     for k in range(x.shape[0]):
         if phase[k] == 0:
             continue
-        uk = x[k, lo.X_U]
-        vk = x[k, lo.X_V]
-        rk = x[k, lo.X_R]
-        psik = x[k, lo.X_PSI]
-        dk = x[k, lo.X_DELTA]
-        dck = inp[k, lo.U_DELTA_C]
-        revk = x[k, lo.X_REV]
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
         s = ts[k]
         for j in range(ZTN):
             terms[k, j] = 0.0
@@ -298,15 +310,7 @@ def turning_update(
     for k in range(x.shape[0]):
         if phase[k] == 0:
             continue
-        uk = x[k, lo.X_U]
-        vk = x[k, lo.X_V]
-        rk = x[k, lo.X_R]
-        psik = x[k, lo.X_PSI]
-        nk = x[k, lo.X_N]
-        ek = x[k, lo.X_E]
-        dk = x[k, lo.X_DELTA]
-        dck = inp[k, lo.U_DELTA_C]
-        revk = x[k, lo.X_REV]
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
         s = ts[k]
         done[k] = False
         for j in range(TCTN):
@@ -679,16 +683,7 @@ def harbour_update(
     for k in range(k0, k1):
         if phase[k] == 0:
             continue
-        uk = x[k, lo.X_U]
-        vk = x[k, lo.X_V]
-        rk = x[k, lo.X_R]
-        psik = x[k, lo.X_PSI]
-        nk = x[k, lo.X_N]
-        ek = x[k, lo.X_E]
-        dk = x[k, lo.X_DELTA]
-        dck = inp[k, lo.U_DELTA_C]
-        revk = x[k, lo.X_REV]
-        revck = inp[k, lo.U_REV_C]
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
         s = ts[k]
         for j in range(HTN):
             terms[k, j] = 0.0
