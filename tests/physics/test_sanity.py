@@ -29,7 +29,7 @@ THROUGH_WATER = [lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA, lo.X_REV, lo.X_GO
 def _state_derivative(sim: Simulation, k: int = 0) -> np.ndarray:
     xd = np.zeros(lo.NX)
     P = sim.Ps[sim.ship_index[k]]
-    derivatives(P, sim.state[k], sim.inputs[k], sim.env[k], sim.F_ext[k], xd, np.zeros(N_OUT))
+    derivatives(P, sim.state[k], sim.inputs[k], sim.env[k], sim.F_ext[k], xd)
     return xd
 
 
@@ -97,7 +97,7 @@ def test_steady_state_solution_has_zero_surge_acceleration(name):
     x, inp = steady_state(ship, P, ship.test_speed_m_s)
     xd = np.zeros(lo.NX)
     env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
-    derivatives(P, x, inp, env, np.zeros(3), xd, np.zeros(N_OUT))
+    derivatives(P, x, inp, env, np.zeros(3), xd)
     assert abs(xd[lo.X_U]) < 1e-9
     assert abs(xd[lo.X_REV]) < 1e-9
     assert xd[lo.X_GOV] == 0.0

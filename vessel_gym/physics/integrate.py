@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.vessel import N_OUT, derivatives, forces
+from vessel_gym.physics.vessel import derivatives, forces
 
 RK4 = 0
 EULER = 1
@@ -45,30 +45,30 @@ def _finite(x):
 
 
 @njit(cache=True)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt, work):
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
     """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place.
 
-    ``k1``..``k4`` and ``xt`` are scratch rows of length NX, ``work`` of length N_OUT; the new state is
+    ``k1``..``k4`` and ``xt`` are scratch rows of length NX; the new state is
     formed in ``xt`` and committed only if finite. Returns False on divergence, with ``x`` left at the last
     finite state.
     """
     half = 0.5 * dt
     sixth = dt / 6.0
     for _ in range(nsteps):
-        derivatives(P, x, inp, env, F_ext, k1, work)
+        derivatives(P, x, inp, env, F_ext, k1)
         if method == EULER:
             for i in range(lo.NX):
                 xt[i] = x[i] + dt * k1[i]
         else:
             for i in range(lo.NX):
                 xt[i] = x[i] + half * k1[i]
-            derivatives(P, xt, inp, env, F_ext, k2, work)
+            derivatives(P, xt, inp, env, F_ext, k2)
             for i in range(lo.NX):
                 xt[i] = x[i] + half * k2[i]
-            derivatives(P, xt, inp, env, F_ext, k3, work)
+            derivatives(P, xt, inp, env, F_ext, k3)
             for i in range(lo.NX):
                 xt[i] = x[i] + dt * k3[i]
-            derivatives(P, xt, inp, env, F_ext, k4, work)
+            derivatives(P, xt, inp, env, F_ext, k4)
             for i in range(lo.NX):
                 xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
         if not _finite(xt):
@@ -86,12 +86,11 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
     k3 = np.empty(lo.NX)
     k4 = np.empty(lo.NX)
     xt = np.empty(lo.NX)
-    work = np.empty(N_OUT)
     count = 0
     for b in range(first, stop):
         if alive[b]:
             ok = step_vessel(
-                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, k1, k2, k3, k4, xt, work
+                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, k1, k2, k3, k4, xt
             )
             alive[b] = ok
             count += ok
@@ -120,9 +119,8 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
 @njit(cache=True)
 def derivatives_batch(Ps, ship_index, X, U, E, F, Xdot):
     """State derivatives of a batch (used by the Python-component path and by tests)."""
-    work = np.empty(N_OUT)
     for b in range(X.shape[0]):
-        derivatives(Ps[ship_index[b]], X[b], U[b], E[b], F[b], Xdot[b], work)
+        derivatives(Ps[ship_index[b]], X[b], U[b], E[b], F[b], Xdot[b])
 
 
 @njit(cache=True)

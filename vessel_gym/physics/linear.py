@@ -17,7 +17,7 @@ import numpy as np
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.integrate import EULER, RK4, STABILITY_LIMIT
 from vessel_gym.physics.shipfile import Ship, load_ship
-from vessel_gym.physics.vessel import N_OUT, derivatives, pack
+from vessel_gym.physics.vessel import derivatives, pack
 
 
 @dataclass(frozen=True)
@@ -38,13 +38,12 @@ def sway_yaw_matrices(ship: str | Ship, speed_m_s: float | None = None) -> tuple
     s = load_ship(ship)
     U = s.test_speed_m_s if speed_m_s is None else speed_m_s
     P = pack(s)
-    work = np.zeros(N_OUT)
 
     def f(v: float, r: float, d: float) -> np.ndarray:
         x = np.zeros(lo.NX)
         x[lo.X_U], x[lo.X_V], x[lo.X_R], x[lo.X_DELTA] = U, v, r, d
         xd = np.zeros(lo.NX)
-        derivatives(P, x, np.zeros(lo.NU), np.zeros(lo.NE), np.zeros(3), xd, work)
+        derivatives(P, x, np.zeros(lo.NU), np.zeros(lo.NE), np.zeros(3), xd)
         return np.array([xd[lo.X_V], xd[lo.X_R]])
 
     hv = 1e-6 * U
@@ -78,11 +77,10 @@ def fastest_rate(ship: str | Ship, speed_m_s: float | None = None) -> float:
     sim = Simulation(load_ship(ship), dt=1.0)
     sim.reset(speed_m_s=speed_m_s)
     P, x0, inp, env = sim.Ps[0], sim.state[0].copy(), sim.inputs[0], sim.env[0]
-    work = np.zeros(N_OUT)
 
     def f(x: np.ndarray) -> np.ndarray:
         xd = np.zeros(lo.NX)
-        derivatives(P, x, inp, env, np.zeros(3), xd, work)
+        derivatives(P, x, inp, env, np.zeros(3), xd)
         return xd
 
     J = np.zeros((lo.NX, lo.NX))

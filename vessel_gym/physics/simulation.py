@@ -428,12 +428,11 @@ def _surge_balance_rev(P, x, inp, env, F, hi_n):
     resets a ship every few steps, and each reset solves this.
     """
     xd = np.zeros(lo.NX)
-    work = np.zeros(N_OUT)
 
     def surge_accel(nrev):
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
-        derivatives(P, x, inp, env, F, xd, work)
+        derivatives(P, x, inp, env, F, xd)
         return xd[lo.X_U]
 
     lo_n = 0.0
@@ -504,7 +503,7 @@ def steady_state(
 
     x[lo.X_REV] = inp[lo.U_REV_C] = n_max
     F = extra_forces()
-    derivatives(P, x, inp, env, F, xd, np.zeros(N_OUT))
+    derivatives(P, x, inp, env, F, xd)
     if xd[lo.X_U] < 0.0:
         raise SimulationError(
             f"{ship.name}: the propeller cannot make {speed_m_s / KNOT_M_S:.2f} kn below {n_max * 60:.0f} rpm"

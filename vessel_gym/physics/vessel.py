@@ -286,12 +286,11 @@ FORCE_NAMES = (
 
 
 @njit(cache=True, **_NO_REFCOUNT)
-def derivatives(P, x, inp, env, F_ext, xdot, work):
+def derivatives(P, x, inp, env, F_ext, xdot):
     """State derivative of one vessel: fills ``xdot`` (length NX).
 
-    F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions). ``work``
-    (length N_OUT) is no longer needed -- the forces travel as a tuple -- and stays in the signature for
-    the callers. Every result is computed before the first store into ``xdot``: the compiler cannot rule
+    F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions). The forces
+    travel from :func:`force_terms` as a tuple, not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
     out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
     f = force_terms(P, x, env)
