@@ -57,6 +57,17 @@ class UsageError(ValueError):
 
 
 # --- names -----------------------------------------------------------------------------------------------------
+def json_safe(x: Any) -> Any:
+    """``x`` with non-finite floats replaced by None (JSON has no NaN or inf), through dicts and lists."""
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    if isinstance(x, dict):
+        return {k: json_safe(v) for k, v in x.items()}
+    if isinstance(x, list):
+        return [json_safe(v) for v in x]
+    return x
+
+
 def registered_ids() -> list[str]:
     """The vessel-gym environment ids."""
     from vessel_gym.envs.registration import ENVIRONMENTS, register_envs

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -24,7 +23,14 @@ from typing import Any
 if __package__ in (None, ""):  # run as a script: make the repository root importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from agents.common import OneLineParser, UsageError, evaluate, int_at_least, parse_assignments  # noqa: E402
+from agents.common import (  # noqa: E402
+    OneLineParser,
+    UsageError,
+    evaluate,
+    int_at_least,
+    json_safe,
+    parse_assignments,
+)
 
 #: summary keys printed (when present) with their labels
 LABELS = (
@@ -81,16 +87,6 @@ def format_summary(result: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def _clean(x: Any) -> Any:
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    if isinstance(x, dict):
-        return {k: _clean(v) for k, v in x.items()}
-    if isinstance(x, list):
-        return [_clean(v) for v in x]
-    return x
-
-
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
@@ -99,7 +95,7 @@ def main(argv: list[str] | None = None) -> int:
     except UsageError as exc:
         print(f"evaluate.py: error: {exc}", file=sys.stderr)
         return 2
-    print(json.dumps(_clean(result)) if args.json else format_summary(result))
+    print(json.dumps(json_safe(result)) if args.json else format_summary(result))
     return 0
 
 

@@ -36,6 +36,7 @@ from agents.common import (  # noqa: E402
     UsageError,
     env_short_name,
     evaluate,
+    json_safe,
     load_hyperparams,
     model_stem,
     positive,
@@ -343,16 +344,6 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     }
 
 
-def _clean(x: Any) -> Any:
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    if isinstance(x, dict):
-        return {k: _clean(v) for k, v in x.items()}
-    if isinstance(x, list):
-        return [_clean(v) for v in x]
-    return x
-
-
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
@@ -363,7 +354,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "results.json").write_text(json.dumps(_clean(results), indent=1))
+    (out / "results.json").write_text(json.dumps(json_safe(results), indent=1))
     write_doc(Path(args.doc), markdown(results))
     _log(f"wrote {out / 'results.json'} and {args.doc}")
     return 0

@@ -77,6 +77,15 @@ def bench_vector(ids: tuple[str, ...], repeats: int, steps: int, num_envs: int) 
     return {k: statistics.median(v) for k, v in rates.items()}
 
 
+def _report(title: str, rates: dict[str, float], ids: tuple[str, ...], target: float) -> None:
+    print(title)
+    print(f"  {BASE:32s} {rates[BASE]:12.0f}")
+    for k in ids:
+        r = rates[k] / rates[BASE]
+        verdict = "ok" if r >= target else "MISSED"
+        print(f"  {k:32s} {rates[k]:12.0f}   {r:5.3f} x CartPole   target {target:.2f} {verdict}")
+
+
 def main(argv: list[str] | None = None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=7)
@@ -88,20 +97,13 @@ def main(argv: list[str] | None = None) -> dict:
     ids = tuple(args.ids)
     single = bench_single(ids, args.repeats, args.steps)
     vector = bench_vector(ids, args.repeats, args.vector_steps, args.num_envs)
-    print(f"single env: env.step/s through gymnasium.make (median of {args.repeats})")
-    print(f"  {BASE:32s} {single[BASE]:12.0f}")
-    for k in ids:
-        r = single[k] / single[BASE]
-        print(
-            f"  {k:32s} {single[k]:12.0f}   {r:5.2f} x CartPole   target 0.50 {'ok' if r >= 0.5 else 'MISSED'}"
-        )
-    print(f"vector env: env-steps/s, num_envs={args.num_envs}, vector_entry_point (median of {args.repeats})")
-    print(f"  {BASE:32s} {vector[BASE]:12.0f}")
-    for k in ids:
-        r = vector[k] / vector[BASE]
-        print(
-            f"  {k:32s} {vector[k]:12.0f}   {r:5.3f} x CartPole   target 0.10 {'ok' if r >= 0.1 else 'MISSED'}"
-        )
+    _report(f"single env: env.step/s through gymnasium.make (median of {args.repeats})", single, ids, 0.5)
+    _report(
+        f"vector env: env-steps/s, num_envs={args.num_envs}, vector_entry_point (median of {args.repeats})",
+        vector,
+        ids,
+        0.1,
+    )
     return {"single": single, "vector": vector}
 
 

@@ -18,6 +18,14 @@ from vessel_gym.physics.schema import SpecError, build, param, read_toml
 
 C = TypeVar("C")
 
+# Reward weights: any sign (a negative weight turns a penalty into a bonus), bounded to catch typos
+WEIGHT_RANGE = (-1e3, 1e3)
+
+
+def weight(default: float, doc: str) -> Any:
+    """A reward-weight field: reward = sum of weight x term; ``doc`` says what the term is."""
+    return param(default, lo=WEIGHT_RANGE[0], hi=WEIGHT_RANGE[1], doc=doc)
+
 
 @dataclass(frozen=True, kw_only=True)
 class ShipEnvConfig:

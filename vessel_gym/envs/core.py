@@ -10,6 +10,7 @@ vector environment seeded with s follows exactly the trajectory of a single envi
 
 from __future__ import annotations
 
+import abc
 import dataclasses
 import math
 from collections.abc import Mapping, Sequence
@@ -25,7 +26,6 @@ from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig, make_config
-from vessel_gym.physics import layout as lo
 from vessel_gym.physics.linear import stable_step
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.shipfile import Ship, load_ship
@@ -92,7 +92,7 @@ class ObservationLayout:
 
 
 # --- helm (action types) ---------------------------------------------------------------------------------------
-class Helm:
+class Helm(abc.ABC):
     """Turns actions into rudder and shaft-speed orders for all N vessels (one ``set_helm`` call)."""
 
     space: spaces.Space
@@ -105,14 +105,17 @@ class Helm:
         self.rev_table = np.stack([sim.telegraph_rev(t) for t in range(-4, 5)], axis=1)  # (N, 9) rev/s
         self.telegraph = np.zeros(n, dtype=np.int64)  # last telegraph step (discrete helm), for the HUD
 
-    def apply(self, actions: np.ndarray) -> None:  # actions (N, ...) already validated
-        raise NotImplementedError
+    @abc.abstractmethod
+    def apply(self, actions: np.ndarray) -> None:
+        """Set the orders of all N vessels from validated actions (N, ...)."""
 
+    @abc.abstractmethod
     def batch(self, actions: Any, n: int) -> np.ndarray:
-        raise NotImplementedError
+        """The actions of n vessels as an array, checked against the action space (ValueError)."""
 
+    @abc.abstractmethod
     def single(self, action: Any) -> np.ndarray:
-        raise NotImplementedError
+        """One vessel's action as a batch of one, checked (ValueError)."""
 
     def apply_single(self, action: Any) -> None:
         """Apply one action to vessel 0 of a one-vessel simulation."""
@@ -159,12 +162,14 @@ class ContinuousHelm(Helm):
         if x != x or a[-1] != a[-1]:
             raise ValueError(f"action contains NaN: {action!r}")
         x = -1.0 if x < -1.0 else (1.0 if x > 1.0 else x)
-        inp = self.sim.inputs  # the orders go straight into the input row (what Simulation.set_helm writes)
-        inp[0, lo.U_DELTA_C] = x * self._lim0
+        rev = None
         if self.engine:
             e = a[1]
             e = -1.0 if e < -1.0 else (1.0 if e > 1.0 else e)
-            inp[0, lo.U_REV_C] = e * self._fa0 if e >= 0.0 else e * self._fs0
+            rev = e * self._fa0 if e >= 0.0 else e * self._fs0
+        self.sim.set_helm(
+            rudder_order_rad=x * self._lim0, rev_order=rev, k=0
+        )  # k=0: scalar stores, no slices
 
     def batch(self, actions: Any, n: int) -> np.ndarray:
         a = np.asarray(actions, dtype=np.float64)
@@ -263,7 +268,7 @@ def physics_step(config: ShipEnvConfig, ship: Ship) -> float:
     return float(config.dt_s)
 
 
-class Task:
+class Task(abc.ABC):
     """A task over one simulation of N vessels: start states, observations, reward terms, episode end.
 
     Subclasses define ``Config`` (a :class:`ShipEnvConfig` subclass with a ``reward`` weights table), their
@@ -326,18 +331,37 @@ class Task:
         self._kernel_args: tuple | None = None
 
     # subclass interface
+    @abc.abstractmethod
     def observation_features(self) -> list[Feature]:
-        raise NotImplementedError
+        """The observation entries, in order (see :meth:`motion_observation`)."""
 
+    @abc.abstractmethod
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
-        raise NotImplementedError
+        """Put vessel k at a new start drawn with ``rng`` (``options`` as the environment's reset)."""
 
+    def motion_observation(self, rev: bool) -> list[Feature]:
+        """The observation entries every task begins with (feature columns kn.F_U..F_REV): motion through the
+        water and the helm; the shaft speed only if ``rev``."""
+        U, L, d = self.U_T, self.L, self.delta_max
+        f = [
+            Feature("u", "m/s", 1.5 * U, "surge velocity through the water", kn.F_U),
+            Feature("v", "m/s", 0.5 * U, "sway velocity through the water (+ starboard)", kn.F_V),
+            Feature("r", "rad/s", 2.0 * U / L, "rate of turn (+ starboard)", kn.F_R),
+            Feature("rudder", "rad", d, "actual rudder angle (+ starboard)", kn.F_DELTA),
+            Feature("rudder_order", "rad", d, "rudder order", kn.F_DELTA_C),
+        ]
+        if rev:
+            f.append(
+                Feature("rev", "rev/s", 1.5 * self.rev_full, "propeller shaft speed (tachometer)", kn.F_REV)
+            )
+        return f
+
+    @abc.abstractmethod
     def kernel_args(self) -> tuple:
         """The arguments of the task's compiled ``kernel`` after ``phase``: arrays that live as long as the task.
 
         Bound once, on the first update: a step then costs one call with no attribute look-ups.
         """
-        raise NotImplementedError
 
     def update(self, phase: np.ndarray) -> None:
         """Run the task kernel; fill ``feat``, ``terms`` and ``terminated`` for the vessels in ``phase``."""
@@ -346,11 +370,24 @@ class Task:
             args = self._kernel_args = self.kernel_args()
         self.kernel(phase, *args)
 
+    @abc.abstractmethod
     def info(self, k: int) -> dict[str, Any]:
-        raise NotImplementedError
+        """Vessel k's ``info`` dict (Python scalars; the one-ship environment's step returns it)."""
 
+    @abc.abstractmethod
     def batch_info(self) -> dict[str, Any]:
-        raise NotImplementedError
+        """The ``info`` of all vessels, each entry an array over the vessels (the vector environment's)."""
+
+    def renderer(self, mode: str) -> Any:
+        """A chart renderer of this task's ship and chart (pygame is imported only here)."""
+        from vessel_gym.render import ChartRenderer
+
+        return ChartRenderer(
+            mode,
+            ship=self.ship,
+            scenario=getattr(self, "scenario", None),
+            fps=1.0 / self.config.control_interval_s,
+        )
 
     def overlay(self, k: int) -> dict[str, Any]:
         """What the chart draws besides the ship (target heading, goal, ...)."""
@@ -443,14 +480,7 @@ class ShipEnv(gym.Env):
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array' or 'human'")
             return None
         if self._renderer is None:
-            from vessel_gym.render import ChartRenderer
-
-            self._renderer = ChartRenderer(
-                self.render_mode,
-                ship=self.task.ship,
-                scenario=getattr(self.task, "scenario", None),
-                fps=1.0 / self.config.control_interval_s,
-            )
+            self._renderer = self.task.renderer(self.render_mode)
         return self._renderer.draw(
             self.sim, 0, self._track, telegraph=self._telegraph(), overlay=self.task.overlay(0)
         )
@@ -628,14 +658,7 @@ class ShipVectorEnv(VectorEnv):
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
         if self._renderer is None:
-            from vessel_gym.render import ChartRenderer
-
-            self._renderer = ChartRenderer(
-                "rgb_array",
-                ship=self.task.ship,
-                scenario=getattr(self.task, "scenario", None),
-                fps=1.0 / self.config.control_interval_s,
-            )
+            self._renderer = self.task.renderer("rgb_array")
         return tuple(
             self._renderer.draw(self.sim, k, self._tracks[k], telegraph=None, overlay=self.task.overlay(k))
             for k in range(len(self._tracks))

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import ShipEnvConfig, make_config
+from vessel_gym.envs.config import ShipEnvConfig, make_config, weight
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
 from vessel_gym.physics.atmosphere import air_velocity_earth
 from vessel_gym.physics.environment import Environment
@@ -25,14 +25,14 @@ from vessel_gym.scenarios.geometry import hull_outline
 class HarbourApproachReward:
     """Weights of the HarbourApproach reward terms (reward = sum of weight x term)."""
 
-    progress: float = param(1.0, lo=-1e3, hi=1e3, doc="decrease of the distance to the goal point / L")
-    speed_excess: float = param(1.0, lo=-1e3, hi=1e3, doc="-(SOG above the allowed speed) / U_T")
-    proximity: float = param(0.5, lo=-1e3, hi=1e3, doc="-(1 - clearance / safe clearance) when closer")
-    rudder_activity: float = param(0.05, lo=-1e3, hi=1e3, doc="-|change of rudder order| / (2 rudder limit)")
-    time: float = param(0.01, lo=-1e3, hi=1e3, doc="-1 per step")
-    success: float = param(20.0, lo=-1e3, hi=1e3, doc="+1 on arrival")
-    collision: float = param(20.0, lo=-1e3, hi=1e3, doc="-1 on contact, grounding or divergence")
-    out_of_bounds: float = param(20.0, lo=-1e3, hi=1e3, doc="-1 on leaving the chart")
+    progress: float = weight(1.0, "decrease of the distance to the goal point / L")
+    speed_excess: float = weight(1.0, "-(SOG above the allowed speed) / U_T")
+    proximity: float = weight(0.5, "-(1 - clearance / safe clearance) when closer")
+    rudder_activity: float = weight(0.05, "-|change of rudder order| / (2 rudder limit)")
+    time: float = weight(0.01, "-1 per step")
+    success: float = weight(20.0, "+1 on arrival")
+    collision: float = weight(20.0, "-1 on contact, grounding or divergence")
+    out_of_bounds: float = weight(20.0, "-1 on leaving the chart")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -112,20 +112,14 @@ class HarbourApproachTask(Task):
         return self.config.beam_range_L * self.L
 
     def observation_features(self) -> list[Feature]:
-        U, L, d, sc = self.U_T, self.L, self.delta_max, self.scenario
+        U, sc = self.U_T, self.scenario
         n0, n1, e0, e1 = sc.bounds_m
         R = math.hypot(n1 - n0, e1 - e0)
         w = sc.weather
         wind = max(w.wind_speed_m_s[1], 1.0) + 2.0 * U
         cur = max(w.current_speed_m_s[1], 0.1 * U)
         rev = 1.5 * self.rev_full
-        f = [
-            Feature("u", "m/s", 1.5 * U, "surge velocity through the water", kn.HF_U),
-            Feature("v", "m/s", 0.5 * U, "sway velocity through the water (+ starboard)", kn.HF_V),
-            Feature("r", "rad/s", 2.0 * U / L, "rate of turn (+ starboard)", kn.HF_R),
-            Feature("rudder", "rad", d, "actual rudder angle", kn.HF_DELTA),
-            Feature("rudder_order", "rad", d, "rudder order", kn.HF_DELTA_C),
-            Feature("rev", "rev/s", rev, "propeller shaft speed (tachometer)", kn.HF_REV),
+        f = self.motion_observation(rev=True) + [
             Feature("rev_order", "rev/s", rev, "shaft-speed order", kn.HF_REV_C),
             Feature("goal_x", "m", R, "goal point ahead of midship (body x)", kn.HF_GOAL_X),
             Feature("goal_y", "m", R, "goal point to starboard of midship (body y)", kn.HF_GOAL_Y),

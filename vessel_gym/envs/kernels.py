@@ -67,6 +67,41 @@ def motion(x, inp, k):
     )
 
 
+# Every task's features begin with the ship's motion and helm, in these columns (physical units)
+F_U, F_V, F_R, F_DELTA, F_DELTA_C, F_REV = range(6)
+FN_MOTION = 6
+
+
+@njit(cache=True)
+def motion_features(f, u, v, r, delta, delta_c, rev):
+    """Write the shared motion columns F_U..F_REV of one feature row ``f``."""
+    f[F_U] = u
+    f[F_V] = v
+    f[F_R] = r
+    f[F_DELTA] = delta
+    f[F_DELTA_C] = delta_c
+    f[F_REV] = rev
+
+
+@njit(cache=True)
+def clear_row(a, k):
+    """Zero row k of a 2-D array (a vessel's reward terms)."""
+    for j in range(a.shape[1]):
+        a[k, j] = 0.0
+
+
+@njit(cache=True)
+def rudder_activity(order, prev_order, rudder_limit):
+    """Reward term -|change of rudder order| / (2 rudder limit), in [-1, 0]."""
+    return -abs(order - prev_order) / (2.0 * rudder_limit)
+
+
+@njit(cache=True)
+def speed_loss(U, U0):
+    """Reward term -max(0, U0 - U) / U0: speed lost against the approach speed U0."""
+    return -(U0 - U) / U0 if U < U0 else 0.0
+
+
 @njit(cache=True)
 def encode_row(feat, k, enc, out):
     """Observation of vessel k from its features. ``enc`` rows: (feature column, scale, normalized flag);
@@ -140,7 +175,7 @@ ZP_IMO = 2  # 1: IMO schedule, 0: random course changes
 ZP_DT = 3  # control interval, s
 ZPN = 4
 
-ZF_U, ZF_V, ZF_R, ZF_DELTA, ZF_DELTA_C, ZF_REV, ZF_HEAD_ERR, ZF_HEAD_DEV, ZF_TARGET_DEV = range(9)
+ZF_HEAD_ERR, ZF_HEAD_DEV, ZF_TARGET_DEV = range(FN_MOTION, FN_MOTION + 3)
 ZFN = 9
 ZT_HEADING, ZT_OVERSHOOT, ZT_RUDDER, ZT_SPEED = range(4)
 ZTN = 4
@@ -182,8 +217,7 @@ def zigzag_update(
             continue
         uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
         s = ts[k]
-        for j in range(ZTN):
-            terms[k, j] = 0.0
+        clear_row(terms, k)
         if phase[k] == 1:
             s[Z_T] += p[ZP_DT]
             if s[Z_OS_ON] > 0.0:
@@ -219,23 +253,15 @@ def zigzag_update(
                 exc = s[Z_OS_SIGN] * (psik - s[Z_OS_TGT])
                 if exc > 0.0:
                     terms[k, ZT_OVERSHOOT] = -min(exc / psiz, 1.0)
-            terms[k, ZT_RUDDER] = -abs(dck - s[Z_PREV_ORDER]) / (2.0 * dmax)
-            U = math.sqrt(uk * uk + vk * vk)
-            if U < s[Z_U0]:
-                terms[k, ZT_SPEED] = -(s[Z_U0] - U) / s[Z_U0]
+            terms[k, ZT_RUDDER] = rudder_activity(dck, s[Z_PREV_ORDER], dmax)
+            terms[k, ZT_SPEED] = speed_loss(math.sqrt(uk * uk + vk * vk), s[Z_U0])
         done[k] = not alive[k]
         if done[k]:
-            for j in range(ZTN):
-                terms[k, j] = 0.0
+            clear_row(terms, k)
         _finish(terms, k, w, reward)
         s[Z_PREV_ORDER] = dck
         f = feat[k]
-        f[ZF_U] = uk
-        f[ZF_V] = vk
-        f[ZF_R] = rk
-        f[ZF_DELTA] = dk
-        f[ZF_DELTA_C] = dck
-        f[ZF_REV] = revk
+        motion_features(f, uk, vk, rk, dk, dck, revk)
         f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psik)
         f[ZF_HEAD_DEV] = wrap_pi(psik - s[Z_PSI0])
         f[ZF_TARGET_DEV] = wrap_pi(s[Z_TARGET] - s[Z_PSI0])
@@ -269,12 +295,6 @@ TCP_DT = 3
 TCPN = 4
 
 (
-    TCF_U,
-    TCF_V,
-    TCF_R,
-    TCF_DELTA,
-    TCF_DELTA_C,
-    TCF_REV,
     TCF_CMD_RATE,
     TCF_RATE_ERR,
     TCF_CMD_CURV,
@@ -282,7 +302,7 @@ TCPN = 4
     TCF_HEAD_CHANGE,
     TCF_ADVANCE,
     TCF_TRANSFER,
-) = range(13)
+) = range(FN_MOTION, 13)
 TCFN = 13
 TCT_TRACK, TCT_PROGRESS, TCT_FOOTPRINT, TCT_RUDDER, TCT_SPEED, TCT_TIME = range(6)
 TCTN = 6
@@ -313,8 +333,7 @@ def turning_update(
         uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
         s = ts[k]
         done[k] = False
-        for j in range(TCTN):
-            terms[k, j] = 0.0
+        clear_row(terms, k)
         c0 = math.cos(s[TC_PSI0])
         s0 = math.sin(s[TC_PSI0])
         dn = nk - s[TC_N0]
@@ -350,25 +369,18 @@ def turning_update(
                 done[k] = turned >= PI
             s[TC_MAXADV] = ma
             s[TC_MAXTRF] = mt
-            terms[k, TCT_RUDDER] = -abs(dck - s[TC_PREV_ORDER]) / (2.0 * p[TCP_DMAX])
-            if U < U0:
-                terms[k, TCT_SPEED] = -(U0 - U) / U0
+            terms[k, TCT_RUDDER] = rudder_activity(dck, s[TC_PREV_ORDER], p[TCP_DMAX])
+            terms[k, TCT_SPEED] = speed_loss(U, U0)
         if not alive[k]:
             done[k] = True
-            for j in range(TCTN):
-                terms[k, j] = 0.0
+            clear_row(terms, k)
         _finish(terms, k, w, reward)
         s[TC_PREV_ORDER] = dck
         s[TC_PREV_TURNED] = turned
         s[TC_PREV_ADV] = adv
         s[TC_PREV_TRF] = trf
         f = feat[k]
-        f[TCF_U] = uk
-        f[TCF_V] = vk
-        f[TCF_R] = rk
-        f[TCF_DELTA] = dk
-        f[TCF_DELTA_C] = dck
-        f[TCF_REV] = revk
+        motion_features(f, uk, vk, rk, dk, dck, revk)
         f[TCF_CMD_RATE] = s[TC_CMD] if mode == 0 else 0.0
         f[TCF_RATE_ERR] = s[TC_CMD] - rk if mode == 0 else 0.0
         f[TCF_CMD_CURV] = s[TC_CMD] * L if mode == 1 else 0.0
@@ -623,12 +635,6 @@ HP_E_MAX = 15
 HPN = 16
 
 (
-    HF_U,
-    HF_V,
-    HF_R,
-    HF_DELTA,
-    HF_DELTA_C,
-    HF_REV,
     HF_REV_C,
     HF_GOAL_X,
     HF_GOAL_Y,
@@ -640,7 +646,7 @@ HPN = 16
     HF_WIND_COS,
     HF_CUR_X,
     HF_CUR_Y,
-) = range(17)
+) = range(FN_MOTION, 17)
 HFN0 = 17  # range beams follow
 HT_PROGRESS, HT_SPEED, HT_PROXIMITY, HT_RUDDER, HT_TIME, HT_SUCCESS, HT_COLLISION, HT_OUT = range(8)
 HTN = 8
@@ -685,8 +691,7 @@ def harbour_update(
             continue
         uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
         s = ts[k]
-        for j in range(HTN):
-            terms[k, j] = 0.0
+        clear_row(terms, k)
         c = math.cos(psik)
         sn = math.sin(psik)
         vn = c * uk - sn * vk + s[HS_CUR_N]
@@ -737,7 +742,7 @@ def harbour_update(
                 terms[k, HT_SPEED] = -(sog - allowed) / UT
             if clear < p[HP_CLEAR_REF]:
                 terms[k, HT_PROXIMITY] = -(1.0 - clear / p[HP_CLEAR_REF])
-            terms[k, HT_RUDDER] = -abs(dck - s[HS_PREV_ORDER]) / (2.0 * p[HP_DMAX])
+            terms[k, HT_RUDDER] = rudder_activity(dck, s[HS_PREV_ORDER], p[HP_DMAX])
             terms[k, HT_TIME] = -1.0
             if flag == SUCCESS:
                 terms[k, HT_SUCCESS] = 1.0
@@ -746,8 +751,7 @@ def harbour_update(
             elif flag == OUT_OF_BOUNDS:
                 terms[k, HT_OUT] = -1.0
             if flag == DIVERGED:
-                for j in range(HTN):
-                    terms[k, j] = 0.0
+                clear_row(terms, k)
                 terms[k, HT_COLLISION] = -1.0
         else:
             flags[k] = OK
@@ -764,12 +768,7 @@ def harbour_update(
         vg = vk - sn * s[HS_CUR_N] + c * s[HS_CUR_E]
         Vrw, _gamma, cos_g, sin_g = relative_wind(ug, vg, c, sn, s[HS_WIND_N], s[HS_WIND_E])
         f = feat[k]
-        f[HF_U] = uk
-        f[HF_V] = vk
-        f[HF_R] = rk
-        f[HF_DELTA] = dk
-        f[HF_DELTA_C] = dck
-        f[HF_REV] = revk
+        motion_features(f, uk, vk, rk, dk, dck, revk)
         f[HF_REV_C] = revck
         f[HF_GOAL_X] = c * gn + sn * ge
         f[HF_GOAL_Y] = -sn * gn + c * ge

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import OpenWaterConfig
+from vessel_gym.envs.config import OpenWaterConfig, weight
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.schema import check_ranges, param
@@ -22,12 +22,12 @@ MODES = ("rate", "radius", "reverse")
 class TurningCircleReward:
     """Weights of the TurningCircle reward terms (reward = sum of weight x term)."""
 
-    tracking_error: float = param(1.0, lo=-1e3, hi=1e3, doc="rate/radius: -min(relative error, 1)")
-    progress: float = param(5.0, lo=-1e3, hi=1e3, doc="reverse: heading change this step / pi")
-    footprint: float = param(1.0, lo=-1e3, hi=1e3, doc="reverse: -(growth of max advance + max transfer) / L")
-    rudder_activity: float = param(0.1, lo=-1e3, hi=1e3, doc="-|change of rudder order| / (2 rudder limit)")
-    speed_loss: float = param(0.1, lo=-1e3, hi=1e3, doc="-max(0, U0 - U) / U0")
-    time: float = param(0.1, lo=-1e3, hi=1e3, doc="reverse: -control interval x U0 / L")
+    tracking_error: float = weight(1.0, "rate/radius: -min(relative error, 1)")
+    progress: float = weight(5.0, "reverse: heading change this step / pi")
+    footprint: float = weight(1.0, "reverse: -(growth of max advance + max transfer) / L")
+    rudder_activity: float = weight(0.1, "-|change of rudder order| / (2 rudder limit)")
+    speed_loss: float = weight(0.1, "-max(0, U0 - U) / U0")
+    time: float = weight(0.1, "reverse: -control interval x U0 / L")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -67,16 +67,8 @@ class TurningCircleTask(Task):
         self.p = p
 
     def observation_features(self) -> list[Feature]:
-        U, L, d = self.U_T, self.L, self.delta_max
-        f = [
-            Feature("u", "m/s", 1.5 * U, "surge velocity through the water", kn.TCF_U),
-            Feature("v", "m/s", 0.5 * U, "sway velocity through the water (+ starboard)", kn.TCF_V),
-            Feature("r", "rad/s", 2.0 * U / L, "rate of turn (+ starboard)", kn.TCF_R),
-            Feature("rudder", "rad", d, "actual rudder angle (+ starboard)", kn.TCF_DELTA),
-            Feature("rudder_order", "rad", d, "rudder order", kn.TCF_DELTA_C),
-        ]
-        if self.config.engine_control:
-            f.append(Feature("rev", "rev/s", 1.5 * self.rev_full, "propeller shaft speed", kn.TCF_REV))
+        U, L = self.U_T, self.L
+        f = self.motion_observation(rev=self.config.engine_control)
         if self.config.mode == "rate":
             f += [
                 Feature("commanded_rate", "rad/s", 2.0 * U / L, "commanded rate of turn", kn.TCF_CMD_RATE),

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import OpenWaterConfig
+from vessel_gym.envs.config import OpenWaterConfig, weight
 from vessel_gym.envs.core import PHASE_STEP, Feature, ShipEnv, ShipVectorEnv, Task, _uniform
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
@@ -20,10 +20,10 @@ from vessel_gym.physics.units import DEG
 class ZigZagReward:
     """Weights of the ZigZag reward terms (reward = sum of weight x term)."""
 
-    heading_error: float = param(1.0, lo=-1e3, hi=1e3, doc="-|target - heading| / pi")
-    overshoot: float = param(1.0, lo=-1e3, hi=1e3, doc="-min(excursion past the reached target / psi, 1)")
-    rudder_activity: float = param(0.1, lo=-1e3, hi=1e3, doc="-|change of rudder order| / (2 rudder limit)")
-    speed_loss: float = param(0.5, lo=-1e3, hi=1e3, doc="-max(0, U0 - U) / U0")
+    heading_error: float = weight(1.0, "-|target - heading| / pi")
+    overshoot: float = weight(1.0, "-min(excursion past the reached target / psi, 1)")
+    rudder_activity: float = weight(0.1, "-|change of rudder order| / (2 rudder limit)")
+    speed_loss: float = weight(0.5, "-max(0, U0 - U) / U0")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -65,16 +65,7 @@ class ZigZagTask(Task):
         self.p = p
 
     def observation_features(self) -> list[Feature]:
-        U, L, d = self.U_T, self.L, self.delta_max
-        f = [
-            Feature("u", "m/s", 1.5 * U, "surge velocity through the water", kn.ZF_U),
-            Feature("v", "m/s", 0.5 * U, "sway velocity through the water (+ starboard)", kn.ZF_V),
-            Feature("r", "rad/s", 2.0 * U / L, "rate of turn (+ starboard)", kn.ZF_R),
-            Feature("rudder", "rad", d, "actual rudder angle (+ starboard)", kn.ZF_DELTA),
-            Feature("rudder_order", "rad", d, "rudder order", kn.ZF_DELTA_C),
-        ]
-        if self.config.engine_control:
-            f.append(Feature("rev", "rev/s", 1.5 * self.rev_full, "propeller shaft speed", kn.ZF_REV))
+        f = self.motion_observation(rev=self.config.engine_control)
         f += [
             Feature("heading_error", "rad", math.pi, "target heading - heading, wrapped", kn.ZF_HEAD_ERR),
             Feature(
