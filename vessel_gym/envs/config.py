@@ -37,7 +37,7 @@ class ShipEnvConfig:
         unit="s",
         lo=1e-4,
         hi=10.0,
-        doc="physics step (default: the longest whole fraction of the control interval within half the "
+        doc="physics step (default: the longest whole fraction of the control interval within 0.7 of the "
         "integrator's stable step for the ship)",
     )
     control_interval_s: float = param(

@@ -317,7 +317,7 @@ class HarbourApproachEnv(ShipEnv):
     built-in ``harbour``: a harbour sized for the 7 m ``kvlcc2_l7`` model, 17 m entrance, a pier and a shoal
     inside, turning basin in front of the north quay).
 
-    Physics step 0.125 s (chosen from the ship, docs/envs.md), control interval 0.25 s.
+    Physics step 0.25 s (chosen from the ship, docs/envs.md), control interval 0.25 s.
 
     ## Action Space
 

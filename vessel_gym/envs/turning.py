@@ -222,7 +222,7 @@ class TurningCircleEnv(ShipEnv):
     tactical diameter (transfer at 180 degrees), interpolated between control steps. The scripted 35-degree
     turn (:class:`vessel_gym.envs.policies.TurningRule`) applied here is the IMO turning-circle test.
 
-    Default ship ``kvlcc2_l7``, physics step 0.125 s (chosen from the ship, docs/envs.md), control
+    Default ship ``kvlcc2_l7``, physics step 0.25 s (chosen from the ship, docs/envs.md), control
     interval 0.25 s.
 
     ## Action Space

@@ -190,7 +190,7 @@ class ZigZagEnv(ShipEnv):
     target before the ship turns back). The scripted IMO rule
     (:class:`vessel_gym.envs.policies.ZigZagRule`) applied here is the IMO zig-zag test itself.
 
-    Default ship: ``kvlcc2_l7`` (7 m KVLCC2 model, 1.18 m/s test speed), physics step 0.125 s (chosen from
+    Default ship: ``kvlcc2_l7`` (7 m KVLCC2 model, 1.18 m/s test speed), physics step 0.25 s (chosen from
     the ship, docs/envs.md), control interval 0.25 s.
 
     ## Action Space

@@ -21,6 +21,7 @@ import numpy as np
 from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.steering import steering_gear_angle
 from vessel_gym.physics.vessel import derivatives, forces
 
 RK4 = 0
@@ -51,10 +52,17 @@ def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
     ``k1``..``k4`` and ``xt`` are scratch rows of length NX; the new state is
     formed in ``xt`` and committed only if finite. Returns False on divergence, with ``x`` left at the last
     finite state.
+
+    The rudder angle is not integrated by the method: with the order held over the step, the steering gear's
+    equation has an exact solution (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every
+    stage reads at its own time (t + dt/2 for RK4's middle stages, t + dt at the end).
     """
     half = 0.5 * dt
     sixth = dt / 6.0
+    D = lo.X_DELTA
     for _ in range(nsteps):
+        d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
+        d_end = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], dt)
         derivatives(P, x, inp, env, F_ext, k1)
         if method == EULER:
             for i in range(lo.NX):
@@ -62,15 +70,19 @@ def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
         else:
             for i in range(lo.NX):
                 xt[i] = x[i] + half * k1[i]
+            xt[D] = d_half
             derivatives(P, xt, inp, env, F_ext, k2)
             for i in range(lo.NX):
                 xt[i] = x[i] + half * k2[i]
+            xt[D] = d_half
             derivatives(P, xt, inp, env, F_ext, k3)
             for i in range(lo.NX):
                 xt[i] = x[i] + dt * k3[i]
+            xt[D] = d_end
             derivatives(P, xt, inp, env, F_ext, k4)
             for i in range(lo.NX):
                 xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+        xt[D] = d_end
         if not _finite(xt):
             return False
         for i in range(lo.NX):
@@ -114,6 +126,13 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
             Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, c * nb // nchunks, (c + 1) * nb // nchunks
         )
     return count
+
+
+@njit(cache=True)
+def steering_gear_angles_batch(Ps, ship_index, X, U, t, out):
+    """Rudder angles of a batch ``t`` seconds on with the orders held (the Python-component path's stages)."""
+    for b in range(X.shape[0]):
+        out[b] = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], t)
 
 
 @njit(cache=True)

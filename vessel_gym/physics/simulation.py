@@ -20,7 +20,15 @@ from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import BridgeReading
 from vessel_gym.physics.environment import CALM, Environment, wrap_deg
 from vessel_gym.physics.geodesy import local_to_latlon
-from vessel_gym.physics.integrate import EULER, RK4, derivatives_batch, forces_batch, run_parallel, run_serial
+from vessel_gym.physics.integrate import (
+    EULER,
+    RK4,
+    derivatives_batch,
+    forces_batch,
+    run_parallel,
+    run_serial,
+    steering_gear_angles_batch,
+)
 from vessel_gym.physics.propulsion import engine_torque
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import DEG, KNOT_M_S
@@ -265,8 +273,13 @@ class Simulation:
 
     def _rk_python(self, nsteps: int) -> int:
         dt = self.dt
+        D = lo.X_DELTA
         for _ in range(nsteps):
             x = self.state
+            # the rudder angle at the stage times, solved exactly as in integrate.step_vessel
+            d_half, d_end = np.empty(self.n), np.empty(self.n)
+            steering_gear_angles_batch(self.Ps, self.ship_index, x, self.inputs, 0.5 * dt, d_half)
+            steering_gear_angles_batch(self.Ps, self.ship_index, x, self.inputs, dt, d_end)
             k1 = np.empty_like(x)
             derivatives_batch(self.Ps, self.ship_index, x, self.inputs, self.env, self._ext(x), k1)
             if self.method == EULER:
@@ -274,12 +287,16 @@ class Simulation:
             else:
                 k2, k3, k4 = np.empty_like(x), np.empty_like(x), np.empty_like(x)
                 x2 = x + 0.5 * dt * k1
+                x2[:, D] = d_half
                 derivatives_batch(self.Ps, self.ship_index, x2, self.inputs, self.env, self._ext(x2), k2)
                 x3 = x + 0.5 * dt * k2
+                x3[:, D] = d_half
                 derivatives_batch(self.Ps, self.ship_index, x3, self.inputs, self.env, self._ext(x3), k3)
                 x4 = x + dt * k3
+                x4[:, D] = d_end
                 derivatives_batch(self.Ps, self.ship_index, x4, self.inputs, self.env, self._ext(x4), k4)
                 xn = x + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            xn[:, D] = d_end
             ok = np.isfinite(xn).all(axis=1) & self.alive
             self.state[ok] = xn[ok]
             self.alive &= ok
