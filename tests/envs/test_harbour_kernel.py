@@ -1,4 +1,5 @@
-"""Harbour task kernel: the threaded driver matches the serial one; the chart query's contact cases."""
+"""Harbour task kernel: the threaded driver matches the serial one; the chart query's contact cases, and its
+beams and clearance against a brute-force reference."""
 
 import gymnasium as gym
 import numpy as np
@@ -51,3 +52,79 @@ def test_chart_query_contact_cases():
     assert query(island, n0=22.0)[0] == kn.CONTACT  # bow over the edge: outlines cross
     flag, clearance = query(island, n0=30.0)
     assert flag == kn.OK and clearance == pytest.approx(30.0 - 3.5 - 20.0)
+
+
+def _next_vertex(polys):
+    """Row of each edge's end vertex in the chart tables (the polygons close on their first vertex)."""
+    return np.concatenate([st + (np.arange(cnt) + 1) % cnt for st, cnt, _kind, _orient in polys])
+
+
+def _brute_force_chart(task, n0, e0, psi, beam_dirs):
+    """Reference for :func:`kn.chart_query` without any culling: every beam against every chart edge (the ray
+    o + t d meets a + s (b - a) at t = (a - o) x e / (d x e), s = (a - o) x d / (d x e)), and the clearance as
+    the smallest distance between a vertex of one outline and an edge of the other, capped at the range."""
+    c, s = np.cos(psi), np.sin(psi)
+    a = task.edges[:, :2]
+    b = a[_next_vertex(task.polys)]
+    e = b - a
+    w = a - (n0, e0)
+    d = np.stack([c * beam_dirs[:, 0] - s * beam_dirs[:, 1], s * beam_dirs[:, 0] + c * beam_dirs[:, 1]], 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]  # (beam, edge)
+        t = (w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0])[None, :] / den
+        sp = (w[None, :, 0] * d[:, None, 1] - w[None, :, 1] * d[:, None, 0]) / den
+    hit = (den != 0.0) & (t >= 0.0) & (sp >= 0.0) & (sp <= 1.0)
+    beams = np.minimum(np.where(hit, t, np.inf).min(axis=1), task.beam_range)
+
+    def point_seg(p, a, b):  # distances between points p (n, 2) and segments a b (m, 2), (n, m)
+        e = b - a
+        tt = np.clip(((p[:, None, :] - a[None]) * e[None]).sum(2) / (e * e).sum(1)[None], 0.0, 1.0)
+        q = a[None] + tt[..., None] * e[None] - p[:, None, :]
+        return np.sqrt((q * q).sum(2))
+
+    x, y = task.hull[:, 0], task.hull[:, 1]
+    hull = np.stack([n0 + c * x - s * y, e0 + s * x + c * y], 1)
+    hull_next = np.roll(hull, -1, axis=0)
+    clearance = min(point_seg(hull, a, b).min(), point_seg(a, hull, hull_next).min(), task.beam_range)
+    return beams, clearance
+
+
+def test_chart_query_matches_brute_force():
+    """Range beams and clearance of the culled chart query against every beam x every edge, over random poses
+    in the built-in harbour chart: open water, inside polygons, and close to edges and vertices (1 um to 10 m);
+    with the task's beam fan and with an irregular one."""
+    task = gym.make("vessel_gym/HarbourApproach-v0").unwrapped.task
+    chart = (task.hull, task.edges, task.polys, task.pbox)
+    R = task.beam_range
+    rng = np.random.default_rng(7)
+    verts = task.edges[:, :2]
+    nxt = _next_vertex(task.polys)
+    n = 400
+    k = rng.integers(0, len(verts), n)
+    offset = 10.0 ** rng.uniform(-6.0, 1.0, (n, 1)) * rng.normal(size=(n, 2))
+    n_min, n_max, e_min, e_max = task.scenario.bounds_m
+    points = np.concatenate(
+        [
+            np.column_stack([rng.uniform(n_min, n_max, n), rng.uniform(e_min, e_max, n)]),  # water and land
+            verts[k] + rng.uniform(0.0, 1.0, (n, 1)) * (verts[nxt[k]] - verts[k]) + offset,  # near edges
+            verts[k] + offset,  # near vertices
+        ]
+    )
+    headings = rng.uniform(-np.pi, np.pi, len(points))
+    irregular = rng.normal(size=(7, 2))
+    irregular /= np.linalg.norm(irregular, axis=1, keepdims=True)
+    n_clear = 0
+    for beam_dirs in (task.beam_dirs, irregular):
+        nb = len(beam_dirs)
+        beams, bw = np.empty(nb), np.empty((2, nb))
+        hn, he = np.empty(len(task.hull)), np.empty(len(task.hull))
+        for (n0, e0), psi in zip(points, headings):
+            flag, clearance = kn.chart_query(n0, e0, psi, *chart, beam_dirs, R, beams, hn, he, bw)
+            ref_beams, ref_clearance = _brute_force_chart(task, n0, e0, psi, beam_dirs)
+            np.testing.assert_allclose(beams, ref_beams, rtol=0.0, atol=1e-9, err_msg=f"pose {(n0, e0, psi)}")
+            if flag == kn.OK:
+                n_clear += 1
+                assert abs(clearance - ref_clearance) <= 1e-9, (n0, e0, psi, clearance, ref_clearance)
+            else:
+                assert clearance == 0.0  # contact or grounding
+    assert n_clear > 0.15 * 2 * len(points)  # not vacuous: about a fifth of the poses are clear of the chart
