@@ -7,8 +7,9 @@ A vessel whose state would become non-finite stops integrating, keeps its last f
 (divergence detection): a diverged vessel never shows a NaN.
 
 Performance notes (figures in docs/performance.md): the drivers allocate their scratch rows once per call
-(serial) or once per thread chunk (parallel), never per vessel; stage loops run over the compile-time
-length ``layout.NX`` so that they unroll. The drivers do not use fastmath: the RK combination is a few
+(serial) or once per thread chunk (parallel), never per vessel; the per-vessel loop takes its row views
+without reference counting (vessel.NO_REFCOUNT; ~70 ns per vessel otherwise); stage loops run over the
+compile-time length ``layout.NX`` so that they unroll. The drivers do not use fastmath: the RK combination is a few
 percent of a step (the right-hand side dominates), and fastmath's no-NaN/no-Inf assumptions would let the
 compiler delete the divergence check.
 """
@@ -22,7 +23,7 @@ from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.steering import steering_gear_angle
-from vessel_gym.physics.vessel import derivatives, forces
+from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives, forces
 
 RK4 = 0
 EULER = 1
@@ -45,7 +46,7 @@ def _finite(x):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
     """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place.
 
@@ -90,19 +91,14 @@ def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
     return True
 
 
-@njit(cache=True)
-def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop):
-    """Integrate the alive vessels first..stop-1 with one set of scratch rows. Returns how many are alive."""
-    k1 = np.empty(lo.NX)
-    k2 = np.empty(lo.NX)
-    k3 = np.empty(lo.NX)
-    k4 = np.empty(lo.NX)
-    xt = np.empty(lo.NX)
+@njit(cache=True, **NO_REFCOUNT)
+def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S):
+    """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive."""
     count = 0
     for b in range(first, stop):
         if alive[b]:
             ok = step_vessel(
-                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, k1, k2, k3, k4, xt
+                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, S[0], S[1], S[2], S[3], S[4]
             )
             alive[b] = ok
             count += ok
@@ -112,7 +108,9 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
 @njit(cache=True)
 def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
     """Integrate every alive vessel of the batch; marks diverged vessels dead. Returns the number alive."""
-    return _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0])
+    return _run_range(
+        Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0], np.empty((5, lo.NX))
+    )
 
 
 @njit(cache=True, parallel=True)
@@ -122,8 +120,21 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
     nchunks = min(nb, MAX_CHUNKS)
     count = 0
     for c in prange(nchunks):
+        S = np.empty((5, lo.NX))
         count += _run_range(
-            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, c * nb // nchunks, (c + 1) * nb // nchunks
+            Ps,
+            ship_index,
+            X,
+            U,
+            E,
+            F,
+            dt,
+            nsteps,
+            method,
+            alive,
+            c * nb // nchunks,
+            (c + 1) * nb // nchunks,
+            S,
         )
     return count
 

@@ -197,15 +197,16 @@ def pack(ship: Ship) -> np.ndarray:
     return P
 
 
-# The hot call chain (the integrators' step -> derivatives -> force_terms -> components) is compiled without
-# reference counting (numba's `_nrt=False`): these functions allocate nothing and only read and write arrays
-# their caller owns, so counting references is pure overhead -- atomic increments and decrements of every
-# array argument around every call, ~5-10 % of a step (docs/performance.md). A function compiled this way
-# cannot allocate or return an array: `forces`, which returns its output row to Python, keeps counting.
-_NO_REFCOUNT = {"_nrt": False}
+# The hot call chain (the integrators' per-vessel loop -> step -> derivatives -> force_terms -> components)
+# is compiled without reference counting (numba's `_nrt=False`): these functions allocate nothing and only
+# read and write arrays their caller owns, so counting references is pure overhead -- an atomic increment
+# and decrement of the parent array for every row view taken and every array passed, ~5-10 % of a step
+# (docs/performance.md). A function compiled this way cannot allocate or return an array: `forces`, which
+# returns its output row to Python, keeps counting, and the drivers allocate the scratch rows they pass in.
+NO_REFCOUNT = {"_nrt": False}
 
 
-@njit(cache=True, **_NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT)
 def force_terms(P, x, env):
     """All component forces for one vessel at state ``x``, as a tuple of N_OUT + 2 floats: the N_OUT values
     of :func:`forces`, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
@@ -285,7 +286,7 @@ FORCE_NAMES = (
 )
 
 
-@njit(cache=True, **_NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT)
 def derivatives(P, x, inp, env, F_ext, xdot):
     """State derivative of one vessel: fills ``xdot`` (length NX).
 
