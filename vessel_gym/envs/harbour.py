@@ -57,7 +57,7 @@ class HarbourApproachConfig(ShipEnvConfig):
     reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
 
 
-# batches from this size run the task kernel on all threads (about 1 us of work per ship; waking the threads
+# batches from this size run the task kernel on all threads (about 0.6 us of work per ship; waking the threads
 # costs tens of microseconds on an idle machine)
 PARALLEL_MIN_SHIPS = 256
 

@@ -29,6 +29,7 @@ invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file
 from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
 from vessel_gym.physics.atmosphere import relative_wind  # noqa: E402
 from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
+from vessel_gym.physics.vessel import NO_REFCOUNT  # noqa: E402
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
@@ -192,7 +193,9 @@ def _finish_overshoot(s):
     s[Z_OS_LAST] = s[Z_OS_MAX]
 
 
-@njit(cache=True)
+# The task kernels loop over vessels taking row views (ts[k], feat[k]); compiled without reference counting
+# (vessel.NO_REFCOUNT, which explains why) they allocate nothing: scratch comes from their caller.
+@njit(cache=True, **NO_REFCOUNT)
 def zigzag_update(
     phase,
     x,
@@ -308,7 +311,7 @@ TCT_TRACK, TCT_PROGRESS, TCT_FOOTPRINT, TCT_RUDDER, TCT_SPEED, TCT_TIME = range(
 TCTN = 6
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def turning_update(
     phase,
     x,
@@ -691,7 +694,23 @@ HTN = 8
 
 
 @njit(cache=True)
-def harbour_update(
+def harbour_update(phase, x, inp, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
+    """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
+    stepped vessels. Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1 (the
+    range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's scratch
+    and runs :func:`_harbour_range`."""
+    nb = beam_dirs.shape[0]
+    beams = np.empty(nb)
+    hn = np.empty(hull.shape[0])
+    he = np.empty(hull.shape[0])
+    bw = np.empty((2, nb))
+    _harbour_range(
+        phase, x, inp, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args, beams, hn, he, bw
+    )
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _harbour_range(
     phase,
     x,
     inp,
@@ -714,14 +733,13 @@ def harbour_update(
     done,
     k0,
     k1,
+    beams,
+    hn,
+    he,
+    bw,
 ):
-    """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
-    stepped vessels. The range comes last, so that the task binds (0, N) with the other arguments."""
+    """:func:`harbour_update`'s loop over vessels k0..k1-1, with the chart query's scratch arrays."""
     nb = beam_dirs.shape[0]
-    beams = np.empty(nb)
-    hn = np.empty(hull.shape[0])
-    he = np.empty(hull.shape[0])
-    bw = np.empty((2, nb))
     L = p[HP_L]
     UT = p[HP_UT]
     for k in range(k0, k1):
