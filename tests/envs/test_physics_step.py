@@ -123,3 +123,30 @@ def test_default_step_matches_a_twenty_times_finer_step(
     assert err[4] < speed_m_s
     if rev_full_ahead is not None:
         assert err[3] < rev_full_ahead * 11.85
+
+
+def test_default_step_resolves_the_rudder_of_a_full_scale_ship():
+    # The Mariner's stepped modes are slow (stable to 22 s steps), but the rudder it steers by moves on a scale
+    # of seconds (T_delta = 1 s, 2.32 deg/s): with a 5 s control interval the default step is capped by the
+    # 0.05 L of travel (1.04 s at 7.7 m/s) and must match a fine step to ZigZag's tolerances (0.01 deg,
+    # 0.001 L), over 480 s of random rudder orders held 20 s.
+    L = 160.93
+
+    def rollout(dt_s):
+        kw = {} if dt_s is None else {"dt_s": dt_s}
+        env = gym.make("vessel_gym/ZigZag-v0", ship="mariner", control_interval_s=5.0, **kw)
+        env.reset(seed=3)
+        sim = env.unwrapped.sim
+        orders = np.random.default_rng(1).uniform(-1.0, 1.0, size=(31, 1)).astype(np.float32)
+        track = []
+        for i in range(96):  # 480 s
+            env.step(orders[i // 4])
+            track.append([sim.north[0], sim.east[0], math.degrees(sim.heading[0])])
+        return np.array(track), env.unwrapped.task.dt
+
+    coarse, dt = rollout(None)
+    assert dt == pytest.approx(1.0)
+    fine, _ = rollout(0.1)
+    err = np.abs(coarse - fine).max(axis=0)
+    assert err[0] < 0.001 * L and err[1] < 0.001 * L
+    assert err[2] < 0.01
