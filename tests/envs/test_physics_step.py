@@ -130,7 +130,7 @@ def test_default_step_resolves_the_rudder_of_a_full_scale_ship():
     # of seconds (T_delta = 1 s, 2.32 deg/s): with a 5 s control interval the default step is capped by the
     # 0.05 L of travel (1.04 s at 7.7 m/s) and must match a fine step to ZigZag's tolerances (0.01 deg,
     # 0.001 L), over 480 s of random rudder orders held 20 s.
-    L = 160.93
+    L = load_ship("mariner").particulars.L_m
 
     def rollout(dt_s):
         kw = {} if dt_s is None else {"dt_s": dt_s}

@@ -62,13 +62,13 @@ def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
     sixth = dt / 6.0
     D = lo.X_DELTA
     for _ in range(nsteps):
-        d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
         d_end = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], dt)
         derivatives(P, x, inp, env, F_ext, k1)
         if method == EULER:
             for i in range(lo.NX):
                 xt[i] = x[i] + dt * k1[i]
         else:
+            d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
             for i in range(lo.NX):
                 xt[i] = x[i] + half * k1[i]
             xt[D] = d_half

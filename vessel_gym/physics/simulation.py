@@ -277,14 +277,15 @@ class Simulation:
         for _ in range(nsteps):
             x = self.state
             # the rudder angle at the stage times, solved exactly as in integrate.step_vessel
-            d_half, d_end = np.empty(self.n), np.empty(self.n)
-            steering_gear_angles_batch(self.Ps, self.ship_index, x, self.inputs, 0.5 * dt, d_half)
+            d_end = np.empty(self.n)
             steering_gear_angles_batch(self.Ps, self.ship_index, x, self.inputs, dt, d_end)
             k1 = np.empty_like(x)
             derivatives_batch(self.Ps, self.ship_index, x, self.inputs, self.env, self._ext(x), k1)
             if self.method == EULER:
                 xn = x + dt * k1
             else:
+                d_half = np.empty(self.n)
+                steering_gear_angles_batch(self.Ps, self.ship_index, x, self.inputs, 0.5 * dt, d_half)
                 k2, k3, k4 = np.empty_like(x), np.empty_like(x), np.empty_like(x)
                 x2 = x + 0.5 * dt * k1
                 x2[:, D] = d_half
