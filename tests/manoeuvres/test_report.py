@@ -260,3 +260,18 @@ def test_html_names_a_missing_trial():
     rep = imo.ImoReport(SHIP, 320.0, 15.5, imo.turning_criteria(tc), {"turning_starboard": tc}, ship)
     html = report_html(rep)
     assert html.count("data:image/png;base64,") == 1 and "Not completed" in html and "Pull-out" in html
+
+
+def test_pdf_report_has_a_summary_page_and_the_plots(tmp_path):
+    from vessel_gym.manoeuvres.report import summary_text, write_report
+
+    ship = load_ship(SHIP)
+    tc = trials.turning_circle(ship, 35.0, until_deg=360.0)
+    rep = imo.ImoReport(SHIP, 320.0, 15.5, imo.turning_criteria(tc), {"turning_starboard": tc}, ship)
+    text = summary_text(rep)
+    assert "Yasukawa" in text and "tactical_diameter" in text and "PASS" in text
+    out = write_report(rep, tmp_path / "r.pdf")
+    data = out.read_bytes()
+    assert data[:5] == b"%PDF-" and len(re.findall(rb"/Type /Page[^s]", data)) == 2  # summary + turning
+    with pytest.raises(OutputExistsError):
+        write_report(rep, out)

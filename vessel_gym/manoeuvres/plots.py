@@ -331,9 +331,10 @@ def figure_stopping(st: Stopping, criteria: Sequence[Criterion], title: str):
     a1.annotate(
         f"stopped\nhead reach {hr:.2f} L\ntrack reach {reach:.2f} L\nlateral {lat:+.2f} L",
         (lat, hr),
-        xytext=(6, -6),
+        xytext=(-6, -6) if lat > 0 else (6, -6),  # on the side away from the drift, inside the axes
         textcoords="offset points",
         fontsize=7.5,
+        ha="right" if lat > 0 else "left",
         va="top",
     )
     top = max(hr, reach) + 1.0
@@ -554,17 +555,17 @@ def plot_report(
     return [write_new(out / f"{stem}.png", data, force) for stem, data in pngs.items()]
 
 
-def report_pdf_bytes(report: ImoReport, summary_page: bool = False) -> bytes:
-    """All of the report's plots as one multipage PDF (matplotlib's PdfPages), optionally preceded by a page
-    with the particulars and the criteria table."""
+def report_pdf_bytes(report: ImoReport, summary: str = "") -> bytes:
+    """All of the report's plots as one multipage PDF (matplotlib's PdfPages), preceded by an A4 page with
+    the ``summary`` text when one is given."""
     from matplotlib.backends.backend_pdf import PdfPages
 
     plt = _plt()
     buf = io.BytesIO()
     with PdfPages(buf) as pdf:
-        if summary_page:
+        if summary:
             fig = plt.figure(figsize=(8.27, 11.69))  # A4 portrait
-            fig.text(0.06, 0.96, report.table(), family="monospace", fontsize=7.2, va="top")
+            fig.text(0.06, 0.96, summary, family="monospace", fontsize=7.2, va="top")
             pdf.savefig(fig)
             plt.close(fig)
         for _stem, fig in report_figures(report):

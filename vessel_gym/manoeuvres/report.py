@@ -7,6 +7,7 @@ from __future__ import annotations
 import base64
 import datetime as _dt
 import html
+import textwrap
 from pathlib import Path
 
 from vessel_gym.manoeuvres.imo import ImoReport
@@ -159,6 +160,17 @@ def report_html(report: ImoReport, pngs: dict[str, bytes] | None = None) -> str:
     return "\n".join(parts)
 
 
+def summary_text(report: ImoReport, width: int = 86) -> str:
+    """Particulars, source and the criteria table as plain text (the first page of the PDF report)."""
+    lines = [f"{k:<44}{v}" for k, v in _particulars_rows(report)]
+    if report.spec is not None:
+        lines += ["", "source:"] + textwrap.wrap(
+            report.spec.source.citation, width, initial_indent="  ", subsequent_indent="  "
+        )
+    lines += ["", report.table()]
+    return "\n".join(lines)
+
+
 def report_name(ship_name: str, suffix: str = ".html") -> str:
     """Default file name of a ship's report: ``imo_<ship>.html`` (characters other than letters, digits,
     ``-``, ``_`` and ``.`` become ``_``)."""
@@ -176,5 +188,5 @@ def write_report(
 
     path = Path(path)
     if path.suffix.lower() == ".pdf":
-        return write_new(path, report_pdf_bytes(report, summary_page=True), force)
+        return write_new(path, report_pdf_bytes(report, summary_text(report)), force)
     return write_new(path, report_html(report, pngs).encode("utf-8"), force)
