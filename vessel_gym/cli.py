@@ -212,6 +212,8 @@ def _cmd_imo(args) -> int:
         target, is_dir = output_target(args.report, (".html", ".pdf"), "--report")
         report_file = target / report_name(ship.name) if is_dir else target
         check_free([report_file], args.force, "--report")
+        if plot_out is not None and not plot_is_dir and plot_out.resolve() == report_file.resolve():
+            raise UsageError(f"vessel-gym imo: --plot and --report both name {str(report_file)!r}")
     report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None)
     written = []
     if plot_out is not None or report_file is not None:
@@ -238,10 +240,10 @@ def _cmd_manoeuvre(args) -> int:
     ship = load_ship(args.ship)
     plot_file = None
     if args.plot:
-        from vessel_gym.outputs import check_free, output_target
+        from vessel_gym.outputs import check_free, output_target, safe_name
 
         target, is_dir = output_target(args.plot, (".png", ".svg", ".pdf"), "--plot")
-        plot_file = target / f"{ship.name}_{kind}.png" if is_dir else target
+        plot_file = target / f"{safe_name(ship.name)}_{kind}.png" if is_dir else target
         check_free([plot_file], args.force, "--plot")
     if kind == "turning-circle":
         res = trials.turning_circle(ship, args.rudder, args.speed)

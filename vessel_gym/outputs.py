@@ -73,6 +73,12 @@ def check_free(paths: Iterable[Path], force: bool, what: str) -> None:
         raise OutputExistsError(f"{what}: {taken[0]!r} exists{more}; not replaced (use --force to overwrite)")
 
 
+def safe_name(text: str) -> str:
+    """``text`` as one file-name component: characters other than letters, digits, ``-``, ``_`` and ``.``
+    become ``_`` (a ship's name may come from a user's file)."""
+    return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text).lstrip(".") or "unnamed"
+
+
 def write_new(path: Path, data: bytes, force: bool) -> Path:
     """Write ``data`` to ``path``; without ``force`` the file must not exist (exclusive create, so a file
     that appeared since :func:`check_free` is not replaced either)."""

@@ -172,10 +172,10 @@ def summary_text(report: ImoReport, width: int = 86) -> str:
 
 
 def report_name(ship_name: str, suffix: str = ".html") -> str:
-    """Default file name of a ship's report: ``imo_<ship>.html`` (characters other than letters, digits,
-    ``-``, ``_`` and ``.`` become ``_``)."""
-    safe = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in ship_name) or "ship"
-    return f"imo_{safe}{suffix}"
+    """Default file name of a ship's report: ``imo_<ship>.html`` (see :func:`vessel_gym.outputs.safe_name`)."""
+    from vessel_gym.outputs import safe_name
+
+    return f"imo_{safe_name(ship_name)}{suffix}"
 
 
 def write_report(
