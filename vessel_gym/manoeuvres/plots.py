@@ -212,6 +212,7 @@ def figure_zigzag(trials: Sequence[ZigZag], criteria: Sequence[Criterion], title
         for yv in (h, -h):
             ax.axhline(yv, color="0.5", lw=0.6, ls=":")
         mine = [c for c in criteria if c.side == side]
+        t_end = float(tr["t"][-1])
         for k, (os_deg, t_os) in enumerate(zip(z.overshoot_deg, z.overshoot_time_s)):
             # the k-th overshoot swings beyond the execute heading on the side of the (k+1)-th rudder order
             s_k = sg if k % 2 == 0 else -sg
@@ -223,7 +224,7 @@ def figure_zigzag(trials: Sequence[ZigZag], criteria: Sequence[Criterion], title
                 xytext=(0, 6 * s_k),
                 textcoords="offset points",
                 fontsize=8,
-                ha="center",
+                ha="right" if t_os > 0.85 * t_end else "center",  # the last extreme ends the record
                 va="bottom" if s_k > 0 else "top",
                 color=colour,
             )
@@ -244,12 +245,12 @@ def figure_zigzag(trials: Sequence[ZigZag], criteria: Sequence[Criterion], title
                     va="bottom" if s_k > 0 else "top",
                 )
         span = h + max([c.limit for c in mine] + list(z.overshoot_deg) + [abs(z.rudder_deg) - h, 0.0])
-        ax.set_ylim(-1.25 * span, 1.25 * span)
+        ax.set_ylim(-1.35 * span, 1.35 * span)
         _nice_ticks(ax)
         ax.set_ylabel("deg (starboard +)")
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="lower left", fontsize=7.5)
-        ax.set_title(f"{abs(z.rudder_deg):g}/{h:g} zig-zag, first execute to {side}", fontsize=9)
+        ax.legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=2, fontsize=7.5, frameon=False)
+        ax.set_title(f"{abs(z.rudder_deg):g}/{h:g} zig-zag, first execute to {side}", fontsize=9, loc="left")
         _verdict_box(ax, mine, "upper right")
     axes[-1, 0].set_xlabel("time (s)")
     fig.suptitle(title)
