@@ -43,7 +43,9 @@ def _json_default(o):
 
 def _emit(data: dict, as_json: bool, text: str) -> None:
     if as_json:
-        print(json.dumps(data, default=_json_default, allow_nan=False))
+        from vessel_gym.outputs import rounded
+
+        print(json.dumps(rounded(data), default=_json_default, allow_nan=False))
     else:
         print(text)
 
@@ -66,7 +68,18 @@ def build_parser() -> argparse.ArgumentParser:
     imo = sub.add_parser("imo", help="all IMO MSC.137(76) criteria for a ship (name or .toml path)")
     imo.add_argument("ship")
     imo.add_argument("--json", action="store_true", help="machine-readable output")
-    imo.add_argument("--plot", metavar="DIR", help="write trajectory and heading plots (PNG) into DIR")
+    imo.add_argument(
+        "--plot",
+        metavar="DIR|FILE.pdf",
+        help="write every manoeuvre's plot (PNG) into DIR, or all of them into one multipage PDF",
+    )
+    imo.add_argument(
+        "--report",
+        metavar="DIR|FILE.html|FILE.pdf",
+        help="write the report a student can hand in (particulars, source, criteria, plots): "
+        "imo_<ship>.html in DIR, or the named HTML or PDF file",
+    )
+    imo.add_argument("--force", action="store_true", help="replace existing plot and report files")
 
     man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
     msub = man.add_subparsers(dest="manoeuvre", parser_class=_Parser)
@@ -97,7 +110,12 @@ def build_parser() -> argparse.ArgumentParser:
     for sp in (tc, zz, it, stp, po):
         sp.add_argument("--speed", type=_finite("--speed", 0.1, 60), default=None, help="approach speed, kn")
         sp.add_argument("--json", action="store_true")
-        sp.add_argument("--plot", metavar="PNG", help="write the track plot to this PNG file")
+        sp.add_argument(
+            "--plot",
+            metavar="FILE|DIR",
+            help="write the manoeuvre's plot to FILE (.png, .svg or .pdf) or as <ship>_<manoeuvre>.png into DIR",
+        )
+        sp.add_argument("--force", action="store_true", help="replace an existing plot file")
 
     sub.add_parser("ships", help="list the built-in ships")
     sub.add_parser("scenarios", help="list the built-in scenarios")
@@ -108,6 +126,7 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--speedup", type=_finite("--speedup", 0.25, 16), default=1.0, help="initial time factor")
     pl.add_argument("--max-steps", type=int, default=None, help="stop after this many control steps")
     pl.add_argument("--out", default=".", help="directory for the debrief track plot")
+    pl.add_argument("--force", action="store_true", help="replace an existing debrief plot")
 
     sv = sub.add_parser("serve", help="run a scenario in real time with the UDP link (NMEA, JSON state/helm)")
     sv.add_argument("scenario", nargs="?", default="harbour")
@@ -174,36 +193,74 @@ def host_port(text: str, what: str) -> tuple[str, int]:
 
 def _cmd_imo(args) -> int:
     from vessel_gym.manoeuvres.imo import imo_report
+    from vessel_gym.outputs import check_free, output_target
+    from vessel_gym.physics.shipfile import load_ship
 
-    report = imo_report(args.ship)
+    ship = load_ship(args.ship)
+    plot_out = report_file = None
+    plot_is_dir = False
+    # every output is checked before the trials run, so a refusal costs nothing
     if args.plot:
-        from vessel_gym.manoeuvres.plots import plot_report
+        from vessel_gym.manoeuvres.plots import REPORT_PLOTS
 
-        files = plot_report(report, args.plot)
-        if not args.json:
-            print("plots: " + ", ".join(str(f) for f in files), file=sys.stderr)
+        plot_out, plot_is_dir = output_target(args.plot, (".pdf",), "--plot")
+        files = [plot_out / f"{stem}.png" for stem in REPORT_PLOTS] if plot_is_dir else [plot_out]
+        check_free(files, args.force, "--plot")
+    if args.report:
+        from vessel_gym.manoeuvres.report import report_name
+
+        target, is_dir = output_target(args.report, (".html", ".pdf"), "--report")
+        report_file = target / report_name(ship.name) if is_dir else target
+        check_free([report_file], args.force, "--report")
+        if plot_out is not None and not plot_is_dir and plot_out.resolve() == report_file.resolve():
+            raise UsageError(f"vessel-gym imo: --plot and --report both name {str(report_file)!r}")
+    report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None)
+    written = []
+    if plot_out is not None or report_file is not None:
+        from vessel_gym.manoeuvres.plots import plot_report, report_pngs
+        from vessel_gym.manoeuvres.report import write_report
+
+        # rendered once, shared by the PNG files and the HTML report
+        pngs = report_pngs(report) if plot_is_dir or str(report_file).lower().endswith(".html") else None
+        if plot_out is not None:
+            written += plot_report(report, plot_out, args.force, pdf=not plot_is_dir, pngs=pngs)
+        if report_file is not None:
+            written.append(write_report(report, report_file, args.force, pngs=pngs))
+    if written and not args.json:
+        print("wrote: " + ", ".join(str(f) for f in written), file=sys.stderr)
     _emit(report.to_dict(), args.json, report.table())
     return 0
 
 
 def _cmd_manoeuvre(args) -> int:
     from vessel_gym.manoeuvres import trials
+    from vessel_gym.physics.shipfile import load_ship
 
     kind = args.manoeuvre
+    ship = load_ship(args.ship)
+    plot_file = None
+    if args.plot:
+        from vessel_gym.outputs import check_free, output_target, safe_name
+
+        target, is_dir = output_target(args.plot, (".png", ".svg", ".pdf"), "--plot")
+        plot_file = target / f"{safe_name(ship.name)}_{kind}.png" if is_dir else target
+        check_free([plot_file], args.force, "--plot")
     if kind == "turning-circle":
-        res = trials.turning_circle(args.ship, args.rudder, args.speed)
+        res = trials.turning_circle(ship, args.rudder, args.speed)
     elif kind == "zigzag":
-        res = trials.zigzag(args.ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots)
+        res = trials.zigzag(ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots)
     elif kind == "initial-turning":
-        res = trials.initial_turning(args.ship, args.rudder, args.speed)
+        res = trials.initial_turning(ship, args.rudder, args.speed)
     elif kind == "stopping":
-        res = trials.stopping(args.ship, args.speed)
+        res = trials.stopping(ship, args.speed)
     else:
-        res = trials.pull_out(args.ship, args.rudder, args.speed)
-    if args.plot and hasattr(res, "track"):
+        res = trials.pull_out(ship, args.rudder, args.speed)
+    if plot_file is not None:
         from vessel_gym.manoeuvres.plots import plot_track
 
-        plot_track(res, args.plot, f"{res.ship}: {kind}")
+        path = plot_track(res, plot_file, f"{res.ship}: {kind}", force=args.force, ship=ship)
+        if not args.json:
+            print(f"wrote: {path}", file=sys.stderr)
     d = res.to_dict()
     _emit(d, args.json, _fmt(d))
     return 0
@@ -250,6 +307,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 max_steps=args.max_steps,
                 speedup=args.speedup,
                 out_dir=args.out,
+                force=args.force,
             )
             print(debrief.summary())
             return 0

@@ -12,6 +12,7 @@ key events at the given steps, so they take the same path as a person's key pres
 
 from __future__ import annotations
 
+import io
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs.harbour import HarbourApproachEnv
+from vessel_gym.outputs import check_free, write_new
 
 RUDDER_STEP_DEG = 5.0
 RUDDER_ORDERS_DEG = tuple(float(x) for x in np.arange(-35.0, 35.0 + 1e-9, RUDDER_STEP_DEG))
@@ -103,6 +105,7 @@ def play(
     keys: Sequence[tuple[int, str]] = (),
     out_dir: str | Path | None = ".",
     size: tuple[int, int] = (800, 600),
+    force: bool = False,
     **env_overrides: Any,
 ) -> Debrief:
     """Drive the scenario's ship with the keyboard; return the :class:`Debrief` (and write its track PNG).
@@ -117,6 +120,8 @@ def play(
             posted as key events before that step.
         out_dir: where the track plot ``debrief_<scenario>.png`` goes (None: no file).
         size: window size in pixels.
+        force: replace an existing debrief PNG (otherwise :class:`~vessel_gym.outputs.OutputExistsError`
+            is raised before the window opens).
         env_overrides: further HarbourApproach config keys.
     """
     import pygame
@@ -133,6 +138,9 @@ def play(
     )
     task = env.task
     sc = task.scenario
+    png = None if out_dir is None else Path(out_dir) / f"debrief_{sc.name}.png"
+    if png is not None:
+        check_free([png], force, "--out")
     dt = env.config.control_interval_s
     limit = int(round(400.0 / dt)) if max_steps is None else int(max_steps)
     obs, info = env.reset(seed=seed)
@@ -238,16 +246,21 @@ def play(
         ),
         track=track,
     )
-    if out_dir is not None:
-        debrief.track_png = str(write_track_png(env, debrief, Path(out_dir) / f"debrief_{sc.name}.png", size))
+    if png is not None:
+        debrief.track_png = str(write_track_png(env, debrief, png, size, force))
     env.close()
     return debrief
 
 
 def write_track_png(
-    env: HarbourApproachEnv, debrief: Debrief, path: Path, size: tuple[int, int] = (800, 600)
+    env: HarbourApproachEnv,
+    debrief: Debrief,
+    path: Path,
+    size: tuple[int, int] = (800, 600),
+    force: bool = False,
 ) -> Path:
-    """The chart with the whole track, start and end marks and the debrief text, as a PNG."""
+    """The chart with the whole track, start and end marks and the debrief text, as a PNG (an existing
+    file is not replaced unless ``force``)."""
     import pygame
 
     from vessel_gym.render import ChartRenderer
@@ -278,10 +291,10 @@ def write_track_png(
         y += 22
     big = chart.big.render(f"score {debrief.score:.0f}", True, (255, 200, 80))
     surf.blit(big, (x0 + 10, chart.height - 40))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    pygame.image.save(surf, str(path))
+    buf = io.BytesIO()
+    pygame.image.save(surf, buf, "png")
     chart.close()
-    return path
+    return write_new(path, buf.getvalue(), force)
 
 
 def _wrap(text: str, width: int) -> list[str]:

@@ -79,7 +79,14 @@ def test_imo_json_contract(capsys, tmp_path):
     lim = {(c["name"]): c["limit"] for c in d["criteria"]}
     assert lim["zigzag_10_first_overshoot"] == 20.0 and lim["zigzag_10_second_overshoot"] == 40.0
     pngs = sorted(p.name for p in tmp_path.glob("*.png"))
-    assert pngs == ["stopping.png", "turning_circle.png", "zigzag_10.png", "zigzag_20.png"]
+    assert pngs == [
+        "initial_turning.png",
+        "pull_out.png",
+        "stopping.png",
+        "turning_circle.png",
+        "zigzag_10.png",
+        "zigzag_20.png",
+    ]
     assert all((tmp_path / p).stat().st_size > 10_000 for p in pngs)
 
 

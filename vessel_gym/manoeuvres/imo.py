@@ -7,6 +7,9 @@ L/V < 10 s, <= 20 deg if L/V >= 30 s, else (5 + 1/2 L/V) deg; second overshoot <
 (17.5 + 0.75 L/V) deg on the same ranges; 20/20 zig-zag first overshoot <= 25 deg; full-astern stopping
 track reach <= 15 L (Administrations may accept up to 20 L for large ships; the 15 L limit is reported).
 All trials to port and starboard at the test speed in deep, calm water.
+
+The pull-out test (MSC/Circ.1053 §3.4.4, Burcher 1972) has no IMO limit; the report runs it on request as
+evidence of course stability.
 """
 
 from __future__ import annotations
@@ -14,8 +17,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from vessel_gym.manoeuvres.trials import (
+    InitialTurning,
     ManoeuvreIncomplete,
+    Stopping,
+    TurningCircle,
+    ZigZag,
     initial_turning,
+    pull_out,
     stopping,
     turning_circle,
     zigzag,
@@ -31,6 +39,14 @@ def zigzag10_limits(L_over_V_s: float) -> tuple[float, float]:
     if L_over_V_s >= 30.0:
         return 20.0, 40.0
     return 5.0 + 0.5 * L_over_V_s, 17.5 + 0.75 * L_over_V_s
+
+
+ADVANCE_LIMIT_L = 4.5  # MSC.137(76) §5.3.1
+TACTICAL_DIAMETER_LIMIT_L = 5.0  # MSC.137(76) §5.3.1
+INITIAL_TURNING_LIMIT_L = 2.5  # MSC.137(76) §5.3.2
+ZIGZAG20_FIRST_LIMIT_DEG = 25.0  # MSC.137(76) §5.3.3.3
+STOPPING_LIMIT_L = 15.0  # MSC.137(76) §5.3.4
+STOPPING_LARGE_SHIP_LIMIT_L = 20.0  # §5.3.4: the most an Administration may accept for large displacement
 
 
 @dataclass
@@ -67,6 +83,7 @@ class ImoReport:
     V_kn: float
     criteria: list[Criterion]
     trials: dict = field(default_factory=dict, repr=False)
+    spec: Ship | None = field(default=None, repr=False)
 
     @property
     def L_over_V_s(self) -> float:
@@ -76,8 +93,11 @@ class ImoReport:
     def passed(self) -> bool:
         return all(c.passed for c in self.criteria)
 
+    def criteria_named(self, name: str) -> list[Criterion]:
+        return [c for c in self.criteria if c.name == name]
+
     def to_dict(self) -> dict:
-        return {
+        d = {
             "ship": self.ship,
             "L_m": self.L_m,
             "V_kn": self.V_kn,
@@ -85,6 +105,9 @@ class ImoReport:
             "criteria": [c.to_dict() for c in self.criteria],
             "pass": self.passed,
         }
+        if "pull_out" in self.trials:
+            d["pull_out"] = self.trials["pull_out"].to_dict()
+        return d
 
     def table(self) -> str:
         """The report as a fixed-width text table."""
@@ -106,13 +129,86 @@ class ImoReport:
         return "\n".join(lines)
 
 
-def imo_report(ship: str | Ship) -> ImoReport:
-    """Run every MSC.137(76) trial to both sides at the ship's test speed and evaluate the criteria."""
+def _side(rudder_deg: float) -> str:
+    return "starboard" if rudder_deg > 0 else "port"
+
+
+def turning_criteria(tc: TurningCircle) -> list[Criterion]:
+    """Advance and tactical diameter of a 35 deg (or maximum-rudder) turning test, MSC.137(76) §5.3.1."""
+    L, side = tc.L_m, _side(tc.rudder_deg)
+    return [
+        Criterion("advance", side, tc.advance_m / L, ADVANCE_LIMIT_L, "L"),
+        Criterion("tactical_diameter", side, tc.tactical_diameter_m / L, TACTICAL_DIAMETER_LIMIT_L, "L"),
+    ]
+
+
+def initial_turning_criteria(it: InitialTurning) -> list[Criterion]:
+    """Distance travelled to a 10 deg heading change with 10 deg rudder, MSC.137(76) §5.3.2."""
+    side = _side(it.rudder_deg)
+    return [Criterion("initial_turning", side, it.distance_m / it.L_m, INITIAL_TURNING_LIMIT_L, "L")]
+
+
+def zigzag_limits(angle_deg: float, L_over_V_s: float) -> tuple[float, ...]:
+    """Overshoot limits (deg) of the 10/10 (first, second) or 20/20 (first) zig-zag, MSC.137(76) §5.3.3."""
+    if angle_deg == 10.0:
+        return zigzag10_limits(L_over_V_s)
+    if angle_deg == 20.0:
+        return (ZIGZAG20_FIRST_LIMIT_DEG,)
+    raise ValueError(
+        f"MSC.137(76) sets overshoot limits for 10/10 and 20/20 zig-zags only, not {angle_deg:g}"
+    )
+
+
+def zigzag_criteria(z: ZigZag, L_over_V_s: float) -> list[Criterion]:
+    """The overshoot criteria of a 10/10 or 20/20 zig-zag (MSC.137(76) §5.3.3)."""
+    angle = abs(z.rudder_deg)
+    names = [f"zigzag_{angle:.0f}_first_overshoot", f"zigzag_{angle:.0f}_second_overshoot"]
+    out = []
+    for k, (nm, lim) in enumerate(zip(names, zigzag_limits(angle, L_over_V_s))):
+        val = z.overshoot_deg[k] if k < len(z.overshoot_deg) else None
+        out.append(
+            Criterion(nm, _side(z.rudder_deg), val, lim, "deg", "" if val is not None else "not reached")
+        )
+    return out
+
+
+def stopping_criteria(st: Stopping) -> list[Criterion]:
+    """Track reach of the full-astern stopping test, MSC.137(76) §5.3.4."""
+    reach = st.track_reach_m / st.L_m
+    note = ""
+    if STOPPING_LIMIT_L < reach <= STOPPING_LARGE_SHIP_LIMIT_L:
+        note = "within the 20 L an Administration may accept for ships of large displacement"
+    return [Criterion("stopping_track_reach", "ahead", reach, STOPPING_LIMIT_L, "L", note)]
+
+
+def criteria_for(result, ship: str | Ship) -> list[Criterion]:
+    """The MSC.137(76) criteria a single trial result is evidence for: empty unless the trial was run in the
+    standard's condition (test speed; 35 deg or the maximum rudder for turning, 10 deg for initial turning,
+    10/10 or 20/20 zig-zag)."""
+    s = load_ship(ship)
+    V = s.particulars.test_speed_kn
+    if abs(getattr(result, "speed_kn", V) - V) > 1e-6 * V:
+        return []
+    rudder = abs(getattr(result, "rudder_deg", 0.0))
+    if isinstance(result, TurningCircle) and rudder == min(35.0, s.steering_gear.max_angle_deg):
+        return turning_criteria(result)
+    if isinstance(result, InitialTurning) and rudder == 10.0:
+        return initial_turning_criteria(result)
+    if isinstance(result, ZigZag) and rudder == result.heading_deg and rudder in (10.0, 20.0):
+        LV = s.particulars.L_m / (V * KNOT_M_S)
+        return zigzag_criteria(result, LV)
+    if isinstance(result, Stopping):
+        return stopping_criteria(result)
+    return []
+
+
+def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
+    """Run every MSC.137(76) trial to both sides at the ship's test speed and evaluate the criteria;
+    ``with_pull_out`` adds the pull-out test (no IMO limit) to the report's trials."""
     s = load_ship(ship)
     L = s.particulars.L_m
     V = s.particulars.test_speed_kn
     LV = L / (V * KNOT_M_S)
-    os1, os2 = zigzag10_limits(LV)
     turn_rudder = min(35.0, s.steering_gear.max_angle_deg)
     crit: list[Criterion] = []
     trials: dict = {}
@@ -122,38 +218,37 @@ def imo_report(ship: str | Ship) -> ImoReport:
         try:
             tc = turning_circle(s, sg * turn_rudder, until_deg=360.0)
             trials[f"turning_{side}"] = tc
-            crit.append(Criterion("advance", side, tc.advance_m / L, 4.5, "L"))
-            crit.append(Criterion("tactical_diameter", side, tc.tactical_diameter_m / L, 5.0, "L"))
+            crit += turning_criteria(tc)
         except ManoeuvreIncomplete as exc:
-            crit.append(Criterion("advance", side, None, 4.5, "L", str(exc)))
-            crit.append(Criterion("tactical_diameter", side, None, 5.0, "L", str(exc)))
+            crit.append(Criterion("advance", side, None, ADVANCE_LIMIT_L, "L", str(exc)))
+            crit.append(Criterion("tactical_diameter", side, None, TACTICAL_DIAMETER_LIMIT_L, "L", str(exc)))
     for side, sg in sides:
         try:
             it = initial_turning(s, sg * 10.0)
             trials[f"initial_turning_{side}"] = it
-            crit.append(Criterion("initial_turning", side, it.distance_m / L, 2.5, "L"))
+            crit += initial_turning_criteria(it)
         except ManoeuvreIncomplete as exc:
-            crit.append(Criterion("initial_turning", side, None, 2.5, "L", str(exc)))
-    for angle, limits in ((10.0, (os1, os2)), (20.0, (25.0,))):
+            crit.append(Criterion("initial_turning", side, None, INITIAL_TURNING_LIMIT_L, "L", str(exc)))
+    for angle in (10.0, 20.0):
+        limits = zigzag_limits(angle, LV)
         for side, sg in sides:
-            names = [f"zigzag_{angle:.0f}_first_overshoot", f"zigzag_{angle:.0f}_second_overshoot"][
-                : len(limits)
-            ]
             try:
                 z = zigzag(s, sg * angle, angle, n_overshoots=len(limits))
                 trials[f"zigzag_{angle:.0f}_{side}"] = z
-                for k, (nm, lim) in enumerate(zip(names, limits)):
-                    val = z.overshoot_deg[k] if k < len(z.overshoot_deg) else None
-                    crit.append(
-                        Criterion(nm, side, val, lim, "deg", "" if val is not None else "not reached")
-                    )
+                crit += zigzag_criteria(z, LV)
             except ManoeuvreIncomplete as exc:
+                names = [f"zigzag_{angle:.0f}_first_overshoot", f"zigzag_{angle:.0f}_second_overshoot"]
                 for nm, lim in zip(names, limits):
                     crit.append(Criterion(nm, side, None, lim, "deg", str(exc)))
     try:
         st = stopping(s)
         trials["stopping"] = st
-        crit.append(Criterion("stopping_track_reach", "ahead", st.track_reach_m / L, 15.0, "L"))
+        crit += stopping_criteria(st)
     except ManoeuvreIncomplete as exc:
-        crit.append(Criterion("stopping_track_reach", "ahead", None, 15.0, "L", str(exc)))
-    return ImoReport(s.name, L, V, crit, trials)
+        crit.append(Criterion("stopping_track_reach", "ahead", None, STOPPING_LIMIT_L, "L", str(exc)))
+    if with_pull_out:
+        try:
+            trials["pull_out"] = pull_out(s)
+        except ManoeuvreIncomplete:
+            pass  # no criterion depends on it; the report says the trial is missing
+    return ImoReport(s.name, L, V, crit, trials, s)

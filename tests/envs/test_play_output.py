@@ -1,0 +1,25 @@
+"""`play --out DIR` never replaces an earlier debrief plot unless --force is given."""
+
+from __future__ import annotations
+
+import pytest
+
+from vessel_gym.cli import main
+from vessel_gym.outputs import OutputExistsError
+from vessel_gym.play import play
+
+
+def test_play_refuses_to_replace_a_debrief(tmp_path, capsys):
+    pytest.importorskip("pygame")
+    earlier = tmp_path / "debrief_harbour.png"
+    earlier.write_bytes(b"an earlier debrief")
+    with pytest.raises(OutputExistsError, match="--force"):
+        play("harbour", seed=1, realtime=False, max_steps=2, out_dir=tmp_path)
+    assert earlier.read_bytes() == b"an earlier debrief"
+    # the command line says so in one line, exit 2, before a window opens
+    code = main(["play", "harbour", "--max-steps", "2", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "debrief_harbour.png" in err
+    assert earlier.read_bytes() == b"an earlier debrief"
+    d = play("harbour", seed=1, realtime=False, max_steps=2, out_dir=tmp_path, force=True)
+    assert d.track_png == str(earlier) and earlier.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
