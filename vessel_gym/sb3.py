@@ -42,7 +42,7 @@ Stable-Baselines3 is imported by this module only; ``vessel_gym`` itself does no
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 import gymnasium as gym
@@ -194,13 +194,15 @@ def make_vec_env(
     num_envs: int,
     seed: int | None = None,
     monitor: bool = True,
+    vector_wrappers: Sequence[Callable[[gym.vector.VectorEnv], gym.vector.VectorEnv]] = (),
     **env_kwargs: Any,
 ) -> VecEnv:
     """The native vector environment of ``env_id`` (same-step autoreset) as an SB3 ``VecEnv``, inside
     ``VecMonitor`` unless ``monitor=False``; sub-environment i is seeded ``seed + i`` at the first reset.
 
     ``env_kwargs`` go to ``gymnasium.make_vec`` (environment configuration, ``max_episode_steps``,
-    ``render_mode``).
+    ``render_mode``); ``vector_wrappers`` (Gymnasium vector wrappers, first innermost) wrap the vector
+    environment inside the adapter.
     """
     import vessel_gym.envs  # noqa: F401  (registers the ids)
 
@@ -211,6 +213,8 @@ def make_vec_env(
         autoreset_mode=AutoresetMode.SAME_STEP,
         **env_kwargs,
     )
+    for wrap in vector_wrappers:
+        venv = wrap(venv)
     adapter: VecEnv = VectorEnvAdapter(venv)
     if seed is not None:
         adapter.seed(seed)

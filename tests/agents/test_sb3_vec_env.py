@@ -131,3 +131,20 @@ def test_is_success_reaches_sb3_and_render_tiles() -> None:
     frame = venv.render(mode="rgb_array")
     assert frame.ndim == 3 and frame.shape[2] == 3
     venv.close()
+
+
+def test_training_wrapper_twin_matches_the_single_env_wrapper() -> None:
+    """agents.common.make_vec_env: RudderEffortPenalty on single environments (dummy) and its vector twin on
+    the native vector environment give the same rewards, reward terms and episode returns."""
+    from agents import common
+
+    kwargs = {"schedule": "random", "max_episode_steps": 29}
+    wrapper = [{"RudderEffortPenalty": {"weight": 0.3}}]
+    ref_env = common.make_vec_env("vessel_gym/ZigZag-v0", 3, 4, "dummy", kwargs, env_wrapper=wrapper)
+    actions = _actions(ref_env, 70, 0.0)
+    ref = _rollout(ref_env, actions)
+    got = _rollout(
+        common.make_vec_env("vessel_gym/ZigZag-v0", 3, 4, "native", kwargs, env_wrapper=wrapper), actions
+    )
+    assert _compare(ref, got)[1] >= 3
+    assert "rudder_effort" in got[-1][3][0]["reward_terms"]
