@@ -17,7 +17,7 @@ CASES = [
     ("vessel_gym/ZigZag-v0", {"schedule": "random", "max_episode_steps": 37}, 3, 200, 0.0),
     # ("mode": "reverse"): ships 0 and 2 turn hard over and reach 180 deg, ship 1 meanders into the time limit
     ("vessel_gym/TurningCircle-v0", {"mode": "reverse", "max_episode_steps": 300}, 3, 420, (0.9, 0.0, 0.9)),
-    ("vessel_gym/HarbourApproach-v0", {"max_episode_steps": 25}, 2, 60, 0.0),
+    ("vessel_gym/HarbourApproach-v0", {"max_episode_steps": 40}, 2, 150, 0.0),
 ]
 
 
@@ -148,3 +148,12 @@ def test_training_wrapper_twin_matches_the_single_env_wrapper() -> None:
     )
     assert _compare(ref, got)[1] >= 3
     assert "rudder_effort" in got[-1][3][0]["reward_terms"]
+
+
+def test_a_wrapper_without_vector_twin_is_refused_on_native() -> None:
+    from agents import common
+
+    with pytest.raises(common.UsageError, match="wraps single environments only; train with --vec dummy"):
+        common.make_vec_env(
+            "vessel_gym/ZigZag-v0", 2, 0, "native", env_wrapper=["gymnasium.wrappers.RecordEpisodeStatistics"]
+        )
