@@ -82,12 +82,12 @@ def _split(info: dict[str, Any], n: int, skip: Iterable[str] = ()) -> list[dict[
     return out
 
 
-def _final_info(final_info: Any, i: int, n: int) -> dict[str, Any]:
-    """Sub-environment i's final-step info from ``info["final_info"]``: an object array of dicts
-    (vessel-gym) or a batched dict with masks (Gymnasium's ``SyncVectorEnv``)."""
+def _final_infos(final_info: Any, n: int) -> Sequence[Any]:
+    """The final-step infos from ``info["final_info"]``, indexable by sub-environment: an object array of
+    dicts (vessel-gym) or a batched dict with masks (Gymnasium's ``SyncVectorEnv``)."""
     if isinstance(final_info, dict):
-        return _split(final_info, n)[i]
-    return _python(final_info[i])
+        return _split(final_info, n)
+    return [None if d is None else _python(d) for d in final_info]
 
 
 def _python(d: dict[str, Any]) -> dict[str, Any]:
@@ -142,9 +142,9 @@ class VectorEnvAdapter(VecEnv):
         if dones.any():
             idx = np.flatnonzero(dones)
             if self.autoreset_mode == AutoresetMode.SAME_STEP:
-                final_obs, final_info = info["final_obs"], info["final_info"]
+                final_obs, final_infos = info["final_obs"], _final_infos(info["final_info"], n)
                 for i in idx:
-                    d = _final_info(final_info, i, n)
+                    d = final_infos[i]
                     d["TimeLimit.truncated"] = time_limit[i]
                     d["terminal_observation"] = final_obs[i]
                     infos[i] = d
