@@ -5,7 +5,8 @@ the functions here, so a notebook, a test or a Ray trial trains and evaluates ex
 
 * :func:`load_hyperparams` reads ``agents/hyperparams/<algo>.yml`` (one block per env id, rl-zoo3 style)
   and :func:`run_config` checks every key against the algorithm's constructor;
-* :func:`make_vec_env` builds an SB3 ``DummyVecEnv`` or ``SubprocVecEnv`` of a registered id;
+* :func:`make_vec_env` builds the SB3 vector environment of a registered id: its native vector version
+  (:mod:`vessel_gym.sb3`, the default), a ``DummyVecEnv`` or a ``SubprocVecEnv``;
 * :func:`train` trains, logs (CSV), checkpoints and saves ``<out>/<algo>_<env>_s<seed>.zip`` with its
   run record ``<algo>_<env>_s<seed>.yml`` next to it;
 * :func:`evaluate` runs seeded episodes of a baseline (``pid``, ``scripted``) or a saved model through

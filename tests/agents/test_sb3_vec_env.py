@@ -157,3 +157,17 @@ def test_a_wrapper_without_vector_twin_is_refused_on_native() -> None:
         common.make_vec_env(
             "vessel_gym/ZigZag-v0", 2, 0, "native", env_wrapper=["gymnasium.wrappers.RecordEpisodeStatistics"]
         )
+
+
+def test_the_package_does_not_import_sb3() -> None:
+    """Only vessel_gym.sb3 needs stable-baselines3: making and stepping environments never imports it."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, gymnasium as gym, vessel_gym\n"
+        "env = gym.make_vec('vessel_gym/ZigZag-v0', 2, vectorization_mode='vector_entry_point')\n"
+        "env.reset(seed=0)\n"
+        "assert 'stable_baselines3' not in sys.modules and 'torch' not in sys.modules\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=300)
