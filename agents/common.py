@@ -5,7 +5,8 @@ the functions here, so a notebook, a test or a Ray trial trains and evaluates ex
 
 * :func:`load_hyperparams` reads ``agents/hyperparams/<algo>.yml`` (one block per env id, rl-zoo3 style)
   and :func:`run_config` checks every key against the algorithm's constructor;
-* :func:`make_vec_env` builds an SB3 ``DummyVecEnv`` or ``SubprocVecEnv`` of a registered id;
+* :func:`make_vec_env` builds the SB3 vector environment of a registered id: its native vector version
+  (:mod:`vessel_gym.sb3`, the default), a ``DummyVecEnv`` or a ``SubprocVecEnv``;
 * :func:`train` trains, logs (CSV), checkpoints and saves ``<out>/<algo>_<env>_s<seed>.zip`` with its
   run record ``<algo>_<env>_s<seed>.yml`` next to it;
 * :func:`evaluate` runs seeded episodes of a baseline (``pid``, ``scripted``) or a saved model through
@@ -31,9 +32,11 @@ from typing import Any
 
 import numpy as np
 
+from agents import seeds
+
 HYPERPARAMS_DIR = Path(__file__).resolve().parent / "hyperparams"
 ALGOS: dict[str, str] = {"ppo": "PPO", "sac": "SAC", "td3": "TD3", "a2c": "A2C"}
-VEC_KINDS = ("dummy", "subproc")
+VEC_KINDS = ("native", "dummy", "subproc")
 BASELINES = ("pid", "scripted")
 
 #: keys of a hyperparameter block that are not constructor arguments of the algorithm
@@ -371,18 +374,30 @@ def make_vec_env(
     env_id: str,
     n_envs: int = 1,
     seed: int = 0,
-    vec: str = "dummy",
+    vec: str = "native",
     env_kwargs: Mapping[str, Any] | None = None,
     start_method: str | None = None,
     env_wrapper: Any = None,
 ) -> Any:
     """SB3 vector environment of ``n_envs`` copies of ``env_id`` seeded ``seed, seed + 1, ...``, with episode
-    statistics (``VecMonitor``). ``vec="subproc"`` steps each copy in its own process."""
+    statistics (``VecMonitor``). ``vec="native"``: the environment's native vector version (all ships in one
+    batched simulation) through :class:`vessel_gym.sb3.VectorEnvAdapter`, training wrappers as their
+    vector-environment twins; ``"dummy"``: SB3's ``DummyVecEnv`` over single environments; ``"subproc"``:
+    each copy in its own process."""
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
     if vec not in VEC_KINDS:
         raise UsageError(f"unknown vector environment {vec!r} (have: {', '.join(VEC_KINDS)})")
     make_env(env_id, env_kwargs, env_wrapper).close()  # fail early, in this process, with a clear message
+    if vec == "native":
+        from agents import wrappers
+        from vessel_gym.sb3 import make_vec_env as native_vec_env
+
+        try:
+            twins = wrappers.vector_twins(wrappers.resolve(env_wrapper))
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+        return native_vec_env(env_id, n_envs, seed=seed, vector_wrappers=twins, **dict(env_kwargs or {}))
     fns = [EnvFactory(env_id, env_kwargs, env_wrapper) for _ in range(n_envs)]
     venv = DummyVecEnv(fns) if vec == "dummy" else SubprocVecEnv(fns, start_method=start_method)
     venv.seed(seed)
@@ -401,6 +416,7 @@ class TrainResult:
     budget_hit: bool
     config: RunConfig
     best_model_path: Path | None = None  # with eval_freq: the best model of the periodic evaluations
+    test: dict[str, dict[str, Any]] = field(default_factory=dict)  # "final"/"best" -> test-set summary
 
 
 def _stop_on_wall_clock(seconds: float) -> Any:
@@ -423,6 +439,28 @@ def _stop_on_wall_clock(seconds: float) -> Any:
             return True
 
     return StopOnWallClock()
+
+
+def _validation_callback(seed0: int) -> type:
+    """SB3 ``EvalCallback`` that reseeds its environment (copy i: ``seed0 + i``) before every evaluation."""
+    from stable_baselines3.common.callbacks import EvalCallback
+
+    class ValidationCallback(EvalCallback):
+        def _on_step(self) -> bool:
+            if self.eval_freq > 0 and self.n_calls % self.eval_freq == 0:
+                self.eval_env.seed(seed0)
+            return super()._on_step()
+
+    return ValidationCallback
+
+
+def _test_evaluation(
+    env_id: str, model: Path, episodes: int, env_kwargs: Mapping[str, Any]
+) -> dict[str, Any]:
+    """:func:`evaluate` of a trained model on the first ``episodes`` test seeds, for the run record."""
+    start = seeds.episode_seeds("test", episodes)[0]
+    summary = evaluate(env_id, model, episodes, start, env_kwargs)["summary"]
+    return {"seeds": f"{start}..{start + episodes - 1}", **json_safe(summary)}
 
 
 def build_model(cfg: RunConfig, venv: Any, seed: int, verbose: int = 0) -> Any:
@@ -458,7 +496,7 @@ def train(
     *,
     timesteps: int | None = None,
     n_envs: int | None = None,
-    vec: str = "dummy",
+    vec: str = "native",
     out: str | Path = "runs",
     hyperparams_file: str | Path | None = None,
     overrides: Mapping[str, Any] | None = None,
@@ -469,7 +507,8 @@ def train(
     callbacks: Sequence[Any] = (),
     time_budget_s: float | None = None,
     eval_freq: int | None = None,
-    eval_episodes: int = 5,
+    eval_episodes: int = 10,
+    test_episodes: int = 0,
     verbose: int = 0,
 ) -> TrainResult:
     """Train ``algo`` on ``env_id`` with the hyperparameters of its block; save the model under ``out``.
@@ -479,10 +518,12 @@ def train(
     ``normalize``), the SB3 log ``<out>/logs/<stem>/progress.csv`` and checkpoints
     ``<out>/checkpoints/<stem>_<steps>_steps.zip`` every ``checkpoint_freq`` steps (default: a tenth of
     the run). ``time_budget_s`` stops training early (the model is saved as it is then).
-    ``eval_freq``: every ``eval_freq`` steps, evaluate the deterministic policy for ``eval_episodes``
-    episodes of the evaluation environment (``eval_env_kwargs``, registered reward, no training wrappers,
-    seeds from ``seed + 10000``: apart from the starts ``evaluate.py`` uses by default) and keep the best
-    as ``<stem>_best.zip`` with its own run record (``selected_at_timesteps``).
+    ``eval_freq``: every ``eval_freq`` steps, evaluate the deterministic policy on the same ``eval_episodes``
+    episodes of the validation seed set (:mod:`agents.seeds`) of the evaluation environment
+    (``eval_env_kwargs``, registered reward, no training wrappers) and keep the best as ``<stem>_best.zip``
+    with its own run record (``selected_at_timesteps``). ``test_episodes``: after training, evaluate the
+    final (and the best) model on that many episodes of the test seed set; the summaries go to the run
+    records (``test``). ``vec``: see :func:`make_vec_env` (default the native vector environment).
     ``threads``: torch threads (1 is fastest for these small networks on a shared CPU).
     """
     import stable_baselines3 as sb3
@@ -496,12 +537,20 @@ def train(
     env_id = resolve_env_id(env_id)
     if seed < 0:
         raise UsageError(f"seed must be >= 0, got {seed}")
+    if eval_freq and eval_episodes < 1:
+        raise UsageError(f"eval_episodes must be >= 1, got {eval_episodes}")
+    if test_episodes < 0:
+        raise UsageError(f"test_episodes must be >= 0, got {test_episodes}")
     over = dict(overrides or {})
     if timesteps is not None:
         over["n_timesteps"] = timesteps
     if n_envs is not None:
         over["n_envs"] = n_envs
     cfg = run_config(algo, env_id, load_hyperparams(algo, env_id, hyperparams_file, over))
+    try:
+        seeds.check_training_seed(seed, cfg.n_envs)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     if threads:
         torch.set_num_threads(threads)
     out = Path(out)
@@ -523,14 +572,15 @@ def train(
             cbs.append(stopper)
         evaluator = None
         if eval_freq:
-            from stable_baselines3.common.callbacks import EvalCallback
-
-            eval_venv = make_vec_env(env_id, 1, seed + 10_000, "dummy", cfg.eval_env_kwargs)
+            # one copy per validation episode, all reseeded before every evaluation: the same episodes each time
+            val0 = seeds.episode_seeds("validation", eval_episodes)[0]
+            eval_vec = "native" if vec == "native" else "dummy"
+            eval_venv = make_vec_env(env_id, eval_episodes, val0, eval_vec, cfg.eval_env_kwargs)
             if cfg.normalize is not None:
                 eval_venv = VecNormalize(
                     eval_venv, training=False, norm_obs=cfg.normalize["norm_obs"], norm_reward=False
                 )
-            evaluator = EvalCallback(
+            evaluator = _validation_callback(val0)(
                 eval_venv,
                 n_eval_episodes=eval_episodes,
                 eval_freq=max(eval_freq // cfg.n_envs, 1),
@@ -587,18 +637,26 @@ def train(
     if eval_freq:
         record["eval_freq"] = eval_freq
         record["eval_episodes"] = eval_episodes
+        record["validation_seeds"] = f"{val0}..{val0 + eval_episodes - 1}"
+    if test_episodes:
+        record["test"] = _test_evaluation(env_id, model_path, test_episodes, cfg.eval_env_kwargs)
     record_path = sidecar(model_path, ".yml")
     record_path.write_text(yaml.safe_dump(record, sort_keys=False))
     if best_path is not None:
         best_record = {**record, "selected_at_timesteps": best_step, "selected_from": model_path.name}
+        if test_episodes:
+            best_record["test"] = _test_evaluation(env_id, best_path, test_episodes, cfg.eval_env_kwargs)
         if vn_path is not None:  # observation statistics of the end of the run (exact without norm_obs)
             best_vn = sidecar(best_path, "_vecnormalize.pkl")
             best_vn.write_bytes(vn_path.read_bytes())
             best_record["vecnormalize"] = best_vn.name
         sidecar(best_path, ".yml").write_text(yaml.safe_dump(best_record, sort_keys=False))
     hit = bool(stopper is not None and stopper.hit)
+    test = {"final": record["test"]} if test_episodes else {}
+    if test_episodes and best_path is not None:
+        test["best"] = best_record["test"]
     return TrainResult(
-        model_path, record_path, vn_path, wall, cpu, int(model.num_timesteps), hit, cfg, best_path
+        model_path, record_path, vn_path, wall, cpu, int(model.num_timesteps), hit, cfg, best_path, test
     )
 
 

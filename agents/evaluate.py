@@ -4,7 +4,9 @@
     python agents/evaluate.py --env ZigZag-v0 --agent pid --episodes 20 --seed 0 --json
     python agents/evaluate.py --env HarbourApproach-v0 --agent scripted --episodes 5
 
-Episode i starts from ``reset(seed=seed + i)``, so every agent meets the same starts. ``--agent``: ``pid``
+Episode i starts from ``reset(seed=seed + i)``, so every agent meets the same starts; without ``--seed``
+the episodes are those of the test seed set (``agents/seeds.py``), never seen in training or model
+selection (``--split validation`` for the validation set). ``--agent``: ``pid``
 (heading PID with Nomoto pole-placement gains; HarbourApproach: the line-of-sight pilot with those gains;
 TurningCircle: rate PI), ``scripted`` (IMO zig-zag rule / 35 deg turn / harbour pilot) or a model saved by
 ``train.py``. A model is evaluated with the environment arguments it was trained with (its run record
@@ -23,6 +25,7 @@ from typing import Any
 if __package__ in (None, ""):  # run as a script: make the repository root importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from agents import seeds  # noqa: E402
 from agents.common import (  # noqa: E402
     OneLineParser,
     UsageError,
@@ -56,7 +59,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
     p.add_argument("--agent", required=True, help="pid, scripted or a model .zip saved by train.py")
     p.add_argument("--episodes", type=int_at_least("--episodes", 1), default=20)
-    p.add_argument("--seed", type=int_at_least("--seed", 0), default=0)
+    p.add_argument(
+        "--seed", type=int_at_least("--seed", 0), default=None, help="first episode seed (default: --split's)"
+    )
+    p.add_argument(
+        "--split",
+        choices=sorted(seeds.SPLITS),
+        default="test",
+        help="seed set used without --seed (default test)",
+    )
     p.add_argument(
         "--env-kwargs",
         nargs="+",
@@ -91,7 +102,8 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         kwargs = parse_assignments(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None else None
-        result = evaluate(args.env, args.agent, args.episodes, args.seed, kwargs)
+        seed = args.seed if args.seed is not None else seeds.SPLITS[args.split]
+        result = evaluate(args.env, args.agent, args.episodes, seed, kwargs)
     except UsageError as exc:
         print(f"evaluate.py: error: {exc}", file=sys.stderr)
         return 2

@@ -1,13 +1,15 @@
-"""Train agents within a wall-clock budget, evaluate them and the baselines, write ``docs/results.md``.
+"""Train agents for a budget of environment steps, evaluate them and the baselines, write ``docs/results.md``.
 
-    python agents/results.py                                  # everything (30-60 minutes on 2 cores)
-    python agents/results.py --envs ZigZag-v0 --algos ppo --budget 5
+    python agents/results.py                                  # everything (the blocks' n_timesteps: hours)
+    python agents/results.py --envs ZigZag-v0 --algos ppo --timesteps 300000
     python agents/results.py --skip-train                     # re-evaluate the saved models
 
-For each environment and algorithm: ``train`` with the hyperparameter file's block, stopped after
-``--budget`` minutes of wall-clock time (the model is saved as it is then), then ``evaluate`` the model and
-the ``pid`` and ``scripted`` baselines over ``--episodes`` seeded episodes (the same starts for every agent)
-with the block's ``eval_env_kwargs``. Extra evaluations (``EXTRA_EVALS``) run the same agents on other
+For each environment and algorithm: ``train`` with the hyperparameter file's block for ``--timesteps``
+environment steps (default the block's ``n_timesteps``; a step budget, so the result does not depend on how
+loaded the machine was), with a periodic evaluation on the validation seeds, then ``evaluate`` the model and
+the ``pid`` and ``scripted`` baselines over ``--episodes`` episodes of the test seed set (the same starts for
+every agent, never used in training or model selection; ``agents/seeds.py``) with the block's
+``eval_env_kwargs``. Extra evaluations (``EXTRA_EVALS``) run the same agents on other
 configurations of the environment. Everything goes to ``<out>/results.json``; the tables replace the part
 of ``--doc`` between the markers ``<!-- results:begin -->`` and ``<!-- results:end -->`` (the rest of the
 page, the discussion, is kept).
@@ -29,6 +31,7 @@ from typing import Any
 if __package__ in (None, ""):  # run as a script: make the repository root importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from agents import seeds  # noqa: E402
 from agents.common import (  # noqa: E402
     ALGOS,
     BASELINES,
@@ -74,10 +77,15 @@ def build_parser() -> argparse.ArgumentParser:
         help="algorithms for every env (default: PLAN, PPO everywhere and SAC on ZigZag)",
     )
     p.add_argument(
-        "--budget", type=positive(float, "--budget"), default=10.0, help="minutes per training run"
+        "--timesteps",
+        type=positive(int, "--timesteps"),
+        default=None,
+        help="environment steps per training run (default: each block's n_timesteps)",
     )
     p.add_argument("--episodes", type=positive(int, "--episodes"), default=20)
-    p.add_argument("--seed", type=int, default=0, help="training seed; evaluation episodes use seed+1000+i")
+    p.add_argument(
+        "--seed", type=int, default=0, help="training seed; evaluation episodes use the test seeds (seeds.py)"
+    )
     p.add_argument("--out", default="runs/results", help="models, logs and results.json")
     p.add_argument("--doc", default=str(REPO / "docs" / "results.md"))
     p.add_argument("--skip-train", action="store_true", help="evaluate the models already in --out")
@@ -203,6 +211,8 @@ def verdict(kind: str, rows: list[dict[str, Any]]) -> str:
 def markdown(results: dict[str, Any]) -> str:
     """The generated part of docs/results.md."""
     m = results["machine"]
+    steps = results.get("timesteps")
+    budget = "each block's `n_timesteps`" if steps is None else f"{steps:,} environment steps"
     out = [
         BEGIN,
         "",
@@ -212,7 +222,7 @@ def markdown(results: dict[str, Any]) -> str:
         f"stable-baselines3 {m['sb3']}; load average {m['load_start']:.1f} at the start and "
         f"{m['load_end']:.1f} at the end (a shared machine: wall times include waiting for the CPU, the "
         "CPU time in brackets does not). Training budget "
-        f"{results['budget_min']:g} min wall clock per run; {results['episodes']} evaluation episodes per agent, "
+        f"{budget} per run; {results['episodes']} evaluation episodes per agent from the test seed set, "
         f"episode i from `reset(seed={results['eval_seed']} + i)` for every agent. Mean ± standard deviation "
         "over the episodes.",
         "",
@@ -254,7 +264,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     out = Path(args.out)
     envs = [resolve_env_id(e) for e in args.envs]
     load_start = os.getloadavg()[0]
-    eval_seed = args.seed + 1000  # evaluation starts differ from the training environments' seeds
+    eval_seed = seeds.episode_seeds("test", args.episodes)[0]  # never seen in training or model selection
     sections = []
     for env_id in envs:
         trained: list[tuple[str, Path, dict[str, Any]]] = []
@@ -268,13 +278,14 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
             path = out / f"{model_stem(algo, env_id, args.seed)}.zip"
             if not args.skip_train:
                 path.with_name(path.stem + "_best.zip").unlink(missing_ok=True)  # no stale best model
-                _log(f"train {algo} on {env_id} (budget {args.budget:g} min)")
+                steps = args.timesteps or cfg.n_timesteps
+                _log(f"train {algo} on {env_id} ({steps} steps)")
                 res = train(
                     algo,
                     env_id,
                     args.seed,
+                    timesteps=steps,
                     out=out,
-                    time_budget_s=60.0 * args.budget,
                     threads=args.threads,
                     eval_freq=args.eval_freq,
                 )
@@ -328,7 +339,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     return {
         "argv": argv,
         "date": dt.date.today().isoformat(),
-        "budget_min": args.budget,
+        "timesteps": args.timesteps,
         "episodes": args.episodes,
         "eval_seed": eval_seed,
         "machine": {

@@ -1,8 +1,15 @@
 """Train a Stable-Baselines3 agent on a vessel-gym environment.
 
     python agents/train.py --env vessel_gym/ZigZag-v0 --algo ppo --seed 0
-    python agents/train.py --env ZigZag-v0 --algo sac --seed 1 --timesteps 50000 --n-envs 4 --vec subproc
+    python agents/train.py --env ZigZag-v0 --algo sac --seed 1 --timesteps 50000 --n-envs 4 --vec dummy
+    python agents/train.py --env HarbourApproach-v0 --algo ppo --seed 0 --timesteps 200000 \
+        --eval-freq 20000 --eval-episodes 10 --test-episodes 20 --log-format csv tensorboard
 
+The budget is a number of environment steps (``--timesteps``, all copies together), so a run does the same
+work on a loaded machine as on an idle one. The copies are the ships of the environment's native vector
+version (``--vec native``, the default) or single environments (``--vec dummy|subproc``). ``--eval-freq``
+evaluates on the fixed validation seed set and keeps the best model; ``--test-episodes`` evaluates the final
+(and best) model on the test seed set afterwards (``agents/seeds.py`` defines both sets).
 Hyperparameters come from ``agents/hyperparams/<algo>.yml`` (the block of the env id); ``--timesteps`` and
 ``--n-envs`` override its ``n_timesteps``/``n_envs``, ``--hyperparams KEY=VALUE`` any key (YAML values,
 dotted keys for nested ones: ``policy_kwargs.net_arch=[32,32]``, ``env_kwargs.schedule=imo``).
@@ -52,7 +59,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--timesteps", type=int_at_least("--timesteps", 1), default=None, help="override n_timesteps"
     )
     p.add_argument("--n-envs", type=int_at_least("--n-envs", 1), default=None, help="override n_envs")
-    p.add_argument("--vec", choices=VEC_KINDS, default="dummy", help="vector environment (default dummy)")
+    p.add_argument(
+        "--vec",
+        choices=VEC_KINDS,
+        default="native",
+        help="native: all copies in one batched simulation (default); dummy/subproc: SB3's vector envs",
+    )
     p.add_argument("--out", default="runs", help="output directory (default runs/)")
     p.add_argument(
         "--hyperparams-file", default=None, help="YAML file instead of agents/hyperparams/<algo>.yml"
@@ -66,14 +78,31 @@ def build_parser() -> argparse.ArgumentParser:
         help="SB3 logger outputs (default csv stdout)",
     )
     p.add_argument("--checkpoint-freq", type=int_at_least("--checkpoint-freq", 1), default=None, help="steps")
-    p.add_argument("--time-budget", type=_minutes, default=None, metavar="MIN", help="stop after MIN minutes")
+    p.add_argument(
+        "--time-budget",
+        type=_minutes,
+        default=None,
+        metavar="MIN",
+        help="also stop after MIN minutes of wall clock (a safety cap; compare runs by --timesteps)",
+    )
     p.add_argument(
         "--eval-freq",
         type=int_at_least("--eval-freq", 1),
         default=None,
-        help="evaluate every STEPS steps and keep the best model as <stem>_best.zip",
+        help="evaluate every STEPS steps on the validation seeds and keep the best model as <stem>_best.zip",
     )
-    p.add_argument("--eval-episodes", type=int_at_least("--eval-episodes", 1), default=5)
+    p.add_argument(
+        "--eval-episodes",
+        type=int_at_least("--eval-episodes", 1),
+        default=10,
+        help="validation episodes per periodic evaluation (default 10)",
+    )
+    p.add_argument(
+        "--test-episodes",
+        type=int_at_least("--test-episodes", 0),
+        default=20,
+        help="episodes of the test seed set for the final evaluation (default 20; 0: none)",
+    )
     p.add_argument(
         "--threads", type=int_at_least("--threads", 1), default=1, help="torch threads (default 1)"
     )
@@ -102,12 +131,19 @@ def main(argv: list[str] | None = None) -> int:
             time_budget_s=None if args.time_budget is None else 60.0 * args.time_budget,
             eval_freq=args.eval_freq,
             eval_episodes=args.eval_episodes,
+            test_episodes=args.test_episodes,
         )
     except UsageError as exc:
         print(f"train.py: error: {exc}", file=sys.stderr)
         return 2
     if result.best_model_path is not None:
         print(f"best model of the periodic evaluations: {result.best_model_path}")
+    for label, test in result.test.items():
+        rate = f", success rate {100.0 * test['success_rate']:.0f} %" if "success_rate" in test else ""
+        print(
+            f"test ({label} model, {test['episodes']} episodes, seeds {test['seeds']}): "
+            f"mean return {test['return_mean']:.3f} +- {test['return_std']:.3f}{rate}"
+        )
     print(
         f"saved {result.model_path} ({result.n_timesteps} steps in {result.wall_time_s:.1f} s); "
         f"evaluate: python agents/evaluate.py --env {env_id} --agent {result.model_path}"

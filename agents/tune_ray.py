@@ -6,8 +6,8 @@
 
 Each trial samples a few hyperparameters of ``--algo`` (``SEARCH_SPACES``; the other keys come from the
 hyperparameter file's block of ``--env``), trains SB3 for ``--timesteps`` steps with
-:func:`agents.common.train` and reports the mean return of ``--eval-episodes`` seeded evaluation episodes
-(with the block's ``eval_env_kwargs``) as ``mean_return``. Every node needs ``pip install
+:func:`agents.common.train` and reports the mean return of ``--eval-episodes`` episodes of the validation seed set
+(``agents/seeds.py``; with the block's ``eval_env_kwargs``) as ``mean_return``. Every node needs ``pip install
 "vessel-gym[rl,ray]"`` (the same Python); the ``agents`` package is shipped to the workers by the job's
 ``runtime_env``. The best trial's hyperparameters are written as a YAML block ready for
 ``agents/hyperparams/<algo>.yml``. Without ``--address`` a local Ray instance with ``--num-cpus`` CPUs
@@ -24,6 +24,7 @@ from typing import Any
 if __package__ in (None, ""):  # run as a script: make the repository root importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from agents import seeds  # noqa: E402
 from agents.common import (  # noqa: E402
     ALGOS,
     OneLineParser,
@@ -75,7 +76,9 @@ def trial(config: dict[str, Any]) -> None:
         overrides=hp,
         threads=1,
     )
-    ev = evaluate(config["env_id"], res.model_path, config["eval_episodes"], config["seed"] + 1000)
+    # trials are compared on the validation seeds: the test seeds stay unseen until the final evaluation
+    val0 = seeds.episode_seeds("validation", config["eval_episodes"])[0]
+    ev = evaluate(config["env_id"], res.model_path, config["eval_episodes"], val0)
     s = ev["summary"]
     metrics = {
         "mean_return": s["return_mean"],

@@ -47,6 +47,51 @@ class RudderEffortPenalty(gym.Wrapper):
         return obs, float(reward) + term, terminated, truncated, info
 
 
+class RudderEffortPenaltyVector(gym.vector.VectorWrapper):
+    """:class:`RudderEffortPenalty` over a native vector environment (whose ships are not single
+    ``gymnasium.Env`` objects to wrap): the same term, from the observation each ship's step ends in (the
+    final one, ``info["final_obs"]``, where a same-step autoreset began a new episode); the term joins
+    ``info["reward_terms"]`` and, for finished ships, their ``info["final_info"]``."""
+
+    def __init__(self, env: gym.vector.VectorEnv, weight: float = 0.1) -> None:
+        super().__init__(env)
+        if not np.isfinite(weight) or weight < 0.0:
+            raise ValueError(f"RudderEffortPenalty weight must be >= 0, got {weight}")
+        self.weight = float(weight)
+        layout = env.unwrapped.observation_layout
+        self._layout = layout
+        self._limit = float(layout.scale[layout.index("rudder_order")])
+
+    def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = self.env.step(actions)
+        last = obs
+        finished = np.flatnonzero(info.get("_final_obs", ()))
+        if finished.size:
+            last = np.array(obs, copy=True)
+            for i in finished:
+                last[i] = info["final_obs"][i]
+        terms = -self.weight * np.abs(self._layout.value(last, "rudder_order")) / self._limit
+        info = dict(info)
+        info["reward_terms"] = {**info.get("reward_terms", {}), "rudder_effort": terms}
+        final_info = info.get("final_info")
+        if isinstance(final_info, np.ndarray):  # vessel-gym: one dict per finished ship
+            final_info = final_info.copy()
+            for i in finished:
+                d = dict(final_info[i])
+                d["reward_terms"] = {**d.get("reward_terms", {}), "rudder_effort": float(terms[i])}
+                final_info[i] = d
+            info["final_info"] = final_info
+        elif isinstance(final_info, dict):  # Gymnasium's SyncVectorEnv: batched, with masks
+            rt = dict(final_info.get("reward_terms", {}))
+            rt["rudder_effort"], rt["_rudder_effort"] = terms.copy(), np.asarray(info["_final_obs"]).copy()
+            info["final_info"] = {**final_info, "reward_terms": rt}
+        return obs, np.asarray(reward, dtype=np.float64) + terms, terminated, truncated, info
+
+
+#: the vector-environment twin of each wrapper (used with the native vector environments)
+VECTOR_TWINS: dict[type, type] = {RudderEffortPenalty: RudderEffortPenaltyVector}
+
+
 def resolve(spec: Any) -> list[tuple[type, dict[str, Any]]]:
     """``env_wrapper`` value -> [(wrapper class, kwargs)]; raises ``ValueError`` naming a bad entry.
 
@@ -82,4 +127,25 @@ def apply(env: gym.Env, wrappers: list[tuple[type, dict[str, Any]]]) -> gym.Env:
     return env
 
 
-__all__ = ["RudderEffortPenalty", "apply", "resolve"]
+def vector_twins(wrappers: list[tuple[type, dict[str, Any]]]) -> list[Any]:
+    """The vector-environment twins of ``wrappers`` as callables ``vector env -> wrapped vector env`` (first
+    innermost); ``ValueError`` if a wrapper has none (train that block with ``--vec dummy``)."""
+    out = []
+    for cls, kwargs in wrappers:
+        twin = VECTOR_TWINS.get(cls)
+        if twin is None:
+            raise ValueError(
+                f"env_wrapper {cls.__name__} wraps single environments only; train with --vec dummy or subproc"
+            )
+        out.append(lambda env, twin=twin, kwargs=kwargs: twin(env, **kwargs))
+    return out
+
+
+__all__ = [
+    "VECTOR_TWINS",
+    "RudderEffortPenalty",
+    "RudderEffortPenaltyVector",
+    "apply",
+    "resolve",
+    "vector_twins",
+]

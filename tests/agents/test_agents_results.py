@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from agents import results
+from agents import results, seeds
 
 
 def _row(agent, trained=False, **summary):
@@ -73,14 +73,16 @@ def test_write_doc_keeps_the_discussion(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
-    """A whole results.py run on one environment with a seconds-long budget, then a --skip-train rerun."""
+    """A whole results.py run on one environment with a one-rollout step budget, then a --skip-train rerun."""
     monkeypatch.setattr(results, "EXTRA_EVALS", {})
     doc = tmp_path / "results.md"
-    argv = ["--envs", "ZigZag-v0", "--algos", "ppo", "--budget", "0.05", "--episodes", "1"]
+    argv = ["--envs", "ZigZag-v0", "--algos", "ppo", "--timesteps", "256", "--episodes", "1"]
     argv += ["--out", str(tmp_path / "out"), "--doc", str(doc)]
     assert results.main(argv) == 0
     data = json.loads((tmp_path / "out" / "results.json").read_text())
     agents = [r["agent"] for r in data["sections"][0]["rows"]]
     assert agents == ["pid", "scripted", "ppo_ZigZag-v0_s0"]
-    assert "### vessel_gym/ZigZag-v0" in doc.read_text()
+    text = doc.read_text()
+    assert "### vessel_gym/ZigZag-v0" in text and "256 environment steps per run" in text
+    assert data["eval_seed"] == seeds.TEST_START
     assert results.main([*argv, "--skip-train"]) == 0

@@ -119,9 +119,14 @@ def test_periodic_evaluation_keeps_the_best_model(tmp_path: Path) -> None:
 def test_train_and_evaluate_command_lines(tmp_path: Path, capsys) -> None:
     argv = ["--env", "ZigZag-v0", "--algo", "ppo", "--seed", "2", "--timesteps", "512", "--n-envs", "2"]
     argv += ["--out", str(tmp_path), "--no-progress", "--log-format", "csv", "--hyperparams", "n_steps=256"]
-    assert train.main(argv) == 0
+    assert train.main([*argv, "--test-episodes", "2"]) == 0
     model = tmp_path / "ppo_ZigZag-v0_s2.zip"
-    assert model.is_file() and "saved" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert (
+        model.is_file()
+        and "saved" in text
+        and "test (final model, 2 episodes, seeds 2000000..2000001)" in text
+    )
     assert evaluate.main(["--env", "ZigZag-v0", "--agent", str(model), "--episodes", "1"]) == 0
     text = capsys.readouterr().out
     assert "mean |heading error| (deg)" in text and "schedule" in text

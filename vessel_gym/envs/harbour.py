@@ -247,10 +247,12 @@ class HarbourApproachTask(Task):
     def info(self, k: int) -> dict[str, Any]:
         s = self.ts[k].tolist()
         f = int(self.flags[k])
+        success = f == kn.SUCCESS
         return {
             "reward_terms": self.weighted_terms(k),
             "outcome": kn.OUTCOMES[f],
-            "success": f == kn.SUCCESS,
+            "success": success,
+            "is_success": success,
             "contact": f == kn.CONTACT,
             "grounding": f == kn.GROUNDING,
             "out_of_bounds": f == kn.OUT_OF_BOUNDS,
@@ -267,10 +269,12 @@ class HarbourApproachTask(Task):
     def batch_info(self) -> dict[str, Any]:
         s = self.task_columns()
         f = self.flags
+        success = f == kn.SUCCESS
         return {
             "reward_terms": self.batch_weighted_terms(),
             "outcome": np.array(kn.OUTCOMES, dtype=object)[f],
-            "success": f == kn.SUCCESS,
+            "success": success,
+            "is_success": success.copy(),
             "contact": f == kn.CONTACT,
             "grounding": f == kn.GROUNDING,
             "out_of_bounds": f == kn.OUT_OF_BOUNDS,
@@ -393,6 +397,11 @@ class HarbourApproachEnv(ShipEnv):
     ``reward_terms``, ``outcome`` (running/success/contact/grounding/out_of_bounds/diverged) and one flag per
     outcome, ``time_s``, ``clearance_m`` (hull to the nearest obstacle edge, capped at the beam range),
     ``min_clearance_m``, ``distance_to_goal_m``, ``speed_over_ground_m_s``, ``heading_error_deg``, ``path_m``.
+
+    Success means arrival: the success termination above (goal polygon, speed and heading). ``success`` and
+    ``is_success`` carry the same flag; ``is_success`` is the key Stable-Baselines3's ``Monitor`` and
+    ``EvalCallback`` read for their success rate, so it is True only on the step that ends an episode in the
+    berth.
 
     ## Arguments
 

@@ -16,6 +16,7 @@ from vessel_gym.physics import layout as lo
 from vessel_gym.physics.schema import check_ranges, param
 
 MODES = ("rate", "radius", "reverse")
+REVERSE = MODES.index("reverse")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -157,7 +158,7 @@ class TurningCircleTask(Task):
     def info(self, k: int) -> dict[str, Any]:
         s = self.ts[k].tolist()
         cmd = s[kn.TC_CMD]
-        return {
+        info = {
             "reward_terms": self.weighted_terms(k),
             "time_s": s[kn.TC_T],
             "heading_change_deg": math.degrees(self.feat[k, kn.TCF_HEAD_CHANGE]),
@@ -173,12 +174,15 @@ class TurningCircleTask(Task):
             "success": bool(self.terminated[k] and self.sim.alive[k]),
             "diverged": bool(not self.sim.alive[k]),
         }
+        if self.mode == REVERSE:  # the only mode with an end state to reach
+            info["is_success"] = info["success"]
+        return info
 
     def batch_info(self) -> dict[str, Any]:
         s = self.task_columns()
         cmd = s[kn.TC_CMD]
         zeros = np.zeros(self.n)
-        return {
+        info = {
             "reward_terms": self.batch_weighted_terms(),
             "time_s": s[kn.TC_T],
             "heading_change_deg": np.degrees(self.feat[:, kn.TCF_HEAD_CHANGE]),
@@ -194,6 +198,9 @@ class TurningCircleTask(Task):
             "success": self.terminated & self.sim.alive,
             "diverged": ~self.sim.alive,
         }
+        if self.mode == REVERSE:
+            info["is_success"] = info["success"].copy()
+        return info
 
     def overlay(self, k: int) -> dict[str, Any]:
         s = self.ts[k]
@@ -280,7 +287,12 @@ class TurningCircleEnv(ShipEnv):
     ``reward_terms``, ``time_s``, ``heading_change_deg``, ``rate_of_turn_deg_s``, ``turning_radius_m``,
     ``commanded_rate_deg_s``, ``commanded_radius_m``, ``advance_m``, ``transfer_m`` (at 90 deg),
     ``tactical_diameter_m`` (at 180 deg) (0 until reached), ``reached_90``, ``reached_180``, ``success``,
-    ``diverged``.
+    ``diverged``; in reverse mode also ``is_success``.
+
+    Success exists in reverse mode only: the heading has changed by 180 degrees without divergence (the
+    termination above). There ``is_success`` repeats ``success`` under the key Stable-Baselines3's ``Monitor``
+    and ``EvalCallback`` log as a success rate. Rate and radius mode are tracking tasks with no end state:
+    they have no ``is_success`` (``success`` stays False) and are judged by the tracking error.
 
     ## Arguments
 

@@ -255,6 +255,10 @@ class ZigZagEnv(ShipEnv):
     changes including the first order), ``overshoot_count``, ``overshoot_1_deg``, ``overshoot_2_deg``
     (0 until measured), ``last_overshoot_deg``, ``diverged``.
 
+    ZigZag has no success: the course changes go on until the time limit, so there is no end state to
+    reach, and ``info`` has no ``is_success`` (SB3 logs no success rate). An episode is judged by its
+    return and metrics (heading error, overshoot per course change, rudder effort).
+
     ## Arguments
 
     ``gymnasium.make("vessel_gym/ZigZag-v0", render_mode=None, config=None, **overrides)``: ``config`` is a
