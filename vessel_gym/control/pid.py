@@ -20,6 +20,7 @@ project uses them: :class:`PidAutopilot` (traffic, the heading tests), the envir
 from __future__ import annotations
 
 import math
+import types
 from dataclasses import dataclass
 
 from numba import njit, vectorize
@@ -47,12 +48,20 @@ def _pid_rudder(e, integral, r, K_p, K_i, K_d, max_rudder):
     return min(max(d, -max_rudder), max_rudder)
 
 
+def _ufunc(f):
+    """The body of ``f`` as a numpy ufunc, compiled on first use and cached on disk under its own name (numba
+    files its cache by function name: the ufunc must not share the scalar version's entry)."""
+    g = types.FunctionType(f.__code__, f.__globals__, f.__name__ + "_batch", f.__defaults__, f.__closure__)
+    g.__qualname__ = f.__qualname__ + "_batch"
+    g.__doc__ = f.__doc__
+    return vectorize(cache=True)(g)
+
+
 pid_integral = njit(cache=True)(_pid_integral)
 pid_rudder = njit(cache=True)(_pid_rudder)
-#: the same bodies as numpy ufuncs (broadcasting over a batch of vessels), compiled on first use. Not cached
-#: on disk: numba would file them under the same function as the scalar versions above.
-pid_integral_batch = vectorize(_pid_integral)
-pid_rudder_batch = vectorize(_pid_rudder)
+#: the same bodies as numpy ufuncs (broadcasting over a batch of vessels)
+pid_integral_batch = _ufunc(_pid_integral)
+pid_rudder_batch = _ufunc(_pid_rudder)
 
 
 @dataclass(frozen=True)
