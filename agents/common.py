@@ -735,6 +735,8 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
     mode: mean |r - r_c| / |r_c|), ``success``. HarbourApproach: ``success``, ``outcome``,
     ``min_clearance_m``, ``time_s``.
     """
+    from vessel_gym.control.zigzag import target_reached
+
     base = env.unwrapped
     layout = base.observation_layout
     dt = float(base.config.control_interval_s)
@@ -772,7 +774,8 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
                 tgt = float(info["target_heading_deg"])
                 if target is None or abs(tgt - target) > 1e-9:
                     target, side0, leg_reached, legs = tgt, math.copysign(1.0, e), False, legs + 1
-                if not leg_reached and (e == 0.0 or math.copysign(1.0, e) != side0):
+                # the heading error e = target - heading: the target is reached once the heading has passed it
+                if not leg_reached and target_reached(side0, 0.0, e):
                     leg_reached, reached = True, reached + 1
         elif kind == "turning":
             rc = float(info.get("commanded_rate_deg_s", 0.0))

@@ -57,24 +57,21 @@ def sb3_algorithm(path: str | Path) -> str:
 
 
 class RatePI:
-    """TurningCircle baseline: PI on the rate-of-turn error e = r_cmd - r (the observation's ``rate_error``).
-
-    On Nomoto's first-order model T r' + r = K delta, delta = K_p e + K_i int e dt gives the closed loop
-    T s^2 + (1 + K K_p) s + K K_i = 0; placing it at T (s^2 + 2 zeta omega s + omega^2) gives
-    K_p = (2 zeta omega T - 1)/K and K_i = omega^2 T / K (valid for course-unstable ships, T, K < 0, too).
-    omega = U/L, zeta = 1.
+    """TurningCircle baseline: PI on the rate-of-turn error e = r_cmd - r (the observation's ``rate_error``),
+    the law of :func:`vessel_gym.control.pid.pid_rudder` (no derivative term), gains by pole placement on
+    Nomoto's first-order model (:func:`vessel_gym.control.pid.nomoto_rate_pi_gains`) at omega = U/L,
+    zeta = 1; the integral is held where K_i alone would give the rudder limit.
     """
 
     def __init__(self, env: Any, zeta: float = 1.0) -> None:
+        from vessel_gym.control.pid import nomoto_rate_pi_gains
         from vessel_gym.envs.policies import HelmPolicy
         from vessel_gym.physics.linear import nomoto
 
         self.helm = HelmPolicy(env)
         task = env.unwrapped.task
         m = nomoto(task.ship, task.U_T)
-        w = task.U_T / task.L
-        self.Kp = (2.0 * zeta * w * m.T - 1.0) / m.K
-        self.Ki = w * w * m.T / m.K
+        self.Kp, self.Ki = nomoto_rate_pi_gains(m, task.U_T / task.L, zeta)
         self.dt = float(env.unwrapped.config.control_interval_s)
         self.integral: np.ndarray | float = 0.0
 
@@ -84,11 +81,12 @@ class RatePI:
         )
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
+        from vessel_gym.control.pid import pid_integral_batch, pid_rudder_batch
+
         e = self.helm.get(obs, "rate_error")
         lim = self.helm.rudder_limit_rad
-        bound = lim / abs(self.Ki)
-        self.integral = np.clip(self.integral + e * self.dt, -bound, bound)
-        d = np.clip(self.Kp * e + self.Ki * self.integral, -lim, lim)
+        self.integral = pid_integral_batch(self.integral, e, self.dt, lim / abs(self.Ki), np.inf)
+        d = pid_rudder_batch(e, self.integral, 0.0, self.Kp, self.Ki, 0.0, lim)
         return self.helm.action(d, self.helm.hold_engine(obs))
 
 

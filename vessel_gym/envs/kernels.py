@@ -4,10 +4,12 @@ The environments and their vector twins call the same kernels (N = 1 and N = 102
 task keeps its per-vessel task state in a float array ``ts`` (N, *N) whose named columns are defined here,
 reads the ship's motion from the simulation's state and input rows (``sim.state``, ``sim.inputs``, columns
 named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
-apparent wind comes from :func:`vessel_gym.physics.atmosphere.relative_wind`.
+apparent wind comes from :func:`vessel_gym.physics.atmosphere.relative_wind`. Nor are the control rules: angle
+wrapping, the zig-zag rule and overshoot tracker, and the turning-circle geometry are those of
+:mod:`vessel_gym.control`.
 
 numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
-keyed by a hash of this file and the physics package's sources (stale machine code is discarded).
+keyed by a hash of this file and the physics and control packages' sources (stale machine code is discarded).
 
 Why whole rows and not the named accessors (``sim.u``, ...): a numba call unboxes every array argument, about
 0.06 us for a contiguous array and 0.15 us for a strided view such as ``sim.u``; ten views cost a one-ship
@@ -22,17 +24,32 @@ from pathlib import Path
 import numpy as np
 from numba import njit, prange
 
+from vessel_gym.control import CONTROL_SOURCES
 from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache
 
-invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES])
+invalidate_stale_numba_cache(
+    Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES, *CONTROL_SOURCES]
+)
 
+from vessel_gym.control.angles import PI, wrap_pi  # noqa: E402
+from vessel_gym.control.turning import (  # noqa: E402
+    ADVANCE_HEADING_RAD,
+    TACTICAL_HEADING_RAD,
+    at_crossing,
+    course_axes,
+    crossing_fraction,
+)
+from vessel_gym.control.zigzag import (  # noqa: E402
+    OVERSHOOT_V0,
+    overshoot_excursion,
+    overshoot_step,
+    target_reached,
+    zigzag_execute,
+)
 from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
 from vessel_gym.physics.atmosphere import relative_wind  # noqa: E402
 from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
 from vessel_gym.physics.vessel import NO_REFCOUNT  # noqa: E402
-
-PI = math.pi
-TWO_PI = 2.0 * math.pi
 
 # outcome flags (HarbourApproach)
 OK = 0
@@ -42,12 +59,6 @@ GROUNDING = 3
 OUT_OF_BOUNDS = 4
 DIVERGED = 5
 OUTCOMES = ("running", "success", "contact", "grounding", "out_of_bounds", "diverged")
-
-
-@njit(cache=True)
-def wrap_pi(a):
-    """Angle in [-pi, pi)."""
-    return (a + PI) % TWO_PI - PI
 
 
 @njit(cache=True)
@@ -224,36 +235,35 @@ def zigzag_update(
         if phase[k] == 1:
             s[Z_T] += p[ZP_DT]
             if s[Z_OS_ON] > 0.0:
-                exc = s[Z_OS_SIGN] * (psik - s[Z_OS_TGT])
-                if exc > s[Z_OS_MAX]:
-                    s[Z_OS_MAX] = exc
-                if s[Z_OS_SIGN] * rk <= 0.0:
+                s[Z_OS_MAX], _rose, finished = overshoot_step(
+                    s[Z_OS_SIGN], s[Z_OS_TGT], s[Z_OS_MAX], psik, rk, OVERSHOOT_V0
+                )
+                if finished:
                     _finish_overshoot(s)
             crossed = False
             sign = 0.0
             if imo:
-                if s[Z_SIDE] * (psik - s[Z_TARGET]) >= 0.0:
+                if target_reached(s[Z_SIDE], psik, s[Z_TARGET]):
                     crossed = True
                     sign = s[Z_SIDE]
-            elif s[Z_REACHED] == 0.0 and s[Z_LEG_SIGN] * (psik - s[Z_TARGET]) >= 0.0:
+            elif s[Z_REACHED] == 0.0 and target_reached(s[Z_LEG_SIGN], psik, s[Z_TARGET]):
                 crossed = True
                 sign = s[Z_LEG_SIGN]
                 s[Z_REACHED] = 1.0
             if crossed:
-                if s[Z_OS_ON] > 0.0:
+                if s[Z_OS_ON] > 0.0:  # v0: a measurement still running counts as complete
                     _finish_overshoot(s)
                 s[Z_OS_ON] = 1.0
                 s[Z_OS_SIGN] = sign
                 s[Z_OS_TGT] = s[Z_TARGET]
-                s[Z_OS_MAX] = sign * (psik - s[Z_TARGET])
+                s[Z_OS_MAX] = overshoot_excursion(sign, s[Z_TARGET], psik)
                 if imo:  # the IMO execute: the target flips to the other side of the original course
-                    s[Z_SIDE] = -s[Z_SIDE]
-                    s[Z_TARGET] = s[Z_PSI0] + s[Z_SIDE] * psiz
+                    s[Z_SIDE], s[Z_TARGET] = zigzag_execute(s[Z_PSI0], s[Z_SIDE], psiz)
                     s[Z_EXEC] += 1.0
             err = wrap_pi(s[Z_TARGET] - psik)
             terms[k, ZT_HEADING] = -abs(err) / PI
             if s[Z_OS_ON] > 0.0:
-                exc = s[Z_OS_SIGN] * (psik - s[Z_OS_TGT])
+                exc = overshoot_excursion(s[Z_OS_SIGN], s[Z_OS_TGT], psik)
                 if exc > 0.0:
                     terms[k, ZT_OVERSHOOT] = -min(exc / psiz, 1.0)
             terms[k, ZT_RUDDER] = rudder_activity(dck, s[Z_PREV_ORDER], dmax)
@@ -337,12 +347,7 @@ def turning_update(
         s = ts[k]
         done[k] = False
         clear_row(terms, k)
-        c0 = math.cos(s[TC_PSI0])
-        s0 = math.sin(s[TC_PSI0])
-        dn = nk - s[TC_N0]
-        de = ek - s[TC_E0]
-        adv = c0 * dn + s0 * de
-        trf = -s0 * dn + c0 * de
+        adv, trf = course_axes(s[TC_PSI0], s[TC_N0], s[TC_E0], nk, ek)
         turned = abs(psik - s[TC_PSI0])
         U = math.sqrt(uk * uk + vk * vk)
         U0 = s[TC_U0]
@@ -350,14 +355,14 @@ def turning_update(
         if phase[k] == 1:
             s[TC_T] += p[TCP_DT]
             tp = s[TC_PREV_TURNED]
-            if s[TC_R90] == 0.0 and turned >= 0.5 * PI:
-                fr = (0.5 * PI - tp) / (turned - tp) if turned > tp else 1.0
-                s[TC_ADV] = s[TC_PREV_ADV] + fr * (adv - s[TC_PREV_ADV])
-                s[TC_TRF] = abs(s[TC_PREV_TRF] + fr * (trf - s[TC_PREV_TRF]))
+            if s[TC_R90] == 0.0 and turned >= ADVANCE_HEADING_RAD:
+                fr = crossing_fraction(tp, turned, ADVANCE_HEADING_RAD)
+                s[TC_ADV] = at_crossing(s[TC_PREV_ADV], adv, fr)
+                s[TC_TRF] = abs(at_crossing(s[TC_PREV_TRF], trf, fr))
                 s[TC_R90] = 1.0
-            if s[TC_R180] == 0.0 and turned >= PI:
-                fr = (PI - tp) / (turned - tp) if turned > tp else 1.0
-                s[TC_TD] = abs(s[TC_PREV_TRF] + fr * (trf - s[TC_PREV_TRF]))
+            if s[TC_R180] == 0.0 and turned >= TACTICAL_HEADING_RAD:
+                fr = crossing_fraction(tp, turned, TACTICAL_HEADING_RAD)
+                s[TC_TD] = abs(at_crossing(s[TC_PREV_TRF], trf, fr))
                 s[TC_R180] = 1.0
             ma = max(s[TC_MAXADV], adv)
             mt = max(s[TC_MAXTRF], abs(trf))

@@ -19,6 +19,9 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
+from vessel_gym.control.angles import wrap_pi
+from vessel_gym.control.guidance import pursuit_heading, waypoint_reached
+from vessel_gym.control.pid import pid_integral_batch, pid_rudder_batch
 from vessel_gym.physics.units import DEG
 
 
@@ -118,7 +121,9 @@ class PIDHeadingAutopilot(HelmPolicy):
     """Heading autopilot: rudder = Kp e + Ki integral(e) - Kd r, clipped to the rudder limit.
 
     e is the heading error (ZigZag: to the target; HarbourApproach: to the line of sight to the goal
-    point). Gains are nondimensional on the ship: Kd and 1/Ki in units of L / U_T seconds.
+    point). Gains are nondimensional on the ship: Kd and 1/Ki in units of L / U_T seconds. The law is
+    :func:`vessel_gym.control.pid.pid_rudder` (batched); the integral is always integrated and held within
+    +-1 rad s.
     """
 
     def __init__(self, env: Any, Kp: float = 1.5, Ki: float = 0.0, Kd: float = 1.0) -> None:
@@ -140,9 +145,9 @@ class PIDHeadingAutopilot(HelmPolicy):
 
     def rudder(self, obs: np.ndarray) -> np.ndarray:
         e = self.heading_error(obs)
-        self.integral = np.clip(self.integral + e * self.dt, -1.0, 1.0)
-        d = self.Kp * e + self.Ki * self.integral - self.Kd * self.get(obs, "r")
-        return np.clip(d, -self.rudder_limit_rad, self.rudder_limit_rad)
+        self.integral = pid_integral_batch(self.integral, e, self.dt, 1.0, np.inf)
+        r = self.get(obs, "r")
+        return pid_rudder_batch(e, self.integral, r, self.Kp, self.Ki, self.Kd, self.rudder_limit_rad)
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
         return self.action(self.rudder(obs), self.hold_engine(obs))
@@ -152,7 +157,8 @@ class HarbourPilot(PIDHeadingAutopilot):
     """HarbourApproach baseline: follow the scenario's ``route_m`` and then the goal point by line of sight
     (turning to the goal heading in the last ship lengths), with speed ordered by the distance to go and
     astern to stop in the goal area. Its own position and heading it reconstructs from the observed goal
-    bearing and heading error and the charted goal point (a pilot with local knowledge)."""
+    bearing and heading error and the charted goal point (a pilot with local knowledge). Guidance: pursuit
+    of the next waypoint, passed within ``accept_L`` ship lengths (:mod:`vessel_gym.control.guidance`)."""
 
     def __init__(
         self,
@@ -196,14 +202,14 @@ class HarbourPilot(PIDHeadingAutopilot):
         last = len(self.route) - 1
         for _ in range(last):  # advance past waypoints already reached
             tgt = self.route[wp]
-            near = (np.hypot(tgt[..., 0] - n, tgt[..., 1] - e) < self.accept) & (wp < last)
+            near = waypoint_reached.py_func(n, e, tgt[..., 0], tgt[..., 1], self.accept) & (wp < last)
             if not np.any(near):
                 break
             wp = np.where(near, wp + 1, wp)
         self.wp = wp
         tgt = self.route[wp]
-        los = np.arctan2(tgt[..., 1] - e, tgt[..., 0] - n)
-        err = (los - psi + np.pi) % (2 * np.pi) - np.pi
+        los = pursuit_heading.py_func(n, e, tgt[..., 0], tgt[..., 1])
+        err = wrap_pi.py_func(los - psi)
         d = self.get(obs, "goal_distance")
         w = np.where(wp == last, np.clip((d - 0.5 * self.L) / (1.5 * self.L), 0.0, 1.0), 1.0)
         return w * err + (1.0 - w) * self.get(obs, "goal_heading_error")

@@ -253,7 +253,9 @@ class ZigZagEnv(ShipEnv):
 
     ``reward_terms``, ``time_s``, ``target_heading_deg``, ``heading_error_deg``, ``executes`` (target
     changes including the first order), ``overshoot_count``, ``overshoot_1_deg``, ``overshoot_2_deg``
-    (0 until measured), ``last_overshoot_deg``, ``diverged``.
+    (0 until measured), ``last_overshoot_deg``, ``diverged``. v0 measures overshoots with its own accounting
+    (the ``OVERSHOOT_V0`` mode of :mod:`vessel_gym.control.zigzag`, docs/control.md), which can differ from
+    the IMO trial's with coarse control steps or when the next target is reached before the ship turns back.
 
     ZigZag has no success: the course changes go on until the time limit, so there is no end state to
     reach, and ``info`` has no ``is_success`` (SB3 logs no success rate). An episode is judged by its

@@ -14,6 +14,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vessel_gym.control.turning import (
+    ADVANCE_HEADING_RAD,
+    TACTICAL_HEADING_RAD,
+    at_crossing,
+    course_axes,
+    crossing_fraction,
+)
+from vessel_gym.control.zigzag import OVERSHOOT_IMO, OvershootTracker
 from vessel_gym.manoeuvres.helms import TurnHelm, ZigZagHelm
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import Telegraph
@@ -82,8 +90,8 @@ class Track:
         i = int(idx[0])
         if i == 0:
             return self.t[0], self.x[0], self.y[0]
-        f = (change_rad - psi[i - 1]) / (psi[i] - psi[i - 1])
-        lerp = lambda a: a[i - 1] + f * (a[i] - a[i - 1])  # noqa: E731
+        f = crossing_fraction(psi[i - 1], psi[i], change_rad)
+        lerp = lambda a: at_crossing(a[i - 1], a[i], f)  # noqa: E731
         return lerp(self.t), lerp(self.x), lerp(self.y)
 
     def path_length(self, upto: int | None = None) -> float:
@@ -206,8 +214,8 @@ def turning_circle(
     track = Track()
     helm = TurnHelm(rudder_deg * DEG)
     _run(sim, track, helm.order, lambda: abs(sim.heading[0]) >= until_deg * DEG, limit)
-    p90 = track.at_heading(0.5 * math.pi)
-    p180 = track.at_heading(math.pi)
+    p90 = track.at_heading(ADVANCE_HEADING_RAD)
+    p180 = track.at_heading(TACTICAL_HEADING_RAD)
     if p90 is None or p180 is None:
         reached = math.degrees(max(abs(p) for p in track.psi))
         raise ManoeuvreIncomplete(
@@ -220,14 +228,16 @@ def turning_circle(
         _fit_circle(np.asarray(track.x)[sel], np.asarray(track.y)[sel]) if psi[-1] >= 4 * math.pi else None
     )
     final_u = math.hypot(track.u[-1], track.v[-1])
+    # the trial starts on heading 0 at the origin: x, y are already along and across the original course
+    advance, transfer = course_axes(0.0, 0.0, 0.0, p90[1], p90[2])
     return TurningCircle(
         s.name,
         rudder_deg,
         speed / KNOT_M_S,
         L,
-        p90[1],
-        abs(p90[2]),
-        abs(p180[2]),
+        advance,
+        abs(transfer),
+        abs(course_axes(0.0, 0.0, 0.0, p180[1], p180[2])[1]),
         steady,
         p90[0],
         p180[0],
@@ -294,35 +304,25 @@ def zigzag(
     helm = ZigZagHelm(rudder_deg * DEG, heading_deg * DEG)
     track = Track()
     exec_times: list[float] = [0.0]
-    overs: list[float] = []
-    over_t: list[float] = []
-    state = {"n_exec": 1, "peak": 0.0, "peak_t": 0.0, "armed": False}
+    # deviations from the original course (heading 0); the overshoot is the extreme deviation minus psi
+    tracker = OvershootTracker(OVERSHOOT_IMO)
 
     def helm_order(psi: float) -> float:
         before = helm.side
         order = helm.order(psi)
         if helm.side != before:
             exec_times.append(sim.t)
-            state["armed"] = True
-            state["peak"] = abs(psi)
-            state["peak_t"] = sim.t
+            # the swing continues towards the side the rudder just left
+            tracker.start(before, 0.0, psi, sim.t)
         return order
 
     def done() -> bool:
-        if state["armed"]:
-            psi = float(sim.heading[0])
-            # the ship swings on past the execute heading until the yaw rate reverses
-            side_of_swing = -helm.side  # the swing continues towards the side the rudder just left
-            if side_of_swing * psi > state["peak"] - 1e-12:
-                state["peak"] = side_of_swing * psi
-                state["peak_t"] = sim.t
-            elif side_of_swing * sim.r[0] < 0.0:
-                overs.append(math.degrees(state["peak"]) - heading_deg)
-                over_t.append(state["peak_t"])
-                state["armed"] = False
-        return len(overs) >= n_overshoots
+        tracker.update(float(sim.heading[0]), float(sim.r[0]), sim.t)
+        return len(tracker.overshoots_rad) >= n_overshoots
 
     complete = _run(sim, track, helm_order, done, limit)
+    overs = [math.degrees(p) - heading_deg for p in tracker.overshoots_rad]
+    over_t = tracker.times_s
     if not complete and len(overs) < 1:
         raise ManoeuvreIncomplete(
             f"{s.name}: the {abs(rudder_deg):g}/{heading_deg:g} zig-zag reached no overshoot in {limit:.0f} s"

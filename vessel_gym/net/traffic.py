@@ -21,13 +21,19 @@ watches costs nothing.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
 
-from vessel_gym.control import PidAutopilot, nomoto_pid_gains, wrap_pi
+from vessel_gym.control import (
+    PidAutopilot,
+    leg_frame,
+    los_heading,
+    nomoto_pid_gains,
+    waypoint_reached,
+    wrap_pi_upper,
+)
 from vessel_gym.net.ais import NAV_MOORED, NAV_UNDER_WAY_ENGINE
 from vessel_gym.net.protocol import Target
 from vessel_gym.physics.shipfile import Ship, load_ship
@@ -183,11 +189,8 @@ class Traffic:
         last = len(route) - 1
         for _ in range(len(route) + 1):
             p0, p1 = self.prev[k], route[self.wp[k]]
-            dn, de = p1[0] - p0[0], p1[1] - p0[1]
-            leg = math.hypot(dn, de)
-            alpha = math.atan2(de, dn)
-            along = (north - p0[0]) * math.cos(alpha) + (east - p0[1]) * math.sin(alpha)
-            reached = math.hypot(p1[0] - north, p1[1] - east) < self.accept[k] or along > leg
+            alpha, along, cross, leg = leg_frame(p0[0], p0[1], p1[0], p1[1], north, east)
+            reached = waypoint_reached(north, east, p1[0], p1[1], self.accept[k]) or along > leg
             if not reached:
                 break
             if self.wp[k] == last and not self.loop[k]:
@@ -196,9 +199,8 @@ class Traffic:
                 return float(self.sim.heading[k])
             self.prev[k] = p1
             self.wp[k] = 0 if self.wp[k] == last else self.wp[k] + 1
-        cross = -(north - p0[0]) * math.sin(alpha) + (east - p0[1]) * math.cos(alpha)
         self.cross_track[k] = cross
-        return alpha + math.atan2(-cross, self.lookahead[k])
+        return los_heading(alpha, cross, self.lookahead[k])
 
     def step(self, n: int = 1) -> None:
         """Advance ``n`` control intervals: autopilot orders, then ``nsub`` physics steps each."""
@@ -230,7 +232,7 @@ class Traffic:
 
     def heading_error_deg(self) -> np.ndarray:
         """Heading minus the line-of-sight heading of each ship, deg in (-180, 180] (0 for stopped ships)."""
-        err = [wrap_pi(float(h - ref)) for h, ref in zip(self.sim.heading, self.heading_ref)]
+        err = [wrap_pi_upper(float(h - ref)) for h, ref in zip(self.sim.heading, self.heading_ref)]
         return np.where(self.stopped, 0.0, np.degrees(err))
 
     def _telegraph(self, k: int) -> int:

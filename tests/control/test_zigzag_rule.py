@@ -1,0 +1,63 @@
+"""The zig-zag rule and the overshoot tracker (MSC.137(76) §4.2.4) on analytic heading histories."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from vessel_gym.control import (
+    OVERSHOOT_IMO,
+    OVERSHOOT_V0,
+    OvershootTracker,
+    overshoot_step,
+    target_reached,
+    zigzag_execute,
+)
+
+
+def test_execute_flips_the_target_about_the_original_course():
+    assert not target_reached(1.0, 0.17, 0.2)
+    assert target_reached(1.0, 0.2, 0.2) and target_reached(1.0, 0.25, 0.2)
+    assert target_reached(-1.0, -0.3, -0.2) and not target_reached(-1.0, -0.1, -0.2)
+    assert zigzag_execute(1.0, 1.0, 0.2) == (-1.0, 0.8)
+    assert zigzag_execute(1.0, -1.0, 0.2) == (1.0, 1.2)
+
+
+@pytest.mark.parametrize("mode", [OVERSHOOT_IMO, OVERSHOOT_V0])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_overshoot_of_a_sinusoidal_swing(mode, sign):
+    """psi = sign A sin(w t): the overshoot past psi_z is A - psi_z at t = pi / (2 w), to sampling error
+    A (w dt)^2 / 2 in angle and dt in time."""
+    A, w, dt, psi_z = math.radians(18.0), 0.05, 0.1, math.radians(10.0)
+    t = math.asin(psi_z / A) / w  # the execute, where the heading reaches psi_z
+    tr = OvershootTracker(mode)
+    tr.start(sign, sign * psi_z, sign * A * math.sin(w * t), t)
+    while not tr.update(sign * A * math.sin(w * t), sign * A * w * math.cos(w * t), t):
+        t += dt
+    assert tr.overshoots_rad[0] == pytest.approx(A - psi_z, abs=A * (w * dt) ** 2 / 2)
+    assert tr.times_s[0] == pytest.approx(math.pi / (2 * w), abs=dt)
+    assert t > tr.times_s[0]
+
+
+def test_modes_differ_on_a_zero_yaw_rate():
+    """v0 ends the measurement where the yaw rate is zero (sign r <= 0), the trial only once it has reversed."""
+    peak = 0.1
+    assert overshoot_step(1.0, 0.0, peak, 0.05, 0.0, OVERSHOOT_V0) == (peak, False, True)
+    assert overshoot_step(1.0, 0.0, peak, 0.05, 0.0, OVERSHOOT_IMO) == (peak, False, False)
+    assert overshoot_step(1.0, 0.0, peak, 0.05, -1e-3, OVERSHOOT_IMO) == (peak, False, True)
+    # v0 takes the sample that ends the measurement into the peak; the trial keeps it open while it grows
+    assert overshoot_step(1.0, 0.0, peak, 0.2, 0.0, OVERSHOOT_V0) == (0.2, True, True)
+    assert overshoot_step(1.0, 0.0, peak, 0.2, -1e-3, OVERSHOOT_IMO) == (0.2, True, False)
+
+
+def test_every_user_calls_the_same_functions():
+    """One home: the trial, the trials helm, the task kernel and the evaluation use these objects."""
+    from vessel_gym.control import zigzag as z
+    from vessel_gym.envs import kernels
+    from vessel_gym.manoeuvres import helms, trials
+
+    assert kernels.target_reached is z.target_reached and helms.target_reached is z.target_reached
+    assert kernels.zigzag_execute is z.zigzag_execute and helms.zigzag_execute is z.zigzag_execute
+    assert kernels.overshoot_step is z.overshoot_step
+    assert trials.OvershootTracker is z.OvershootTracker

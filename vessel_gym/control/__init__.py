@@ -1,0 +1,67 @@
+"""Control rules, each in one place: angle wrapping, the Nomoto-tuned PID autopilot, waypoint guidance, the
+zig-zag rule with its overshoot tracker, and the turning-circle geometry (docs/control.md).
+
+The manoeuvre trials, the environments' kernels and baselines, the scenarios' traffic and the evaluation
+scripts call these functions; the physics does not depend on this package.
+"""
+
+from pathlib import Path
+
+from vessel_gym.control.angles import wrap_pi, wrap_pi_upper
+from vessel_gym.control.guidance import leg_frame, los_heading, pursuit_heading, waypoint_reached
+from vessel_gym.control.pid import (
+    PidAutopilot,
+    PidGains,
+    nomoto_pid_gains,
+    nomoto_rate_pi_gains,
+    pid_integral,
+    pid_rudder,
+)
+from vessel_gym.control.turning import (
+    ADVANCE_HEADING_RAD,
+    TACTICAL_HEADING_RAD,
+    at_crossing,
+    course_axes,
+    crossing_fraction,
+)
+from vessel_gym.control.zigzag import (
+    OVERSHOOT_IMO,
+    OVERSHOOT_V0,
+    OvershootTracker,
+    overshoot_excursion,
+    overshoot_step,
+    target_reached,
+    zigzag_execute,
+)
+
+#: this package's sources: compiled callers that inline its functions (the task kernels) key their numba
+#: cache on them
+CONTROL_SOURCES = sorted(Path(__file__).parent.glob("*.py"))
+
+__all__ = [
+    "ADVANCE_HEADING_RAD",
+    "CONTROL_SOURCES",
+    "OVERSHOOT_IMO",
+    "OVERSHOOT_V0",
+    "TACTICAL_HEADING_RAD",
+    "OvershootTracker",
+    "PidAutopilot",
+    "PidGains",
+    "at_crossing",
+    "course_axes",
+    "crossing_fraction",
+    "leg_frame",
+    "los_heading",
+    "nomoto_pid_gains",
+    "nomoto_rate_pi_gains",
+    "overshoot_excursion",
+    "overshoot_step",
+    "pid_integral",
+    "pid_rudder",
+    "pursuit_heading",
+    "target_reached",
+    "waypoint_reached",
+    "wrap_pi",
+    "wrap_pi_upper",
+    "zigzag_execute",
+]
