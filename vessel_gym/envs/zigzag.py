@@ -12,6 +12,7 @@ import numpy as np
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import OpenWaterConfig, weight
 from vessel_gym.envs.core import PHASE_STEP, Feature, ShipEnv, ShipVectorEnv, Task, _uniform
+from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
 
@@ -290,3 +291,246 @@ class ZigZagVectorEnv(ShipVectorEnv):
     """Native vector version of :class:`ZigZagEnv` (one simulation of ``num_envs`` ships)."""
 
     Env = ZigZagEnv
+
+
+# --- ZigZag-v1 ----------------------------------------------------------------------------------------------
+#: the IMO schedule's next course change starts at the latest this many ship time scales L / U_T after the
+#: last one: the ship is then past the time a good helm needs to reach a 10-20 deg change (about 2 L / U_T
+#: for the PID baseline on kvlcc2_l7, and 1.3 L / U_T from the IMO 10/10 trial's execute to execute), so the
+#: limit only bites on a helm that stops short of the target or never gets there
+LEG_TIME_LIMIT_L_U = 6.0
+#: the target_reached bonus of a course change equals the heading_error charge of a turn whose error falls
+#: linearly to zero in 2 x this many L / U_T: any helm that reaches a target within the time limit (6 L / U_T)
+#: earns more for the change than its heading error costs, so completing a course change always beats
+#: stopping short of it, and, in the IMO schedule, a helm gains by completing more course changes
+REACH_TIME_L_U = 4.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagV1Reward:
+    """Weights of the ZigZag-v1 reward terms (reward = sum of weight x term)."""
+
+    heading_error: float = weight(1.0, "-|target - heading| / pi")
+    overshoot: float = weight(1.0, "-growth of the course change's overshoot / overshoot scale")
+    target_reached: float = weight(
+        1.0, "on reaching a target: +|course change| / pi x 4 (L / U_T) / control interval"
+    )
+    rudder_activity: float = weight(0.1, "-|change of rudder order| / (2 rudder limit)")
+    speed_loss: float = weight(0.1, "-max(0, U0 - U) / U0")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagV1Config(DisturbedOpenWaterConfig):
+    """ZigZag-v1 configuration (see :class:`ZigZagV1Env`)."""
+
+    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
+    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
+    first_side: str = param("random", choices=("starboard", "port", "random"), doc="imo: first target side")
+    first_change_s: tuple[float, ...] = param(
+        (0.0, 10.0), unit="s", lo=0.0, hi=1e5, doc="[min, max] time of the first course change"
+    )
+    leg_time_limit_s: float | None = param(
+        None,
+        unit="s",
+        lo=0.01,
+        hi=1e5,
+        doc="imo: the next course change starts at the latest this long after the last (default 6 L / U_T)",
+    )
+    course_change_deg: tuple[float, ...] = param(
+        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
+    )
+    leg_time_s: tuple[float, ...] = param(
+        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
+    )
+    initial_heading_deg: tuple[float, ...] = param(
+        (0.0, 360.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
+    )
+    success_overshoot_deg: float | None = param(
+        None,
+        unit="deg",
+        lo=0.0,
+        hi=180.0,
+        doc="success: mean overshoot per course change at most this (default half the overshoot scale)",
+    )
+    reward: ZigZagV1Reward = param(ZigZagV1Reward(), doc="reward weights")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagRandomConfig(ZigZagV1Config):
+    """ZigZagRandom-v1 configuration: ZigZag-v1 with the random course-change schedule."""
+
+    schedule: str = param("random", choices=("imo", "random"), doc="target schedule")
+
+
+class ZigZagV1Task(Task):
+    Config = ZigZagV1Config
+    kernel = staticmethod(kn.zigzag_v1_update)
+    n_features = kn.ZFN
+
+    def __init__(self, config: ZigZagV1Config, n: int) -> None:
+        where = f"{type(config).__name__}"
+        check_ranges(
+            config, ("course_change_deg", "leg_time_s", "initial_heading_deg", "first_change_s"), where
+        )
+        super().__init__(config, n)
+        self.disturbances = Disturbances(config, self.ship, where)
+        self.imo = config.schedule == "imo"
+        self.psi_z = config.zigzag_heading_deg * DEG
+        self.overshoot_ref = self.psi_z if self.imo else config.course_change_deg[0] * DEG
+        self.leg_time_limit = (
+            config.leg_time_limit_s
+            if config.leg_time_limit_s is not None
+            else LEG_TIME_LIMIT_L_U * self.L / self.U_T
+        )
+        self.success_overshoot = (
+            config.success_overshoot_deg * DEG
+            if config.success_overshoot_deg is not None
+            else 0.5 * self.overshoot_ref
+        )
+        self.ts = np.zeros((n, kn.ZVN))
+        p = np.zeros(kn.ZVPN)
+        p[kn.ZVP_PSIZ] = self.psi_z
+        p[kn.ZVP_OS_REF] = self.overshoot_ref
+        p[kn.ZVP_DMAX] = (
+            self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
+        )
+        p[kn.ZVP_IMO] = 1.0 if self.imo else 0.0
+        p[kn.ZVP_DT] = config.control_interval_s
+        p[kn.ZVP_LEG_LIMIT] = self.leg_time_limit
+        p[kn.ZVP_REACH] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
+        self.p = p
+
+    observation_features = ZigZagTask.observation_features
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        c = self.config
+        opts = dict(options or {})
+        heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
+        speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or self.U_T))
+        if opts:
+            raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
+        self.disturbances.apply(self.sim, k, rng, heading)
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
+        s = self.ts[k]
+        s[:] = 0.0
+        psi0 = float(self.sim.heading[k])
+        s[kn.ZV_PSI0] = psi0
+        s[kn.ZV_TARGET] = psi0
+        s[kn.ZV_U0] = speed
+        s[kn.ZV_PREV_ORDER] = float(self.sim.rudder_order[k])
+        s[kn.ZV_NEXT] = _uniform(rng, c.first_change_s)
+        if self.imo:
+            side = {"starboard": 1.0, "port": -1.0}.get(c.first_side)
+            if side is None:
+                side = 1.0 if rng.random() < 0.5 else -1.0
+            s[kn.ZV_SIDE] = -side  # the first change flips it to the first side
+        else:
+            self._draw_change(k, rng)
+
+    def _draw_change(self, k: int, rng: np.random.Generator) -> None:
+        """Draw vessel k's next random course change and the duration of the leg it starts."""
+        c = self.config
+        s = self.ts[k]
+        s[kn.ZV_PEND_CHANGE] = (
+            _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
+        )
+        s[kn.ZV_PEND_LEG] = _uniform(rng, c.leg_time_s)
+        s[kn.ZV_DRAW] = 0.0
+
+    kernel_args = ZigZagTask.kernel_args
+
+    def update(self, phase: np.ndarray) -> None:
+        super().update(phase)
+        if not self.imo:  # the kernel started a course change: draw the one after it
+            for k in np.flatnonzero(self.ts[:, kn.ZV_DRAW]):
+                self._draw_change(int(k), self.rngs[k])
+
+    # --- info -------------------------------------------------------------------------------------------
+    def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
+        """(overshoot per course change, largest overshoot, success) from task columns ``s`` (a row of
+        ``ts`` or the columns of all vessels): the open measurement counts with its overshoot so far."""
+        running = s[kn.ZV_OS_PEAK] * s[kn.ZV_OS_ON]
+        changes = np.maximum(s[kn.ZV_CHANGES], 1.0)
+        per_change = (s[kn.ZV_OS_SUM] + running) / changes
+        largest = np.maximum(s[kn.ZV_OS_MAX], running)
+        success = (s[kn.ZV_MISSED] == 0.0) & (s[kn.ZV_NREACH] >= 1.0) & (per_change <= self.success_overshoot)
+        return per_change, largest, success
+
+    def info(self, k: int) -> dict[str, Any]:
+        row = self.ts[k]
+        per_change, largest, success = self._metrics(row)
+        s = row.tolist()
+        return {
+            "reward_terms": self.weighted_terms(k),
+            "time_s": s[kn.ZV_T],
+            "target_heading_deg": math.degrees(s[kn.ZV_TARGET]) % 360.0,
+            "heading_error_deg": math.degrees(self.feat[k, kn.ZF_HEAD_ERR]),
+            "course_changes": int(s[kn.ZV_CHANGES]),
+            "targets_reached": int(s[kn.ZV_NREACH]),
+            "targets_missed": int(s[kn.ZV_MISSED]),
+            "overshoot_deg": math.degrees(per_change),
+            "max_overshoot_deg": math.degrees(largest),
+            "overshoot_1_deg": math.degrees(s[kn.ZV_OS1]),
+            "overshoot_2_deg": math.degrees(s[kn.ZV_OS2]),
+            "is_success": bool(success),
+            "diverged": not self.sim.alive[k],
+        }
+
+    def batch_info(self) -> dict[str, Any]:
+        s = self.task_columns()
+        per_change, largest, success = self._metrics(s)
+        return {
+            "reward_terms": self.batch_weighted_terms(),
+            "time_s": s[kn.ZV_T],
+            "target_heading_deg": np.degrees(s[kn.ZV_TARGET]) % 360.0,
+            "heading_error_deg": np.degrees(self.feat[:, kn.ZF_HEAD_ERR]),
+            "course_changes": s[kn.ZV_CHANGES].astype(np.int64),
+            "targets_reached": s[kn.ZV_NREACH].astype(np.int64),
+            "targets_missed": s[kn.ZV_MISSED].astype(np.int64),
+            "overshoot_deg": np.degrees(per_change),
+            "max_overshoot_deg": np.degrees(largest),
+            "overshoot_1_deg": np.degrees(s[kn.ZV_OS1]),
+            "overshoot_2_deg": np.degrees(s[kn.ZV_OS2]),
+            "is_success": success,
+            "diverged": ~self.sim.alive,
+        }
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        return {
+            "target_heading_rad": float(self.ts[k, kn.ZV_TARGET]),
+            "original_course_rad": float(self.ts[k, kn.ZV_PSI0]),
+            "title": "ZigZag",
+        }
+
+
+class ZigZagRandomTask(ZigZagV1Task):
+    Config = ZigZagRandomConfig
+
+
+class ZigZagV1Env(ShipEnv):
+    """ZIGZAG_V1_DOC"""
+
+    Task = ZigZagV1Task
+    env_name = "ZigZag-v1"
+
+
+class ZigZagV1VectorEnv(ShipVectorEnv):
+    """Native vector version of :class:`ZigZagV1Env` (one simulation of ``num_envs`` ships)."""
+
+    Env = ZigZagV1Env
+
+
+class ZigZagRandomEnv(ZigZagV1Env):
+    """ZigZag-v1 with the random course-change schedule as its default (``schedule="random"``): course
+    changes of ``course_change_deg`` (10-40 deg, either side) every ``leg_time_s`` (20-40 s), the first after
+    ``first_change_s``. Everything else, the reward, the overshoot accounting and success included, is
+    :class:`ZigZagV1Env`'s; see its docstring."""
+
+    Task = ZigZagRandomTask
+    env_name = "ZigZagRandom-v1"
+
+
+class ZigZagRandomVectorEnv(ShipVectorEnv):
+    """Native vector version of :class:`ZigZagRandomEnv`."""
+
+    Env = ZigZagRandomEnv
