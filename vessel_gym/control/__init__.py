@@ -27,6 +27,7 @@ from vessel_gym.control.turning import (
 from vessel_gym.control.zigzag import (
     OVERSHOOT_IMO,
     OVERSHOOT_V0,
+    OVERSHOOT_V1,
     OvershootTracker,
     overshoot_excursion,
     overshoot_step,
@@ -43,6 +44,7 @@ __all__ = [
     "CONTROL_SOURCES",
     "OVERSHOOT_IMO",
     "OVERSHOOT_V0",
+    "OVERSHOOT_V1",
     "TACTICAL_HEADING_RAD",
     "OvershootTracker",
     "PidAutopilot",

@@ -14,8 +14,9 @@ trials helm (:class:`vessel_gym.manoeuvres.helms.ZigZagHelm`), the ZigZag task k
 * :func:`overshoot_excursion` and :func:`overshoot_step`: the excursion past the target and one step of the
   tracker that finds its extreme.
 
-The tracker has two modes, because the ZigZag-v0 environment has always measured a little differently from
-the trial (docs/control.md); v0 keeps its accounting so that its rewards and info do not change:
+The tracker has three modes, because the ZigZag-v0 environment has always measured a little differently from
+the trial (docs/control.md), v0 keeps its accounting so that its rewards and info do not change, and
+ZigZag-v1 measures per course change:
 
 * :data:`OVERSHOOT_IMO` (the trial): the extreme is the last sample at which the excursion still grew (within
   :data:`PEAK_TOL_RAD`); the measurement ends at the first sample after it at which the yaw rate has strictly
