@@ -135,9 +135,9 @@ def test_imo_schedule_time_limit_and_missed_targets():
     assert info["targets_reached"] == 0 and info["targets_missed"] == info["course_changes"] - 1
     assert info["overshoot_deg"] == 0.0 and info["is_success"] is False
     assert sum(r[2]["reward_terms"]["target_reached"] for r in rows) == 0.0
-    # the default limit is 6 ship time scales
+    # the default limit is 10 ship time scales
     task = gym.make(IMO).unwrapped.task
-    assert task.leg_time_limit == pytest.approx(6.0 * task.L / task.U_T)
+    assert task.leg_time_limit == pytest.approx(10.0 * task.L / task.U_T)
 
 
 @pytest.mark.parametrize("env_id", [IMO, RANDOM])
