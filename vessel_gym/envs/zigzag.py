@@ -450,25 +450,32 @@ class ZigZagV1Task(Task):
 
     def update(self, phase: np.ndarray) -> None:
         super().update(phase)
-        if not self.imo:  # the kernel started a course change: draw the one after it
-            for k in np.flatnonzero(self.ts[:, kn.ZV_DRAW]):
-                self._draw_change(int(k), self.rngs[k])
+        if self.imo:
+            return
+        # the kernel started a course change: draw the one after it
+        if self.n == 1:  # a scalar test: the one-ship step should not pay for flatnonzero
+            if self.ts[0, kn.ZV_DRAW]:
+                self._draw_change(0, self.rngs[0])
+            return
+        for k in np.flatnonzero(self.ts[:, kn.ZV_DRAW]):
+            self._draw_change(int(k), self.rngs[k])
 
     # --- info -------------------------------------------------------------------------------------------
     def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
-        """(overshoot per course change, largest overshoot, success) from task columns ``s`` (a row of
-        ``ts`` or the columns of all vessels): the open measurement counts with its overshoot so far."""
+        """(overshoot per course change, largest overshoot, success) from the task columns ``s`` of all
+        vessels (the batched info): the open measurement counts with its overshoot so far."""
         running = s[kn.ZV_OS_PEAK] * s[kn.ZV_OS_ON]
-        changes = np.maximum(s[kn.ZV_CHANGES], 1.0)
-        per_change = (s[kn.ZV_OS_SUM] + running) / changes
+        per_change = (s[kn.ZV_OS_SUM] + running) / np.maximum(s[kn.ZV_CHANGES], 1.0)
         largest = np.maximum(s[kn.ZV_OS_MAX], running)
         success = (s[kn.ZV_MISSED] == 0.0) & (s[kn.ZV_NREACH] >= 1.0) & (per_change <= self.success_overshoot)
         return per_change, largest, success
 
     def info(self, k: int) -> dict[str, Any]:
-        row = self.ts[k]
-        per_change, largest, success = self._metrics(row)
-        s = row.tolist()
+        s = self.ts[k].tolist()
+        # as _metrics, on Python floats (the one-ship step should not pay for numpy scalar arithmetic)
+        running = s[kn.ZV_OS_PEAK] * s[kn.ZV_OS_ON]
+        per_change = (s[kn.ZV_OS_SUM] + running) / max(s[kn.ZV_CHANGES], 1.0)
+        success = s[kn.ZV_MISSED] == 0.0 and s[kn.ZV_NREACH] >= 1.0 and per_change <= self.success_overshoot
         return {
             "reward_terms": self.weighted_terms(k),
             "time_s": s[kn.ZV_T],
@@ -478,11 +485,11 @@ class ZigZagV1Task(Task):
             "targets_reached": int(s[kn.ZV_NREACH]),
             "targets_missed": int(s[kn.ZV_MISSED]),
             "overshoot_deg": math.degrees(per_change),
-            "max_overshoot_deg": math.degrees(largest),
+            "max_overshoot_deg": math.degrees(max(s[kn.ZV_OS_MAX], running)),
             "overshoot_1_deg": math.degrees(s[kn.ZV_OS1]),
             "overshoot_2_deg": math.degrees(s[kn.ZV_OS2]),
-            "success": bool(success),
-            "is_success": bool(success),
+            "success": success,
+            "is_success": success,
             "diverged": not self.sim.alive[k],
         }
 
