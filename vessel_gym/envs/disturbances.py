@@ -21,7 +21,8 @@ from vessel_gym.envs.config import OpenWaterConfig
 from vessel_gym.envs.core import _uniform
 from vessel_gym.physics.environment import Environment, wrap_deg
 from vessel_gym.physics.schema import SpecError, check_ranges, param
-from vessel_gym.physics.shipfile import Ship
+from vessel_gym.physics.shipfile import Ship, builtin_ships, load_ship
+from vessel_gym.physics.simulation import Simulation
 
 DISTURBANCE_RANGES = (
     "wind_speed_m_s",
@@ -88,9 +89,10 @@ class Disturbances:
         self.waves = config.Hs_m[1] > 0.0
         for on, table, key in ((self.wind, "windage", "wind_speed_m_s"), (self.waves, "wave_drift", "Hs_m")):
             if on and getattr(ship, table) is None:
+                having = [n for n in builtin_ships() if getattr(load_ship(n), table) is not None]
                 raise SpecError(
                     f"{where} {key}: ship {ship.name!r} has no [{table}] table, so it would exert no force; "
-                    f"use a ship with one (kvlcc2, mariner, dtc) or set {key} = [0, 0]"
+                    f"use a ship with one (built in: {', '.join(having)}) or set {key} = [0, 0]"
                 )
         self.active = self.wind or self.current or self.waves
 
@@ -110,10 +112,10 @@ class Disturbances:
             kw["wave_from_deg"] = wrap_deg(course_deg + _uniform(rng, c.wave_from_rel_deg))
         return Environment(**kw)
 
-    def apply(self, sim: object, k: int, rng: np.random.Generator, course_deg: float) -> None:
+    def apply(self, sim: Simulation, k: int, rng: np.random.Generator, course_deg: float) -> None:
         """Set vessel k's environment for a new episode (nothing, and no draw, when all are calm)."""
         if self.active:
-            sim.set_environment(self.draw(rng, course_deg), k)  # type: ignore[attr-defined]
+            sim.set_environment(self.draw(rng, course_deg), k)
 
 
 __all__ = ["DISTURBANCE_RANGES", "DisturbedOpenWaterConfig", "Disturbances"]
