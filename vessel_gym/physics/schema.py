@@ -86,6 +86,8 @@ def read_toml(path: Path, max_bytes: int = MAX_FILE_BYTES) -> dict:
         raise SpecError(f"{path}: TOML syntax error: {exc}") from None
     except RecursionError:
         raise SpecError(f"{path}: arrays or tables nested too deeply") from None
+    except ValueError as exc:  # an integer beyond Python's digit limit for str -> int (4300 by default)
+        raise SpecError(f"{path}: a number is too long ({exc})") from None
 
 
 def _reason(exc: Exception) -> str:
@@ -194,6 +196,19 @@ def build(cls: type, table: dict, where: str) -> Any:
         elif f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
             raise SpecError(f"{key_where}: missing required key")
     return cls(**kwargs)
+
+
+def check_fields(obj: Any, where: str) -> None:
+    """Check a dataclass instance's float fields against their declared ranges (``param`` metadata).
+
+    For objects built in code rather than read from a file: a NaN, an infinity, a non-number or a value
+    outside the range raises :class:`SpecError` naming ``where``, the field and its allowed range.
+    """
+    for f in dataclasses.fields(obj):
+        md = f.metadata
+        if md.get("lo") is None and md.get("hi") is None:
+            continue
+        _check_number(getattr(obj, f.name), f"{where} {f.name}", md)
 
 
 def describe(cls: type) -> list[tuple[str, str, str, str, str]]:

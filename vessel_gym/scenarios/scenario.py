@@ -20,6 +20,10 @@ from vessel_gym.scenarios import geometry as geo
 
 SCENARIO_DIR = Path(__file__).parent
 
+#: size bound of a scenario file, bytes: room for charts of some 100,000 vertices (the built-in harbour is
+#: under 10 kB); larger files are refused unread
+MAX_SCENARIO_FILE_BYTES = 4 << 20
+
 #: obstacle kinds in the order used by the compiled kernels and the renderer
 HARD_KINDS = ("land", "breakwater", "quay")
 
@@ -191,7 +195,7 @@ def load_scenario(scenario: str | Path | Scenario) -> Scenario:
     path = resolve_scenario_path(scenario)
     where = str(path)
     try:
-        data = read_toml(path)
+        data = read_toml(path, MAX_SCENARIO_FILE_BYTES)
         sc = build(Scenario, data, where)
     except ScenarioError:
         raise
@@ -211,9 +215,12 @@ def _check_polygon(points: tuple[tuple[float, ...], ...], where: str) -> list[tu
     pts = _pts(points)
     if len(pts) < 3:
         raise ScenarioError(f"{where}: a polygon needs at least 3 points, got {len(pts)}")
+    rep = geo.repeated_vertex(pts)
+    if rep is not None:
+        raise ScenarioError(f"{where}[{rep[1]}]: repeats vertex {rep[0]} (a polygon visits each point once)")
     hit = geo.self_intersection(pts)
     if hit is not None:
-        raise ScenarioError(f"{where}: polygon is self-intersecting (edges {hit[0]} and {hit[1]} cross)")
+        raise ScenarioError(f"{where}: polygon is self-intersecting (edges {hit[0]} and {hit[1]} meet)")
     if abs(geo.signed_area(pts)) < 1e-9:
         raise ScenarioError(f"{where}: polygon has zero area")
     return pts
