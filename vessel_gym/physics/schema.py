@@ -112,8 +112,11 @@ def as_float(value: int | float, where: str) -> float:
     try:
         return float(value)
     except OverflowError:
-        digits = int(abs(value).bit_length() * math.log10(2.0)) + 1
-        raise SpecError(f"{where}: an integer of about {digits} digits is too large") from None
+        try:
+            digits = str(len(str(abs(value))))
+        except ValueError:  # beyond Python's int -> str digit limit
+            digits = "thousands of"
+        raise SpecError(f"{where}: an integer of {digits} digits is too large") from None
 
 
 def _short(value: Any, n: int = 60) -> str:
@@ -138,6 +141,14 @@ def _check_number(value: Any, where: str, md: dict) -> float:
         hi_s = "inf" if hi is None else f"{hi:g}"
         raise SpecError(f"{where}: {x:g} {md.get('unit', '')} is outside the allowed range [{lo_s}, {hi_s}]")
     return x
+
+
+def _plain_floats(values: list, md: dict) -> bool:
+    """True if every value is a finite float within the range; otherwise the element-wise path names the
+    first bad one."""
+    lo = -math.inf if md.get("lo") is None else md["lo"]
+    hi = math.inf if md.get("hi") is None else md["hi"]
+    return all(type(v) is float and lo <= v <= hi and math.isfinite(v) for v in values)
 
 
 def _convert(value: Any, tp: Any, where: str, md: dict) -> Any:
@@ -168,6 +179,8 @@ def _convert(value: Any, tp: Any, where: str, md: dict) -> Any:
         (inner, _ell) = typing.get_args(tp)
         if not isinstance(value, list):
             raise SpecError(f"{where}: expected a list, got {_short(value)}")
+        if inner is float and _plain_floats(value, md):  # fast path for long coordinate lists
+            return tuple(value)
         return tuple(_convert(v, inner, f"{where}[{i}]", md) for i, v in enumerate(value))
     if origin is typing.Union or str(origin) == "<class 'types.UnionType'>":
         args = [a for a in typing.get_args(tp) if a is not type(None)]

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+import numpy as np
+
 Point = tuple[float, float]
 
 
@@ -75,6 +77,8 @@ def _first_meeting(
         lo_, hi_ = (a, b) if a <= b else (b, a)
         lft.append(lo_)
         rgt.append(hi_)
+    # (x, y, dx, dy) of each segment from its left end, for the orientation test of the inner loops
+    geom = [(a[0], a[1], b[0] - a[0], b[1] - a[1]) for a, b in zip(lft, rgt)]
     # removals (0) before insertions (1) at the same point: an edge ending where its neighbour begins
     events = sorted([(rgt[i], 0, i) for i in range(n)] + [(lft[i], 1, i) for i in range(n)])
     status: list[int] = []  # segments cut by the sweep, bottom to top
@@ -84,17 +88,19 @@ def _first_meeting(
             return False
         return segments_intersect(lft[i], rgt[i], lft[j], rgt[j])
 
-    def side(t: int, p: Point) -> float:  # > 0: p above segment t, < 0: below, 0: on it (t is active)
-        (ax, ay), (bx, by) = lft[t], rgt[t]
-        return (bx - ax) * (p[1] - ay) - (by - ay) * (p[0] - ax)  # _orient, inlined (the sweep's inner loop)
+    def side(t: int, px: float, py: float) -> float:  # > 0: p above segment t, < 0: below, 0: on it
+        ax, ay, dx, dy = geom[t]
+        return dx * (py - ay) - dy * (px - ax)  # _orient(lft[t], rgt[t], p)
 
     for p, kind, s in events:
+        px, py = p
         if kind == 1:
             lo_, hi_ = 0, len(status)
             while lo_ < hi_:
                 mid = (lo_ + hi_) // 2
                 t = status[mid]
-                o = side(t, p)
+                ax, ay, dx, dy = geom[t]
+                o = dx * (py - ay) - dy * (px - ax)  # side(t, px, py), inlined: the sweep's inner loop
                 if o == 0.0:  # p lies on t
                     if not exempt(s, t) or p != lft[t]:
                         return (min(s, t), max(s, t))
@@ -113,13 +119,14 @@ def _first_meeting(
             lo_, hi_ = 0, len(status)
             while lo_ < hi_:  # first segment that p is not above
                 mid = (lo_ + hi_) // 2
-                if side(status[mid], p) > 0.0:
+                ax, ay, dx, dy = geom[status[mid]]
+                if dx * (py - ay) - dy * (px - ax) > 0.0:  # side(), inlined
                     lo_ = mid + 1
                 else:
                     hi_ = mid
             k = lo_
             pos = -1
-            while k < len(status) and side(status[k], p) == 0.0:  # every active segment through p
+            while k < len(status) and side(status[k], px, py) == 0.0:  # every active segment through p
                 t = status[k]
                 if t == s:
                     pos = k
@@ -158,16 +165,30 @@ def self_intersection(poly: Sequence[Point]) -> tuple[int, int] | None:
 
 
 def point_in_polygon(p: Point, poly: Sequence[Point]) -> bool:
-    """Crossing-number test (a point on the boundary may fall either way)."""
+    """Crossing-number test (a point on the boundary may fall either way); vectorised over the edges."""
     x, y = p
-    inside = False
+    v = np.asarray(poly, dtype=float).reshape(-1, 2)
+    x0, y0 = v[:, 0], v[:, 1]
+    x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
+    crosses = (y0 > y) != (y1 > y)  # the edge spans the horizontal through p (never a horizontal edge)
+    x0, y0, x1, y1 = x0[crosses], y0[crosses], x1[crosses], y1[crosses]
+    return bool(np.count_nonzero(x < x0 + (y - y0) * (x1 - x0) / (y1 - y0)) % 2)
+
+
+def segment_meets_polygon(a: Point, b: Point, poly: Sequence[Point]) -> bool:
+    """True if segment ab shares a point with an edge of ``poly``. Edges whose bounding box misses the
+    segment's are skipped in one vectorised pass; the rest are tested exactly (:func:`segments_intersect`)."""
+    v = np.asarray(poly, dtype=float).reshape(-1, 2)
+    w = np.roll(v, -1, axis=0)
+    lo_, hi_ = np.minimum(v, w), np.maximum(v, w)
+    near = (
+        (hi_[:, 0] >= min(a[0], b[0]))
+        & (lo_[:, 0] <= max(a[0], b[0]))
+        & (hi_[:, 1] >= min(a[1], b[1]))
+        & (lo_[:, 1] <= max(a[1], b[1]))
+    )
     n = len(poly)
-    for i in range(n):
-        x0, y0 = poly[i]
-        x1, y1 = poly[(i + 1) % n]
-        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-            inside = not inside
-    return inside
+    return any(segments_intersect(a, b, poly[i], poly[(i + 1) % n]) for i in np.flatnonzero(near).tolist())
 
 
 def _bbox(poly: Sequence[Point]) -> tuple[float, float, float, float]:

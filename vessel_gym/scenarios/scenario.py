@@ -14,6 +14,8 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from vessel_gym.physics.schema import SpecError, build, builtin_names, param, read_toml, resolve_data_path
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.scenarios import geometry as geo
@@ -293,15 +295,11 @@ def validate(sc: Scenario, where: str = "scenario") -> None:
         raise ScenarioError(f"{where} water_depth_m: must be finite")
 
 
-def _leg_hits(a: tuple[float, float], b: tuple[float, float], poly: list[tuple[float, float]]) -> bool:
-    n = len(poly)
-    return any(geo.segments_intersect(a, b, poly[i], poly[(i + 1) % n]) for i in range(n))
-
-
 def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
     """Checks of the ``[[traffic]]`` entries: ship, start, waypoints and legs in navigable water, MMSIs."""
     n0, n1, e0, e1 = sc.bounds_m
-    hard = sc.hard_obstacles()
+    # arrays once, not per point and leg: the point and leg tests are vectorised over a polygon's edges
+    hard = [(kind, name, np.asarray(obs)) for kind, name, obs in sc.hard_obstacles()]
     seen: dict[int, int] = {}
     ships: dict[str, Ship] = {sc.ship: own_ship}
     for i, t in enumerate(sc.traffic):
@@ -333,7 +331,7 @@ def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
         pts = [("start_m", (float(t.start_m[0]), float(t.start_m[1])))] + [
             (f"route_m[{j}]", (float(p[0]), float(p[1]))) for j, p in enumerate(t.route_m)
         ]
-        shoals = sc.shoals(draught)
+        shoals = [(name, np.asarray(obs)) for name, obs in sc.shoals(draught)]
         for key, p in pts:
             if not (n0 <= p[0] <= n1 and e0 <= p[1] <= e1):
                 raise ScenarioError(f"{label} {key}: outside bounds_m")
@@ -348,5 +346,5 @@ def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
             legs.append((pts[-1][1], pts[1][1], "route_m[0]"))
         for a, b, key in legs:
             for kind, name, obs in hard:
-                if _leg_hits(a, b, obs):
+                if geo.segment_meets_polygon(a, b, obs):
                     raise ScenarioError(f"{label} {key}: the leg to it crosses {kind} {name!r}")
