@@ -156,7 +156,14 @@ IMPLAUSIBLE = [
         "displacement_m3",
         "factor 1.2",
     ),
-    ("k_zz 0.05 L", "kvlcc2", "k_zz_m = 80.0 ", "k_zz_m = 16.0 ", "k_zz_m", "0.05 L is outside [0.15, 0.35] L"),
+    (
+        "k_zz 0.05 L",
+        "kvlcc2",
+        "k_zz_m = 80.0 ",
+        "k_zz_m = 16.0 ",
+        "k_zz_m",
+        "0.05 L is outside [0.15, 0.35] L",
+    ),
     (
         "I_zG a hundred times too large",
         "mariner",

@@ -110,7 +110,9 @@ def test_scenario_invalid_utf8_names_the_file(tmp_path):
 def test_scenario_huge_integer_and_deep_nesting(tmp_path):
     big = _write(tmp_path, HARBOUR.replace("water_depth_m = 2.0", "water_depth_m = " + "9" * 400), "a.toml")
     assert re.search(r"water_depth_m: an integer of 400 digits is too large", _load_error(big))
-    deep = _write(tmp_path, HARBOUR.replace("water_depth_m = 2.0", "water_depth_m = " + "[" * 10**5), "b.toml")
+    deep = _write(
+        tmp_path, HARBOUR.replace("water_depth_m = 2.0", "water_depth_m = " + "[" * 10**5), "b.toml"
+    )
     assert "nested too deeply" in _load_error(deep)
 
 
@@ -141,7 +143,9 @@ def test_8000_vertex_self_intersecting_polygon_is_refused(tmp_path, shape):
     t0 = time.perf_counter()
     msg = _load_error(_with_island(tmp_path, pts))
     assert time.perf_counter() - t0 < 3.0
-    assert re.search(r"land\[3\] 'rocks' points: polygon is self-intersecting \(edges \d+ and \d+ meet\)", msg)
+    assert re.search(
+        r"land\[3\] 'rocks' points: polygon is self-intersecting \(edges \d+ and \d+ meet\)", msg
+    )
 
 
 def _all_pairs_self_intersection(poly):

@@ -108,7 +108,9 @@ class AbkowitzHull:
         choices=("separate", "in_derivatives"),
         doc="'in_derivatives' when Y_r, N_r, X_vr already contain the rigid-body m u r terms",
     )
-    resistance_N: float = param(0.0, unit="N", lo=0.0, hi=1e8, doc="resistance at resistance_speed_m_s, R = c u|u|")
+    resistance_N: float = param(
+        0.0, unit="N", lo=0.0, hi=1e8, doc="resistance at resistance_speed_m_s, R = c u|u|"
+    )
     resistance_speed_m_s: float = param(1.0, unit="m/s", lo=0.01, hi=30.0)
     cross_flow_Cd: float = param(
         0.0,
