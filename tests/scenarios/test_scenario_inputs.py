@@ -196,3 +196,13 @@ def test_overlap_with_a_detailed_polygon_is_fast():
     assert geo.polygons_overlap([(250.0, -5.0), (350.0, -5.0), (350.0, 5.0)], star)  # edges cross
     assert not geo.polygons_overlap([(2000.0, 0.0), (2010.0, 0.0), (2010.0, 10.0)], star)  # apart
     assert time.perf_counter() - t0 < 3.0
+
+
+@pytest.mark.skipif(not Path("/dev/zero").exists(), reason="no /dev/zero")
+def test_serve_with_ship_dev_zero_exits_2(tmp_path, capsys):
+    """The ``vessel-gym serve`` load path: the scenario is loaded before any socket is opened."""
+    path = _with_ship(tmp_path, "/dev/zero")
+    code = main(["serve", str(path), "--duration", "1"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "\n" not in err and "Traceback" not in err
+    assert str(path) in err and "/dev/zero: not a regular file" in err
