@@ -266,3 +266,16 @@ def test_integer_beyond_the_parser_digit_limit(tmp_path):
     path = _variant(tmp_path, "kvlcc2", "L_m = 320.0", "L_m = " + "7" * 5000)
     with pytest.raises(ShipFileError, match=rf"^{re.escape(str(path))}: a number is too long"):
         load_ship(path)
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["x" * 5000, "kv\x00lcc2", "kv\x00lcc2.toml", "/" + "x" * 5000 + ".toml"],
+    ids=["long", "nul", "nul-path", "long-path"],
+)
+def test_unusable_names_and_paths(name, capsys):
+    """Names the file system refuses (too long, a NUL byte) are one line, not an OSError traceback."""
+    code, err = _imo(name, capsys)
+    line = _one_line(err)
+    assert code == 2 and ("unknown ship" in line or "cannot read" in line)
+    assert len(line) < 300 or "cannot read" in line

@@ -262,9 +262,14 @@ def resolve_data_path(
     if s.endswith(".toml") or "/" in s or "\\" in s:
         return Path(s)
     path = directory / f"{s}.toml"
-    if not path.exists():
+    try:
+        known = path.is_file()
+    except (OSError, ValueError):  # name too long for the file system, embedded NUL byte
+        known = False
+    if not known:
+        shown = s if s.isprintable() and len(s) <= 60 else _short(s)
         raise error(
-            f"{s}: unknown {kind} (built-in: {', '.join(builtin_names(directory))}; or give a .toml path)"
+            f"{shown}: unknown {kind} (built-in: {', '.join(builtin_names(directory))}; or give a .toml path)"
         )
     return path
 
