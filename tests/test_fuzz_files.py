@@ -107,7 +107,7 @@ def mutated(draw, files: dict[str, bytes]) -> bytes:
     return text
 
 
-def _fake_imo_report(ship):
+def _fake_imo_report(ship, **_kw):
     """Stands in for the IMO manoeuvres: the loading and packing a real report starts with."""
     s = load_ship(ship)
     pack(s)
