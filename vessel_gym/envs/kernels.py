@@ -6,8 +6,8 @@ reads the ship's motion from the simulation's state and input rows (``sim.state`
 named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
 apparent wind comes from :func:`vessel_gym.physics.atmosphere.relative_wind`.
 
-numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
-keyed by a hash of this file and the physics package's sources (stale machine code is discarded).
+These kernels inline physics functions, so their numba cache is keyed by a hash of this file and the
+physics sources (:mod:`vessel_gym.physics.jitcache`): stale machine code is never loaded.
 
 Why whole rows and not the named accessors (``sim.u``, ...): a numba call unboxes every array argument, about
 0.06 us for a contiguous array and 0.15 us for a strided view such as ``sim.u``; ten views cost a one-ship
@@ -17,19 +17,14 @@ environment step more than its task arithmetic.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 from numba import njit, prange
 
-from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache
-
-invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES])
-
-from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
-from vessel_gym.physics.atmosphere import relative_wind  # noqa: E402
-from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
-from vessel_gym.physics.vessel import NO_REFCOUNT  # noqa: E402
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.atmosphere import relative_wind
+from vessel_gym.physics.integrate import MAX_CHUNKS
+from vessel_gym.physics.vessel import NO_REFCOUNT
 
 PI = math.pi
 TWO_PI = 2.0 * math.pi
