@@ -26,6 +26,12 @@ from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_f
 from .errors import CfdError, InputError
 
 
+def _error_line(message: str) -> None:
+    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
+    print(text, file=sys.stderr)
+
+
 class _DefaultsFormatter(argparse.HelpFormatter):
     """Help that shows each option's argparse default where it has one."""
 
@@ -44,7 +50,7 @@ class _Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> NoReturn:
-        print(f"vessel-cfd: error: {message}", file=sys.stderr)
+        _error_line(f"vessel-cfd: error: {message}")
         raise SystemExit(2)
 
 
@@ -408,11 +414,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         result = interactive()
         return result if isinstance(result, int) else 0
     except InputError as exc:
-        print(f"vessel-cfd: error: {exc}", file=sys.stderr)
+        _error_line(f"vessel-cfd: error: {exc}")
         return 2
     except CfdError as exc:
-        print(f"vessel-cfd: {exc}", file=sys.stderr)
+        _error_line(f"vessel-cfd: {exc}")
         return 1
+    except OSError as exc:  # a file or directory given on the command line that the system refuses
+        where = f"{exc.filename}: " if exc.filename else ""
+        _error_line(f"vessel-cfd: error: {where}{exc.strerror or exc}")
+        return 2
     except KeyboardInterrupt:
         print("vessel-cfd: interrupted; finished cases are kept and a rerun resumes", file=sys.stderr)
         return 130

@@ -10,6 +10,12 @@ import sys
 from collections.abc import Sequence
 
 
+def _error_line(message: str) -> None:
+    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
+    print(text, file=sys.stderr)
+
+
 class UsageError(Exception):
     """Bad command-line input (exit code 2)."""
 
@@ -452,14 +458,20 @@ def _main(argv: Sequence[str] | None) -> int:
             return 0
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
-        print(str(exc), file=sys.stderr)
+        _error_line(str(exc))
         return 2
     except (SpecError, ValueError) as exc:
-        print(f"vessel-gym: {exc}", file=sys.stderr)
+        _error_line(f"vessel-gym: {exc}")
         return 2
     except (ManoeuvreIncomplete, SimulationError) as exc:
-        print(f"vessel-gym: {exc}", file=sys.stderr)
+        _error_line(f"vessel-gym: {exc}")
         return 1
+    except BrokenPipeError:
+        raise
+    except OSError as exc:  # a path or address given on the command line that the system refuses
+        where = f"{exc.filename}: " if exc.filename else ""
+        _error_line(f"vessel-gym: {where}{exc.strerror or exc}")
+        return 2
 
 
 if __name__ == "__main__":  # pragma: no cover
