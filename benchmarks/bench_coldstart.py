@@ -39,7 +39,7 @@ TARGET_WARM_S = 2.0  # s, any of the above with a filled cache
 
 def _timed(argv: list[str], cache: Path) -> tuple[float, float, str]:
     """(wall s, CPU s of the child, its stderr)."""
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), PYTHONPATH=str(ROOT))
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), PYTHONPATH=str(ROOT), VESSEL_GYM_COMPILE_NOTICE="1")
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.perf_counter()
     proc = subprocess.run(argv, env=env, cwd=ROOT, capture_output=True, text=True, timeout=900)

@@ -44,6 +44,7 @@ def package_copy(tmp_path: Path) -> Path:
 def _run(root: Path, cache_dir: Path | None = None) -> subprocess.CompletedProcess:
     env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
     env["PYTHONPATH"] = str(root)
+    env[jitcache.NOTICE_ENV] = "1"  # stderr is a pipe here
     if cache_dir is not None:
         env["NUMBA_CACHE_DIR"] = str(cache_dir)
     proc = subprocess.run(
@@ -101,3 +102,23 @@ def test_functions_outside_the_package_keep_numbas_locators():
         return 1
 
     assert jitcache.SourceHashCacheLocator.from_function(elsewhere, __file__) is None
+
+
+def test_notice_on_a_terminal_or_when_asked(monkeypatch):
+    class Tty:
+        def __init__(self, tty: bool):
+            self.tty = tty
+
+        def isatty(self) -> bool:
+            return self.tty
+
+    monkeypatch.delenv(jitcache.NOTICE_ENV, raising=False)
+    monkeypatch.setattr("sys.stderr", Tty(True))
+    assert jitcache._notice_wanted()
+    monkeypatch.setattr("sys.stderr", Tty(False))
+    assert not jitcache._notice_wanted()
+    monkeypatch.setenv(jitcache.NOTICE_ENV, "1")
+    assert jitcache._notice_wanted()
+    monkeypatch.setenv(jitcache.NOTICE_ENV, "0")
+    monkeypatch.setattr("sys.stderr", Tty(True))
+    assert not jitcache._notice_wanted()

@@ -17,12 +17,14 @@ these.
 
 Compiling the kernels takes tens of seconds on a small machine, so the first compilation in a process prints
 one line on stderr ("compiling kernels (first run only) ..."); runs that load everything from the cache print
-nothing.
+nothing. Like other progress output (pip's, git's) the line is shown when stderr is a terminal;
+``VESSEL_GYM_COMPILE_NOTICE=1`` shows it always (logs, benchmarks), ``=0`` never.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
 import sys
 import threading
 from pathlib import Path
@@ -33,6 +35,7 @@ from numba.misc.appdirs import AppDirs
 PACKAGE_DIR = Path(__file__).resolve().parent.parent  # vessel_gym/
 KERNEL_DIRS = ("physics", "envs")  # subpackages whose every module a kernel may read
 COMPILE_NOTICE = "vessel-gym: compiling kernels (first run only) ..."
+NOTICE_ENV = "VESSEL_GYM_COMPILE_NOTICE"  # "1": always show the notice, "0": never; unset: on a terminal
 
 # numba >= 0.64 names these without the leading underscore
 _CacheImpl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
@@ -105,6 +108,16 @@ _notice_lock = threading.Lock()
 _notice_shown = False
 
 
+def _notice_wanted() -> bool:
+    choice = os.environ.get(NOTICE_ENV, "")
+    if choice in ("0", "1"):
+        return choice == "1"
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):  # replaced or closed stderr
+        return False
+
+
 class _CompileNotice(event.Listener):
     """Prints COMPILE_NOTICE once per process when numba starts compiling one of the package's kernels."""
 
@@ -115,7 +128,7 @@ class _CompileNotice(event.Listener):
         dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
         py_func = getattr(dispatcher, "py_func", None)
         module = getattr(py_func, "__module__", "") or ""
-        if not module.startswith("vessel_gym."):
+        if not module.startswith("vessel_gym.") or not _notice_wanted():
             return
         with _notice_lock:
             if not _notice_shown:
