@@ -1,12 +1,13 @@
-"""Fuzz of the command lines: random options and values for every subcommand of ``vessel-gym`` and
-``vessel-cfd`` never raise a traceback, always end with exit code 0, 1 or 2, and return within a bounded time.
+"""Fuzz of the command lines: random options and values for every subcommand of ``vessel-gym`` and ``vessel-cfd``
+never raise a traceback, always end with exit code 0, 1 or 2, and return within a bounded time.
 
-Every argument check runs for real (argparse types, ship and scenario loading, address parsing, name resolution
-of IP literals and ``localhost``, binding of listen addresses, the CFD study validation). What would then start
-a long run, a server or a window is replaced by an immediate exit: the manoeuvre simulations, ``play``,
-``serve``, the helm and viewer clients, and the CFD pipeline. Host names that would need a DNS server are left
-out (``tests/test_cli.py`` checks one that does not resolve); so are ``/dev/zero`` and ``/dev/stdin`` as files
-(reading them is bounded by the ship- and scenario-file checks, tested with those).
+Every argument check runs for real (argparse types, ship and scenario loading, address parsing, name
+resolution of IP literals and ``localhost``, binding of listen addresses, the CFD study validation). What
+would then start a long run, a server or a window is replaced by an immediate exit: the manoeuvre simulations,
+``play``, ``serve``, the helm and viewer clients, and the CFD pipeline. Host names that would need a DNS
+server are left out (``tests/test_command_line.py`` checks one that does not resolve); so are ``/dev/zero``
+and ``/dev/stdin`` as files (reading them is bounded by the ship- and scenario-file checks, tested with
+those).
 """
 
 from __future__ import annotations
