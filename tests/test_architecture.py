@@ -237,3 +237,21 @@ def test_cfd_uses_only_the_ship_format_and_physics_of_vessel_gym(name):
         m for m in mod.internal if _within(m, ("vessel_gym",)) and not _within(m, CFD_ALLOWED_FROM_VESSEL_GYM)
     )
     assert not bad, f"{name} imports {', '.join(bad)}"
+
+
+def test_net_reads_no_private_attribute_of_another_object():
+    """The link reaches the physics and the environments through their public calls (the helm through
+    ``Simulation.override_helm``), never through another object's ``_private`` attributes."""
+    bad = []
+    for name, mod in graph().items():
+        if not _within(name, ("vessel_gym.net",)):
+            continue
+        for node in ast.walk(ast.parse(mod.path.read_text())):
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr.startswith("_")
+                and not node.attr.startswith("__")
+                and not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls"))
+            ):
+                bad.append(f"{name}:{node.lineno} .{node.attr}")
+    assert not bad, "private attributes read from outside: " + ", ".join(bad)
