@@ -255,3 +255,9 @@ def test_net_reads_no_private_attribute_of_another_object():
             ):
                 bad.append(f"{name}:{node.lineno} .{node.attr}")
     assert not bad, "private attributes read from outside: " + ", ".join(bad)
+
+
+def test_no_cfd_module_over_600_lines():
+    """A module doing one job stays short enough to read (cfd's case writer was split at 997 lines)."""
+    long = {n: len(m.path.read_text().splitlines()) for n, m in graph().items() if _within(n, ("cfd",))}
+    assert all(v <= 600 for v in long.values()), {n: v for n, v in long.items() if v > 600}
