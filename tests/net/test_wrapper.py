@@ -180,6 +180,22 @@ def test_takeover_never_ignores_the_human_but_still_publishes(peers):
         env.close()
 
 
+def test_close_hands_the_helm_back_to_the_simulation(peers):
+    clock = Clock()
+    env = _wrap(clock=clock)
+    sim = env.unwrapped.sim
+    try:
+        env.reset(seed=0)
+        peer = _helm_peer(peers, env)
+        _order(peer, env, 1, 15.0, telegraph=1)
+        clock.tick()
+        assert env.step(np.zeros(2, dtype=np.float32))[4]["helm"] == "human"
+    finally:
+        env.close()
+    sim.set_helm(rudder_order_rad=-0.1, k=0)  # whoever drives the simulation next has the helm
+    assert float(sim.rudder_order[0]) == -0.1
+
+
 # -- every env and action type ----------------------------------------------------------------------------------
 
 
@@ -198,15 +214,16 @@ def test_human_orders_in_every_env_and_action_type(peers, env_id, action_type, e
         _obs, _r, _te, _tr, info = env.step(_agent_action(env))
         assert info["helm"] == "human"
         rev_table = base.task.helm.rev_table[0] * 60.0  # rpm of telegraph -4..4
-        if action_type == "continuous":
-            assert _rudder_order_deg(env) == pytest.approx(-12.0, abs=1e-4)
-        else:  # nearest of the offered orders (-35, -20, -10, -5, 0, ...)
-            assert _rudder_order_deg(env) == pytest.approx(-10.0, abs=1e-9)
-        if action_type == "discrete" and engine:  # nearest telegraph step: SLOW ASTERN (-300 rpm)
-            assert _rpm_order(env) == pytest.approx(rev_table[2], rel=1e-9)
-            assert base.task.helm.telegraph[0] == -2
-        else:  # continuous engine action or the shaft order set directly
-            assert _rpm_order(env) == pytest.approx(-260.0, rel=1e-5)
+        # the panel's orders reach the physics as given, whatever the agent's action type (a discrete agent
+        # offers -35, -20, -10, -5, 0, ... deg and telegraph steps only)
+        assert _rudder_order_deg(env) == pytest.approx(-12.0, abs=1e-9)
+        assert _rpm_order(env) == pytest.approx(-260.0, rel=1e-12)
+        # the panel is shown the telegraph step nearest its rpm order: SLOW ASTERN (-300 rpm)
+        clock.tick()
+        env.step(_agent_action(env))
+        time.sleep(SETTLE_S)
+        assert peer.messages("state")[-1]["telegraph"] == -2
+        assert _rudder_order_deg(env) == pytest.approx(-12.0, abs=1e-9)  # the agent's action did not win
         # a telegraph order
         _order(peer, env, 2, 3.0, telegraph=3)
         clock.tick()
