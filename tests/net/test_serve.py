@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-import json
 import re
 import signal
 import subprocess
@@ -15,7 +14,6 @@ from pathlib import Path
 import pytest
 
 from vessel_gym import cli
-from vessel_gym.net import protocol as P
 from vessel_gym.net.serve import outcome_line, serve
 from vessel_gym.physics.schema import SpecError
 
@@ -74,7 +72,7 @@ def test_serve_publishes_state_with_traffic_and_nmea_with_ais(peers):
     welcome = []
     t0 = time.monotonic()
     while srv.thread.is_alive() and time.monotonic() - t0 < 10.0:
-        viewer.send(server, P.encode_hello("viewer", 20.0, name="test viewer"))
+        viewer.hello(server, "viewer", 20.0, name="test viewer")  # echoes the cookie of the last welcome
         time.sleep(0.25)
         for m in viewer.messages():
             (states if m["type"] == "state" else welcome).append(m)
@@ -110,13 +108,13 @@ def test_human_helm_takes_over_from_the_agent(peers):
     srv = _Server(time_factor=10.0, duration_s=1.5, seed=0)
     server = srv.address()
     panel = peers()
-    panel.send(server, P.encode_hello("helm", 20.0))
+    panel.join(server, lambda: time.sleep(0.05), "helm", 20.0)
     seq = 0
     got = []
     t0 = time.monotonic()
     while srv.thread.is_alive() and time.monotonic() - t0 < 10.0:
         seq += 1
-        panel.send(server, P.encode_helm(seq, -20.0, telegraph=1))
+        panel.helm(server, seq, -20.0, telegraph=1)
         time.sleep(0.05)
         got += panel.messages("state")
     assert srv.join() == 0
@@ -184,9 +182,9 @@ def test_ctrl_c_ends_cleanly_with_exit_code_0():
             if "Ctrl-C" in line:
                 break
         viewer = Peer()
-        viewer.send(("127.0.0.1", port), P.encode_hello("viewer", 10.0))
+        viewer.join(("127.0.0.1", port), lambda: time.sleep(0.05), "viewer", 10.0)
         time.sleep(0.5)
-        assert any(json.loads(d)["type"] == "state" for d in viewer.raw())
+        assert viewer.messages("state")
         viewer.close()
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=30)
