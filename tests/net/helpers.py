@@ -136,4 +136,3 @@ class Peer:
 
     def close(self) -> None:
         self.sock.close()
-

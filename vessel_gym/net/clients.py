@@ -619,9 +619,7 @@ def run_helm(
     panel = HelmPanel()
     if take:
         panel.take()
-    return _run(
-        conn, panel, rate_hz, title, max_frames, duration_s, headless, size, fps, capture, on_frame
-    )
+    return _run(conn, panel, rate_hz, title, max_frames, duration_s, headless, size, fps, capture, on_frame)
 
 
 def run_viewer(

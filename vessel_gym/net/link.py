@@ -145,7 +145,9 @@ class LinkConfig:
     default_rate_hz: float = 20.0  # state rate for a hello without rate_hz, 1-50 Hz
     allow_remote: bool = False  # binding to a non-loopback address requires this
     token: str | None = None  # if set, a hello must carry this token
-    max_rate_per_source_hz: float = 200.0  # datagrams/s one source address may send (burst: 1 s of it), 10-100000
+    max_rate_per_source_hz: float = (
+        200.0  # datagrams/s one source address may send (burst: 1 s of it), 10-100000
+    )
     failsafe: str = "hold"  # "hold" | "midships_stop"
     watchdog_s: float = 1.0  # helm silence after which the owner loses the helm, s (0.1-10)
     client_timeout_s: float = 3.0  # silence after which a client is dropped, s (0.5-60)
@@ -626,7 +628,9 @@ class UdpLink:
             self._owner = addr
             self._owner_name = client.name
             self._counters["helm_takeovers"] += 1
-            self._helm_change(HelmChange(now_s, "command", addr, client.name, self._last_owner, self._last_name))
+            self._helm_change(
+                HelmChange(now_s, "command", addr, client.name, self._last_owner, self._last_name)
+            )
         elif self._owner != addr:
             self._drop("not_owner")
             return

@@ -186,7 +186,9 @@ def _get_str(obj: Mapping, key: str, max_chars: int, truncate: bool = True) -> s
         return None
     if not isinstance(value, str):
         raise ProtocolError("bad_field", f"{key} must be a string")
-    if len(value) > max_chars and not truncate:  # a secret is never truncated: a long one would match its prefix
+    if (
+        len(value) > max_chars and not truncate
+    ):  # a secret is never truncated: a long one would match its prefix
         raise ProtocolError("bad_field", f"{key} longer than {max_chars} characters")
     return value[:max_chars]
 
