@@ -228,6 +228,24 @@ def test_cli_maps_bad_agent_to_exit_code_2(capsys, tmp_path):
     assert err.count("\n") == 1 and "missing.zip" in err
 
 
+def test_cli_token_option_and_environment(capsys, monkeypatch):
+    base = ["serve", "--json", "127.0.0.1:0", "--nmea", "off", "--duration", "0.3", "--time-factor", "10"]
+    assert cli.main([*base, "--token", "x" * 129]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--token must be 1-128 characters" in err
+    assert cli.main([*base, "--token", "s\u00e9same"]) == 0
+    assert "token required" in capsys.readouterr().out
+    monkeypatch.setenv("VESSEL_GYM_TOKEN", "")  # empty: no token
+    assert cli.main(base) == 0
+    assert "token required" not in capsys.readouterr().out
+    monkeypatch.setenv("VESSEL_GYM_TOKEN", "from-env")
+    assert cli.main(base) == 0
+    assert "token required" in capsys.readouterr().out
+    for command in ("helm", "view"):
+        assert cli.main([command, "--token", ""]) == 2
+        assert "--token must be 1-128 characters" in capsys.readouterr().err
+
+
 def test_outcome_line():
     info = {
         "outcome": "success",
