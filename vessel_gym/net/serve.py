@@ -35,6 +35,17 @@ _RELEASE_TEXT = {
 }
 
 
+def link_ticks(control_interval_s: float, time_factor: float) -> int:
+    """Ticks per control step: the fewest that keep a tick within LINK_TICK_S of wall-clock time."""
+    return max(1, math.ceil(control_interval_s / time_factor / LINK_TICK_S - 1e-9))
+
+
+def physics_steps(control_interval_s: float, dt_s: float, ticks: int) -> int:
+    """Physics steps per control step for ``ticks`` ticks: a multiple of ``ticks`` (the physics moves at every
+    tick) whose step is no longer than the environment's own ``dt_s`` (never a coarser integration)."""
+    return ticks * max(1, math.ceil(control_interval_s / ticks / dt_s - 1e-9))
+
+
 def _addr(a: Address) -> str:
     return f"{a[0]}:{a[1]}"
 
@@ -152,6 +163,12 @@ def _serve(
     if max_episode_steps is not None:
         make_kw["max_episode_steps"] = max_episode_steps
     env = gym.make("vessel_gym/HarbourApproach-v0", **make_kw)
+    # The physics must move at every link tick: shorten its step if the default one is longer than a tick.
+    control, dt = env.unwrapped.config.control_interval_s, env.unwrapped.task.dt
+    nsub = physics_steps(control, dt, link_ticks(control, time_factor))
+    if nsub != env.unwrapped.task.nsub:
+        env.close()
+        env = gym.make("vessel_gym/HarbourApproach-v0", dt_s=control / nsub, **make_kw)
     try:
         policy = load_policy(agent, env)
         config = LinkConfig(
@@ -253,7 +270,7 @@ class _Ticker:
         self.sim = base.sim
         control = base.config.control_interval_s
         self.nsub = int(self.task.nsub)
-        self.ticks = max(1, math.ceil(control / time_factor / LINK_TICK_S - 1e-9))
+        self.ticks = link_ticks(control, time_factor)
         self.pacer = RealTimePacer(self.ticks / control, time_factor)
         self.wrapped = wrapped
         self.report = report
@@ -336,4 +353,4 @@ def _run(
     return 0
 
 
-__all__ = ["LINK_TICK_S", "helm_change_line", "outcome_line", "serve"]
+__all__ = ["LINK_TICK_S", "helm_change_line", "link_ticks", "outcome_line", "physics_steps", "serve"]
