@@ -201,6 +201,41 @@ def test_real_time_clients_get_state_at_their_rate():
     assert np.median(steps) < 0.1  # the physics moved between states, not once per control step
 
 
+def _docs_client_snippet() -> str:
+    text = (ROOT / "docs" / "protocol.md").read_text()
+    after = text[text.index("### Your own client") :]
+    code = after[after.index("```python\n") + len("```python\n") :]
+    return code[: code.index("```")]
+
+
+@pytest.mark.slow
+def test_the_docs_client_snippet_keeps_receiving_past_the_client_timeout():
+    srv = _Server(time_factor=1.0, duration_s=12.0, seed=0)
+    host, port = srv.address()
+    code = _docs_client_snippet()
+    assert 'SERVER = ("127.0.0.1", 10120)' in code
+    code = code.replace('SERVER = ("127.0.0.1", 10120)', f"SERVER = ({host!r}, {port})")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    stamps: list[float] = []
+
+    def read() -> None:
+        for _line in proc.stdout:
+            stamps.append(time.monotonic())
+
+    reader = threading.Thread(target=read, daemon=True)
+    t0 = time.monotonic()
+    reader.start()
+    try:
+        time.sleep(6.0)
+    finally:
+        proc.kill()
+        proc.wait(10)
+        reader.join(5)
+    srv.join()
+    late = [t - t0 for t in stamps if t - t0 > 4.5]  # well past the 3 s client timeout
+    assert len(stamps) >= 30 and len(late) >= 5, (len(stamps), len(late))
+
+
 def test_bad_agent_path_and_scenario_are_one_line_errors(tmp_path):
     with pytest.raises(ValueError, match=r"agent '.*nope\.zip'.*no such file") as exc:
         serve("harbour", agent=str(tmp_path / "nope.zip"), json_bind=("127.0.0.1", 0), nmea=[])
