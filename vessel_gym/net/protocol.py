@@ -5,7 +5,9 @@ One UTF-8 JSON object per UDP datagram, always with ``"v": 1`` and a ``"type"``.
 and rate of turn are positive to starboard; x is north and y east of the scenario's reference point.
 
 Client to server: ``hello``, ``helm``, ``bye``, ``stats_request``. Server to client: ``welcome``, ``state``,
-``stats``. The full schema with ranges is in ``docs/protocol.md``.
+``stats``. The full schema with ranges is in ``docs/protocol.md``. Joining takes two hellos: the first is
+answered by a short ``welcome`` with a ``cookie`` (:func:`encode_challenge`), the second echoes it and is answered
+by the full ``welcome`` with a ``session`` that ``helm`` and ``bye`` then carry.
 
 Incoming datagrams are parsed by :func:`parse_datagram`, which either returns a typed message or raises
 :class:`ProtocolError` carrying a short reason code for the caller's drop counters. Out-of-range numbers are
