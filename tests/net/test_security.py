@@ -242,6 +242,18 @@ def test_forged_datagrams_do_not_keep_a_departed_client_registered(peers):
         assert link.clients == [] and link.stats()["clients_timed_out"] == 1
 
 
+def test_stats_requests_in_a_clients_name_get_one_reply_per_second(peers):
+    with _link() as link:
+        v = peers()
+        v.join(link.json_address, lambda: link.service(0.0, make_reading()), "viewer", 1.0)
+        v.messages()
+        for _ in range(50):  # forged in the client's name: 50 x ~30 bytes in, at most one ~1 kB reply out
+            v.send(link.json_address, P.encode_stats_request())
+        time.sleep(SETTLE_S)
+        link.service(0.5, make_reading())
+        assert len(v.messages("stats")) == 1 and link.stats()["drop_rate_limited"] == 49
+
+
 def test_bundled_client_accepts_datagrams_only_from_its_server(peers):
     with _link() as link:
         conn = ServerConnection(link.json_address, "viewer", 20.0)

@@ -89,6 +89,7 @@ COOKIE_LIFETIME_S = 10.0
 # Per-source rate limits are kept for at most this many source addresses; beyond it, unknown sources share one
 # bucket (a flood from many spoofed addresses then limits itself, not the registered clients).
 MAX_RATE_SOURCES = 4096
+STATS_REQUEST_INTERVAL_S = 1.0  # a client gets at most one stats reply on request per this many s
 NMEA_MAX_DATAGRAM_BYTES = 1400
 RECEIVE_BUFFER_BYTES = 1 << 20
 # A periodic send is made up to this fraction of its period early, so that rounding of a simulated clock
@@ -288,6 +289,7 @@ class _Client:
     next_due: float
     session: str = ""
     last_seq: int = -1
+    last_stats: float = -math.inf  # link time of the last stats reply on request
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -607,6 +609,10 @@ class UdpLink:
             client.last_seen = now_s
             self._command(now_s, addr, client, msg)
             return
+        if isinstance(msg, StatsRequest) and now_s - client.last_stats < STATS_REQUEST_INTERVAL_S:
+            # anyone can forge a request in a client's name: a ~1 kB reply per 100-byte request is bounded
+            self._drop("rate_limited")
+            return
         self._counters["rx_accepted"] += 1
         if isinstance(msg, Bye):
             if addr == self._owner:
@@ -614,6 +620,7 @@ class UdpLink:
             del self._clients[addr]
             self._counters["clients_left"] += 1
         elif isinstance(msg, StatsRequest):
+            client.last_stats = now_s
             self._send(addr, self._stats_message(now_s), "tx_stats")
 
     def _command(self, now_s: float, addr: Address, client: _Client, cmd: HelmCommand) -> None:
@@ -682,6 +689,7 @@ class UdpLink:
         self._stats_due += delta
         for c in self._clients.values():
             c.last_seen += delta
+            c.last_stats += delta
             c.next_due += delta
         for table in (self._ais_pos_due, self._ais_static_due):
             for key in table:
