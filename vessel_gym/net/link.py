@@ -19,8 +19,8 @@ Handshake and limits (``docs/protocol.md`` has the full text):
 
 Helm rules:
 
-- Only registered ``helm`` clients may command, within their session. The first command while nobody owns the helm takes ownership;
-  commands from other panels are dropped (``not_owner``) while an owner exists.
+- Only registered ``helm`` clients may command, within their session. The first command while nobody owns the
+  helm takes ownership; commands from other panels are dropped (``not_owner``) while an owner exists.
 - Per session, only a command with a higher ``seq`` than the last one is applied (``stale_seq`` otherwise).
 - If the owner sends no command for ``watchdog_s`` (1 s), or says ``bye``, ownership is released,
   ``helm_ok`` becomes false and the failsafe policy applies to the orders: ``hold`` keeps the last order,
@@ -146,9 +146,7 @@ class LinkConfig:
     default_rate_hz: float = 20.0  # state rate for a hello without rate_hz, 1-50 Hz
     allow_remote: bool = False  # binding to a non-loopback address requires this
     token: str | None = None  # if set, a hello must carry this token
-    max_rate_per_source_hz: float = (
-        200.0  # datagrams/s one source address may send (burst: 1 s of it), 10-100000
-    )
+    max_rate_per_source_hz: float = 200.0  # datagrams/s from one source address (burst: 1 s of it), 10-1e5
     failsafe: str = "hold"  # "hold" | "midships_stop"
     watchdog_s: float = 1.0  # helm silence after which the owner loses the helm, s (0.1-10)
     client_timeout_s: float = 3.0  # silence after which a client is dropped, s (0.5-60)
