@@ -78,7 +78,7 @@ def test_serve_publishes_state_with_traffic_and_nmea_with_ais(peers):
     t0 = time.monotonic()
     while srv.thread.is_alive() and time.monotonic() - t0 < 10.0:
         viewer.hello(server, "viewer", 20.0, name="test viewer")  # echoes the cookie of the last welcome
-        time.sleep(0.25)
+        time.sleep(0.1)
         for m in viewer.messages():
             (states if m["type"] == "state" else welcome).append(m)
     assert srv.join() == 0

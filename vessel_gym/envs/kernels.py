@@ -8,8 +8,8 @@ apparent wind comes from :func:`vessel_gym.physics.atmosphere.relative_wind`. No
 wrapping, the zig-zag rule and overshoot tracker, and the turning-circle geometry are those of
 :mod:`vessel_gym.control`.
 
-numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
-keyed by a hash of this file and the physics and control packages' sources (stale machine code is discarded).
+These kernels inline physics and control functions, so their numba cache is keyed by a hash of this file and
+the physics and control sources (:mod:`vessel_gym.physics.jitcache`): stale machine code is never loaded.
 
 Why whole rows and not the named accessors (``sim.u``, ...): a numba call unboxes every array argument, about
 0.06 us for a contiguous array and 0.15 us for a strided view such as ``sim.u``; ten views cost a one-ship
@@ -19,37 +19,29 @@ environment step more than its task arithmetic.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 from numba import njit, prange
 
-from vessel_gym.control import CONTROL_SOURCES
-from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache
-
-invalidate_stale_numba_cache(
-    Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES, *CONTROL_SOURCES]
-)
-
-from vessel_gym.control.angles import PI, wrap_pi  # noqa: E402
-from vessel_gym.control.turning import (  # noqa: E402
+from vessel_gym.control.angles import PI, wrap_pi
+from vessel_gym.control.turning import (
     ADVANCE_HEADING_RAD,
     TACTICAL_HEADING_RAD,
     at_crossing,
     course_axes,
     crossing_fraction,
 )
-from vessel_gym.control.zigzag import (  # noqa: E402
+from vessel_gym.control.zigzag import (
     OVERSHOOT_V0,
     overshoot_excursion,
     overshoot_step,
     target_reached,
     zigzag_execute,
 )
-from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
-from vessel_gym.physics.atmosphere import relative_wind  # noqa: E402
-from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
-from vessel_gym.physics.vessel import NO_REFCOUNT  # noqa: E402
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.atmosphere import relative_wind
+from vessel_gym.physics.integrate import MAX_CHUNKS
+from vessel_gym.physics.vessel import NO_REFCOUNT
 
 # outcome flags (HarbourApproach)
 OK = 0
