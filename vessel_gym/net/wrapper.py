@@ -247,6 +247,13 @@ class UdpLinkWrapper(gym.Wrapper):
         self._next_service = now + self.min_service_interval_s
         self._decide(now, helm)
 
+    def service(self) -> HelmState:
+        """Service the link now, between steps (a real-time loop's finer ticks: state at the clients' rates).
+
+        Orders received take effect from the next step, as orders received at a step do."""
+        self._service(self._clock())
+        return self.link.helm
+
     # --- gymnasium API ----------------------------------------------------------------------------------------
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
