@@ -46,60 +46,75 @@ def _finite(x):
     return True
 
 
+@njit(cache=True)
+def n_stages(method):
+    """Right-hand-side evaluations per step: 4 for RK4, 1 for explicit Euler."""
+    return 1 if method == EULER else 4
+
+
 @njit(cache=True, **NO_REFCOUNT)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
-    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place.
+def stage_state(P, x, inp, K, stage, dt, xt):
+    """Fill ``xt`` with the state at which RK4 stage ``stage`` (1, 2 or 3) evaluates the right-hand side:
+    x + c dt k_(stage-1) with c = 1/2, 1/2, 1 (the classical tableau), the rudder at its exact angle at t + c dt.
 
-    ``k1``..``k4`` and ``xt`` are scratch rows of length NX; the new state is
-    formed in ``xt`` and committed only if finite. Returns False on divergence, with ``x`` left at the last
-    finite state.
-
-    The rudder angle is not integrated by the method: with the order held over the step, the steering gear's
-    equation has an exact solution (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every
-    stage reads at its own time (t + dt/2 for RK4's middle stages, t + dt at the end).
+    ``K`` holds the stage derivatives k_1..k_4 as rows (4, NX). The rudder angle is not integrated by the
+    method: with the order held over the step, the steering gear's equation has an exact solution
+    (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every stage reads at its own time.
     """
-    half = 0.5 * dt
-    sixth = dt / 6.0
-    D = lo.X_DELTA
-    for _ in range(nsteps):
-        d_end = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], dt)
-        derivatives(P, x, inp, env, F_ext, k1)
-        if method == EULER:
-            for i in range(lo.NX):
-                xt[i] = x[i] + dt * k1[i]
-        else:
-            d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
-            for i in range(lo.NX):
-                xt[i] = x[i] + half * k1[i]
-            xt[D] = d_half
-            derivatives(P, xt, inp, env, F_ext, k2)
-            for i in range(lo.NX):
-                xt[i] = x[i] + half * k2[i]
-            xt[D] = d_half
-            derivatives(P, xt, inp, env, F_ext, k3)
-            for i in range(lo.NX):
-                xt[i] = x[i] + dt * k3[i]
-            xt[D] = d_end
-            derivatives(P, xt, inp, env, F_ext, k4)
-            for i in range(lo.NX):
-                xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-        xt[D] = d_end
-        if not _finite(xt):
-            return False
+    h = 0.5 * dt if stage < 3 else dt
+    for i in range(lo.NX):
+        xt[i] = x[i] + h * K[stage - 1, i]
+    xt[lo.X_DELTA] = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], h)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def finish_step(P, x, inp, K, dt, method, xt):
+    """Combine the stage derivatives ``K`` into the state one step on (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
+    Euler: x + dt k1), formed in ``xt`` with the rudder at its exact angle at t + dt, and commit it to ``x``
+    only if finite. Returns False on divergence, with ``x`` left at the last finite state."""
+    if method == EULER:
         for i in range(lo.NX):
-            x[i] = xt[i]
+            xt[i] = x[i] + dt * K[0, i]
+    else:
+        sixth = dt / 6.0
+        for i in range(lo.NX):
+            xt[i] = x[i] + sixth * (K[0, i] + 2.0 * K[1, i] + 2.0 * K[2, i] + K[3, i])
+    xt[lo.X_DELTA] = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], dt)
+    if not _finite(xt):
+        return False
+    for i in range(lo.NX):
+        x[i] = xt[i]
+    return True
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt):
+    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held.
+
+    ``K`` (4, NX) and ``xt`` (NX) are scratch. Returns False on divergence, with ``x`` left at the last finite
+    state. The stages are :func:`stage_state` and :func:`finish_step`, which the batch driver with Python
+    components (:func:`run_with_components`) calls as well.
+    """
+    for _ in range(nsteps):
+        derivatives(P, x, inp, env, F_ext, K[0])
+        if method != EULER:
+            for stage in range(1, 4):
+                stage_state(P, x, inp, K, stage, dt, xt)
+                derivatives(P, xt, inp, env, F_ext, K[stage])
+        if not finish_step(P, x, inp, K, dt, method, xt):
+            return False
     return True
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S):
-    """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive."""
+    """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX): the stage derivatives in
+    rows 0-3, the trial state in row 4. Returns how many are alive."""
+    K = S[:4]
     count = 0
     for b in range(first, stop):
         if alive[b]:
-            ok = step_vessel(
-                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, S[0], S[1], S[2], S[3], S[4]
-            )
+            ok = step_vessel(Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, K, S[4])
             alive[b] = ok
             count += ok
     return count
@@ -140,17 +155,58 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
 
 
 @njit(cache=True)
-def steering_gear_angles_batch(Ps, ship_index, X, U, t, out):
-    """Rudder angles of a batch ``t`` seconds on with the orders held (the Python-component path's stages)."""
+def stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt):
+    """:func:`stage_state` of every vessel of a batch: ``K`` (N, 4, NX) stage derivatives, ``Xt`` (N, NX) out."""
     for b in range(X.shape[0]):
-        out[b] = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], t)
+        stage_state(Ps[ship_index[b]], X[b], U[b], K[b], stage, dt, Xt[b])
 
 
 @njit(cache=True)
-def derivatives_batch(Ps, ship_index, X, U, E, F, Xdot):
-    """State derivatives of a batch (used by the Python-component path and by tests)."""
+def stage_derivatives_batch(Ps, ship_index, X, U, E, F, K, stage):
+    """Right-hand side of every vessel of a batch at the stage states ``X`` with the forces ``F`` (N, 3),
+    into ``K[:, stage]``."""
     for b in range(X.shape[0]):
-        derivatives(Ps[ship_index[b]], X[b], U[b], E[b], F[b], Xdot[b])
+        derivatives(Ps[ship_index[b]], X[b], U[b], E[b], F[b], K[b, stage])
+
+
+@njit(cache=True)
+def finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt):
+    """:func:`finish_step` of every alive vessel of a batch; marks diverged vessels dead. Returns the number
+    alive."""
+    count = 0
+    for b in range(X.shape[0]):
+        if alive[b]:
+            ok = finish_step(Ps[ship_index[b]], X[b], U[b], K[b], dt, method, Xt[b])
+            alive[b] = ok
+            count += ok
+    return count
+
+
+def run_with_components(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, component_forces):
+    """Integrate a batch whose right-hand side includes forces computed in Python, with the same stages as
+    :func:`run_serial` (:func:`stage_state`, :func:`finish_step`).
+
+    ``component_forces(Xs)`` returns the (N, 3) forces (X N, Y N, N N m) on every vessel at the batch of stage
+    states ``Xs`` (N, NX); it is called once per stage for the whole batch, so a vectorised component costs
+    O(N) per evaluation. ``F`` (N, 3) is added to it. Every vessel's right-hand side is evaluated (the
+    components see the whole batch); only alive vessels are advanced. Returns the number alive.
+    """
+    n = X.shape[0]
+    K = np.zeros((n, 4, lo.NX))
+    Xt = np.empty((n, lo.NX))
+    Fs = np.empty((n, 3))
+    count = int(alive.sum())
+    for _ in range(nsteps):
+        for stage in range(n_stages(method)):
+            if stage == 0:
+                Xs = X
+            else:
+                stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt)
+                Xs = Xt
+            np.add(F, np.asarray(component_forces(Xs), dtype=float).reshape(n, 3), out=Fs)
+            stage_derivatives_batch(Ps, ship_index, Xs, U, E, Fs, K, stage)
+        count = finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt)
+    return count
 
 
 @njit(cache=True)
