@@ -30,6 +30,8 @@ invalidate_stale_numba_cache(Path(__file__).parent / "__pycache__", [Path(__file
 from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
 from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
 from vessel_gym.physics.kinematics import (  # noqa: E402
+    body_point_to_earth,
+    body_to_earth,
     current_body,
     earth_to_body,
     ground_velocity,
@@ -526,8 +528,7 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
     for i in range(nh):
         x = hull[i, 0]
         y = hull[i, 1]
-        hn[i] = n0 + c * x - s * y
-        he[i] = e0 + s * x + c * y
+        hn[i], he[i] = body_point_to_earth(n0, e0, c, s, x, y)
         if i == 0:
             hb0 = hb1 = hn[0]
             hb2 = hb3 = he[0]
@@ -542,8 +543,7 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
         x = beam_dirs[j, 0]
         y = beam_dirs[j, 1]
         beams[j] = beam_range
-        bw[0, j] = c * x - s * y  # beam direction (north, east)
-        bw[1, j] = s * x + c * y
+        bw[0, j], bw[1, j] = body_to_earth(c, s, x, y)  # beam direction (north, east)
     npoly = polys.shape[0]
     vn = edges[:, 0]
     ve = edges[:, 1]

@@ -37,6 +37,13 @@ def earth_to_body(cos_psi, sin_psi, n, e):
 
 
 @njit(cache=True)
+def body_point_to_earth(n0, e0, cos_psi, sin_psi, x, y):
+    """Earth position (north, east) in m of the point (x, y) m of the body (forward, starboard of midship) of a
+    ship whose midship point is at (n0, e0): (n0, e0) + R(psi) (x, y)."""
+    return n0 + cos_psi * x - sin_psi * y, e0 + sin_psi * x + cos_psi * y
+
+
+@njit(cache=True)
 def current_body(cos_psi, sin_psi, cur_n, cur_e):
     """Current velocity (m/s) in body axes (forward, starboard), from its (north, east) components: the
     velocity over ground minus the velocity through the water (GNSS minus log)."""
@@ -84,18 +91,28 @@ def relative_wind(u_g, v_g, cos_psi, sin_psi, w_n, w_e):
 
 
 @njit(cache=True)
-def coriolis_forces(P, u, v, r):
-    """-C(nu_r) nu_r of the rigid body and the added mass as forces (X, Y, N) in N, N, N m at the origin.
+def add_coriolis_forces(P, u, v, r, X, Y, N):
+    """The force sums (X, Y, N) in N, N, N m with -C(nu_r) nu_r of the rigid body and the added mass added:
+    X + c_X,vr v r + c_X,rr r^2, Y - c_Y,ur u r, N - c_N,ur u r.
 
-    X = c_X,vr v r + c_X,rr r^2, Y = -c_Y,ur u r, N = -c_N,ur u r with the coefficients :func:`vessel.pack`
-    puts in the parameter row: for an MMG hull (m + m_y), x_G m, (m + m_x), x_G m (Yasukawa & Yoshimura 2015
-    eq. 4); for an Abkowitz hull with ``coriolis = "separate"`` the rigid body's m, m x_G, m, m x_G; zero for
-    an Abkowitz hull whose derivatives already contain them (Mariner)."""
+    The coefficients are those :func:`vessel.pack` puts in the parameter row: for an MMG hull (m + m_y),
+    x_G m, (m + m_x), x_G m (Yasukawa & Yoshimura 2015 eq. 4); for an Abkowitz hull with
+    ``coriolis = "separate"`` the rigid body's m, m x_G, m, m x_G; zero for an Abkowitz hull whose
+    derivatives already contain them (Mariner). The terms are added to the other forces one by one, in this
+    order, so that every trajectory rounds as it always has.
+    """
     return (
-        P[lo.P_CX_VR] * v * r + P[lo.P_CX_RR] * r * r,
-        -P[lo.P_CY_UR] * u * r,
-        -P[lo.P_CN_UR] * u * r,
+        X + P[lo.P_CX_VR] * v * r + P[lo.P_CX_RR] * r * r,
+        Y - P[lo.P_CY_UR] * u * r,
+        N - P[lo.P_CN_UR] * u * r,
     )
+
+
+@njit(cache=True)
+def coriolis_forces(P, u, v, r):
+    """-C(nu_r) nu_r of the rigid body and the added mass as forces (X, Y, N) in N, N, N m at the origin
+    (:func:`add_coriolis_forces` to nothing)."""
+    return add_coriolis_forces(P, u, v, r, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)

@@ -25,7 +25,7 @@ from vessel_gym.physics import layout as lo
 from vessel_gym.physics.atmosphere import blendermann_wind_loads
 from vessel_gym.physics.hull import drift_angle, hull_forces
 from vessel_gym.physics.kinematics import (
-    coriolis_forces,
+    add_coriolis_forces,
     ground_velocity,
     ground_velocity_body,
     relative_wind,
@@ -303,10 +303,15 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     u = x[lo.X_U]
     v = x[lo.X_V]
     r = x[lo.X_R]
-    XC, YC, NC = coriolis_forces(P, u, v, r)
-    X = f[0] + f[3] + f[4] + f[7] + f[10] + F_ext[0] + XC
-    Y = f[1] + f[5] + f[8] + f[11] + F_ext[1] + YC
-    N = f[2] + f[6] + f[9] + f[12] + F_ext[2] + NC
+    X, Y, N = add_coriolis_forces(
+        P,
+        u,
+        v,
+        r,
+        f[0] + f[3] + f[4] + f[7] + f[10] + F_ext[0],
+        f[1] + f[5] + f[8] + f[11] + F_ext[1],
+        f[2] + f[6] + f[9] + f[12] + F_ext[2],
+    )
     # cos(psi), sin(psi) from force_terms; f[18], f[19] the current (north, east)
     vn, ve = ground_velocity(u, v, f[20], f[21], f[18], f[19])
     delta_dot = steering_gear_rate(P, x[lo.X_DELTA], inp[lo.U_DELTA_C])
