@@ -7,7 +7,9 @@ on velocities through the water, so a uniform current only adds to the kinematic
 10.1 for an irrotational constant current):
 
     M nu_r' + C nu_r = tau_hull + tau_prop + tau_rudder + tau_wind + tau_waves + tau_ext,
-    eta' = R(psi) nu_r + V_current.
+    eta' = R(psi) nu_r + V_current,
+
+with C nu_r, R(psi) and the velocities over ground and of the air from :mod:`vessel_gym.physics.kinematics`.
 
 :func:`pack` turns a :class:`~vessel_gym.physics.shipfile.Ship` into the parameter row read by the compiled
 kernel; :func:`derivatives` is the one source of the equations used by every integrator, the environments,
