@@ -4,8 +4,8 @@ One compiled source serves a single ship and a batch of 16384: the per-vessel st
 serial driver and by a parallel (``prange``) driver, so both give bitwise identical results. The stages of a
 step (:func:`stage_state`, :func:`finish_step`) are the same functions in the driver with a hook for forces
 computed in Python (:func:`run_with_components`), which runs them for the whole batch stage by stage and calls
-the hook once per stage in between. Parameters are
-indexed per vessel through ``ship_index`` so that a batch of identical ships shares one cached parameter row.
+the hook once per stage in between. Parameters are indexed per vessel through ``ship_index`` so that a batch
+of identical ships shares one cached parameter row.
 A vessel whose state would become non-finite stops integrating, keeps its last finite state and is flagged
 (divergence detection): a diverged vessel never shows a NaN.
 

@@ -50,8 +50,9 @@ class ForceComponent(Protocol):
     ``forces`` receives the simulation and the state array being evaluated (N, NX) (inside an RK4 stage
     this is the stage state, not ``sim.state``) and returns an (N, 3) array of X (N), Y (N), N (N m) at the
     body origin. It is called once per stage for the whole batch (and a few times per ``reset``, whatever the
-    number of vessels reset), so a component written with numpy array operations costs O(N). Plug a whole replacement hull in by giving the ship file ``[hull] model`` of your own and
-    returning its forces here (see docs/components.md).
+    number of vessels reset), so a component written with numpy array operations costs O(N). Plug a whole
+    replacement hull in by giving the ship file ``[hull] model`` of your own and returning its forces here
+    (see docs/components.md).
     """
 
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
