@@ -131,7 +131,8 @@ COMPONENT_BATCHES = (256, 1024, 4096)
 
 def bench_components(repeats: int) -> None:
     """A Python component's cost: ``reset`` of all vessels and ``step(10)``, both O(N) (per-vessel figures
-    should stay flat as N grows; a reset once cost O(N^2): 20 / 105 / 978 ms at N = 256 / 1024 / 4096)."""
+    should stay flat as N grows; a reset once cost O(N^2): 20 / 105 / 978 ms at N = 256 / 1024 /
+    4096)."""
     print(
         "\nwith a Python component (kvlcc2, numpy sway-yaw damping): reset of all vessels and step(10), median"
     )

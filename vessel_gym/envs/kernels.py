@@ -3,9 +3,10 @@
 The environments and their vector twins call the same kernels (N = 1 and N = 1024 run the same code). Each
 task keeps its per-vessel task state in a float array ``ts`` (N, *N) whose named columns are defined here,
 reads the ship's motion from the simulation's state and input rows (``sim.state``, ``sim.inputs``, columns
-named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
-velocities over ground, the apparent wind and the rotations come from :mod:`vessel_gym.physics.kinematics`,
-the current and the wind from the simulation's environment rows (``sim.env``).
+named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome
+flags. Physics equations are not repeated here: the velocities over ground, the apparent wind and the
+rotations come from :mod:`vessel_gym.physics.kinematics`, the current and the wind from the simulation's
+environment rows (``sim.env``).
 
 numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
 keyed by a hash of this file and the physics package's sources (stale machine code is discarded).
@@ -702,9 +703,9 @@ HTN = 8
 def harbour_update(phase, x, inp, env, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
     """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
     stepped vessels. ``env`` is the simulation's environment rows (``sim.env``: current and wind as the
-    physics sees them). Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1 (the
-    range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's scratch
-    and runs :func:`_harbour_range`."""
+    physics sees them). Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1
+    (the range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's
+    scratch and runs :func:`_harbour_range`."""
     nb = beam_dirs.shape[0]
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])

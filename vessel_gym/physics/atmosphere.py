@@ -35,8 +35,8 @@ def air_velocity_earth(wind_speed, wind_from):
 def apparent_wind(u_g, v_g, psi, wind_speed, wind_from):
     """Apparent wind in the body frame: (speed m/s, angle from the bow rad, positive from starboard).
 
-    (u_g, v_g) is the ship's velocity over ground in body axes; :func:`~vessel_gym.physics.kinematics.relative_wind`
-    does the kinematics.
+    (u_g, v_g) is the ship's velocity over ground in body axes;
+    :func:`~vessel_gym.physics.kinematics.relative_wind` does the kinematics.
     """
     w_n, w_e = air_velocity_earth(wind_speed, wind_from)
     V, gamma, _, _ = relative_wind(u_g, v_g, math.cos(psi), math.sin(psi), w_n, w_e)
@@ -59,8 +59,8 @@ def blendermann_wind_loads(P, V_rw, gamma, cos_gamma, sin_gamma, rho_air):
     otherwise; X = q C_X A_F, Y = q C_Y A_L, N = q C_N A_L L, q = 1/2 rho_air V_rw^2.
     gamma is the angle the wind comes from relative to the bow (positive from starboard), so a head wind
     (gamma = 0) gives X < 0 and a wind from starboard pushes the ship to port (Y < 0); cos_gamma and sin_gamma
-    are its cosine and sine (from :func:`~vessel_gym.physics.kinematics.relative_wind`), so that g = |gamma| has cos g = cos_gamma,
-    sin g = |sin_gamma| and sin 2g = 2 sin g cos g without further trigonometry.
+    are its cosine and sine (from :func:`~vessel_gym.physics.kinematics.relative_wind`), so that g = |gamma|
+    has cos g = cos_gamma, sin g = |sin_gamma| and sin 2g = 2 sin g cos g without further trigonometry.
     Returns (X, Y, N) in N, N, N m.
     """
     if P[lo.P_WIND_ON] == 0.0 or V_rw <= 0.0:

@@ -58,7 +58,8 @@ def n_stages(method):
 @njit(cache=True, **NO_REFCOUNT)
 def stage_state(P, x, inp, K, stage, dt, xt):
     """Fill ``xt`` with the state at which RK4 stage ``stage`` (1, 2 or 3) evaluates the right-hand side:
-    x + c dt k_(stage-1) with c = 1/2, 1/2, 1 (the classical tableau), the rudder at its exact angle at t + c dt.
+    x + c dt k_(stage-1) with c = 1/2, 1/2, 1 (the classical tableau), the rudder at its exact angle at
+    t + c dt.
 
     ``K`` holds the stage derivatives k_1..k_4 as rows (4, NX). The rudder angle is not integrated by the
     method: with the order held over the step, the steering gear's equation has an exact solution
@@ -159,7 +160,8 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
 
 @njit(cache=True)
 def stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt):
-    """:func:`stage_state` of every vessel of a batch: ``K`` (N, 4, NX) stage derivatives, ``Xt`` (N, NX) out."""
+    """:func:`stage_state` of every vessel of a batch: ``K`` (N, 4, NX) stage derivatives, ``Xt`` (N, NX)
+    out."""
     for b in range(X.shape[0]):
         stage_state(Ps[ship_index[b]], X[b], U[b], K[b], stage, dt, Xt[b])
 

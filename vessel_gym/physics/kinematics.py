@@ -1,8 +1,8 @@
-"""Kinematics in 3 DOF: rotations between body and earth axes, velocity over ground and through the water,
-apparent wind, and the Coriolis-centripetal forces of the rigid body and its added mass.
+"""Kinematics in 3 DOF: rotations between body and earth axes, velocity over ground and through the
+water, apparent wind, and the Coriolis-centripetal forces of the rigid body and its added mass.
 
-Each quantity has this one home. The vessel's equations of motion, the bridge readings, the captive rig and the
-task kernels call these functions; none of them derives a velocity or a rotation itself. All are compiled
+Each quantity has this one home. The vessel's equations of motion, the bridge readings, the captive rig and
+the task kernels call these functions; none of them derives a velocity or a rotation itself. All are compiled
 (numba), take and return plain floats (so that they inline into the hot loops and allocate nothing), and run
 un-jitted through ``.py_func`` as well.
 
@@ -11,7 +11,8 @@ midship; heading psi clockwise from north. The functions take psi as (cos psi, s
 computes once per state. The state carries the velocities *through the water* nu_r = (u, v, r); a uniform,
 irrotational current V_c (north, east) adds to the kinematics only (Fossen 2011, sec. 10.3, Property 10.1):
 
-    nu = nu_r + R(psi)^T V_c   (over ground, body axes),     eta' = R(psi) nu_r + V_c   (over ground, earth axes).
+    nu = nu_r + R(psi)^T V_c   (over ground, body axes),
+    eta' = R(psi) nu_r + V_c   (over ground, earth axes).
 """
 
 from __future__ import annotations
@@ -38,8 +39,8 @@ def earth_to_body(cos_psi, sin_psi, n, e):
 
 @njit(cache=True)
 def body_point_to_earth(n0, e0, cos_psi, sin_psi, x, y):
-    """Earth position (north, east) in m of the point (x, y) m of the body (forward, starboard of midship) of a
-    ship whose midship point is at (n0, e0): (n0, e0) + R(psi) (x, y)."""
+    """Earth position (north, east) in m of the point (x, y) m of the body (forward, starboard of midship)
+    of a ship whose midship point is at (n0, e0): (n0, e0) + R(psi) (x, y)."""
     return n0 + cos_psi * x - sin_psi * y, e0 + sin_psi * x + cos_psi * y
 
 
@@ -75,7 +76,8 @@ def ground_velocity_body(u, v, cos_psi, sin_psi, cur_n, cur_e):
 
 @njit(cache=True)
 def relative_wind(u_g, v_g, cos_psi, sin_psi, w_n, w_e):
-    """Apparent (relative) wind in the body frame from the air velocity (w_n, w_e) over ground (m/s, north/east).
+    """Apparent (relative) wind in the body frame from the air velocity (w_n, w_e) over ground (m/s,
+    north/east).
 
     (u_g, v_g) is the ship's velocity over ground in body axes (:func:`ground_velocity_body`).
     Returns (V m/s, gamma rad, cos gamma, sin gamma): speed and the angle the wind comes from relative to the

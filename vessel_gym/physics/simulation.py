@@ -531,7 +531,8 @@ class _SteadyApproach:
         self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max)
 
     def finish(self) -> tuple[np.ndarray, np.ndarray]:
-        """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft speed."""
+        """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
+        speed."""
         x, P = self.x, self.P
         if self.ship.propeller is None:
             return x.copy(), self.inp.copy()
@@ -541,7 +542,8 @@ class _SteadyApproach:
         n_e = P[lo.P_GEAR] * nrev
         if engine_torque(P, n_e, 1.0) < Q_need:
             raise SimulationError(
-                f"{self.ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for {self.speed / KNOT_M_S:.2f} kn "
+                f"{self.ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for "
+                f"{self.speed / KNOT_M_S:.2f} kn "
                 f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
             )
         x[lo.X_GOV] = _fuel_index_for(P, n_e, Q_need)
