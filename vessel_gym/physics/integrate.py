@@ -64,26 +64,35 @@ def stage_state(P, x, inp, K, stage, dt, xt):
     ``K`` holds the stage derivatives k_1..k_4 as rows (4, NX). The rudder angle is not integrated by the
     method: with the order held over the step, the steering gear's equation has an exact solution
     (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every stage reads at its own time.
+    Stages 2 and 3 of a step are called with ``xt`` still holding the state of the stage before, whose rudder
+    angle stage 2 shares (both at t + dt/2): solving it once per time saves an exp per step.
     """
     h = 0.5 * dt if stage < 3 else dt
+    if stage == 2:
+        d = xt[lo.X_DELTA]
+    else:
+        d = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], h)
     for i in range(lo.NX):
         xt[i] = x[i] + h * K[stage - 1, i]
-    xt[lo.X_DELTA] = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], h)
+    xt[lo.X_DELTA] = d
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def finish_step(P, x, inp, K, dt, method, xt):
     """Combine the stage derivatives ``K`` into the state one step on (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
     Euler: x + dt k1), formed in ``xt`` with the rudder at its exact angle at t + dt, and commit it to ``x``
-    only if finite. Returns False on divergence, with ``x`` left at the last finite state."""
+    only if finite. Returns False on divergence, with ``x`` left at the last finite state. After RK4, ``xt``
+    holds stage 4's state, whose rudder angle (at t + dt) is the one the step ends with."""
     if method == EULER:
+        d = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], dt)
         for i in range(lo.NX):
             xt[i] = x[i] + dt * K[0, i]
     else:
+        d = xt[lo.X_DELTA]
         sixth = dt / 6.0
         for i in range(lo.NX):
             xt[i] = x[i] + sixth * (K[0, i] + 2.0 * K[1, i] + 2.0 * K[2, i] + K[3, i])
-    xt[lo.X_DELTA] = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], dt)
+    xt[lo.X_DELTA] = d
     if not _finite(xt):
         return False
     for i in range(lo.NX):
