@@ -56,43 +56,34 @@ def n_stages(method):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def stage_state(P, x, inp, K, stage, dt, xt):
-    """Fill ``xt`` with the state at which RK4 stage ``stage`` (1, 2 or 3) evaluates the right-hand side:
-    x + c dt k_(stage-1) with c = 1/2, 1/2, 1 (the classical tableau), the rudder at its exact angle at
-    t + c dt.
+def stage_state(x, k, h, delta, xt):
+    """Fill ``xt`` with the state at which an RK4 stage evaluates the right-hand side, x + h k (h = c dt with
+    c = 1/2, 1/2, 1 of the classical tableau, k the stage before's derivative), with the rudder angle
+    ``delta`` (rad) at that stage's time.
 
-    ``K`` holds the stage derivatives k_1..k_4 as rows (4, NX). The rudder angle is not integrated by the
-    method: with the order held over the step, the steering gear's equation has an exact solution
-    (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every stage reads at its own time.
-    Stages 2 and 3 of a step are called with ``xt`` still holding the state of the stage before, whose rudder
-    angle stage 2 shares (both at t + dt/2): solving it once per time saves an exp per step.
+    The rudder angle is not integrated by the method: with the order held over the step, the steering gear's
+    equation has an exact solution (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every
+    stage reads at its own time (t + dt/2 for the middle stages, t + dt at the end).
     """
-    h = 0.5 * dt if stage < 3 else dt
-    if stage == 2:
-        d = xt[lo.X_DELTA]
-    else:
-        d = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], h)
     for i in range(lo.NX):
-        xt[i] = x[i] + h * K[stage - 1, i]
-    xt[lo.X_DELTA] = d
+        xt[i] = x[i] + h * k[i]
+    xt[lo.X_DELTA] = delta
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def finish_step(P, x, inp, K, dt, method, xt):
-    """Combine the stage derivatives ``K`` into the state one step on (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
-    Euler: x + dt k1), formed in ``xt`` with the rudder at its exact angle at t + dt, and commit it to ``x``
-    only if finite. Returns False on divergence, with ``x`` left at the last finite state. After RK4, ``xt``
-    holds stage 4's state, whose rudder angle (at t + dt) is the one the step ends with."""
+def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt):
+    """Combine the stage derivatives into the state one step on (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
+    Euler: x + dt k1, k2..k4 unused), formed in ``xt`` with the rudder angle ``delta_end`` at t + dt, and
+    commit it to ``x`` only if finite. Returns False on divergence, with ``x`` left at the last finite
+    state."""
     if method == EULER:
-        d = steering_gear_angle(P, x[lo.X_DELTA], inp[lo.U_DELTA_C], dt)
         for i in range(lo.NX):
-            xt[i] = x[i] + dt * K[0, i]
+            xt[i] = x[i] + dt * k1[i]
     else:
-        d = xt[lo.X_DELTA]
         sixth = dt / 6.0
         for i in range(lo.NX):
-            xt[i] = x[i] + sixth * (K[0, i] + 2.0 * K[1, i] + 2.0 * K[2, i] + K[3, i])
-    xt[lo.X_DELTA] = d
+            xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+    xt[lo.X_DELTA] = delta_end
     if not _finite(xt):
         return False
     for i in range(lo.NX):
@@ -101,33 +92,40 @@ def finish_step(P, x, inp, K, dt, method, xt):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt):
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
     """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held.
 
-    ``K`` (4, NX) and ``xt`` (NX) are scratch. Returns False on divergence, with ``x`` left at the last finite
-    state. The stages are :func:`stage_state` and :func:`finish_step`, which the batch driver with Python
-    components (:func:`run_with_components`) calls as well.
+    ``k1``..``k4`` and ``xt`` are scratch rows of length NX. Returns False on divergence, with ``x`` left at
+    the last finite state. The stages are :func:`stage_state` and :func:`finish_step`, which the batch driver
+    with Python components (:func:`run_with_components`) runs as well.
     """
+    half = 0.5 * dt
+    D = lo.X_DELTA
     for _ in range(nsteps):
-        derivatives(P, x, inp, env, F_ext, K[0])
+        d_end = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], dt)
+        derivatives(P, x, inp, env, F_ext, k1)
         if method != EULER:
-            for stage in range(1, 4):
-                stage_state(P, x, inp, K, stage, dt, xt)
-                derivatives(P, xt, inp, env, F_ext, K[stage])
-        if not finish_step(P, x, inp, K, dt, method, xt):
+            d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
+            stage_state(x, k1, half, d_half, xt)
+            derivatives(P, xt, inp, env, F_ext, k2)
+            stage_state(x, k2, half, d_half, xt)
+            derivatives(P, xt, inp, env, F_ext, k3)
+            stage_state(x, k3, dt, d_end, xt)
+            derivatives(P, xt, inp, env, F_ext, k4)
+        if not finish_step(x, k1, k2, k3, k4, dt, method, d_end, xt):
             return False
     return True
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S):
-    """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX): the stage derivatives in
-    rows 0-3, the trial state in row 4. Returns how many are alive."""
-    K = S[:4]
+    """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive."""
     count = 0
     for b in range(first, stop):
         if alive[b]:
-            ok = step_vessel(Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, K, S[4])
+            ok = step_vessel(
+                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, S[0], S[1], S[2], S[3], S[4]
+            )
             alive[b] = ok
             count += ok
     return count
@@ -169,10 +167,19 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
 
 @njit(cache=True)
 def stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt):
-    """:func:`stage_state` of every vessel of a batch: ``K`` (N, 4, NX) stage derivatives, ``Xt`` (N, NX)
-    out."""
+    """The states ``Xt`` (N, NX) at which RK4 stage ``stage`` (1, 2 or 3; 0 is the step's start ``X``) of
+    every vessel evaluates the right-hand side, from the stage derivatives ``K`` (N, 4, NX)
+    (:func:`stage_state`).
+
+    Stage 2 is called with ``Xt`` still holding stage 1's states and takes their rudder angles (both at
+    t + dt/2), as :func:`step_vessel` solves each stage time's angle once."""
+    h = 0.5 * dt if stage < 3 else dt
     for b in range(X.shape[0]):
-        stage_state(Ps[ship_index[b]], X[b], U[b], K[b], stage, dt, Xt[b])
+        if stage == 2:
+            d = Xt[b, lo.X_DELTA]
+        else:
+            d = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], h)
+        stage_state(X[b], K[b, stage - 1], h, d, Xt[b])
 
 
 @njit(cache=True)
@@ -185,12 +192,17 @@ def stage_derivatives_batch(Ps, ship_index, X, U, E, F, K, stage):
 
 @njit(cache=True)
 def finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt):
-    """:func:`finish_step` of every alive vessel of a batch; marks diverged vessels dead. Returns the number
-    alive."""
+    """:func:`finish_step` of every alive vessel of a batch (``Xt`` holding the last stage's states); marks
+    diverged vessels dead. Returns the number alive."""
     count = 0
     for b in range(X.shape[0]):
         if alive[b]:
-            ok = finish_step(Ps[ship_index[b]], X[b], U[b], K[b], dt, method, Xt[b])
+            if method == EULER:
+                d_end = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], dt)
+            else:  # stage 4's state, at t + dt
+                d_end = Xt[b, lo.X_DELTA]
+            Kb = K[b]
+            ok = finish_step(X[b], Kb[0], Kb[1], Kb[2], Kb[3], dt, method, d_end, Xt[b])
             alive[b] = ok
             count += ok
     return count
