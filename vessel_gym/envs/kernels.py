@@ -3,10 +3,11 @@
 The environments and their vector twins call the same kernels (N = 1 and N = 1024 run the same code). Each
 task keeps its per-vessel task state in a float array ``ts`` (N, *N) whose named columns are defined here,
 reads the ship's motion from the simulation's state and input rows (``sim.state``, ``sim.inputs``, columns
-named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
-apparent wind comes from :func:`vessel_gym.physics.atmosphere.relative_wind`. Nor are the control rules: angle
-wrapping, the zig-zag rule and overshoot tracker, and the turning-circle geometry are those of
-:mod:`vessel_gym.control`.
+named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome
+flags. Physics equations are not repeated here: the velocities over ground, the apparent wind and the
+rotations come from :mod:`vessel_gym.physics.kinematics`, the current and the wind from the simulation's
+environment rows (``sim.env``). Nor are the control rules: angle wrapping, the zig-zag rule and overshoot
+tracker, and the turning-circle geometry are those of :mod:`vessel_gym.control`.
 
 These kernels inline physics and control functions, so their numba cache is keyed by a hash of this file and
 the physics and control sources (:mod:`vessel_gym.physics.jitcache`): stale machine code is never loaded.
@@ -40,8 +41,17 @@ from vessel_gym.control.zigzag import (
     zigzag_execute,
 )
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.atmosphere import relative_wind
 from vessel_gym.physics.integrate import MAX_CHUNKS
+from vessel_gym.physics.kinematics import (
+    body_point_to_earth,
+    body_to_earth,
+    current_body,
+    earth_to_body,
+    ground_velocity,
+    ground_velocity_body,
+    relative_wind,
+    speed_over_ground,
+)
 from vessel_gym.physics.vessel import NO_REFCOUNT
 
 # outcome flags (HarbourApproach)
@@ -657,8 +667,7 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
     for i in range(nh):
         x = hull[i, 0]
         y = hull[i, 1]
-        hn[i] = n0 + c * x - s * y
-        he[i] = e0 + s * x + c * y
+        hn[i], he[i] = body_point_to_earth(n0, e0, c, s, x, y)
         if i == 0:
             hb0 = hb1 = hn[0]
             hb2 = hb3 = he[0]
@@ -673,8 +682,7 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
         x = beam_dirs[j, 0]
         y = beam_dirs[j, 1]
         beams[j] = beam_range
-        bw[0, j] = c * x - s * y  # beam direction (north, east)
-        bw[1, j] = s * x + c * y
+        bw[0, j], bw[1, j] = body_to_earth(c, s, x, y)  # beam direction (north, east)
     npoly = polys.shape[0]
     vn = edges[:, 0]
     ve = edges[:, 1]
@@ -781,20 +789,17 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
 
 
 # --- HarbourApproach -----------------------------------------------------------------------------------------
+# (the current and the wind are not task state: the kernel reads the environment rows the physics uses)
 HS_D_PREV = 0  # distance to the goal point at the previous step, m
 HS_PREV_ORDER = 1
-HS_CUR_N = 2  # current (north, east), m/s
-HS_CUR_E = 3
-HS_WIND_N = 4  # air velocity over ground (north, east), m/s (the true wind blows towards it)
-HS_WIND_E = 5
-HS_MIN_CLEAR = 6  # smallest clearance this episode, m
-HS_CLEAR = 7  # clearance now, m
-HS_T = 8
-HS_PATH = 9  # distance sailed over ground, m
-HS_PREV_N = 10
-HS_PREV_E = 11
-HS_SOG = 12  # speed over ground, m/s
-HSN = 13
+HS_MIN_CLEAR = 2  # smallest clearance this episode, m
+HS_CLEAR = 3  # clearance now, m
+HS_T = 4
+HS_PATH = 5  # distance sailed over ground, m
+HS_PREV_N = 6
+HS_PREV_E = 7
+HS_SOG = 8  # speed over ground, m/s
+HSN = 9
 
 HP_L = 0
 HP_DMAX = 1
@@ -833,18 +838,36 @@ HTN = 8
 
 
 @njit(cache=True)
-def harbour_update(phase, x, inp, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
+def harbour_update(phase, x, inp, env, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
     """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
-    stepped vessels. Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1 (the
-    range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's scratch
-    and runs :func:`_harbour_range`."""
+    stepped vessels. ``env`` is the simulation's environment rows (``sim.env``: current and wind as the
+    physics sees them). Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1
+    (the range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's
+    scratch and runs :func:`_harbour_range`."""
     nb = beam_dirs.shape[0]
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
     he = np.empty(hull.shape[0])
     bw = np.empty((2, nb))
     _harbour_range(
-        phase, x, inp, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args, beams, hn, he, bw
+        phase,
+        x,
+        inp,
+        env,
+        alive,
+        ts,
+        p,
+        hull,
+        edges,
+        polys,
+        pbox,
+        goal_verts,
+        beam_dirs,
+        *args,
+        beams,
+        hn,
+        he,
+        bw,
     )
 
 
@@ -853,6 +876,7 @@ def _harbour_range(
     phase,
     x,
     inp,
+    env,
     alive,
     ts,
     p,
@@ -889,9 +913,10 @@ def _harbour_range(
         clear_row(terms, k)
         c = math.cos(psik)
         sn = math.sin(psik)
-        vn = c * uk - sn * vk + s[HS_CUR_N]
-        ve = sn * uk + c * vk + s[HS_CUR_E]
-        sog = math.sqrt(vn * vn + ve * ve)
+        cur_n = env[k, lo.E_CUR_N]
+        cur_e = env[k, lo.E_CUR_E]
+        vn, ve = ground_velocity(uk, vk, c, sn, cur_n, cur_e)
+        sog = speed_over_ground(vn, ve)
         flag, clear = chart_query(
             nk,
             ek,
@@ -959,22 +984,19 @@ def _harbour_range(
         s[HS_PREV_E] = ek
         s[HS_SOG] = sog
         # body-frame quantities as sensed on the bridge
-        ug = uk + c * s[HS_CUR_N] + sn * s[HS_CUR_E]
-        vg = vk - sn * s[HS_CUR_N] + c * s[HS_CUR_E]
-        Vrw, _gamma, cos_g, sin_g = relative_wind(ug, vg, c, sn, s[HS_WIND_N], s[HS_WIND_E])
+        ug, vg = ground_velocity_body(uk, vk, c, sn, cur_n, cur_e)
+        Vrw, _gamma, cos_g, sin_g = relative_wind(ug, vg, c, sn, env[k, lo.E_WIND_N], env[k, lo.E_WIND_E])
         f = feat[k]
         motion_features(f, uk, vk, rk, dk, dck, revk)
         f[HF_REV_C] = revck
-        f[HF_GOAL_X] = c * gn + sn * ge
-        f[HF_GOAL_Y] = -sn * gn + c * ge
+        f[HF_GOAL_X], f[HF_GOAL_Y] = earth_to_body(c, sn, gn, ge)
         f[HF_GOAL_DIST] = dist
         f[HF_GOAL_HDG_ERR] = herr
         f[HF_SOG] = sog
         f[HF_WIND_SPEED] = Vrw
         f[HF_WIND_SIN] = sin_g
         f[HF_WIND_COS] = cos_g
-        f[HF_CUR_X] = c * s[HS_CUR_N] + sn * s[HS_CUR_E]
-        f[HF_CUR_Y] = -sn * s[HS_CUR_N] + c * s[HS_CUR_E]
+        f[HF_CUR_X], f[HF_CUR_Y] = current_body(c, sn, cur_n, cur_e)
         for j in range(nb):
             f[HFN0 + j] = beams[j]
         encode_row(feat, k, enc, obs)
