@@ -72,6 +72,8 @@ PLAN: dict[str, tuple[str, ...]] = {
 EXTRA_EVALS: dict[str, list[tuple[str, dict[str, Any]]]] = {
     "vessel_gym/ZigZag-v0": [("IMO 10/10 schedule (registered default)", {})],
 }
+#: HarbourApproach goal: median success rate over the training seeds at least this (docs/results.md)
+HARBOUR_GOAL = 0.9
 BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 REPO = Path(__file__).resolve().parents[1]
 
@@ -223,11 +225,19 @@ def verdict(kind: str, rows: list[dict[str, Any]]) -> str:
     if kind == "harbour":
         best = max(rl, key=lambda r: (r["summary"]["success_rate"], r["summary"]["return_mean"]))
         s_rl, s_pid = best["summary"]["success_rate"], P["success_rate"]
-        return (
+        text = (
             f"**{'Beats' if s_rl > s_pid else 'Does not beat'} the PID baseline** (higher success rate): best "
             f"agent `{best['agent']}` succeeds in {100 * s_rl:.0f} % of the episodes, the PID pilot in "
             f"{100 * s_pid:.0f} %."
         )
+        med = best["summary"].get("success_rate_median")
+        if med is not None:
+            met = "met" if med >= HARBOUR_GOAL else f"not met, {100 * (HARBOUR_GOAL - med):.0f} points short"
+            text += (
+                f" Median success over its {best['summary']['seeds']} seeds: {100 * med:.0f} % "
+                f"(goal ≥ {100 * HARBOUR_GOAL:.0f} %: {met})."
+            )
+        return text
     if kind == "turning":
         best = min(rl, key=lambda r: r["summary"].get("rate_error_pct_mean") or math.inf)
         e_rl, e_pid = best["summary"].get("rate_error_pct_mean"), P.get("rate_error_pct_mean")

@@ -57,6 +57,10 @@ def test_harbour_verdict_and_table() -> None:
         "sac_HarbourApproach-v0_s0", True, success_rate=0.25, outcomes={"success": 5, "contact": 15}, **extra
     )
     assert results.verdict("harbour", [pid, rl]).startswith("**Does not beat")
+    seeds5 = _row("ppo (5 seeds)", True, success_rate=0.9, success_rate_median=0.95, seeds=5, **extra)
+    seeds5["summary"]["outcomes"] = {"success": 90, "timeout": 10}
+    v = results.verdict("harbour", [pid, seeds5])
+    assert "Median success over its 5 seeds: 95 % (goal ≥ 90 %: met)" in v
     assert "contact 15, success 5" in results.table("harbour", [pid, rl])
 
 
