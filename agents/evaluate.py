@@ -193,6 +193,8 @@ def run(args: argparse.Namespace, seed: int, kwargs: dict[str, Any] | None) -> t
         raise UsageError(f"--plot {args.plot}: expected a file ending in .png")
     if args.render is not None and Path(args.render).is_file():
         raise UsageError(f"--render {args.render}: is a file, expected a directory")
+    if args.render is not None and Path(args.render).is_dir() and any(Path(args.render).iterdir()):
+        raise UsageError(f"--render {args.render}: directory is not empty (nothing is overwritten)")
     recorders: list[Any] = []
 
     def wrap(env: Any) -> Any:

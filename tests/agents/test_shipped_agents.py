@@ -73,3 +73,4 @@ def test_render_plot_and_gif(tmp_path: Path, capsys) -> None:
     assert (tmp_path / "ep.gif").read_bytes()[:6] == b"GIF89a"
     # the user's files are not overwritten
     assert evaluate.main([*argv[:-6], "--plot", str(tmp_path / "track.png")]) == 2
+    assert evaluate.main([*argv[:-6], "--render", str(tmp_path / "frames")]) == 2
