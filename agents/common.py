@@ -741,7 +741,8 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
     |change of rudder order| per second: helm activity). ZigZag: ``heading_error_deg`` (mean |target -
     heading| over the steps), ``overshoot_deg`` (IMO overshoots summed over the episode / course changes: the
     mean excursion past the target per course change, 0 for a target not passed), ``max_overshoot_deg``,
-    ``reached_pct`` (targets reached / course changes). TurningCircle: ``rate_error_pct`` (rate
+    ``reached_pct`` (targets reached / course changes); ZigZag-v1 and ZigZagRandom-v1 report these from
+    the environment's own per-course-change accounting (the open measurement included) and ``success``. TurningCircle: ``rate_error_pct`` (rate
     mode: mean |r - r_c| / |r_c|), ``success``. HarbourApproach: ``success``, ``outcome``,
     ``min_clearance_m``, ``time_s``.
     """
@@ -777,10 +778,10 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
         if kind == "zigzag":
             e = float(info["heading_error_deg"])
             heading_err.append(abs(e))
-            if int(info["overshoot_count"]) > os_count:
+            if "overshoot_count" in info and int(info["overshoot_count"]) > os_count:  # v0's finished ones
                 os_count = int(info["overshoot_count"])
                 overshoots.append(abs(float(info["last_overshoot_deg"])))
-            if not imo:
+            if not imo and "course_changes" not in info:
                 tgt = float(info["target_heading_deg"])
                 if target is None or abs(tgt - target) > 1e-9:
                     target, side0, leg_reached, legs = tgt, math.copysign(1.0, e), False, legs + 1
@@ -800,7 +801,16 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
         "rudder_deg": math.degrees(float(np.mean(rudder))),
         "rudder_rate_deg_s": math.degrees(float(np.mean(rudder_rate))),
     }
-    if kind == "zigzag":
+    if kind == "zigzag" and "course_changes" in info:
+        # ZigZag-v1: the environment measures per course change, the open measurement included
+        legs = int(info["course_changes"])
+        out["heading_error_deg"] = float(np.mean(heading_err))
+        out["overshoot_deg"] = float(info["overshoot_deg"])
+        out["max_overshoot_deg"] = float(info["max_overshoot_deg"])
+        out["reached_pct"] = 100.0 * int(info["targets_reached"]) / max(legs, 1)
+        out["course_changes"] = legs
+        out["success"] = bool(info["is_success"])
+    elif kind == "zigzag":
         if imo:
             legs, reached = int(info["executes"]), int(info["executes"]) - 1
         out["heading_error_deg"] = float(np.mean(heading_err))

@@ -72,9 +72,10 @@ VESSEL_GYM = {
         "--failsafe": st.sampled_from(["hold", "midships_stop", "x"]),
         "--duration": NUMBER,
         "--seed": NUMBER,
+        "--token": TEXT,
     },
-    "helm": {"--server": ADDRESS, "--name": TEXT, "--duration": NUMBER},
-    "view": {"--server": ADDRESS, "--listen": ADDRESS, "--duration": NUMBER},
+    "helm": {"--server": ADDRESS, "--name": TEXT, "--duration": NUMBER, "--token": TEXT},
+    "view": {"--server": ADDRESS, "--listen": ADDRESS, "--duration": NUMBER, "--token": TEXT},
 }
 POSITIONAL = {"imo": SHIP, "play": SCENARIO, "serve": SCENARIO, **{k: SHIP for k in VESSEL_GYM if " " in k}}
 

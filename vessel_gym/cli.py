@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from collections.abc import Sequence
 
@@ -258,7 +259,30 @@ def build_parser() -> argparse.ArgumentParser:
             default=None,
             help="close after this many wall-clock seconds (default: when the window is closed)",
         )
+    for sp in (sv, hm, vw):
+        add_token_option(sp)
     return p
+
+
+TOKEN_ENV = "VESSEL_GYM_TOKEN"
+
+
+def add_token_option(parser: argparse.ArgumentParser) -> None:
+    """``--token`` of the JSON channel's commands (read with :func:`token_arg`)."""
+    parser.add_argument(
+        "--token",
+        default=None,
+        help=f"shared secret of the JSON channel, 1-128 characters (default: ${TOKEN_ENV}, else none)",
+    )
+
+
+def token_arg(args: argparse.Namespace) -> str | None:
+    """The token of ``--token`` or of ``$VESSEL_GYM_TOKEN`` (which keeps it out of the process list)."""
+    token = args.token if args.token is not None else os.environ.get(TOKEN_ENV) or None
+    if token is not None and not 1 <= len(token) <= 128:
+        where = "--token" if args.token is not None else f"${TOKEN_ENV}"
+        raise UsageError(f"vessel-gym {args.command}: {where} must be 1-128 characters, got {len(token)}")
+    return token
 
 
 def host_port(text: str, what: str) -> tuple[str, int]:
@@ -501,18 +525,20 @@ def _main(argv: Sequence[str] | None) -> int:
                 failsafe=args.failsafe,
                 duration_s=args.duration,
                 seed=args.seed,
+                token=token_arg(args),
             )
         if args.command in ("helm", "view"):
             from vessel_gym.net import clients
 
             server = resolve_address(host_port(args.server, "--server"), "--server")
+            token = token_arg(args)
             if args.command == "helm":
-                clients.run_helm(server, name=args.name, duration_s=args.duration)
+                clients.run_helm(server, name=args.name, token=token, duration_s=args.duration)
             else:
                 listen = host_port(args.listen, "--listen") if args.listen else None
                 if listen is not None:
                     check_bindable(listen, "--listen")
-                clients.run_viewer(server, listen=listen, duration_s=args.duration)
+                clients.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
             return 0
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:

@@ -26,6 +26,7 @@ from vessel_gym.control.turning import (
 from vessel_gym.control.zigzag import (
     OVERSHOOT_IMO,
     OVERSHOOT_V0,
+    OVERSHOOT_V1,
     OvershootTracker,
     overshoot_excursion,
     overshoot_step,
@@ -37,6 +38,7 @@ __all__ = [
     "ADVANCE_HEADING_RAD",
     "OVERSHOOT_IMO",
     "OVERSHOOT_V0",
+    "OVERSHOOT_V1",
     "TACTICAL_HEADING_RAD",
     "OvershootTracker",
     "PidAutopilot",

@@ -33,6 +33,7 @@ from vessel_gym.control.turning import (
 )
 from vessel_gym.control.zigzag import (
     OVERSHOOT_V0,
+    OVERSHOOT_V1,
     overshoot_excursion,
     overshoot_step,
     target_reached,
@@ -270,6 +271,147 @@ def zigzag_update(
         f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psik)
         f[ZF_HEAD_DEV] = wrap_pi(psik - s[Z_PSI0])
         f[ZF_TARGET_DEV] = wrap_pi(s[Z_TARGET] - s[Z_PSI0])
+        encode_row(feat, k, enc, obs)
+
+
+# --- ZigZag-v1 ----------------------------------------------------------------------------------------------
+# One schedule for both target kinds: a course change starts when its start time comes (the first after the
+# seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
+# schedule, at the execute (the target reached). Overshoots are measured with the OVERSHOOT_V1 tracker.
+ZV_PSI0 = 0  # original course, rad
+ZV_TARGET = 1  # target heading of the current course change, rad (unwrapped, same branch as the heading)
+ZV_SIGN = 2  # direction in which the current target is reached, +1 starboard / -1 port; 0 before the first
+ZV_SIDE = 3  # IMO schedule: side of the current target (the first change flips it: set -first side)
+ZV_REACHED = 4  # current target reached
+ZV_NEXT = 5  # time at which the next course change starts, s
+ZV_DPSI = 6  # size of the current course change |target - previous target|, rad
+ZV_OS_ON = 7  # an overshoot measurement is open
+ZV_OS_SIGN = 8  # its side (+1 starboard)
+ZV_OS_TGT = 9  # its target, rad
+ZV_OS_PEAK = 10  # its overshoot so far (largest excursion past the target), rad
+ZV_OS_SUM = 11  # overshoots of the closed measurements, summed, rad
+ZV_OS_MAX = 12  # largest closed overshoot, rad
+ZV_OS_N = 13  # closed measurements
+ZV_OS1 = 14  # first and second closed overshoot, rad (the IMO first and second overshoot angles)
+ZV_OS2 = 15
+ZV_CHANGES = 16  # course changes started
+ZV_NREACH = 17  # targets reached
+ZV_MISSED = 18  # course changes that ended with their target not reached
+ZV_PREV_ORDER = 19  # rudder order of the previous step, rad
+ZV_U0 = 20  # approach speed, m/s
+ZV_T = 21  # time since the start of the episode, s
+ZV_PEND_CHANGE = 22  # random schedule: the next course change, drawn in advance (signed), rad
+ZV_PEND_LEG = 23  # random schedule: the duration of the leg it starts, s
+ZV_DRAW = 24  # random schedule: the pending change was used; the task draws the next one
+ZVN = 25
+
+ZVP_PSIZ = 0  # IMO heading deviation psi_z, rad
+ZVP_OS_REF = 1  # overshoot scale of the reward, rad
+ZVP_DMAX = 2  # rudder scale (limit), rad
+ZVP_IMO = 3  # 1: IMO schedule, 0: random course changes
+ZVP_DT = 4  # control interval, s
+ZVP_LEG_LIMIT = 5  # IMO schedule: the next change starts at the latest this long after the last, s
+ZVP_REACH = 6  # target_reached term per radian of course change, 1/rad
+ZVPN = 7
+
+ZVT_HEADING, ZVT_OVERSHOOT, ZVT_REACHED, ZVT_RUDDER, ZVT_SPEED = range(5)
+ZVTN = 5
+
+
+@njit(cache=True)
+def _close_overshoot_v1(s):
+    s[ZV_OS_ON] = 0.0
+    s[ZV_OS_N] += 1.0
+    peak = s[ZV_OS_PEAK]
+    s[ZV_OS_SUM] += peak
+    s[ZV_OS_MAX] = max(s[ZV_OS_MAX], peak)
+    if s[ZV_OS_N] == 1.0:
+        s[ZV_OS1] = peak
+    elif s[ZV_OS_N] == 2.0:
+        s[ZV_OS2] = peak
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def zigzag_v1_update(
+    phase,
+    x,
+    inp,
+    alive,
+    ts,
+    p,
+    w,
+    enc,
+    feat,
+    obs,
+    terms,
+    reward,
+    done,
+):
+    """ZigZag-v1 (phases as :func:`zigzag_update`; a course change due at the reset starts there)."""
+    psiz = p[ZVP_PSIZ]
+    osref = p[ZVP_OS_REF]
+    imo = p[ZVP_IMO] > 0.0
+    for k in range(x.shape[0]):
+        if phase[k] == 0:
+            continue
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        s = ts[k]
+        clear_row(terms, k)
+        reached_now = False
+        if phase[k] == 1:
+            s[ZV_T] += p[ZVP_DT]
+            if s[ZV_OS_ON] > 0.0:
+                before = s[ZV_OS_PEAK]
+                s[ZV_OS_PEAK], _rose, _fin = overshoot_step(
+                    s[ZV_OS_SIGN], s[ZV_OS_TGT], before, psik, rk, OVERSHOOT_V1
+                )
+                terms[k, ZVT_OVERSHOOT] = -(s[ZV_OS_PEAK] - before) / osref
+            if s[ZV_SIGN] != 0.0 and s[ZV_REACHED] == 0.0 and target_reached(s[ZV_SIGN], psik, s[ZV_TARGET]):
+                reached_now = True
+                s[ZV_REACHED] = 1.0
+                s[ZV_NREACH] += 1.0
+                if s[ZV_OS_ON] > 0.0:  # the previous change's measurement ends where this one begins
+                    _close_overshoot_v1(s)
+                s[ZV_OS_ON] = 1.0
+                s[ZV_OS_SIGN] = s[ZV_SIGN]
+                s[ZV_OS_TGT] = s[ZV_TARGET]
+                s[ZV_OS_PEAK] = max(overshoot_excursion(s[ZV_SIGN], s[ZV_TARGET], psik), 0.0)
+                terms[k, ZVT_OVERSHOOT] -= s[ZV_OS_PEAK] / osref
+                terms[k, ZVT_REACHED] = s[ZV_DPSI] * p[ZVP_REACH]
+        if s[ZV_T] >= s[ZV_NEXT] - 1e-9 or (imo and reached_now):  # a course change starts
+            if s[ZV_SIGN] != 0.0 and s[ZV_REACHED] == 0.0:
+                s[ZV_MISSED] += 1.0
+            # closed when the next change starts; the IMO execute starts a change at the very sample the
+            # measurement opens, and the change after that closes it
+            if s[ZV_OS_ON] > 0.0 and not (imo and reached_now):
+                _close_overshoot_v1(s)
+            previous = s[ZV_TARGET]
+            if imo:
+                s[ZV_SIDE], s[ZV_TARGET] = zigzag_execute(s[ZV_PSI0], s[ZV_SIDE], psiz)
+                s[ZV_SIGN] = s[ZV_SIDE]
+                s[ZV_NEXT] = s[ZV_T] + p[ZVP_LEG_LIMIT]
+            else:
+                s[ZV_TARGET] += s[ZV_PEND_CHANGE]
+                s[ZV_SIGN] = 1.0 if s[ZV_TARGET] >= psik else -1.0
+                s[ZV_NEXT] = s[ZV_T] + s[ZV_PEND_LEG]
+                s[ZV_DRAW] = 1.0
+            s[ZV_DPSI] = abs(s[ZV_TARGET] - previous)
+            s[ZV_REACHED] = 0.0
+            s[ZV_CHANGES] += 1.0
+        if phase[k] == 1:
+            terms[k, ZVT_HEADING] = -abs(wrap_pi(s[ZV_TARGET] - psik)) / PI
+            terms[k, ZVT_RUDDER] = rudder_activity(dck, s[ZV_PREV_ORDER], p[ZVP_DMAX])
+            terms[k, ZVT_SPEED] = speed_loss(math.sqrt(uk * uk + vk * vk), s[ZV_U0])
+        done[k] = not alive[k]
+        if done[k]:
+            clear_row(terms, k)
+        _finish(terms, k, w, reward)
+        s[ZV_PREV_ORDER] = dck
+        f = feat[k]
+        motion_features(f, uk, vk, rk, dk, dck, revk)
+        f[ZF_HEAD_ERR] = wrap_pi(s[ZV_TARGET] - psik)
+        f[ZF_HEAD_DEV] = wrap_pi(psik - s[ZV_PSI0])
+        f[ZF_TARGET_DEV] = wrap_pi(s[ZV_TARGET] - s[ZV_PSI0])
         encode_row(feat, k, enc, obs)
 
 
