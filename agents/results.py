@@ -60,10 +60,12 @@ from agents.common import (  # noqa: E402
     train,
 )
 
-DEFAULT_ENVS = ("ZigZag-v0", "HarbourApproach-v0", "TurningCircle-v0")
+#: ZigZagRandom-v1 is the course-changing comparison task (overshoot per course change, unfinished included)
+DEFAULT_ENVS = ("ZigZagRandom-v1", "HarbourApproach-v0", "TurningCircle-v0")
 #: algorithms trained per environment unless --algos is given (SAC only where its update rate fits the
 #: budget on a 2-core machine; see docs/results.md)
 PLAN: dict[str, tuple[str, ...]] = {
+    "vessel_gym/ZigZagRandom-v1": ("ppo", "sac"),
     "vessel_gym/ZigZag-v0": ("ppo", "sac"),
     "vessel_gym/HarbourApproach-v0": ("ppo",),
     "vessel_gym/TurningCircle-v0": ("ppo",),
@@ -156,9 +158,10 @@ def _agent_cells(row: dict[str, Any]) -> list[str]:
 def table(kind: str, rows: list[dict[str, Any]]) -> str:
     """Markdown table of evaluated agents of one environment configuration."""
     head = ["agent", "train steps", "train wall (CPU) min", "return"]
+    zz_success = kind == "zigzag" and all("success_rate" in r["summary"] for r in rows)
     if kind == "zigzag":
         head += ["mean \\|heading error\\| deg", "overshoot / course change deg", "max overshoot deg"]
-        head += ["targets reached %"]
+        head += ["targets reached %"] + (["success %"] if zz_success else [])
     elif kind == "harbour":
         head += ["success %", "outcomes", "min clearance m", "time s"]
     elif kind == "turning":
@@ -175,6 +178,8 @@ def table(kind: str, rows: list[dict[str, Any]]) -> str:
                 _pm(s, "max_overshoot_deg", ".1f"),
                 _pm(s, "reached_pct", ".0f"),
             ]
+            if zz_success:
+                cells.append(_num(100.0 * s["success_rate"], ".0f"))
         elif kind == "harbour":
             outcomes = ", ".join(f"{k} {v}" for k, v in sorted(s.get("outcomes", {}).items()))
             cells += [

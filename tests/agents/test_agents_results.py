@@ -46,6 +46,9 @@ def test_zigzag_verdict() -> None:
     table = results.table("zigzag", [pid, good])
     assert "| pid | — | — | -40.0 ± 5.0 | 13.0 ± 1.0 |" in table
     assert "150k (budget) | 10.0 (3.3)" in table
+    assert "success %" not in table  # ZigZag-v0 has no success flag
+    pid["summary"]["success_rate"], good["summary"]["success_rate"] = 0.0, 0.5
+    assert "| 50 ± 10 | 50 | 5.0 ± 1.0 |" in results.table("zigzag", [pid, good])
 
 
 def test_harbour_verdict_and_table() -> None:
