@@ -17,7 +17,8 @@ the environment.
 
 Writes ``<out>/results.json`` (every seed's test summary too), the learning curves
 ``<out>/curves/<env>_<algo>.png`` (mean over seeds of the validation return and its 95 % Student-t interval
-over seeds; success rate too where the task has one), replaces the part of ``--doc`` between the markers
+over seeds; success rate too where the task has one), the trajectory plots of the test episodes
+``<out>/tracks/<env>_<agent>.png`` (each baseline and the first seed's agent of each algorithm), replaces the part of ``--doc`` between the markers
 ``<!-- results:begin -->`` and ``<!-- results:end -->`` (the rest of the page, the discussion, is kept) and
 copies every trained model with its JSON sidecar to ``--ship-dir`` (default ``agents/trained/``, see
 ``agents/shipped.py``; ``--no-ship`` to keep them out of the repository).
@@ -420,6 +421,35 @@ def _training(recs: list[dict[str, Any]]) -> dict[str, Any]:
     }
 
 
+def _test_eval(
+    env_id: str,
+    agent: str | Path,
+    episodes: int,
+    seed: int,
+    kw: dict[str, Any],
+    plots: Path | None,
+    tracks: dict[str, str],
+) -> dict[str, Any]:
+    """Test-set evaluation; with ``plots``, the trajectory plot of its episodes goes to
+    ``plots/tracks/<env>_<agent>.png`` and its path into ``tracks``."""
+    from agents.visual import Recorder, plot_trajectories
+
+    if plots is None:
+        return evaluate(env_id, agent, episodes, seed, kw)
+    rec: list[Any] = []
+
+    def wrap(env: Any) -> Any:
+        rec.append(Recorder(env))
+        return rec[-1]
+
+    ev = evaluate(env_id, agent, episodes, seed, kw, wrap=wrap)
+    name = Path(agent).stem
+    png = plots / "tracks" / f"{env_short_name(env_id)}_{name}.png"
+    title = f"{name} on {env_id}: test episodes"
+    tracks[f"{env_id}:{name}"] = str(plot_trajectories(rec[0].tracks, rec[0], png, title))
+    return ev
+
+
 def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     import stable_baselines3 as sb3
     import torch
@@ -433,6 +463,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     load_start = os.getloadavg()[0]
     eval_seed = seeds.episode_seeds("test", args.episodes)[0]  # never seen in training or model selection
     sections, curves_out, shipped_files = [], {}, []
+    tracks: dict[str, str] = {}
     for env_id in envs:
         trained: list[tuple[str, list[Path]]] = []
         eval_kwargs: dict[str, Any] | None = None
@@ -475,9 +506,10 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
         configs += [(label, kw, False) for label, kw in EXTRA_EVALS.get(env_id, []) if kw != eval_kwargs]
         for label, kw, main in configs:
             rows = []
+
             for agent in BASELINES:
                 _log(f"evaluate {agent} on {env_id} {kw}")
-                ev = evaluate(env_id, agent, args.episodes, eval_seed, kw)
+                ev = _test_eval(env_id, agent, args.episodes, eval_seed, kw, out if main else None, tracks)
                 rows.append(
                     {"agent": agent, "summary": ev["summary"], "episodes": ev["episodes"], "training": None}
                 )
@@ -485,7 +517,8 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                 per_seed = []
                 for p in paths:
                     _log(f"evaluate {p.name} on {env_id} {kw}")
-                    ev = evaluate(env_id, p, args.episodes, eval_seed, kw)
+                    plots = out if main and p == paths[0] else None  # tracks: the first seed's agent
+                    ev = _test_eval(env_id, p, args.episodes, eval_seed, kw, plots, tracks)
                     rec = run_record(p)
                     per_seed.append(
                         {"path": str(p), "seed": rec.get("seed"), "summary": ev["summary"], "record": rec}
@@ -537,6 +570,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
             "load_end": os.getloadavg()[0],
         },
         "curves": curves_out,
+        "tracks": tracks,
         "shipped": shipped_files,
         "sections": sections,
     }

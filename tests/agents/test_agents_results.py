@@ -100,6 +100,11 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     curves = data["curves"]["vessel_gym/ZigZag-v0:ppo"]
     assert curves["timesteps"] and len(curves["return"]) == 2
     assert Path(curves["png"]).stat().st_size > 0
+    assert sorted(Path(t).name for t in data["tracks"].values()) == [
+        "ZigZag-v0_pid.png",
+        "ZigZag-v0_ppo_ZigZag-v0_s0.png",
+        "ZigZag-v0_scripted.png",
+    ]
     text = doc.read_text()
     assert "### vessel_gym/ZigZag-v0" in text and "256 environment steps per run" in text
     assert "over the 2 training seeds" in text
