@@ -662,15 +662,25 @@ def train(
 
 # --- evaluation ------------------------------------------------------------------------------------------------
 def run_record(agent: str | Path) -> dict[str, Any]:
-    """The run record ``<stem>.yml`` written next to a trained model (empty if there is none)."""
+    """The run record ``<stem>.yml`` written next to a trained model, else the JSON sidecar of a shipped
+    agent (``agents/shipped.py``), else empty."""
+    import json
+
     import yaml
 
     if str(agent) in BASELINES:
         return {}
     path = sidecar(agent, ".yml")
+    if path.is_file():
+        data = yaml.safe_load(path.read_text())
+        return data if isinstance(data, dict) else {}
+    path = sidecar(agent, ".json")
     if not path.is_file():
         return {}
-    data = yaml.safe_load(path.read_text())
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError) as exc:
+        raise UsageError(f"{path}: not a readable JSON sidecar ({exc})") from None
     return data if isinstance(data, dict) else {}
 
 
@@ -849,12 +859,16 @@ def evaluate(
     seed: int = 0,
     env_kwargs: Mapping[str, Any] | None = None,
     progress: Callable[[int, dict[str, Any]], None] | None = None,
+    render_mode: str | None = None,
+    wrap: Callable[[Any], Any] | None = None,
 ) -> dict[str, Any]:
     """Run ``episodes`` episodes (episode i from ``reset(seed=seed + i)``) of a baseline or trained agent.
 
     ``env_kwargs`` default to the evaluation arguments of the model's run record (``eval_env_kwargs`` of its
     hyperparameter block, which default to its ``env_kwargs``), else none. Returns
     ``{"env_id", "agent", "env_kwargs", "summary", "episodes"}``; see :func:`run_episode` for the metrics.
+    ``render_mode`` is passed to ``gym.make``; ``wrap(env)`` may wrap the environment (recording tracks or
+    frames, :mod:`agents.visual`) without changing what the agent sees.
     """
     env_id = resolve_env_id(env_id)
     if episodes < 1:
@@ -867,7 +881,9 @@ def evaluate(
         raise UsageError(f"agent {spec!r} was trained on {rec['env_id']}, not {env_id}")
     recorded = rec.get("eval_env_kwargs", rec.get("env_kwargs"))
     kwargs = dict(recorded or {}) if env_kwargs is None else dict(env_kwargs)
-    env = make_env(env_id, kwargs)
+    env = make_env(env_id, kwargs if render_mode is None else {**kwargs, "render_mode": render_mode})
+    if wrap is not None:
+        env = wrap(env)
     try:
         policy = load_agent(spec, env)
         eps = []

@@ -12,7 +12,12 @@ from agents import common
 from agents.common import UsageError
 from vessel_gym.policy import sb3_algorithm
 
-ENV_IDS = ["vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0"]
+ENV_IDS = [
+    "vessel_gym/ZigZag-v0",
+    "vessel_gym/ZigZagRandom-v1",
+    "vessel_gym/TurningCircle-v0",
+    "vessel_gym/HarbourApproach-v0",
+]
 
 
 @pytest.mark.parametrize("algo", sorted(common.ALGOS))
