@@ -123,3 +123,22 @@ def test_reversing_gear_state_is_last_in_the_row():
     """The new state is appended, so the indices the kernels and saved data use stay where they were."""
     assert lo.X_CAM == lo.NX - 1 and lo.STATE_NAMES[lo.X_CAM] == "reversing_gear"
     assert np.all(np.array([lo.X_U, lo.X_V, lo.X_R, lo.X_N, lo.X_E, lo.X_PSI]) == np.arange(6))
+
+
+def test_stop_order_keeps_the_gear_and_a_stopped_shaft_at_rest():
+    """A stop order cuts the fuel and leaves the reversing gear where it is; a shaft at rest gets no torque
+    (the fuel-off drag is made linear through n = 0), so a ship at rest with the engine stopped stays at rest."""
+    for cam in (1.0, -1.0):
+        q, dcam, _di, fuel, _ne, _qe, phase = engine_drive(P_KV, 0.0, cam, 0.0, 0.0)
+        assert (q, dcam, fuel, phase) == (0.0, 0.0, 0.0, PHASE_FUEL_OFF)
+    q_small, *_ = engine_drive(P_KV, 1e-6, 1.0, 0.0, 0.0)
+    assert q_small < 0.0 and abs(q_small) < 1e-3 * P_KV[lo.P_ENG_QRATED]
+
+
+def test_astern_then_ahead_again_reverses_the_gear_back():
+    """Running astern, an ahead order shifts the gear back and the engine comes ahead through the same
+    sequence (mirror of the crash stop)."""
+    q, dcam, _di, fuel, _ne, _qe, phase = engine_drive(P_KV, -1.0, -1.0, 0.5, 1.0)
+    assert phase == PHASE_SHIFTING and fuel == 0.0 and dcam > 0.0 and q > 0.0  # drag opposes astern rotation
+    *_, Q_e, phase = engine_drive(P_KV, -0.1 * N_RATED, 1.0, 0.0, 1.0)
+    assert phase == PHASE_AIR and Q_e > 0.0
