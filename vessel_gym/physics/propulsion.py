@@ -169,7 +169,7 @@ PHASE_AIR = 3  # starting air in the ordered direction: braking the windmilling 
 #: part of the reversal time spent in the final exponential approach of the reversing gear, so that its
 #: derivative is continuous enough for RK4 (the gear counts as set within CAM_SET of its end position), -
 CAM_TAU_FRACTION = 0.1
-CAM_SET = 0.05
+CAM_SET = 0.05  # reversing-gear travel units (full travel 2), -
 #: engine speed band over which the fuel-off drag torque changes sign through n = 0 (a Coulomb-like drag
 #: regularised so that a stopped shaft stays at rest instead of chattering), fraction of rated speed, -
 DRAG_BAND = 0.02
