@@ -36,6 +36,7 @@ from .jobs import FinishedStudy
 from .postprocess import body_forces, read_forces
 from .report import write_report
 from .shipfile import build_ship, default_template, load_template, scale_factor_to, validate_ship, write_ship
+from .verification import verify
 
 SEA_WATER_NU = 1.1892e-6  # m²/s, ITTC 7.5-02-01-03 sea water at 15 °C (full-scale friction)
 SHIP_KEYS = (
@@ -69,6 +70,11 @@ class StudyResult:
     derivatives: dict[str, float]
     normalisation: str
     provenance: dict[str, Any]
+    verification: dict[str, Any]
+
+    @property
+    def verified(self) -> bool:
+        return self.verification["verdict"] == "VERIFIED"
 
 
 def full_scale_resistance(
@@ -338,6 +344,7 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         particulars["test_speed_kn"] = U_out * 3600.0 / 1852.0
     derivatives = {k: float(prime[k]) for k in SHIP_KEYS if k in prime}
 
+    gate = verify(p, {k: ship_origin.get(k, origin.get(k, "")) for k in {**origin, **derivatives}})
     spec = p.spec
     mesh = p.jobs["mesh"].summary
     hull_src = "wigley (generated, parabolic Wigley)" if s.hull == "wigley" else str(s.hull)
@@ -394,6 +401,7 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         "scale": {**scale_info, "resistance_N": R0, "resistance_speed_m_s": U_out},
         "template": str(template_path) if template_path else "none (hull-only ship file)",
         "wall_time_s": {k: round(v, 1) for k, v in p.wall_s.items()},
+        "verification": {k: gate[k] for k in ("verdict", "failures", "derivatives")},
     }
     if "sway" in fits:
         dyn = nondimensionalise(
@@ -416,7 +424,13 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
             "(half-way between the perpendiculars) in the waterplane. "
             f"Normalisation {norm}. Surge terms are a Taylor expansion about U_ref: "
             "X = X_0 + X_u (u-U) + X_uu (u-U)^2 + X_vv v^2 + X_rr r^2. "
-            "Double-body flow: no wave resistance or free-surface effects. "
+            f"Verification gate: {gate['verdict']}"
+            + (
+                f" ({len(gate['failures'])} checks failed, see [source.provenance.verification]). "
+                if gate["failures"]
+                else ". "
+            )
+            + "Double-body flow: no wave resistance or free-surface effects. "
             + (
                 f"Hull scaled by {lam:.6g} from the CFD model (L = {L:g} m) to the template's length; "
                 "non-dimensional sway/yaw derivatives kept, resistance extrapolated with the ITTC-1978 "
@@ -472,6 +486,7 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
                     "origin": origin,
                     "fit_residuals": {k: f.residuals for k, f in fits.items()},
                     "dynamic_sway": provenance.get("dynamic_sway"),
+                    "verification": gate,
                     "provenance": provenance,
                 }
             ),
@@ -488,7 +503,8 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         clarke=clarke,
         origin=origin,
         provenance=provenance,
+        verification=gate,
     )
     if problem:
         raise CfdError("ship file check", f"vessel-gym cannot load the ship file: {problem}", ship_file)
-    return StudyResult(ship_file, report_dir, derivatives, norm, provenance)
+    return StudyResult(ship_file, report_dir, derivatives, norm, provenance, gate)

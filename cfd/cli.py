@@ -7,7 +7,8 @@
     vessel-cfd clarke --lpp L --bwl B --tm T --cb CB
 
 Exit codes: 0 success, 1 a CFD step failed (one line on stderr naming the step and its log),
-2 bad input (one line on stderr naming the argument or key and the allowed range).
+2 bad input (one line on stderr naming the argument or key and the allowed range), 3 the study finished
+and wrote its ship file and report, but the verification gate failed (UNVERIFIED; see report/summary.md).
 """
 
 from __future__ import annotations
@@ -24,6 +25,8 @@ from typing import Any, NoReturn
 from . import __version__
 from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_file, parse_list, parse_number
 from .errors import CfdError, InputError
+
+EXIT_UNVERIFIED = 3  # the run finished but its verification gate failed
 
 
 def _error_line(message: str) -> None:
@@ -157,7 +160,16 @@ def _execute(study: Study, quiet: bool = False) -> int:
     print(f"report:    {result.report_dir}")
     keys = [k for k in ("Y_v", "N_v", "Y_r", "N_r", "Y_vdot", "N_rdot") if k in d]
     print(f"derivatives ({result.normalisation}): " + ", ".join(f"{k} {d[k]:.5g}" for k in keys))
-    return 0
+    gate = result.verification
+    if result.verified:
+        print("verification: VERIFIED (every check passed; see report/summary.md)")
+        return 0
+    print(
+        f"verification: UNVERIFIED, {len(gate['failures'])} checks failed ({'; '.join(gate['failures'][:3])}"
+        + (", ..." if len(gate["failures"]) > 3 else "")
+        + "); the ship file and report are written, see report/summary.md",
+    )
+    return EXIT_UNVERIFIED
 
 
 # ---------------------------------------------------------------------------------- interactive

@@ -47,8 +47,16 @@ from .config import Study
 from .errors import CfdError
 from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, write_stl
 from .jobs import FinishedStudy, Job
-from .postprocess import body_forces, forces_settled, read_forces, steady_forces
-from .runner import Progress, check_openfoam, mpi_available, parse_check_mesh, read_boundary, run_app
+from .postprocess import body_forces, forces_settled, read_forces, read_yplus, steady_forces
+from .runner import (
+    Progress,
+    check_openfoam,
+    mpi_available,
+    parse_check_mesh,
+    patch_area,
+    read_boundary,
+    run_app,
+)
 
 DONE = "vessel-cfd.done.json"
 PARALLEL_CELLS = 200_000  # above this, each case runs MPI-parallel on all procs instead of side by side
@@ -148,7 +156,12 @@ class Pipeline:
                 raise CfdError("checkMesh (mesh)", f"unusable mesh: {reason}", log)
             for w in check["warnings"]:
                 self.progress("checkMesh", f"warning: {w}")
-            return {**check, "hull_faces": int(hull["nFaces"]), "patches": sorted(patches)}
+            return {
+                **check,
+                "hull_faces": int(hull["nFaces"]),
+                "hull_area_m2": patch_area(case, hull),
+                "patches": sorted(patches),
+            }
 
         return Job("mesh", "mesh", "mesh", key, action)
 
@@ -187,13 +200,9 @@ class Pipeline:
                 "stopped_on_settled_forces": bool(stopped),
                 "band": sf.band,
             }
-            yp = case / "postProcessing" / "yPlus"
-            files = sorted(yp.glob("*/yPlus.dat"))
-            if files:
-                rows = [r.split() for r in files[-1].read_text().splitlines() if r and not r.startswith("#")]
-                rows = [r for r in rows if len(r) >= 5 and r[1] == HULL_PATCH]
-                if rows:
-                    summary["yplus_min_max_mean"] = [float(x) for x in rows[-1][2:5]]
+            yplus = read_yplus(case, HULL_PATCH)
+            if yplus is not None:
+                summary["yplus_min_max_mean"] = list(yplus)
             return summary
 
         return Job(name, kind, label, key, action, params={"U": U, "beta": beta})

@@ -16,6 +16,8 @@ import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+import numpy as np
+
 from .errors import CfdError
 
 DEFAULT_PROJECT_DIR = "/usr/share/openfoam"
@@ -232,3 +234,58 @@ def parse_check_mesh(log: Path) -> dict[str, object]:
         "max_non_orthogonality": num(r"Mesh non-orthogonality Max: ([0-9.eE+-]+)"),
         "max_skewness": num(r"Max skewness = ([0-9.eE+-]+)"),
     }
+
+
+_FACE = re.compile(r"(\d+)\(([^)]*)\)")
+
+
+def _ascii_body(path: Path) -> str | None:
+    """The text after the FoamFile header of an ASCII mesh file, or None (binary or unreadable)."""
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError):
+        return None
+    head_end = text.find("}", text.find("FoamFile")) + 1 if "FoamFile" in text else 0
+    if re.search(r"format\s+binary", text[:head_end]):
+        return None
+    return text[head_end:]
+
+
+def patch_area(case: Path, patch: dict[str, str]) -> float | None:
+    """Area (m²) of one patch of an ASCII ``constant/polyMesh`` (``patch`` as from :func:`read_boundary`),
+    summed over fan triangles of each face; None when the mesh is binary or unreadable."""
+    poly = case / "constant" / "polyMesh"
+    points, faces = _ascii_body(poly / "points"), _ascii_body(poly / "faces")
+    try:
+        start, n = int(patch["startFace"]), int(patch["nFaces"])
+        m = re.search(r"(\d+)\s*\(", points or "")
+        if m is None or faces is None:
+            return None
+        count = int(m.group(1))
+        pts = np.array(
+            points[m.end() :].replace("(", " ").replace(")", " ").split()[: 3 * count], dtype=float
+        )
+        pts = pts.reshape(count, 3)
+        if "faceCompactList" in faces[:200] or re.match(r"\s*\d+\s*\(\s*\d+\s+\d", faces):
+            lists = [b.split() for b in re.findall(r"\d+\s*\(([^)]*)\)", faces)]
+            offsets, labels = np.array(lists[0], dtype=int), np.array(lists[1], dtype=int)
+            polys = [labels[offsets[i] : offsets[i + 1]] for i in range(start, start + n)]
+        else:
+            opener = re.search(r"\d+\s*\(", faces)
+            if opener is None:
+                return None
+            polys = []
+            for i, fm in enumerate(_FACE.finditer(faces, opener.end())):
+                if i >= start + n:
+                    break
+                if i >= start:
+                    polys.append(np.array(fm.group(2).split(), dtype=int))
+        if len(polys) != n:
+            return None
+        area = 0.0
+        for f in polys:
+            v = pts[f]
+            area += 0.5 * float(np.linalg.norm(np.cross(v[1:-1] - v[0], v[2:] - v[0]), axis=1).sum())
+        return area
+    except (KeyError, ValueError, IndexError):
+        return None
