@@ -21,13 +21,27 @@ def test_a_clean_study_is_verified_and_reports_every_check(tmp_path, monkeypatch
     result = run(study(tmp_path, speeds="1.0", drift_deg="4,8"), fake)
     gate = result.verification
     assert result.verified and gate["failures"] == []
-    assert set(gate["cases"]) == {"tow_U1.0000", "drift_b04.00", "drift_b08.00", "sway_a0.03000", "yaw_p05.00"}
+    assert set(gate["cases"]) == {
+        "tow_U1.0000",
+        "drift_b04.00",
+        "drift_b08.00",
+        "sway_a0.03000",
+        "yaw_p05.00",
+    }
     tow = _checks(gate, "tow_U1.0000")
-    assert set(tow) == {"y+", "Reynolds number", "k >= 0", "converged before the iteration cap", "force settling"}
+    assert set(tow) == {
+        "y+",
+        "Reynolds number",
+        "k >= 0",
+        "converged before the iteration cap",
+        "force settling",
+    }
     assert tow["y+"]["value"] == {"min": 40.0, "max": 250.0, "mean": 120.0}  # y+ of every case, not only tows
     assert _checks(gate, "yaw_p05.00")["y+"]["passed"]
     sway = _checks(gate, "sway_a0.03000")
-    assert sway["periodicity"]["value"]["Y"] < 1e-3 and sway["Courant number"]["value"] == pytest.approx(1.8, 0.01)
+    assert sway["periodicity"]["value"]["Y"] < 1e-3 and sway["Courant number"]["value"] == pytest.approx(
+        1.8, 0.01
+    )
     area = {c["name"]: c for c in gate["study"]}["hull patch area"]["value"]
     assert area["relative"] == pytest.approx(0.0, abs=1e-9)  # the fake's patch has the STL's wetted area
     assert set(gate["derivatives"]["Y_v"].split()) == {"verified"}
@@ -42,7 +56,13 @@ def test_a_clean_study_is_verified_and_reports_every_check(tmp_path, monkeypatch
 @pytest.mark.parametrize(
     ("fake_kw", "study_kw", "failed", "unverified", "verified"),
     [
-        ({"yplus": (60.0, 3000.0, 450.0)}, {}, ("drift_b04.00", "y+"), {"Y_v", "Y_r", "Y_vdot", "X_vv"}, set()),
+        (
+            {"yplus": (60.0, 3000.0, 450.0)},
+            {},
+            ("drift_b04.00", "y+"),
+            {"Y_v", "Y_r", "Y_vdot", "X_vv"},
+            set(),
+        ),
         ({"bounding_k_in": "yaw"}, {}, ("yaw_p05.00", "k >= 0"), {"Y_r", "N_rdot"}, {"Y_v", "Y_vdot"}),
         ({"courant": 12.0}, {}, ("sway_a0.03000", "Courant number"), {"Y_vdot", "Y_r"}, {"Y_v", "N_v"}),
         ({"settle": False}, {}, ("drift_b04.00", "force settling"), {"Y_v", "N_v"}, {"Y_vdot", "Y_r"}),
