@@ -34,6 +34,7 @@ from .fitting import (
 from .friction import ittc57
 from .jobs import FinishedStudy
 from .postprocess import body_forces, read_forces
+from .regression import choose, fit_forms, spread
 from .report import write_report
 from .shipfile import build_ship, default_template, load_template, scale_factor_to, validate_ship, write_ship
 from .verification import verify
@@ -207,9 +208,13 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         # (not exactly symmetric) mesh, removed from every angle before the mirrored fit.
         fit = fit_static_drift(v, Y - Y[0], N - N[0], X_N=X, U_m_s=U, normalisation="SI", symmetric=True)
         fits["drift"] = fit
-        for k in ("Y_v", "N_v", "Y_vvv", "N_vvv", "X_vv"):
-            if k in fit.derivatives:
-                si[k] = fit.derivatives[k]
+        # the form written to the ship file is the study's choice (cfd.regression); the others are reported
+        forms = fit_forms(v, Y - Y[0], N - N[0], U_m_s=U)
+        chosen, why = choose(forms, s.drift_form)
+        terms, how = chosen.ship_terms(v[v != 0.0])
+        for k, val in {**terms, "X_vv": fit.derivatives.get("X_vv")}.items():
+            if val is not None:
+                si[k] = val
                 origin[k] = "static drift"
         prov_tests["drift"] = {
             "speed_m_s": U,
@@ -220,6 +225,21 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
             "N_Nm": N,
             "cubic_fit": bool(fit.details["cubic"]),
             "fit": "beta = 0 bias removed, then mirrored about v = 0 (symmetric hull): Y_0 = N_0 = 0",
+            "regression": {
+                "written": chosen.form,
+                "reason": why,
+                "conversion": how,
+                "spread_SI": spread(forms),
+                "forms": {
+                    name: {
+                        "terms_SI": f.terms,
+                        "std_error_SI": f.std_error,
+                        "residuals": f.residuals,
+                        "runs": f.points,
+                    }
+                    for name, f in forms.items()
+                },
+            },
         }
 
     # -- pure sway and pure yaw

@@ -91,6 +91,11 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
     ("scale-to", "template (scale particulars to the template's length) or cfd"),
     ("k-zz", "yaw radius of gyration (m; default from the template, else 0.25 Lpp)"),
     ("form-factor", "form factor k for ship-scale resistance (default: from the CFD)"),
+    (
+        "drift-form",
+        "static-drift regression written to the ship file: abkowitz (Y_v v + Y_vvv v^3), mmg "
+        "(Y_v v + Y_v|v| v|v|, written as its best cubic), linear (small angles), auto (lower residual)",
+    ),
 )
 
 

@@ -287,6 +287,9 @@ def _summary(
         + (f" (ITTC-1978 form factor method, k = {sc['form_factor_k']:.3f})" if "form_factor_k" in sc else "")
         + "; the sway/yaw derivatives above are scale-independent.",
     ]
+    regression = provenance["tests"].get("drift", {}).get("regression")
+    if regression:
+        lines += _regression_lines(regression)
     if verification:
         lines += _verification_lines(verification)
     lines += ["", "## Fit residuals (rms residual / rms force)", ""]
@@ -324,4 +327,35 @@ def _verification_lines(v: dict[str, Any]) -> list[str]:
     ]
     lines += [row("study", c) for c in v["study"]]
     lines += [row(name, c) for name, checks in v["cases"].items() for c in checks]
+    return lines
+
+
+def _regression_lines(reg: dict[str, Any]) -> list[str]:
+    """The static-drift regression forms: each term with its standard error, the residuals, the choice."""
+
+    def term(f: dict[str, Any], k: str) -> str:
+        se = f["std_error_SI"].get(k)
+        return f"{f['terms_SI'][k]:.5g}" + (f" ± {se:.2g}" if se is not None else "")
+
+    lines = [
+        "",
+        "## Static drift: regression forms (SI, model scale; ± one standard error)",
+        "",
+        "| form | Y_v | nonlinear Y term | N_v | nonlinear N term | residual Y, N | runs |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for name, f in reg["forms"].items():
+        nl = [k for k in f["terms_SI"] if k not in ("Y_v", "N_v")]
+        ynl = next((f"{k} {term(f, k)}" for k in nl if k.startswith("Y")), "")
+        nnl = next((f"{k} {term(f, k)}" for k in nl if k.startswith("N")), "")
+        lines.append(
+            f"| {name} | {term(f, 'Y_v')} | {ynl} | {term(f, 'N_v')} | {nnl} | "
+            f"{f['residuals']['Y']:.3g}, {f['residuals']['N']:.3g} | {f['runs']} |"
+        )
+    sp = reg["spread_SI"]
+    lines += [
+        "",
+        f"Written to the ship file: **{reg['written']}** ({reg['reason']}; {reg['conversion']}). "
+        f"Spread of the linear terms over the forms: Y_v {sp['Y_v']:.3g}, N_v {sp['N_v']:.3g}.",
+    ]
     return lines
