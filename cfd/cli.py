@@ -381,10 +381,39 @@ def interactive(read: Callable[[str], str] = input, run: bool = True) -> Study |
     print(json.dumps(study.as_dict(), indent=1, default=str))
     if not run:
         return study
+    saved = save_study(study)
+    print(f"Study saved to {saved}; the same study runs again with: vessel-cfd run --study {saved}")
     if not _ask("Start the run? (y/n)", _yes_no, "y", read):
-        print("Not started. The same study can be run with: vessel-cfd run --study FILE")
+        print("Not started.")
         return 0
     return _execute(study)
+
+
+def save_study(study: Study) -> Path:
+    """Write ``study`` as a study file in its output folder: ``study.toml``, or ``study-N.toml`` when a
+    different study file is already there (a user's file is never overwritten). Keys equal to their
+    default are left out, so the defaults that depend on the hull are derived again on loading."""
+    from .shipfile import dumps_toml  # noqa: PLC0415
+
+    defaults = {f.name: f.default for f in dataclasses.fields(Study)}
+    keys = {}
+    for k, v in study.as_dict().items():
+        if v is None or v == defaults.get(k):
+            continue
+        keys[k] = ",".join(v) if k == "tests" else (list(v) if isinstance(v, tuple) else v)
+    text = dumps_toml(keys, f"Study file written by the vessel-cfd {__version__} interactive set-up.")
+    try:
+        study.out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError("out", f"cannot create directory {study.out} ({exc.strerror or exc})") from None
+    for n in range(1000):
+        path = study.out / ("study.toml" if n == 0 else f"study-{n}.toml")
+        if not path.exists():
+            path.write_text(text)
+            return path
+        if path.read_text() == text:
+            return path
+    raise InputError("out", f"{study.out} already holds 1000 study files")
 
 
 # ---------------------------------------------------------------------------------- small commands
