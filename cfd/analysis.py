@@ -36,7 +36,15 @@ from .jobs import FinishedStudy
 from .postprocess import body_forces, read_forces
 from .regression import choose, fit_forms, spread
 from .report import write_report
-from .shipfile import build_ship, default_template, load_template, scale_factor_to, validate_ship, write_ship
+from .shipfile import (
+    borrowed_note,
+    build_ship,
+    default_template,
+    load_template,
+    scale_factor_to,
+    validate_ship,
+    write_ship,
+)
 from .verification import verify
 
 SEA_WATER_NU = 1.1892e-6  # m²/s, ITTC 7.5-02-01-03 sea water at 15 °C (full-scale friction)
@@ -72,6 +80,7 @@ class StudyResult:
     normalisation: str
     provenance: dict[str, Any]
     verification: dict[str, Any]
+    borrowed: str = ""  # what the ship file took from its template, and how it was scaled
 
     @property
     def verified(self) -> bool:
@@ -364,6 +373,7 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         particulars["test_speed_kn"] = U_out * 3600.0 / 1852.0
     derivatives = {k: float(prime[k]) for k in SHIP_KEYS if k in prime}
 
+    borrowed, borrowed_info = borrowed_note(template, template_path, L, lam)
     gate = verify(p, {k: ship_origin.get(k, origin.get(k, "")) for k in {**origin, **derivatives}})
     spec = p.spec
     mesh = p.jobs["mesh"].summary
@@ -420,6 +430,7 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         "clarke83": {k: clarke[k] for k in CLARKE_KEYS},
         "scale": {**scale_info, "resistance_N": R0, "resistance_speed_m_s": U_out},
         "template": str(template_path) if template_path else "none (hull-only ship file)",
+        "borrowed": borrowed_info,
         "wall_time_s": {k: round(v, 1) for k, v in p.wall_s.items()},
         "verification": {k: gate[k] for k in ("verdict", "failures", "derivatives")},
     }
@@ -458,8 +469,9 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
                 if lam != 1.0
                 else ""
             )
-            + "x_G is the centre of buoyancy of the hull. Propulsion, rudder, steering and other tables "
-            "copied unchanged from the template. [source.provenance] says which test gave each derivative."
+            + "x_G is the centre of buoyancy of the hull. "
+            + borrowed
+            + " [source.provenance] says which test gave each derivative."
         ),
         "sign_convention": "Standard body axes (x forward, y starboard, z down). OpenFOAM's case frame (y to port, "
         "z up) is converted with Y = -Fy, N = -Mz, v = -v_case, r = -r_case; Y_v, N_v, N_r < 0 and Y_r > 0 "
@@ -527,4 +539,4 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
     )
     if problem:
         raise CfdError("ship file check", f"vessel-gym cannot load the ship file: {problem}", ship_file)
-    return StudyResult(ship_file, report_dir, derivatives, norm, provenance, gate)
+    return StudyResult(ship_file, report_dir, derivatives, norm, provenance, gate, borrowed)

@@ -165,6 +165,7 @@ def _execute(study: Study, quiet: bool = False) -> int:
     print(f"report:    {result.report_dir}")
     keys = [k for k in ("Y_v", "N_v", "Y_r", "N_r", "Y_vdot", "N_rdot") if k in d]
     print(f"derivatives ({result.normalisation}): " + ", ".join(f"{k} {d[k]:.5g}" for k in keys))
+    print(f"borrowed:  {result.borrowed}")
     gate = result.verification
     if result.verified:
         print("verification: VERIFIED (every check passed; see report/summary.md)")
