@@ -17,7 +17,9 @@ import argparse
 import dataclasses
 import json
 import os
+import signal
 import sys
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
@@ -451,6 +453,10 @@ def _clarke(args: argparse.Namespace) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vessel-cfd`` console script."""
     args = _parser().parse_args(argv)
+    # SIGTERM (a batch system's stop, kill) ends the run like Ctrl-C: solvers stopped, finished cases kept
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _sigterm)
     try:
         if args.command == "run":
             return _run(args)
@@ -471,8 +477,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         _error_line(f"vessel-cfd: error: {where}{exc.strerror or exc}")
         return 2
     except KeyboardInterrupt:
-        print("vessel-cfd: interrupted; finished cases are kept and a rerun resumes", file=sys.stderr)
+        _error_line("vessel-cfd: interrupted; running solvers stopped, finished cases kept (a rerun resumes)")
         return 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _sigterm(signum: int, frame: Any) -> NoReturn:
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import threading
@@ -118,6 +119,33 @@ def failure_reason(log: Path) -> str:
     return (lines[-1].strip() if lines else "no output")[:300]
 
 
+# Set by stop_all(): every running application's process group is terminated and no new one starts.
+STOP = threading.Event()
+TERMINATE_GRACE_S = 5.0  # s between SIGTERM and SIGKILL of an application's process group
+
+
+class Stopped(CfdError):
+    """An application was stopped because the study was interrupted (Ctrl-C or SIGTERM)."""
+
+
+def stop_all() -> None:
+    """Ask every running :func:`run_app` (in any thread) to terminate its application and return."""
+    STOP.set()
+
+
+def _terminate_group(proc: subprocess.Popen) -> None:
+    """SIGTERM to the application's whole process group (mpirun and its ranks too), SIGKILL after a grace."""
+    if proc.poll() is not None:
+        return
+    try:
+        os.killpg(proc.pid, signal.SIGTERM)
+        proc.wait(timeout=TERMINATE_GRACE_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+
+
 def run_app(
     argv: Sequence[str],
     case: Path,
@@ -145,6 +173,8 @@ def run_app(
         if hasattr(os, "geteuid") and os.geteuid() == 0:
             mpi.insert(1, "--allow-run-as-root")
         cmd = [*mpi, *cmd, "-parallel"]
+    if STOP.is_set():
+        raise Stopped(step, "not started: the study was interrupted")
     if shutil.which(cmd[0]) is None:
         raise CfdError(step, f"{cmd[0]} not found on PATH (install with: apt-get install openfoam)")
     t0 = time.monotonic()
@@ -152,10 +182,16 @@ def run_app(
     last_report = last_tick = t0
     diverged = ""
     with open(log, "wb") as fh:
-        proc = subprocess.Popen(cmd, cwd=case, stdout=fh, stderr=subprocess.STDOUT, env=foam_env())
+        # its own session and process group, so that stopping it reaches mpirun's ranks as well
+        proc = subprocess.Popen(
+            cmd, cwd=case, stdout=fh, stderr=subprocess.STDOUT, env=foam_env(), start_new_session=True
+        )
         try:
             while proc.poll() is None:
                 time.sleep(0.25)
+                if STOP.is_set():
+                    _terminate_group(proc)
+                    raise Stopped(step, f"{app} stopped: the study was interrupted", log)
                 now = time.monotonic()
                 if on_tick is not None and now - last_tick >= 2.0:
                     last_tick = now
@@ -170,7 +206,7 @@ def run_app(
                     c = float(co[-1]) if co[-1] not in (b"nan", b"inf") else float("inf")
                     if not c <= max_courant:
                         diverged = f"Courant number {c:.3g} > {max_courant:g}"
-                        proc.kill()
+                        _terminate_group(proc)
                         break
                 if progress is not None:
                     where = f"time {float(times[-1]):.6g}" if times else "running"
@@ -178,8 +214,7 @@ def run_app(
                         where += f"/{end_time:.6g} ({100.0 * float(times[-1]) / end_time:.0f} %)"
                     progress(step, f"{app} {where}, elapsed {now - t0:.0f} s")
         finally:
-            if proc.poll() is None:
-                proc.kill()
+            _terminate_group(proc)
             rc = proc.wait()
     if diverged:
         raise CfdError(step, f"{app} diverged: {diverged}", log)
