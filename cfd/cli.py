@@ -131,6 +131,15 @@ def _parser() -> _Parser:
     for opt, text in RUN_OPTIONS:
         run.add_argument(f"--{opt}", help=_run_help(opt, text))
     run.add_argument("--quiet", action="store_true", help="no progress lines")
+    grid = sub.add_parser(
+        "study", help="grid study: the study at three gradings, Richardson extrapolation and GCI"
+    )
+    grid.add_argument("--gradings", required=True, help="three gradings 1-5, e.g. 1,2,3")
+    grid.add_argument("--study", help="study TOML file (keys as the options of run, with underscores)")
+    for opt, text in RUN_OPTIONS:
+        if opt != "grading":
+            grid.add_argument(f"--{opt}", help=_run_help(opt, text))
+    grid.add_argument("--quiet", action="store_true", help="no progress lines")
     sub.add_parser("interactive", help="interactive set-up (the default without a command)")
     w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
     for opt in ("lpp", "bwl", "tm", "out"):
@@ -140,6 +149,33 @@ def _parser() -> _Parser:
         c.add_argument(f"--{opt}", required=True)
     c.add_argument("--normalisation", default="half_rho_L2_U2")
     return p
+
+
+def _grid(args: argparse.Namespace) -> int:
+    from .gridstudy import run_grid_study  # noqa: PLC0415
+    from .runner import Progress  # noqa: PLC0415
+
+    values = parse_list("gradings", args.gradings, 0, 5)
+    if len(set(values)) != 3 or any(g != int(g) or g < 1 for g in values):
+        raise InputError("gradings", f"three different whole gradings in [1, 5] (got {args.gradings})")
+    gradings = [int(g) for g in values]
+    args.grading = None
+    study = _study(args)
+    rep = run_grid_study(study, gradings, Progress(quiet=args.quiet))
+    print(f"grid study: {study.out / 'grid_study.md'}")
+    for k, q in rep["quantities"].items():
+        gci = f", GCI {100 * q['gci_fine']:.2f} %" if "gci_fine" in q else ""
+        unc = f", U {q['uncertainty']:.4g}" if "uncertainty" in q else ""
+        print(f"  {k}: {q['condition']}{gci}{unc}")
+    return 0
+
+
+def _study(args: argparse.Namespace) -> Study:
+    raw = {opt.replace("-", "_"): getattr(args, opt.replace("-", "_"), None) for opt, _ in RUN_OPTIONS}
+    raw = {k: v for k, v in raw.items() if v is not None}
+    if args.study:
+        return load_study_file(args.study, raw)
+    return build_study(raw)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -460,6 +496,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == "run":
             return _run(args)
+        if args.command == "study":
+            return _grid(args)
         if args.command == "wigley":
             return _wigley(args)
         if args.command == "clarke":

@@ -71,7 +71,12 @@ class FakeFoam:
         hull_area_factor: float = 1.0,
         bounding_k_in: str | None = None,
         settle: bool = True,
+        grid_error: float | None = None,
     ) -> None:
+        # grid_error c: forces times (1 + c h^2), h = 2^-H the hull cell size in units of the background
+        # cell for hull level H, and 100 x 8^H cells: a second-order grid convergence (p = 2, r = 2)
+        self.grid_error = grid_error
+        self.level = 0
         self.hull_faces = hull_faces
         self.yplus = yplus  # (min, max, mean) written by the yPlus function object
         self.courant = courant  # largest Courant number in the PMM logs
@@ -130,11 +135,16 @@ class FakeFoam:
         (poly / "faces").write_text(head.format("faceList") + f"{n}\n(\n{faces})\n")
 
     def _checkMesh(self, case: Path) -> None:
+        levels = re.findall(
+            r"level\s+\(\s*(\d+)\s+\d+\s*\)", (case / "system" / "snappyHexMeshDict").read_text()
+        )
+        self.level = max(map(int, levels))
+        cells = 1234 if self.grid_error is None else 100 * 8**self.level
         verdict = (
             f" ***{self.check_finding}\n\nFailed 1 mesh checks.\n" if self.check_finding else "\nMesh OK.\n"
         )
         (case / "log.checkMesh").write_text(
-            "Mesh stats\n    cells:            1234\n    Max skewness = 0.5 OK.\n"
+            f"Mesh stats\n    cells:            {cells}\n    Max skewness = 0.5 OK.\n"
             "    Mesh non-orthogonality Max: 30 average: 5\n" + verdict + "\nEnd\n"
         )
 
@@ -228,8 +238,9 @@ class FakeFoam:
             f"# y+ ()\n# Time\tpatch\tmin\tmax\taverage\n{times[-1]:.10g}\thull\t{lo}\t{hi}\t{mean}\n"
         )
 
-    @staticmethod
-    def _write_forces(case: Path, t: np.ndarray, F: np.ndarray, M: np.ndarray) -> None:
+    def _write_forces(self, case: Path, t: np.ndarray, F: np.ndarray, M: np.ndarray) -> None:
+        if self.grid_error is not None:
+            F, M = (A * (1.0 + self.grid_error * 4.0**-self.level) for A in (F, M))
         d = case / "postProcessing" / "forces" / "0"
         d.mkdir(parents=True, exist_ok=True)
         ftxt, mtxt = _forces_table(t, F, M)
