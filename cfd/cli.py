@@ -140,6 +140,13 @@ def _parser() -> _Parser:
         if opt != "grading":
             grid.add_argument(f"--{opt}", help=_run_help(opt, text))
     grid.add_argument("--quiet", action="store_true", help="no progress lines")
+    sl = sub.add_parser("slurm", help="SLURM job array for the written, unfinished cases of a study")
+    sl.add_argument("--cases", required=True, help="the study's cases folder (OUT/cases)")
+    sl.add_argument("--nodes", default="1", help="nodes per case")
+    sl.add_argument("--tasks-per-node", default="32", help="MPI ranks per node")
+    sl.add_argument("--time", default="04:00:00", help="time limit per case, [D-]HH:MM:SS")
+    sl.add_argument("--partition", help="SLURM partition")
+    sl.add_argument("--account", help="SLURM account")
     sub.add_parser("interactive", help="interactive set-up (the default without a command)")
     w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
     for opt in ("lpp", "bwl", "tm", "out"):
@@ -456,6 +463,28 @@ def save_study(study: Study) -> Path:
 
 
 # ---------------------------------------------------------------------------------- small commands
+def _slurm(args: argparse.Namespace) -> int:
+    from .cluster import pending_cases, write_slurm  # noqa: PLC0415
+    from .runner import parse_check_mesh  # noqa: PLC0415
+
+    cases = Path(args.cases)
+    log = cases / "mesh" / "log.checkMesh"
+    if not log.is_file():
+        raise InputError("cases", f"{cases} has no meshed study (missing {log})")
+    cells = int(parse_check_mesh(log)["cells"])
+    script = write_slurm(
+        cases,
+        cells=cells,
+        nodes=int(parse_number("nodes", args.nodes, 1, 1000, integer=True)),
+        tasks_per_node=int(parse_number("tasks_per_node", args.tasks_per_node, 1, 1024, integer=True)),
+        time_limit=args.time,
+        partition=args.partition,
+        account=args.account,
+    )
+    print(f"{script}: {len(pending_cases(cases))} cases; submit with: sbatch {script}")
+    return 0
+
+
 def _wigley(args: argparse.Namespace) -> int:
     from .geometry import hydrostatics, wigley_hull, write_stl  # noqa: PLC0415
 
@@ -498,6 +527,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _run(args)
         if args.command == "study":
             return _grid(args)
+        if args.command == "slurm":
+            return _slurm(args)
         if args.command == "wigley":
             return _wigley(args)
         if args.command == "clarke":
