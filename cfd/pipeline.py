@@ -366,8 +366,10 @@ class Pipeline:
         per = self.per_case_procs
         workers = max(1, s.procs // per)
         with ThreadPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(self._run_job, j, per): j for j in jobs}
+            futures: dict = {}
             try:
+                for j in jobs:
+                    futures[pool.submit(self._run_job, j, per)] = j
                 done, pending = wait(futures, return_when=FIRST_EXCEPTION)
             except KeyboardInterrupt:  # Ctrl-C or SIGTERM: stop the running solvers, keep finished cases
                 stop_all()
