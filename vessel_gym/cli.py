@@ -174,6 +174,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     for sp in (hm, vw):
         sp.add_argument("--duration", type=_finite("--duration", 0.1, 1e7), default=None)
+    v3 = sub.add_parser(
+        "view3d", help="3D view in the browser of a running 'vessel-gym serve' (extra 'view3d')"
+    )
+    v3.add_argument("--server", metavar="HOST:PORT", default="127.0.0.1:10120")
+    v3.add_argument("--http", metavar="HOST:PORT", default="127.0.0.1:8080", help="where the page is served")
+    v3.add_argument("--camera", default="chase", choices=("chase", "bridge", "top-down", "harbour", "free"))
+    v3.add_argument("--rate", type=_finite("--rate", 1.0, 50.0), default=20.0, help="state rate, Hz (1-50)")
+    v3.add_argument("--token", default=None, help="the link's shared secret, if it has one")
+    v3.add_argument("--duration", type=_finite("--duration", 0.1, 1e7), default=None)
     return p
 
 
@@ -341,6 +350,23 @@ def main(argv: Sequence[str] | None = None) -> int:
                 listen = host_port(args.listen, "--listen") if args.listen else None
                 clients.run_viewer(server, listen=listen, duration_s=args.duration)
             return 0
+        if args.command == "view3d":
+            try:
+                import viser  # noqa: F401
+
+                from vessel_gym.net.view3d import view3d
+            except ImportError:
+                raise UsageError(
+                    "vessel-gym view3d: needs the 'view3d' extra: pip install 'vessel-gym[view3d]'"
+                ) from None
+            return view3d(
+                host_port(args.server, "--server"),
+                host_port(args.http, "--http"),
+                camera=args.camera,
+                rate_hz=args.rate,
+                token=args.token,
+                duration_s=args.duration,
+            )
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
         print(str(exc), file=sys.stderr)
