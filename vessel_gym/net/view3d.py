@@ -59,6 +59,7 @@ RUDDER_STEP_DEG = 5.0
 TRACK_POINTS = 2000  # own-ship track kept, one point per TRACK_SPACING_S
 TRACK_SPACING_S = 1.0  # s of simulation time between track points
 FRAME_PERIOD_S = 1.0 / 30.0  # scene updates, s
+TRACK_REDRAW_S = 0.5  # the track is re-sent to the page at most this often, s (wall clock)
 SEA_PERIOD_S = 1.0 / 8.0  # sea-surface vertex updates, s
 HUD_PERIOD_S = 0.25
 SEA_CELLS = 48  # sea grid resolution per side
@@ -350,7 +351,9 @@ class Viewer3D:
         self.link = link
         self.server = viser.ViserServer(host=http[0], port=http[1], label="vessel-gym view3d", verbose=False)
         self.server.scene.set_up_direction("+z")
-        self.server.gui.configure_theme(control_layout="collapsible", show_share_button=False, dark_mode=False)
+        self.server.gui.configure_theme(
+            control_layout="collapsible", show_share_button=False, dark_mode=False
+        )
         sc = self.server.scene
         # Daylight: sky and sea-bed tones from a hemisphere light, a sun from the south-west at 50 deg elevation.
         self._fog = (1e4, 2e4)
@@ -368,8 +371,8 @@ class Viewer3D:
         self._sea_xy: tuple[np.ndarray, np.ndarray] | None = None
         self._sea_due = 0.0
         self._hud_due = 0.0
-        self._wind: Any = None
-        self._current: Any = None
+        self._arrow_handles: list[Any] = []
+        self._arrows_for = -1  # scene version the wind and current arrows were drawn for
         self._L = 7.0
         self._T = 0.5
         self._extent = (-100.0, 100.0, -100.0, 100.0)  # scene x min, x max, y min, y max
@@ -619,7 +622,8 @@ class Viewer3D:
             self._track_t = t
             self._track.append((x, y))
             del self._track[:-TRACK_POINTS]
-            if len(self._track) >= 2:
+            if len(self._track) >= 2 and time.monotonic() - self._track_drawn >= TRACK_REDRAW_S:
+                self._track_drawn = time.monotonic()
                 p = np.array([(a, b, 0.03 * self._T) for a, b in self._track])
                 segs = np.stack([p[:-1], p[1:]], axis=1)
                 self.server.scene.add_line_segments(
@@ -633,6 +637,14 @@ class Viewer3D:
             return
         L = self._L
         z = FREEBOARD_T * self._T + 0.5 * L
+        if self._arrows_for == self._scene_version:  # same sea: move the arrows with the ship
+            for handle in self._arrow_handles:
+                handle.position = (x, y, 0.0)
+            return
+        self._arrows_for = self._scene_version
+        for handle in self._arrow_handles:
+            handle.remove()
+        self._arrow_handles = []
         for key, speed_key, dir_key, towards, scale in (
             ("wind", "wind_speed_kn", "wind_from_deg", False, 0.1),
             ("current", "current_speed_kn", "current_to_deg", True, 1.0),
@@ -642,16 +654,18 @@ class Viewer3D:
                 continue
             to = math.radians(d if towards else d + 180.0)
             length = L * min(2.0, 0.4 + scale * speed)  # ship lengths, grows with speed (kn), capped
-            start = np.array([x, y, z if key == "wind" else 0.1 * self._T])
+            start = np.array([0.0, 0.0, z if key == "wind" else 0.1 * self._T])
             end = start + length * np.array([math.sin(to), math.cos(to), 0.0])
-            self.server.scene.add_arrows(
+            handle = self.server.scene.add_arrows(
                 f"/{key}",
                 np.array([[start, end]]),
                 COLOURS[key],
                 shaft_radius=0.03 * L,
                 head_radius=0.09 * L,
                 head_length=0.2 * L,
+                position=(x, y, 0.0),
             )
+            self._arrow_handles.append(handle)
 
     def _cameras(self, st: dict) -> None:
         x, y, h = st.get("y_m"), st.get("x_m"), st.get("hdg_deg")
