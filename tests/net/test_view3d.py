@@ -214,12 +214,13 @@ def test_page_in_headless_chromium_draws_the_ship_moving(tmp_path):
             try:
                 with urllib.request.urlopen(url, timeout=2) as r:
                     assert r.status == 200
-                break
+                if f"open {url}" in (tmp_path / "view3d.log").read_text():  # the URL is printed
+                    break
+                raise ConnectionError("not printed yet")
             except OSError:
                 assert all(p.poll() is None for p in procs), (tmp_path / "view3d.log").read_text()
                 assert time.monotonic() < deadline, "the page was not served within 90 s"
                 time.sleep(0.5)
-        assert f"open {url}" in (tmp_path / "view3d.log").read_text()
         with Chromium() as browser:
             browser.call("Page.navigate", url=url)
             first = None
