@@ -103,6 +103,16 @@ class Chromium:
             except TimeoutError:
                 pass
 
+    def press(self, key: str, code: str, key_code: int) -> None:
+        """Press and release one key on the page (as a person at the keyboard)."""
+        for kind in ("keyDown", "keyUp"):
+            self.call("Input.dispatchKeyEvent", type=kind, key=key, code=code, windowsVirtualKeyCode=key_code)
+
+    def text(self) -> str:
+        """The page's visible text."""
+        result = self.call("Runtime.evaluate", expression="document.body.innerText", returnByValue=True)
+        return str(result.get("result", {}).get("value", ""))
+
     def screenshot(self, path: str) -> bytes:
         data = base64.b64decode(self.call("Page.captureScreenshot", format="png")["data"])
         with open(path, "wb") as f:

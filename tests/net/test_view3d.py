@@ -7,6 +7,7 @@ import io
 import json
 import math
 import os
+import signal
 import socket
 import subprocess
 import sys
@@ -235,7 +236,23 @@ def test_page_in_headless_chromium_draws_the_ship_moving(tmp_path):
             browser.pump(4.0)
             shot2 = browser.screenshot(str(tmp_path / "second.png"))
             n2, c2 = _ship_pixels(shot2)
+            # the page only watches: a rudder key does nothing until H takes the helm
+            assert "autopilot" in browser.text()
+            browser.press("ArrowRight", "ArrowRight", 39)
+            browser.pump(1.5)
+            assert "YOU" not in browser.text()
+            browser.press("h", "KeyH", 72)
+            browser.pump(1.5)
+            text = browser.text()
+            assert "YOU" in text, text
+            browser.press("ArrowRight", "ArrowRight", 39)
+            browser.pump(1.5)
+            assert "YOU (order" in browser.text()
             errors = browser.errors()
+        procs[0].send_signal(signal.SIGINT)  # serve prints its totals on Ctrl-C
+        procs[0].wait(30)
+        totals = (tmp_path / "serve.log").read_text()
+        assert "helm takeovers 1;" in totals, totals
         assert errors == []
         assert n2 >= 12
         moved_px = math.hypot(c2[0] - first[1][0], c2[1] - first[1][1])
