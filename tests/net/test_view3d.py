@@ -266,3 +266,23 @@ def test_page_in_headless_chromium_draws_the_ship_moving(tmp_path):
             except subprocess.TimeoutExpired:
                 p.kill()
                 p.wait()
+
+
+def test_link_client_echoes_a_welcome_cookie_in_its_hellos():
+    server = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    server.bind(("127.0.0.1", 0))
+    server.settimeout(1.0)
+    link = V.LinkClient(server.getsockname(), 20.0, "t", None)
+    try:
+        link.poll(0.0)
+        first, addr = server.recvfrom(4096)
+        assert "cookie" not in json.loads(first)
+        welcome = json.loads(P.encode_welcome(1, "viewer", 20.0, False, P.Limits(), 1.0, 3.0, "hold"))
+        server.sendto(json.dumps({**welcome, "cookie": "c0ffee"}).encode(), addr)
+        time.sleep(0.01)
+        link.poll(0.1)  # the welcome with a new cookie is answered at once
+        again = json.loads(server.recv(4096))
+        assert again["type"] == "hello" and again["cookie"] == "c0ffee" and again["proto"] == 2
+    finally:
+        link.close()
+        server.close()

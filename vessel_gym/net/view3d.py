@@ -18,6 +18,7 @@ land above the water).
 
 from __future__ import annotations
 
+import json
 import math
 import socket
 import sys
@@ -241,7 +242,14 @@ class LinkClient:
 
     def hello(self) -> None:
         role = "helm" if self.helm else "viewer"
-        self._send(encode_hello(role, self.rate_hz, self.name, self.token, proto=2))
+        data = encode_hello(role, self.rate_hz, self.name, self.token, proto=2)
+        cookie = (self.welcome or {}).get("cookie")
+        if isinstance(cookie, (str, int)) and not isinstance(cookie, bool):
+            # A link that proves the client receives before streaming sends a cookie in its welcome; echo it.
+            msg = json.loads(data)
+            msg["cookie"] = cookie
+            data = json.dumps(msg, separators=(",", ":")).encode()
+        self._send(data)
 
     def take_helm(self) -> None:
         """Become a helm panel, starting from the orders in force (taking the helm moves nothing)."""
@@ -304,7 +312,12 @@ class LinkClient:
             self._last_state_seq = seq
             self.state = msg
         elif kind == "welcome":
+            fresh_cookie = msg.get("cookie") is not None and msg.get("cookie") != (self.welcome or {}).get(
+                "cookie"
+            )
             self.welcome = msg
+            if fresh_cookie:
+                self.hello()
         elif kind == "scenario":
             scene = self._assembler.add(msg)
             if scene is not None:
@@ -782,11 +795,29 @@ def view3d(
             flush=True,
         )
         start = time.monotonic()
+        warned_silent = warned_bad = False
         try:
             while duration_s is None or time.monotonic() - start < duration_s:
                 now = time.monotonic()
                 link.poll(now)
-                viewer.update(now)
+                try:
+                    viewer.update(now)
+                except (ValueError, TypeError, KeyError, IndexError) as exc:  # a malformed scene or state
+                    if not warned_bad:
+                        print(
+                            f"vessel-gym view3d: ignoring a message it cannot draw: {exc}",
+                            file=out,
+                            flush=True,
+                        )
+                        warned_bad = True
+                if link.state is None and not warned_silent and now - start > 5.0:
+                    print(
+                        f"vessel-gym view3d: no state from {server[0]}:{server[1]} yet (is 'vessel-gym serve' "
+                        "running there?); still trying",
+                        file=out,
+                        flush=True,
+                    )
+                    warned_silent = True
                 time.sleep(max(0.0, FRAME_PERIOD_S - (time.monotonic() - now)))
         except KeyboardInterrupt:
             pass
