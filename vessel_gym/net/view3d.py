@@ -470,7 +470,7 @@ class Viewer3D:
         )
         deepest = max([self._depth] + [float(f.get("depth_m") or 0.0) for f in scene["features"]])
         bed_colour = depth_colour(self._depth, self._T, deepest)
-        sc.add_mesh_simple("/chart/seabed", *bed, color=bed_colour, flat_shading=True)
+        sc.add_mesh_simple("/chart/seabed", *bed, color=bed_colour, flat_shading=True, cast_shadow=False)
         for f in scene["features"]:
             pts = f.get("points") or []
             if len(pts) < 3:
@@ -480,7 +480,9 @@ class Viewer3D:
             kind = f["kind"]
             if kind in RELIEF_T:
                 v, fc = prism(xy, -deepest - 0.1, RELIEF_T[kind] * self._T)
-                sc.add_mesh_simple(name, v, fc, color=COLOURS[kind], flat_shading=True, side="double")
+                sc.add_mesh_simple(
+                    name, v, fc, color=COLOURS[kind], flat_shading=True, side="double", cast_shadow=False
+                )
             elif kind == "depth":
                 # A slab of the sea bed at the charted depth, in the chart's depth shading (sand where it is
                 # shallower than the own ship's draught); deeper pockets show as steps of the open-water bed.
@@ -488,7 +490,9 @@ class Viewer3D:
                 top = -min(d, self._depth) + 0.01 * self._T
                 v, fc = prism(xy, top - 0.02 * self._T, top)
                 colour = depth_colour(d, self._T, deepest)
-                sc.add_mesh_simple(name, v, fc, color=colour, flat_shading=True, side="double")
+                sc.add_mesh_simple(
+                    name, v, fc, color=colour, flat_shading=True, side="double", cast_shadow=False
+                )
             elif kind in ("goal", "start"):
                 ring = np.column_stack([xy, np.full(len(xy), 0.05 * self._T)])
                 segs = np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
@@ -547,8 +551,12 @@ class Viewer3D:
             frame = sc.add_frame(f"/ship_{pid}", show_axes=False)
             colour = COLOURS["own"] if pid == 0 else COLOURS["traffic"]
             (hv, hf), (dv, df) = _ship_meshes(outline, L, B, T or 0.1 * L)
-            sc.add_mesh_simple(f"/ship_{pid}/hull", hv, hf, color=colour, flat_shading=True, side="double")
-            sc.add_mesh_simple(f"/ship_{pid}/house", dv, df, color=COLOURS["deckhouse"], flat_shading=True)
+            sc.add_mesh_simple(
+                f"/ship_{pid}/hull", hv, hf, color=colour, flat_shading=True, side="double", cast_shadow=False
+            )
+            sc.add_mesh_simple(
+                f"/ship_{pid}/house", dv, df, color=COLOURS["deckhouse"], flat_shading=True, cast_shadow=False
+            )
             self._ships[pid] = frame
             if pid != 0:
                 self._labels[pid] = sc.add_label(
@@ -653,6 +661,7 @@ class Viewer3D:
         if self._arrows_for == self._scene_version:  # same sea: move the arrows with the ship
             for handle in self._arrow_handles:
                 handle.position = (x, y, 0.0)
+                handle.visible = self.camera != "bridge"  # they would stand in front of the bridge windows
             return
         self._arrows_for = self._scene_version
         for handle in self._arrow_handles:
