@@ -205,3 +205,38 @@ def test_wrapper_publishes_harbour_scene_and_episode_events(peers):
         assert outcome["outcome"] == "time_limit" and outcome["t_s"] == pytest.approx(2.0)
     finally:
         env.close()
+
+
+def test_wrapper_publishes_contact_before_the_outcome(peers):
+    t = [100.0]
+    env = UdpLinkWrapper(
+        gym.make("vessel_gym/HarbourApproach-v0"),
+        {"json_bind": ("127.0.0.1", 0), "nmea_destinations": []},
+        clock=lambda: t[0],
+    )
+    try:
+        # 10 m south of the west breakwater (north -1.5 .. 1.5 m), heading for it at 0.5 m/s
+        env.reset(seed=0, options={"north_m": -10.0, "east_m": -40.0, "heading_deg": 0.0, "speed_m_s": 0.5})
+        viewer = peers()
+        viewer.send(env.link.json_address, P.encode_hello("viewer", 1.0, proto=2))
+        time.sleep(SETTLE_S)
+        for k in range(400):
+            if k % 4 == 3:  # keep-alive every second of link time
+                viewer.send(env.link.json_address, P.encode_hello("viewer", 1.0, proto=2))
+                time.sleep(SETTLE_S)
+            t[0] += 0.25
+            _, _, terminated, truncated, info = env.step(np.zeros(2, dtype=np.float32))
+            if terminated or truncated:
+                break
+        assert info["outcome"] == "contact"
+        msgs = [P.parse_server_datagram_v2(d) for d in viewer.raw(SETTLE_S)]
+        events = [m for m in msgs if m["type"] == "event"]
+        assert [e["event"] for e in events] == ["contact", "outcome"]
+        contact, outcome = events
+        assert contact["what"] == "contact" and outcome["outcome"] == "contact"
+        assert contact["x_m"] == pytest.approx(-10.0 + 0.5 * contact["t_s"], abs=1.5)  # the bow met the pier
+        assert contact["x_m"] + 3.5 == pytest.approx(
+            -1.5, abs=0.5
+        )  # bow (L/2 = 3.5 m ahead) at its south face
+    finally:
+        env.close()
