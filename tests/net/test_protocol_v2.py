@@ -240,3 +240,39 @@ def test_wrapper_publishes_contact_before_the_outcome(peers):
         )  # bow (L/2 = 3.5 m ahead) at its south face
     finally:
         env.close()
+
+
+def test_panels_draw_the_chart_from_the_scenario_message(peers):
+    pytest.importorskip("pygame")
+    from vessel_gym.net import clients
+
+    link = UdpLink(LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=()))
+    conn = clients.ServerConnection(link.json_address, "viewer", 10.0)
+    try:
+        sc = load_scenario("harbour")
+        link.set_scene(sc, [P.ShipParticulars(0, "OWN", 7.0, 1.27, 0.46)], ENV)
+        conn.keepalive(0.0)
+        time.sleep(SETTLE_S)
+        link.service(0.0, make_reading(x_m=-100.0, y_m=0.0, hdg_deg=0.0))
+        time.sleep(SETTLE_S)
+        conn.poll(0.0)
+        assert conn.state is not None and conn.scene is not None and conn.particulars[0]["draught_m"] == 0.46
+        assert len(conn.scene["features"]) == len(P.scenario_features(sc))
+        land = np.array(clients._CHART["land"])
+        shoal = np.array(clients._SHOAL)
+
+        def count(frame, colour):
+            return int(np.all(frame == colour, axis=-1).sum())
+
+        plain = clients.render_frame_array(conn.state)
+        charted = clients.render_frame_array(conn.state, scene=conn.scene, own_draught_m=0.46)
+        assert count(plain, land) == 0 and count(charted, land) > 1000
+        assert count(charted, shoal) > 100  # the outer bank (0.35 m) is shallower than the draught
+        # the chart is north up and centred on the ship at (-100, 0): the west shore is left of centre
+        h, w, _ = charted.shape
+        cols = np.nonzero(np.all(charted == land, axis=-1))[1]
+        left = min(320, w // 2)
+        assert np.any(cols < left + (w - left) / 2 - 50) and np.any(cols > left + (w - left) / 2 + 50)
+    finally:
+        conn.close()
+        link.close()
