@@ -18,6 +18,8 @@ land above the water).
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import math
 import socket
@@ -362,7 +364,10 @@ class Viewer3D:
         import viser
 
         self.link = link
-        self.server = viser.ViserServer(host=http[0], port=http[1], label="vessel-gym view3d", verbose=False)
+        with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner; ours names the URL
+            self.server = viser.ViserServer(
+                host=http[0], port=http[1], label="vessel-gym view3d", verbose=False
+            )
         self.server.scene.set_up_direction("+z")
         self.server.gui.configure_theme(
             control_layout="collapsible", show_share_button=False, dark_mode=False
@@ -759,7 +764,8 @@ class Viewer3D:
         return "\n".join(lines)
 
     def close(self) -> None:
-        self.server.stop()
+        with contextlib.redirect_stdout(io.StringIO()):
+            self.server.stop()
 
 
 # ---------------------------------------------------------------------------------------------------------------
