@@ -242,8 +242,11 @@ def test_page_in_headless_chromium_draws_the_ship_moving(tmp_path):
             browser.pump(1.5)
             assert "YOU" not in browser.text()
             browser.press("h", "KeyH", 72)
-            browser.pump(1.5)
-            text = browser.text()
+            for _ in range(10):
+                browser.pump(0.5)
+                text = browser.text()
+                if "YOU" in text:
+                    break
             assert "YOU" in text, text
             browser.press("ArrowRight", "ArrowRight", 39)
             browser.pump(1.5)

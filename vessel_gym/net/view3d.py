@@ -8,8 +8,8 @@ three.js client is bundled in the package: no internet access at run time).
 
 The page is a watcher until someone presses ``H`` (or the "Take the helm" button): it then says ``hello`` as a
 helm panel and sends full orders at 10 Hz, starting from the orders in force. Keys: left/right arrows rudder
-5 deg to port/starboard, ``M`` midships, up/down arrows telegraph one step ahead/astern, ``H`` take or release
-the helm, ``C`` next camera (chase, bridge, top-down, harbour, free).
+5 deg to port/starboard, ``M`` midships, up/down arrows telegraph one step ahead/astern, ``H`` take and ``R``
+release the helm, ``C`` next camera (chase, bridge, top-down, harbour, free).
 
 Scene frame: x east, y north, z up, m, origin at the scenario's reference point (the link's ``y_m``, ``x_m``).
 What is drawn but not in the protocol is stated where it is chosen (freeboard, superstructure, heights of
@@ -410,11 +410,12 @@ class Viewer3D:
         self.helm_button = gui.add_button("Take the helm (H)")
         self.helm_button.on_click(lambda _e: self.toggle_helm())
         gui.add_markdown(
-            "Keys: **H** take/release the helm; **←/→** rudder 5° port/starboard; **M** midships; "
+            "Keys: **H** take the helm, **R** release it; **←/→** rudder 5° port/starboard; **M** midships; "
             "**↑/↓** telegraph ahead/astern; **C** next camera."
         )
         for label, key, action in (
-            ("Take or release the helm", "H", self.toggle_helm),
+            ("Take the helm", "H", lambda: self.set_helm(True)),
+            ("Release the helm", "R", lambda: self.set_helm(False)),
             ("Rudder 5 deg to port", "arrowleft", lambda: self.rudder(-RUDDER_STEP_DEG)),
             ("Rudder 5 deg to starboard", "arrowright", lambda: self.rudder(RUDDER_STEP_DEG)),
             ("Midships", "M", lambda: self.rudder(None)),
@@ -426,11 +427,15 @@ class Viewer3D:
             cmd.on_trigger(lambda _e, f=action: f())
 
     def toggle_helm(self) -> None:
-        if self.link.helm:
-            self.link.release_helm()
-        else:
+        self.set_helm(not self.link.helm)
+
+    def set_helm(self, take: bool) -> None:
+        """Take (True) or release the helm; separate keys, so that a repeated key press cannot undo itself."""
+        if take and not self.link.helm:
             self.link.take_helm()
-        self.helm_button.label = "Release the helm (H)" if self.link.helm else "Take the helm (H)"
+        elif not take and self.link.helm:
+            self.link.release_helm()
+        self.helm_button.label = "Release the helm (R)" if self.link.helm else "Take the helm (H)"
 
     def rudder(self, step: float | None) -> None:
         if not self.link.helm:
