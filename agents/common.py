@@ -662,15 +662,25 @@ def train(
 
 # --- evaluation ------------------------------------------------------------------------------------------------
 def run_record(agent: str | Path) -> dict[str, Any]:
-    """The run record ``<stem>.yml`` written next to a trained model (empty if there is none)."""
+    """The run record ``<stem>.yml`` written next to a trained model, else the JSON sidecar of a shipped
+    agent (``agents/shipped.py``), else empty."""
+    import json
+
     import yaml
 
     if str(agent) in BASELINES:
         return {}
     path = sidecar(agent, ".yml")
+    if path.is_file():
+        data = yaml.safe_load(path.read_text())
+        return data if isinstance(data, dict) else {}
+    path = sidecar(agent, ".json")
     if not path.is_file():
         return {}
-    data = yaml.safe_load(path.read_text())
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError) as exc:
+        raise UsageError(f"{path}: not a readable JSON sidecar ({exc})") from None
     return data if isinstance(data, dict) else {}
 
 
@@ -731,7 +741,8 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
     |change of rudder order| per second: helm activity). ZigZag: ``heading_error_deg`` (mean |target -
     heading| over the steps), ``overshoot_deg`` (IMO overshoots summed over the episode / course changes: the
     mean excursion past the target per course change, 0 for a target not passed), ``max_overshoot_deg``,
-    ``reached_pct`` (targets reached / course changes). TurningCircle: ``rate_error_pct`` (rate
+    ``reached_pct`` (targets reached / course changes); ZigZag-v1 and ZigZagRandom-v1 report these from
+    the environment's own per-course-change accounting (the open measurement included) and ``success``. TurningCircle: ``rate_error_pct`` (rate
     mode: mean |r - r_c| / |r_c|), ``success``. HarbourApproach: ``success``, ``outcome``,
     ``min_clearance_m``, ``time_s``.
     """
@@ -767,10 +778,10 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
         if kind == "zigzag":
             e = float(info["heading_error_deg"])
             heading_err.append(abs(e))
-            if int(info["overshoot_count"]) > os_count:
+            if "overshoot_count" in info and int(info["overshoot_count"]) > os_count:  # v0's finished ones
                 os_count = int(info["overshoot_count"])
                 overshoots.append(abs(float(info["last_overshoot_deg"])))
-            if not imo:
+            if not imo and "course_changes" not in info:
                 tgt = float(info["target_heading_deg"])
                 if target is None or abs(tgt - target) > 1e-9:
                     target, side0, leg_reached, legs = tgt, math.copysign(1.0, e), False, legs + 1
@@ -790,7 +801,16 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
         "rudder_deg": math.degrees(float(np.mean(rudder))),
         "rudder_rate_deg_s": math.degrees(float(np.mean(rudder_rate))),
     }
-    if kind == "zigzag":
+    if kind == "zigzag" and "course_changes" in info:
+        # ZigZag-v1: the environment measures per course change, the open measurement included
+        legs = int(info["course_changes"])
+        out["heading_error_deg"] = float(np.mean(heading_err))
+        out["overshoot_deg"] = float(info["overshoot_deg"])
+        out["max_overshoot_deg"] = float(info["max_overshoot_deg"])
+        out["reached_pct"] = 100.0 * int(info["targets_reached"]) / max(legs, 1)
+        out["course_changes"] = legs
+        out["success"] = bool(info["is_success"])
+    elif kind == "zigzag":
         if imo:
             legs, reached = int(info["executes"]), int(info["executes"]) - 1
         out["heading_error_deg"] = float(np.mean(heading_err))
@@ -839,12 +859,16 @@ def evaluate(
     seed: int = 0,
     env_kwargs: Mapping[str, Any] | None = None,
     progress: Callable[[int, dict[str, Any]], None] | None = None,
+    render_mode: str | None = None,
+    wrap: Callable[[Any], Any] | None = None,
 ) -> dict[str, Any]:
     """Run ``episodes`` episodes (episode i from ``reset(seed=seed + i)``) of a baseline or trained agent.
 
     ``env_kwargs`` default to the evaluation arguments of the model's run record (``eval_env_kwargs`` of its
     hyperparameter block, which default to its ``env_kwargs``), else none. Returns
     ``{"env_id", "agent", "env_kwargs", "summary", "episodes"}``; see :func:`run_episode` for the metrics.
+    ``render_mode`` is passed to ``gym.make``; ``wrap(env)`` may wrap the environment (recording tracks or
+    frames, :mod:`agents.visual`) without changing what the agent sees.
     """
     env_id = resolve_env_id(env_id)
     if episodes < 1:
@@ -857,7 +881,9 @@ def evaluate(
         raise UsageError(f"agent {spec!r} was trained on {rec['env_id']}, not {env_id}")
     recorded = rec.get("eval_env_kwargs", rec.get("env_kwargs"))
     kwargs = dict(recorded or {}) if env_kwargs is None else dict(env_kwargs)
-    env = make_env(env_id, kwargs)
+    env = make_env(env_id, kwargs if render_mode is None else {**kwargs, "render_mode": render_mode})
+    if wrap is not None:
+        env = wrap(env)
     try:
         policy = load_agent(spec, env)
         eps = []

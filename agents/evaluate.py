@@ -12,6 +12,19 @@ TurningCircle: rate PI), ``scripted`` (IMO zig-zag rule / 35 deg turn / harbour 
 ``train.py``. A model is evaluated with the environment arguments it was trained with (its run record
 ``<stem>.yml``) unless ``--env-kwargs`` is given; compare baselines with the same ``--env-kwargs``.
 Bad arguments: exit code 2 and one line on stderr.
+
+``--json`` prints ONE JSON object on stdout (progress goes to stderr): ``episodes`` (count),
+``mean_return``, ``std_return`` and, where the task has them, ``success_rate``, ``mean_heading_error_deg``,
+``mean_overshoot_deg`` (per course change; the environment's own accounting where it has one, the
+unfinished overshoot included), ``mean_rudder_deg``, ``mean_rudder_rate_deg_s``, and every other summary
+metric as ``mean_<metric>``; ``summary`` and ``per_episode`` carry the full detail.
+A shipped agent (``agents/trained/<algo>_<env>_seed<N>.zip`` with its JSON sidecar, ``agents/shipped.py``)
+is evaluated with the environment arguments its sidecar names.
+
+Pictures (``agents/visual.py``): ``--render DIR`` writes chart frames ``DIR/ep<i>_<step>.png`` every
+``--frame-every`` steps and the trajectory plot ``DIR/trajectories_<agent>.png``; ``--plot FILE`` writes
+the trajectory plot elsewhere; ``--video FILE`` an animated ``.gif`` (Pillow) or ``.mp4`` (needs imageio and
+imageio-ffmpeg).
 """
 
 from __future__ import annotations
@@ -76,7 +89,57 @@ def build_parser() -> argparse.ArgumentParser:
         help="environment arguments (YAML values)",
     )
     p.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    p.add_argument("--render", metavar="DIR", default=None, help="write chart frames and the trajectory plot")
+    p.add_argument(
+        "--frame-every",
+        type=int_at_least("--frame-every", 1),
+        default=4,
+        help="with --render/--video: one frame every N steps (default 4)",
+    )
+    p.add_argument("--video", metavar="FILE", default=None, help="animated .gif or .mp4 of the episodes")
+    p.add_argument("--plot", metavar="FILE", default=None, help="trajectory plot (PNG) of the episodes")
     return p
+
+
+#: the flat metrics of the --json contract: output key -> summary key
+CONTRACT = (
+    ("mean_return", "return_mean"),
+    ("std_return", "return_std"),
+    ("mean_heading_error_deg", "heading_error_deg_mean"),
+    ("mean_overshoot_deg", "overshoot_deg_mean"),
+    ("mean_rudder_deg", "rudder_deg_mean"),
+    ("mean_rudder_rate_deg_s", "rudder_rate_deg_s_mean"),
+)
+
+
+def contract(result: dict[str, Any], files: dict[str, str] | None = None) -> dict[str, Any]:
+    """The ``--json`` object: the contract's flat keys first, then every other metric, then the detail."""
+    s = result["summary"]
+    out: dict[str, Any] = {
+        "env_id": result["env_id"],
+        "agent": result["agent"],
+        "env_kwargs": result["env_kwargs"],
+        "episodes": s["episodes"],
+        "seeds": [e["seed"] for e in result["episodes"]],
+    }
+    for key, src in CONTRACT:
+        if src in s:
+            out[key] = s[src]
+    if "success_rate" in s:
+        out["success_rate"] = s["success_rate"]
+    for k, v in s.items():
+        if k.endswith("_mean") and f"mean_{k[:-5]}" not in out:
+            out[f"mean_{k[:-5]}"] = v
+    if "outcomes" in s:
+        out["outcomes"] = s["outcomes"]
+    out["files"] = files or {}
+    out["summary"] = s
+    out["per_episode"] = result["episodes"]
+    return out
+
+
+def _progress(i: int, ep: dict[str, Any]) -> None:
+    print(f"episode {i + 1} (seed {ep['seed']}): return {ep['return']:.3f}", file=sys.stderr, flush=True)
 
 
 def format_summary(result: dict[str, Any]) -> str:
@@ -103,12 +166,76 @@ def main(argv: list[str] | None = None) -> int:
     try:
         kwargs = parse_assignments(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None else None
         seed = args.seed if args.seed is not None else seeds.SPLITS[args.split]
-        result = evaluate(args.env, args.agent, args.episodes, seed, kwargs)
+        result, files = run(args, seed, kwargs)
     except UsageError as exc:
         print(f"evaluate.py: error: {exc}", file=sys.stderr)
         return 2
-    print(json.dumps(json_safe(result)) if args.json else format_summary(result))
+    if args.json:
+        print(json.dumps(json_safe(contract(result, files))))
+    else:
+        print(format_summary(result))
+        for what, path in files.items():
+            print(f"  {what:34s} {path}")
     return 0
+
+
+def run(args: argparse.Namespace, seed: int, kwargs: dict[str, Any] | None) -> tuple[dict[str, Any], dict]:
+    """Evaluate as the arguments say; returns the result and the picture files written."""
+    from agents import visual
+
+    pictures = args.render is not None or args.video is not None or args.plot is not None
+    if args.video is not None:
+        visual.check_video_path(args.video)
+    for opt, path in (("--video", args.video), ("--plot", args.plot)):
+        if path is not None and Path(path).exists():
+            raise UsageError(f"{opt} {path}: file exists (not overwritten)")
+    if args.plot is not None and Path(args.plot).suffix.lower() != ".png":
+        raise UsageError(f"--plot {args.plot}: expected a file ending in .png")
+    if args.render is not None and Path(args.render).is_file():
+        raise UsageError(f"--render {args.render}: is a file, expected a directory")
+    if args.render is not None and Path(args.render).is_dir() and any(Path(args.render).iterdir()):
+        raise UsageError(f"--render {args.render}: directory is not empty (nothing is overwritten)")
+    recorders: list[Any] = []
+
+    def wrap(env: Any) -> Any:
+        rec = visual.Recorder(
+            env, frames_dir=args.render, frame_every=args.frame_every, keep_frames=args.video is not None
+        )
+        recorders.append(rec)
+        return rec
+
+    frames = args.render is not None or args.video is not None
+    result = evaluate(
+        args.env,
+        args.agent,
+        args.episodes,
+        seed,
+        kwargs,
+        progress=_progress,
+        render_mode="rgb_array" if frames else None,
+        wrap=wrap if pictures else None,
+    )
+    files: dict[str, str] = {}
+    if not recorders:
+        return result, files
+    rec = recorders[0]
+    name = Path(result["agent"]).stem
+    title = f"{name} on {result['env_id']}: {len(rec.tracks)} episodes"
+    labels = [f"seed {e['seed']}" for e in result["episodes"]]
+    plots = [Path(args.plot)] if args.plot is not None else []
+    if args.render is not None:
+        plots.append(Path(args.render) / f"trajectories_{name}.png")
+        files["frames"] = f"{args.render} ({len(rec.frame_files)} PNG)"
+    for i, p in enumerate(plots):
+        files["trajectory plot" if i == 0 else f"trajectory plot {i + 1}"] = str(
+            visual.plot_trajectories(rec.tracks, rec, p, title, labels)
+        )
+    if args.video is not None:
+        dt = float(rec.unwrapped.config.control_interval_s)
+        # real time would be slow to watch: ten times faster than the simulation
+        fps = min(max(10.0 / (dt * args.frame_every), 1.0), 30.0)
+        files["video"] = str(visual.write_video(rec.frames, args.video, fps))
+    return result, files
 
 
 if __name__ == "__main__":

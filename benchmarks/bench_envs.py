@@ -20,7 +20,12 @@ import numpy as np
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
 
-IDS = ("vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0")
+IDS = (
+    "vessel_gym/ZigZag-v0",
+    "vessel_gym/ZigZag-v1",
+    "vessel_gym/TurningCircle-v0",
+    "vessel_gym/HarbourApproach-v0",
+)
 BASE = "CartPole-v1"
 
 

@@ -7,7 +7,9 @@ rudder and steering gear, wind loads -- through the public API, ``Simulation.ste
   derivatives) in the same wind;
 * batches of 1, 1024 and 16384 vessels, each turning with 10 deg of rudder from spread headings;
 * a reasonable number of steps per call (a control interval's worth or more) and nsteps=1, whose extra cost
-  per call is the Python-side overhead of one ``step``.
+  per call is the Python-side overhead of one ``step``;
+* with a user component written in Python (numpy): ``reset`` and ``step`` at N = 256, 1024 and 4096, whose
+  cost per vessel should not grow with N.
 
 Every figure is the median over ``--repeats`` timed repeats, after a warm-up call (compilation and caches).
 Targets on the 2-core reference machine: >= 1,000,000 steps/s for one ship, >= 5,000,000 vessel-steps/s
@@ -34,6 +36,7 @@ import time
 import numba
 import numpy as np
 
+from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.integrate import RK4, run_parallel, run_serial
 from vessel_gym.physics.simulation import PARALLEL_MIN_BATCH, PARALLEL_MIN_WORK, Simulation
@@ -106,6 +109,41 @@ def bench_step(repeats: int, cases) -> None:
             )
             if not sim.alive.all():
                 print(f"  warning: {int((~sim.alive).sum())} vessels diverged during the benchmark")
+
+
+class SwayYawDamping:
+    """A user component written in numpy: extra linear sway and yaw damping (Y = -c_v v, N = -c_r r), the
+    kind of force a user adds from Python. Vectorised over the batch, as components should be."""
+
+    def __init__(self, c_v_N_s_m: float, c_r_N_m_s: float) -> None:
+        self.c_v = c_v_N_s_m
+        self.c_r = c_r_N_m_s
+
+    def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray:
+        F = np.zeros((x.shape[0], 3))
+        F[:, 1] = -self.c_v * x[:, lo.X_V]
+        F[:, 2] = -self.c_r * x[:, lo.X_R]
+        return F
+
+
+COMPONENT_BATCHES = (256, 1024, 4096)
+
+
+def bench_components(repeats: int) -> None:
+    """A Python component's cost: ``reset`` of all vessels and ``step(10)``, both O(N) (per-vessel figures
+    should stay flat as N grows; a reset once cost O(N^2): 20 / 105 / 978 ms at N = 256 / 1024 /
+    4096)."""
+    print(
+        "\nwith a Python component (kvlcc2, numpy sway-yaw damping): reset of all vessels and step(10), median"
+    )
+    print(f"{'N':>6s} {'reset ms':>9s} {'us/vessel':>10s} {'step ms':>9s} {'ns/vessel-step':>15s}")
+    for n in COMPONENT_BATCHES:
+        sim = Simulation("kvlcc2", n=n, dt=0.1, environment=WIND, components=[SwayYawDamping(1e6, 1e10)])
+        headings = np.linspace(0.0, 360.0, n, endpoint=False)
+        tr, _ = time_calls(lambda sim=sim, h=headings: sim.reset(heading_deg=h), repeats)
+        sim.set_helm(rudder_order_rad=np.deg2rad(10.0))
+        ts, _ = time_calls(lambda sim=sim: sim.step(10), repeats)
+        print(f"{n:6d} {tr * 1e3:9.1f} {tr / n * 1e6:10.1f} {ts * 1e3:9.2f} {ts / (10 * n) * 1e9:15.1f}")
 
 
 def cpu_per_call(call, repeats: int) -> float:
@@ -200,6 +238,7 @@ def main(argv: list[str] | None = None) -> None:
         f"load average {load:.2f}, {repeats} repeats"
     )
     bench_step(repeats, cases)
+    bench_components(repeats)
     if args.drivers:
         bench_drivers(repeats)
     if args.cli:

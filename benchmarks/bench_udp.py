@@ -17,6 +17,11 @@ Figures printed:
    timed around an environment that costs nothing (the robust figure on a busy machine); and HarbourApproach
    steps per second with one helm panel (20 Hz commands), three viewers at 50 Hz and 2 Hz NMEA, without and
    with the scenario's traffic (simulated too, sent as AIS).
+5. ``vessel-gym serve`` at time factor 1 (in a separate process) with viewers asking for 10, 20 and 50 Hz:
+   the state rate each one receives over ``--rates`` s of wall-clock time, and how often the ``t_s`` it sees
+   changes (the physics moves every 50 ms in the harbour, the agent every 250 ms).
+
+All clients join with the cookie handshake of docs/protocol.md (``ServerConnection``).
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from vessel_gym.net import protocol as P
+from vessel_gym.net.clients import ServerConnection
 from vessel_gym.net.link import LinkConfig, UdpLink
 from vessel_gym.net.pacing import RealTimePacer
 from vessel_gym.physics.bridge import BridgeReading
@@ -94,35 +100,22 @@ def _clients(
     server: tuple[str, int], duration_s: float, viewer_rates: tuple[float, ...] = (10.0, 20.0, 50.0)
 ) -> None:
     """One helm panel at 20 Hz and viewers at ``viewer_rates``, keep-alive every 0.5 s, draining their sockets."""
-    socks = []
-    for role, rate in (("helm", 20.0), *(("viewer", r) for r in viewer_rates)):
-        s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        s.setblocking(False)
-        s.bind(("127.0.0.1", 0))
-        socks.append((s, P.encode_hello(role, rate)))
-    helm = socks[0][0]
+    conns = [ServerConnection(server, "helm", 20.0)]
+    conns += [ServerConnection(server, "viewer", r) for r in viewer_rates]
+    helm = conns[0]
     start = time.monotonic()
-    next_hello = next_helm = start
-    seq = 0
+    next_helm = start
     while time.monotonic() - start < duration_s:
         now = time.monotonic()
-        if now >= next_hello:
-            for s, hello in socks:
-                s.sendto(hello, server)
-            next_hello += 0.5
+        for c in conns:
+            c.keepalive(now)
+            c.poll(now)
         if now >= next_helm:
-            seq += 1
-            helm.sendto(P.encode_helm(seq, 10.0 * np.sin(now), telegraph=3), server)
+            helm.send_helm(10.0 * np.sin(now), telegraph=3)  # sent once the handshake gave a session
             next_helm += 0.05
-        for s, _ in socks:
-            while True:
-                try:
-                    s.recv(65536)
-                except BlockingIOError:
-                    break
         time.sleep(0.005)
-    for s, _ in socks:
-        s.close()
+    for c in conns:
+        c.close()
 
 
 def bench_live_loop(duration_s: float) -> None:
@@ -297,16 +290,61 @@ def _wrapper_with_peers(traffic, block_steps: int, peers_s: float) -> None:
     sink.close()
 
 
+def _serve_process(port: int, duration_s: float) -> None:
+    import io
+
+    from vessel_gym.net.serve import serve
+
+    serve("harbour", json_bind=("127.0.0.1", port), nmea=[], duration_s=duration_s, seed=0, out=io.StringIO())
+
+
+def bench_serve_rates(duration_s: float, rates: tuple[float, ...] = (10.0, 20.0, 50.0)) -> None:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    warmup_s = 8.0  # imports, numba cache load and the handshake
+    proc = mp.get_context("spawn").Process(target=_serve_process, args=(port, warmup_s + duration_s + 2.0))
+    proc.start()
+    conns = {r: ServerConnection(("127.0.0.1", port), "viewer", r) for r in rates}
+    seen: dict[float, list[float]] = {r: [] for r in rates}
+    start = time.monotonic()
+    t_window = None
+    while time.monotonic() - start < warmup_s + duration_s + 1.0:
+        now = time.monotonic()
+        for r, c in conns.items():
+            c.keepalive(now)
+            before = c.states_received
+            c.poll(now)
+            if c.states_received > before and t_window is not None and 0.0 <= now - t_window < duration_s:
+                seen[r].append(float(c.state["t_s"]))
+        if t_window is None and all(c.states_received > 0 for c in conns.values()):
+            t_window = time.monotonic() + 0.5
+        time.sleep(0.001)
+    for c in conns.values():
+        c.close()
+    proc.join()
+    for r in rates:
+        ts = seen[r]
+        changes = int(np.count_nonzero(np.diff(ts))) if len(ts) > 1 else 0
+        print(
+            f"  requested {r:4.0f} Hz: received {len(ts) / duration_s:5.1f} states/s, "
+            f"t_s changed {changes / duration_s:5.1f} times/s"
+        )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float, default=5.0, help="live 50 Hz loop length, s")
     parser.add_argument("--pacing", type=float, default=10.0, help="20 Hz pacing run length, s")
     parser.add_argument("--repeats", type=int, default=15, help="wrapper overhead: timing blocks per env")
-    parser.add_argument("--quick", action="store_true", help="short runs (2 s loop, 2 s pacing, 7 repeats)")
+    parser.add_argument("--rates", type=float, default=10.0, help="serve state-rate window, s")
+    parser.add_argument(
+        "--quick", action="store_true", help="short runs (2 s loop, 2 s pacing, 7 repeats, 4 s rates)"
+    )
     args = parser.parse_args()
     block_steps, peers_s = 1000, 5.0
     if args.quick:
-        args.duration, args.pacing, args.repeats = 2.0, 2.0, 7
+        args.duration, args.pacing, args.repeats, args.rates = 2.0, 2.0, 7, 4.0
         block_steps, peers_s = 500, 2.0
 
     print("1. service() with no peers")
@@ -327,6 +365,8 @@ def main() -> None:
     bench_pacing(args.pacing)
     print(f"4. UdpLinkWrapper overhead (no peers, NMEA off; median of {args.repeats} x {block_steps} steps)")
     bench_wrapper(args.repeats, block_steps, peers_s)
+    print(f"5. serve at time factor 1: delivered state rate per viewer over {args.rates:.0f} s")
+    bench_serve_rates(args.rates)
 
 
 if __name__ == "__main__":

@@ -12,13 +12,13 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from . import __version__
-from .case import ittc57
 from .clarke import clarke83, soding_surge_added_mass
 from .config import GRADINGS
 from .errors import CfdError
@@ -31,11 +31,11 @@ from .fitting import (
     fit_static_drift,
     nondimensionalise,
 )
+from .friction import ittc57
+from .jobs import FinishedStudy
 from .postprocess import body_forces, read_forces
+from .report import write_report
 from .shipfile import build_ship, default_template, load_template, scale_factor_to, validate_ship, write_ship
-
-if TYPE_CHECKING:
-    from .pipeline import Pipeline, StudyResult
 
 SEA_WATER_NU = 1.1892e-6  # m²/s, ITTC 7.5-02-01-03 sea water at 15 °C (full-scale friction)
 SHIP_KEYS = (
@@ -58,6 +58,17 @@ SHIP_KEYS = (
     "N_rdot",
 )
 CLARKE_KEYS = ("Y_v", "Y_r", "N_v", "N_r", "Y_vdot", "Y_rdot", "N_vdot", "N_rdot")
+
+
+@dataclass
+class StudyResult:
+    """What a finished study produced (paths and the derivative set)."""
+
+    ship_file: Path
+    report_dir: Path
+    derivatives: dict[str, float]
+    normalisation: str
+    provenance: dict[str, Any]
 
 
 def full_scale_resistance(
@@ -92,7 +103,7 @@ def _window(t: np.ndarray, t_end: float, span: float) -> np.ndarray:
     return t >= t_end - span - 1e-9 * max(1.0, t_end)
 
 
-def _pmm_runs(p: Pipeline, kind: str) -> list[dict[str, Any]]:
+def _pmm_runs(p: FinishedStudy, kind: str) -> list[dict[str, Any]]:
     """Body-axis force time series of each finished PMM run of ``kind`` (fit window and all)."""
     s = p.study
     runs = []
@@ -138,13 +149,10 @@ def _clean(obj: Any) -> Any:
     return obj
 
 
-def analyse(p: Pipeline) -> StudyResult:
-    """Fit every test, write ``ship.toml`` and ``report/``; return the :class:`StudyResult`."""
-    from .pipeline import StudyResult  # noqa: PLC0415 - cycle: pipeline imports this module lazily
-    from .report import write_report  # noqa: PLC0415 - matplotlib only when reporting
-
+def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
+    """Fit every test, write ``ship.toml`` and ``report/`` (with plots if ``plots``); return the
+    :class:`StudyResult`."""
     s = p.study
-    assert p.hull is not None and p.spec is not None
     hydro = p.hull.hydro
     L, B, T, rho, U = s.lpp, s.bwl, s.tm, s.rho, s.U_ref
     C_B = hydro.volume_m3 / (L * B * T)
@@ -385,7 +393,7 @@ def analyse(p: Pipeline) -> StudyResult:
         "clarke83": {k: clarke[k] for k in CLARKE_KEYS},
         "scale": {**scale_info, "resistance_N": R0, "resistance_speed_m_s": U_out},
         "template": str(template_path) if template_path else "none (hull-only ship file)",
-        "wall_time_s": {k: round(v, 1) for k, v in p.wall.items()},
+        "wall_time_s": {k: round(v, 1) for k, v in p.wall_s.items()},
     }
     if "sway" in fits:
         dyn = nondimensionalise(
@@ -473,6 +481,7 @@ def analyse(p: Pipeline) -> StudyResult:
     write_report(
         report_dir,
         p,
+        plots=plots,
         fits=fits,
         pmm_runs=pmm_runs,
         model_prime=model_prime,

@@ -13,6 +13,7 @@ Exit codes: 0 success, 1 a CFD step failed (one line on stderr naming the step a
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import sys
@@ -25,11 +26,31 @@ from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_f
 from .errors import CfdError, InputError
 
 
+def _error_line(message: str) -> None:
+    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
+    print(text, file=sys.stderr)
+
+
+class _DefaultsFormatter(argparse.HelpFormatter):
+    """Help that shows each option's argparse default where it has one."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        if "%(default)" not in text and action.default not in (None, False, argparse.SUPPRESS):
+            text += " (default: %(default)s)"
+        return text
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse with a one-line error and exit code 2."""
+    """argparse with a one-line error, exit code 2 and defaults in the help."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("formatter_class", _DefaultsFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> NoReturn:
-        print(f"vessel-cfd: error: {message}", file=sys.stderr)
+        _error_line(f"vessel-cfd: error: {message}")
         raise SystemExit(2)
 
 
@@ -47,11 +68,11 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
     ("name", "ship name in the ship file"),
     ("x-ap", "x of the aft perpendicular in the STL (m; default: aft end of the underwater hull)"),
     ("z-keel", "z of the keel in the STL (m; default: lowest point)"),
-    ("speeds", "tow speeds (m/s): 1.0 | 0.8,1.0,1.2 | MIN:MAX:COUNT"),
+    ("speeds", "tow speeds (m/s): 1.0 | 0.8,1.0,1.2 | MIN:MAX:COUNT (default: --pmm-speed, else Fn = 0.2)"),
     ("pmm-speed", "speed of the drift, sway and yaw tests (m/s; default: highest tow speed)"),
     ("drift-deg", "drift angles (deg), list or MIN:MAX:COUNT"),
     ("sway-period", "pure sway period (s; default pi L / U)"),
-    ("sway-amplitude", "pure sway amplitudes (m), list or MIN:MAX:COUNT"),
+    ("sway-amplitude", "pure sway amplitudes (m), list or MIN:MAX:COUNT (default: 0.025 L)"),
     ("yaw-period", "pure yaw period (s; default pi L / U)"),
     ("yaw-deg", "pure yaw heading amplitudes (deg), list or MIN:MAX:COUNT"),
     ("cycles", "PMM periods simulated (first half period is a start ramp)"),
@@ -70,6 +91,27 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
 )
 
 
+# Study defaults that mean "derived from other settings"; their help text says what they become instead.
+_DERIVED = (None, "", (), 0, 0.0, -1.0)
+
+
+def _run_help(opt: str, text: str) -> str:
+    """The help of a run option with the Study's default appended (the default lives in one place: Study)."""
+    field = {f.name: f for f in dataclasses.fields(Study)}.get(opt.replace("-", "_"))
+    if field is None or field.default is dataclasses.MISSING or "default" in text:
+        return text
+    d = field.default
+    if isinstance(d, bool):
+        shown = str(d).lower()
+    elif d in _DERIVED:
+        return text
+    elif isinstance(d, tuple):
+        shown = ",".join(f"{x:g}" if isinstance(x, float) else str(x) for x in d)
+    else:
+        shown = f"{d:g}" if isinstance(d, float) else str(d)
+    return f"{text} (default: {shown})"
+
+
 def _parser() -> _Parser:
     p = _Parser(prog="vessel-cfd", description="OpenFOAM PMM tests -> hydrodynamic derivatives -> ship file.")
     p.add_argument("--version", action="version", version=f"vessel-cfd {__version__}")
@@ -77,7 +119,7 @@ def _parser() -> _Parser:
     run = sub.add_parser("run", help="run a study non-interactively")
     run.add_argument("--study", help="study TOML file (keys as the options below, with underscores)")
     for opt, text in RUN_OPTIONS:
-        run.add_argument(f"--{opt}", help=text)
+        run.add_argument(f"--{opt}", help=_run_help(opt, text))
     run.add_argument("--quiet", action="store_true", help="no progress lines")
     sub.add_parser("interactive", help="interactive set-up (the default without a command)")
     w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
@@ -103,6 +145,11 @@ def _run(args: argparse.Namespace) -> int:
 def _execute(study: Study, quiet: bool = False) -> int:
     from .pipeline import Pipeline  # noqa: PLC0415 - keeps `vessel-cfd --help` light
     from .runner import Progress  # noqa: PLC0415
+
+    try:  # the output directory is checked before any work starts
+        study.out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError("out", f"cannot create directory {study.out} ({exc.strerror or exc})") from None
 
     result = Pipeline(study, Progress(quiet=quiet)).run()
     d = result.derivatives
@@ -367,11 +414,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         result = interactive()
         return result if isinstance(result, int) else 0
     except InputError as exc:
-        print(f"vessel-cfd: error: {exc}", file=sys.stderr)
+        _error_line(f"vessel-cfd: error: {exc}")
         return 2
     except CfdError as exc:
-        print(f"vessel-cfd: {exc}", file=sys.stderr)
+        _error_line(f"vessel-cfd: {exc}")
         return 1
+    except OSError as exc:  # a file or directory given on the command line that the system refuses
+        where = f"{exc.filename}: " if exc.filename else ""
+        _error_line(f"vessel-cfd: error: {where}{exc.strerror or exc}")
+        return 2
     except KeyboardInterrupt:
         print("vessel-cfd: interrupted; finished cases are kept and a rerun resumes", file=sys.stderr)
         return 130

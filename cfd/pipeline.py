@@ -22,15 +22,14 @@ import json
 import math
 import shutil
 import time
-from collections.abc import Callable
 from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from . import __version__
+from .analysis import StudyResult, analyse
 from .case import (
     HULL_PATCH,
     FlowSpec,
@@ -47,6 +46,7 @@ from .case import (
 from .config import Study
 from .errors import CfdError
 from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, write_stl
+from .jobs import FinishedStudy, Job
 from .postprocess import body_forces, forces_settled, read_forces, steady_forces
 from .runner import Progress, check_openfoam, mpi_available, parse_check_mesh, read_boundary, run_app
 
@@ -69,30 +69,6 @@ def _latest_time(case: Path) -> Path:
     if not times:
         raise CfdError(f"results ({case.name})", "no time directory was written", case)
     return max(times)[1]
-
-
-@dataclass
-class Job:
-    """One OpenFOAM case of the study."""
-
-    name: str
-    kind: str  # mesh, tow, drift, sway, yaw
-    label: str
-    key: dict[str, Any]
-    action: Callable[[Job, Path, int], dict[str, Any]]
-    params: dict[str, Any] = field(default_factory=dict)  # what the case imposes (speed, angle, motion)
-    summary: dict[str, Any] = field(default_factory=dict)  # what it gave (forces, cells, ...)
-
-
-@dataclass
-class StudyResult:
-    """What a finished study produced (paths and the derivative set)."""
-
-    ship_file: Path
-    report_dir: Path
-    derivatives: dict[str, float]
-    normalisation: str
-    provenance: dict[str, Any]
 
 
 class Pipeline:
@@ -432,6 +408,6 @@ class Pipeline:
 
     def finish(self) -> StudyResult:
         """Fit, write the ship file and the report from the finished cases."""
-        from .analysis import analyse  # local: keeps the module graph acyclic
-
-        return analyse(self)
+        assert self.hull is not None and self.spec is not None, "finish() follows run()"
+        done = FinishedStudy(self.study, self.hull, self.spec, dict(self.jobs), self.cases, dict(self.wall))
+        return analyse(done, plots=self.plots)

@@ -9,15 +9,14 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from .fitting import FitResult, harmonic_fit
+from .friction import ittc57
+from .jobs import FinishedStudy
 from .postprocess import read_forces
-
-if TYPE_CHECKING:
-    from .pipeline import Pipeline
 
 
 def _scales(norm: str, rho: float, U: float, L: float) -> tuple[float, float]:
@@ -27,8 +26,9 @@ def _scales(norm: str, rho: float, U: float, L: float) -> tuple[float, float]:
 
 def write_report(
     report_dir: Path,
-    p: Pipeline,
+    p: FinishedStudy,
     *,
+    plots: bool = True,
     fits: dict[str, FitResult],
     pmm_runs: dict[str, list],
     model_prime: dict[str, float],
@@ -36,10 +36,11 @@ def write_report(
     origin: dict[str, str],
     provenance: dict[str, Any],
 ) -> list[Path]:
-    """Write the plots and ``summary.md`` into ``report_dir``; return the files written."""
+    """Write the plots (unless ``plots`` is false or matplotlib is missing) and ``summary.md`` into
+    ``report_dir``; return the files written."""
     written: list[Path] = []
     plt = None
-    if p.plots:
+    if plots:
         try:
             import matplotlib  # noqa: PLC0415 - optional dependency
 
@@ -50,7 +51,7 @@ def write_report(
     if plt is not None:
         written += _plots(plt, report_dir, p, fits, pmm_runs)
     no_plots = (
-        "plots switched off" if not p.plots else ("" if plt is not None else "matplotlib is not installed")
+        "plots switched off" if not plots else ("" if plt is not None else "matplotlib is not installed")
     )
     written.append(_summary(report_dir, p, model_prime, clarke, origin, provenance, written, no_plots))
     return written
@@ -63,7 +64,9 @@ def _save(plt, fig, path: Path, written: list[Path]) -> None:
     written.append(path)
 
 
-def _plots(plt, out: Path, p: Pipeline, fits: dict[str, FitResult], pmm_runs: dict[str, list]) -> list[Path]:
+def _plots(
+    plt, out: Path, p: FinishedStudy, fits: dict[str, FitResult], pmm_runs: dict[str, list]
+) -> list[Path]:
     s = p.study
     L, rho, U, norm = s.lpp, s.rho, s.U_ref, s.normalisation
     F0, M0 = _scales(norm, rho, U, L)
@@ -86,8 +89,6 @@ def _plots(plt, out: Path, p: Pipeline, fits: dict[str, FitResult], pmm_runs: di
         ax[0].set_xlabel("U (m/s)")
         ax[0].set_ylabel("R = -X (N)")
         ax[0].legend()
-        from .case import ittc57  # noqa: PLC0415
-
         fn = u / math.sqrt(9.81 * L)
         ct = -X / (0.5 * rho * S * u**2)
         cf = np.array([ittc57(x * L / s.nu) for x in u])
@@ -229,7 +230,7 @@ def _fmt(x: Any) -> str:
 
 def _summary(
     out: Path,
-    p: Pipeline,
+    p: FinishedStudy,
     model_prime: dict[str, float],
     clarke: dict[str, float],
     origin: dict[str, str],

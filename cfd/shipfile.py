@@ -99,10 +99,10 @@ def dumps_toml(data: Mapping[str, Any], header: str = "") -> str:
 def default_template() -> Path | None:
     """The project's built-in DTC ship file, if this installation has it."""
     try:
-        import vessel_gym  # noqa: PLC0415 - optional, only to locate package data
+        from vessel_gym.physics.shipfile import SHIP_DIR  # noqa: PLC0415 - optional, only to locate package data
     except ImportError:
         return None
-    path = Path(vessel_gym.__file__).parent / "physics" / "data" / "ships" / "dtc.toml"
+    path = SHIP_DIR / "dtc.toml"
     return path if path.is_file() else None
 
 

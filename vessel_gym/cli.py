@@ -6,15 +6,40 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from collections.abc import Sequence
+
+
+def _error_line(message: str) -> None:
+    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
+    print(text, file=sys.stderr)
 
 
 class UsageError(Exception):
     """Bad command-line input (exit code 2)."""
 
 
+class _DefaultsFormatter(argparse.HelpFormatter):
+    """Help that shows each option's default (where it has one worth showing)."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        if (
+            "%(default)" not in text
+            and action.default not in (None, False, argparse.SUPPRESS)
+            and (action.option_strings or action.nargs in (argparse.OPTIONAL, argparse.ZERO_OR_MORE))
+        ):
+            text += " (default: %(default)s)"
+        return text
+
+
 class _Parser(argparse.ArgumentParser):
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("formatter_class", _DefaultsFormatter)
+        super().__init__(*args, **kwargs)
+
     def error(self, message: str) -> None:  # one line, exit 2 (argparse prints usage lines by default)
         raise UsageError(f"{self.prog}: {message}")
 
@@ -32,6 +57,32 @@ def _finite(kind: str, lo: float | None = None, hi: float | None = None):
         return x
 
     return conv
+
+
+def _int_in(kind: str, lo: int, hi: int | None = None):
+    """argparse type: an integer in [lo, hi] (hi None: no upper bound)."""
+
+    def conv(text: str) -> int:
+        try:
+            x = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{kind} must be an integer, got {text!r}") from None
+        if hi is None and x < lo:
+            raise argparse.ArgumentTypeError(f"{kind} must be >= {lo}, got {x}")
+        if hi is not None and not lo <= x <= hi:
+            raise argparse.ArgumentTypeError(f"{kind} {x} outside [{lo}, {hi}]")
+        return x
+
+    return conv
+
+
+SEED_MAX = 2**32 - 1  # the seed range of numpy's legacy generators, which every seeded part accepts
+
+
+def _add_ship(sp: argparse.ArgumentParser) -> None:
+    """A ship named either way: positional SHIP or --ship SHIP (main() checks that exactly one is given)."""
+    sp.add_argument("ship", nargs="?", default=None, help="built-in ship name or ship file (.toml)")
+    sp.add_argument("--ship", dest="ship_option", metavar="SHIP", default=None, help="the same, as an option")
 
 
 def _json_default(o):
@@ -62,11 +113,14 @@ def _fmt(d: dict) -> str:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from vessel_gym import __version__
+
     p = _Parser(prog="vessel-gym", description="Ship manoeuvring: IMO checks, manoeuvres, environments.")
+    p.add_argument("--version", action="version", version=f"vessel-gym {__version__}")
     sub = p.add_subparsers(dest="command", parser_class=_Parser)
 
     imo = sub.add_parser("imo", help="all IMO MSC.137(76) criteria for a ship (name or .toml path)")
-    imo.add_argument("ship")
+    _add_ship(imo)
     imo.add_argument("--json", action="store_true", help="machine-readable output")
     imo.add_argument(
         "--plot",
@@ -83,12 +137,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
     msub = man.add_subparsers(dest="manoeuvre", parser_class=_Parser)
-    common = dict(help="ship name or .toml path")
     tc = msub.add_parser("turning-circle")
-    tc.add_argument("--ship", required=True, **common)
     tc.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=35.0, help="deg, + = starboard")
     zz = msub.add_parser("zigzag")
-    zz.add_argument("--ship", required=True, **common)
     zz.add_argument(
         "--rudder",
         type=_finite("--rudder", -70, 70),
@@ -98,18 +149,23 @@ def build_parser() -> argparse.ArgumentParser:
     zz.add_argument(
         "--heading", type=_finite("--heading", 0.1, 89.9), default=None, help="deg (default |rudder|)"
     )
-    zz.add_argument("--overshoots", type=int, default=3)
+    zz.add_argument(
+        "--overshoots", type=_int_in("--overshoots", 1, 10), default=3, help="overshoots to measure"
+    )
     it = msub.add_parser("initial-turning")
-    it.add_argument("--ship", required=True, **common)
-    it.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=10.0)
+    it.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=10.0, help="deg, + = starboard")
     stp = msub.add_parser("stopping")
-    stp.add_argument("--ship", required=True, **common)
     po = msub.add_parser("pull-out")
-    po.add_argument("--ship", required=True, **common)
-    po.add_argument("--rudder", type=_finite("--rudder", 1, 70), default=20.0)
+    po.add_argument("--rudder", type=_finite("--rudder", 1, 70), default=20.0, help="deg, to starboard")
     for sp in (tc, zz, it, stp, po):
-        sp.add_argument("--speed", type=_finite("--speed", 0.1, 60), default=None, help="approach speed, kn")
-        sp.add_argument("--json", action="store_true")
+        _add_ship(sp)
+        sp.add_argument(
+            "--speed",
+            type=_finite("--speed", 0.1, 60),
+            default=None,
+            help="approach speed, kn (default: the ship's test speed)",
+        )
+        sp.add_argument("--json", action="store_true", help="machine-readable output")
         sp.add_argument(
             "--plot",
             metavar="FILE|DIR",
@@ -117,19 +173,27 @@ def build_parser() -> argparse.ArgumentParser:
         )
         sp.add_argument("--force", action="store_true", help="replace an existing plot file")
 
-    sub.add_parser("ships", help="list the built-in ships")
+    ships = sub.add_parser("ships", help="list the built-in ships with their particulars and sources")
+    ships.add_argument("--json", action="store_true", help="machine-readable output")
     sub.add_parser("scenarios", help="list the built-in scenarios")
 
     pl = sub.add_parser("play", help="drive a scenario's ship with the keyboard (pygame), debrief at the end")
     pl.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
-    pl.add_argument("--seed", type=int, default=None)
+    pl.add_argument(
+        "--seed", type=_int_in("--seed", 0, SEED_MAX), default=None, help="start pose and weather draw"
+    )
     pl.add_argument("--speedup", type=_finite("--speedup", 0.25, 16), default=1.0, help="initial time factor")
-    pl.add_argument("--max-steps", type=int, default=None, help="stop after this many control steps")
+    pl.add_argument(
+        "--max-steps",
+        type=_int_in("--max-steps", 1),
+        default=None,
+        help="stop after this many control steps (default: the 400 s time limit)",
+    )
     pl.add_argument("--out", default=".", help="directory for the debrief track plot")
     pl.add_argument("--force", action="store_true", help="replace an existing debrief plot")
 
     sv = sub.add_parser("serve", help="run a scenario in real time with the UDP link (NMEA, JSON state/helm)")
-    sv.add_argument("scenario", nargs="?", default="harbour")
+    sv.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
     sv.add_argument(
         "--nmea",
         metavar="HOST:PORT",
@@ -147,25 +211,41 @@ def build_parser() -> argparse.ArgumentParser:
         default=[],
         help="listen-only JSON destination (a viewer that never says hello; repeatable)",
     )
-    sv.add_argument("--time-factor", type=_finite("--time-factor", 0.1, 100), default=1.0)
+    sv.add_argument(
+        "--time-factor",
+        type=_finite("--time-factor", 0.1, 100),
+        default=1.0,
+        help="simulated seconds per wall-clock second",
+    )
     sv.add_argument(
         "--agent", default="pid", help="helm when no human holds it: pid, scripted or an SB3 .zip"
     )
     sv.add_argument("--allow-remote", action="store_true", help="allow binding to a non-loopback address")
-    sv.add_argument("--failsafe", choices=("hold", "midships_stop"), default="hold")
+    sv.add_argument(
+        "--failsafe",
+        choices=("hold", "midships_stop"),
+        default="hold",
+        help="orders when a helm panel falls silent",
+    )
     sv.add_argument(
         "--duration",
         type=_finite("--duration", 0.1, 1e7),
         default=None,
         help="stop after this many wall-clock seconds",
     )
-    sv.add_argument("--seed", type=int, default=None)
+    sv.add_argument(
+        "--seed", type=_int_in("--seed", 0, SEED_MAX), default=None, help="seed of the first episode"
+    )
 
     hm = sub.add_parser("helm", help="pygame helm panel for a running 'vessel-gym serve'")
-    hm.add_argument("--server", metavar="HOST:PORT", default="127.0.0.1:10120")
-    hm.add_argument("--name", default="helm")
+    hm.add_argument(
+        "--server", metavar="HOST:PORT", default="127.0.0.1:10120", help="the link's JSON channel"
+    )
+    hm.add_argument("--name", default="helm", help="name shown to the server and other clients")
     vw = sub.add_parser("view", help="passive pygame viewer of a running 'vessel-gym serve'")
-    vw.add_argument("--server", metavar="HOST:PORT", default="127.0.0.1:10120")
+    vw.add_argument(
+        "--server", metavar="HOST:PORT", default="127.0.0.1:10120", help="the link's JSON channel"
+    )
     vw.add_argument(
         "--listen",
         metavar="HOST:PORT",
@@ -173,17 +253,63 @@ def build_parser() -> argparse.ArgumentParser:
         help="wait for state sent to this address instead of saying hello (static destination)",
     )
     for sp in (hm, vw):
-        sp.add_argument("--duration", type=_finite("--duration", 0.1, 1e7), default=None)
+        sp.add_argument(
+            "--duration",
+            type=_finite("--duration", 0.1, 1e7),
+            default=None,
+            help="close after this many wall-clock seconds (default: when the window is closed)",
+        )
     v3 = sub.add_parser(
         "view3d", help="3D view in the browser of a running 'vessel-gym serve' (extra 'view3d')"
     )
-    v3.add_argument("--server", metavar="HOST:PORT", default="127.0.0.1:10120")
-    v3.add_argument("--http", metavar="HOST:PORT", default="127.0.0.1:8080", help="where the page is served")
-    v3.add_argument("--camera", default="chase", choices=("chase", "bridge", "top-down", "harbour", "free"))
-    v3.add_argument("--rate", type=_finite("--rate", 1.0, 50.0), default=20.0, help="state rate, Hz (1-50)")
-    v3.add_argument("--token", default=None, help="the link's shared secret, if it has one")
-    v3.add_argument("--duration", type=_finite("--duration", 0.1, 1e7), default=None)
+    v3.add_argument(
+        "--server", metavar="HOST:PORT", default="127.0.0.1:10120", help="the link's JSON channel"
+    )
+    v3.add_argument(
+        "--http", metavar="HOST:PORT", default="127.0.0.1:8080", help="where the page is served (loopback)"
+    )
+    v3.add_argument(
+        "--camera",
+        default="chase",
+        choices=("chase", "bridge", "top-down", "harbour", "free"),
+        help="first camera (C cycles them in the page)",
+    )
+    v3.add_argument(
+        "--rate",
+        type=_finite("--rate", 1.0, 50.0),
+        default=20.0,
+        help="state rate asked of the link, Hz (1-50)",
+    )
+    v3.add_argument(
+        "--duration",
+        type=_finite("--duration", 0.1, 1e7),
+        default=None,
+        help="stop after this many wall-clock seconds (default: at Ctrl-C)",
+    )
+    for sp in (sv, hm, vw, v3):
+        add_token_option(sp)
     return p
+
+
+TOKEN_ENV = "VESSEL_GYM_TOKEN"
+
+
+def add_token_option(parser: argparse.ArgumentParser) -> None:
+    """``--token`` of the JSON channel's commands (read with :func:`token_arg`)."""
+    parser.add_argument(
+        "--token",
+        default=None,
+        help=f"shared secret of the JSON channel, 1-128 characters (default: ${TOKEN_ENV}, else none)",
+    )
+
+
+def token_arg(args: argparse.Namespace) -> str | None:
+    """The token of ``--token`` or of ``$VESSEL_GYM_TOKEN`` (which keeps it out of the process list)."""
+    token = args.token if args.token is not None else os.environ.get(TOKEN_ENV) or None
+    if token is not None and not 1 <= len(token) <= 128:
+        where = "--token" if args.token is not None else f"${TOKEN_ENV}"
+        raise UsageError(f"vessel-gym {args.command}: {where} must be 1-128 characters, got {len(token)}")
+    return token
 
 
 def host_port(text: str, what: str) -> tuple[str, int]:
@@ -198,6 +324,78 @@ def host_port(text: str, what: str) -> tuple[str, int]:
     if not 0 <= p <= 65535:
         raise UsageError(f"vessel-gym: {what}: port {p} outside [0, 65535]")
     return host, p
+
+
+def resolve_address(addr: tuple[str, int], what: str) -> tuple[str, int]:
+    """Resolve the host of a UDP address to IPv4 (as the link's sockets use it); UsageError naming the
+    option if the name does not resolve."""
+    import socket
+
+    try:
+        return socket.gethostbyname(addr[0]), addr[1]
+    except (OSError, UnicodeError) as exc:
+        reason = getattr(exc, "strerror", None) or str(exc)
+        raise UsageError(f"vessel-gym: {what}: cannot resolve host {addr[0]!r} ({reason})") from None
+
+
+def check_bindable(addr: tuple[str, int], what: str) -> None:
+    """UsageError naming the option unless a UDP socket can bind ``addr`` on this machine."""
+    import socket
+
+    host, port = resolve_address(addr, what)
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
+        try:
+            sock.bind((host, port))
+        except OSError as exc:
+            raise UsageError(
+                f"vessel-gym: {what}: cannot listen on {addr[0]}:{addr[1]} ({exc.strerror or exc}); "
+                "give an address of this machine and a free port"
+            ) from None
+
+
+def _ship_name(args) -> str:
+    """The ship named by the positional SHIP or --ship (one of them, or both the same)."""
+    pos, opt = args.ship, args.ship_option
+    prog = " ".join(["vessel-gym", args.command] + ([args.manoeuvre] if args.command == "manoeuvre" else []))
+    if pos is not None and opt is not None and pos != opt:
+        raise UsageError(f"{prog}: two ships named ({pos!r} and --ship {opt!r}); give one")
+    if pos is None and opt is None:
+        raise UsageError(f"{prog}: name a ship: SHIP or --ship SHIP (see 'vessel-gym ships')")
+    return pos if pos is not None else opt
+
+
+def _cmd_ships(args) -> int:
+    from vessel_gym.physics.shipfile import builtin_ships, load_ship
+
+    rows = []
+    for name in builtin_ships():
+        ship = load_ship(name)
+        p = ship.particulars
+        rows.append(
+            {
+                "ship": name,
+                "hull_model": type(ship.hull).__name__.removesuffix("Hull"),
+                "L_m": p.L_m,
+                "B_m": p.B_m,
+                "T_m": p.T_m,
+                "displacement_t": round(ship.mass_kg / 1000.0, 1),
+                "test_speed_kn": p.test_speed_kn,
+                "source": ship.source.citation,
+            }
+        )
+    if args.json:
+        print(json.dumps(rows, allow_nan=False))
+        return 0
+    head = f"{'ship':<12}{'hull':<10}{'L m':>8}{'B m':>8}{'T m':>7}{'displ. t':>12}{'test kn':>9}"
+    lines = [head]
+    for r in rows:
+        lines.append(
+            f"{r['ship']:<12}{r['hull_model']:<10}{r['L_m']:8.2f}{r['B_m']:8.2f}{r['T_m']:7.2f}"
+            f"{r['displacement_t']:12,.1f}{r['test_speed_kn']:9.2f}"
+        )
+        lines.append(f"    source: {r['source']}")
+    print("\n".join(lines))
+    return 0
 
 
 def _cmd_imo(args) -> int:
@@ -276,6 +474,22 @@ def _cmd_manoeuvre(args) -> int:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``vessel-gym`` command; returns the exit code."""
+    try:
+        code = _main(argv)
+        sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        # The reader went away (``vessel-gym imo kvlcc2 --json | head``): stop quietly, as other tools in a
+        # pipe do, and keep Python from reporting the failed flush of stdout at exit.
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 1
+
+
+def _main(argv: Sequence[str] | None) -> int:
     from vessel_gym.manoeuvres.trials import ManoeuvreIncomplete
     from vessel_gym.physics.schema import SpecError
     from vessel_gym.physics.simulation import SimulationError
@@ -286,6 +500,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 2
+        if args.command in ("imo", "manoeuvre") and getattr(args, "manoeuvre", "") is not None:
+            args.ship = _ship_name(args)
         if args.command == "imo":
             return _cmd_imo(args)
         if args.command == "manoeuvre":
@@ -296,10 +512,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 )
             return _cmd_manoeuvre(args)
         if args.command == "ships":
-            from vessel_gym.physics.shipfile import builtin_ships
-
-            print("\n".join(builtin_ships()))
-            return 0
+            return _cmd_ships(args)
         if args.command == "scenarios":
             from vessel_gym.scenarios import builtin_scenarios
 
@@ -339,16 +552,20 @@ def main(argv: Sequence[str] | None = None) -> int:
                 failsafe=args.failsafe,
                 duration_s=args.duration,
                 seed=args.seed,
+                token=token_arg(args),
             )
         if args.command in ("helm", "view"):
             from vessel_gym.net import clients
 
-            server = host_port(args.server, "--server")
+            server = resolve_address(host_port(args.server, "--server"), "--server")
+            token = token_arg(args)
             if args.command == "helm":
-                clients.run_helm(server, name=args.name, duration_s=args.duration)
+                clients.run_helm(server, name=args.name, token=token, duration_s=args.duration)
             else:
                 listen = host_port(args.listen, "--listen") if args.listen else None
-                clients.run_viewer(server, listen=listen, duration_s=args.duration)
+                if listen is not None:
+                    check_bindable(listen, "--listen")
+                clients.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
             return 0
         if args.command == "view3d":
             try:
@@ -360,23 +577,29 @@ def main(argv: Sequence[str] | None = None) -> int:
                     "vessel-gym view3d: needs the 'view3d' extra: pip install 'vessel-gym[view3d]'"
                 ) from None
             return view3d(
-                host_port(args.server, "--server"),
+                resolve_address(host_port(args.server, "--server"), "--server"),
                 host_port(args.http, "--http"),
                 camera=args.camera,
                 rate_hz=args.rate,
-                token=args.token,
+                token=token_arg(args),
                 duration_s=args.duration,
             )
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
-        print(str(exc), file=sys.stderr)
+        _error_line(str(exc))
         return 2
     except (SpecError, ValueError) as exc:
-        print(f"vessel-gym: {exc}", file=sys.stderr)
+        _error_line(f"vessel-gym: {exc}")
         return 2
     except (ManoeuvreIncomplete, SimulationError) as exc:
-        print(f"vessel-gym: {exc}", file=sys.stderr)
+        _error_line(f"vessel-gym: {exc}")
         return 1
+    except BrokenPipeError:
+        raise
+    except OSError as exc:  # a path or address given on the command line that the system refuses
+        where = f"{exc.filename}: " if exc.filename else ""
+        _error_line(f"vessel-gym: {where}{exc.strerror or exc}")
+        return 2
 
 
 if __name__ == "__main__":  # pragma: no cover

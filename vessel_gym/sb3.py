@@ -9,7 +9,7 @@ stepped in one batched call. :class:`VectorEnvAdapter` presents such an environm
     from stable_baselines3 import PPO
     from vessel_gym.sb3 import make_vec_env
 
-    venv = make_vec_env("vessel_gym/ZigZag-v0", num_envs=64, seed=0, schedule="random")
+    venv = make_vec_env("vessel_gym/ZigZagRandom-v1", num_envs=64, seed=0)
     PPO("MlpPolicy", venv).learn(100_000)
 
 What SB3 expects and how it is produced from Gymnasium's conventions:

@@ -31,6 +31,10 @@ BAD = [
     (evaluate, ["--env", "ZigZag-v0", "--agent", "lqr"]),
     (evaluate, ["--env", "ZigZag-v0", "--agent", "/nonexistent/ppo_x.zip"]),
     (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--env-kwargs", "speed=3"]),
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--video", "out.avi"]),
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--plot", "out.svg"]),
+    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--frame-every", "0"]),
+    (results, ["--seeds", "0"]),
     (results, ["--budget", "0"]),
     (results, ["--algos", "dqn"]),
     (results, ["--envs", "Nope-v0", "--skip-train"]),
@@ -69,5 +73,7 @@ def test_evaluate_json_baseline(capsys) -> None:
 
     assert evaluate.main(["--env", "ZigZag-v0", "--agent", "pid", "--episodes", "1", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["agent"] == "pid" and out["summary"]["episodes"] == 1
-    assert out["summary"]["heading_error_deg_mean"] > 0.0
+    assert out["agent"] == "pid" and out["episodes"] == 1 and out["summary"]["episodes"] == 1
+    assert out["mean_heading_error_deg"] > 0.0 and out["mean_overshoot_deg"] >= 0.0
+    for key in ("mean_return", "mean_rudder_deg", "mean_rudder_rate_deg_s"):
+        assert isinstance(out[key], float)

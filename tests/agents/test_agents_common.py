@@ -12,7 +12,12 @@ from agents import common
 from agents.common import UsageError
 from vessel_gym.policy import sb3_algorithm
 
-ENV_IDS = ["vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0"]
+ENV_IDS = [
+    "vessel_gym/ZigZag-v0",
+    "vessel_gym/ZigZagRandom-v1",
+    "vessel_gym/TurningCircle-v0",
+    "vessel_gym/HarbourApproach-v0",
+]
 
 
 @pytest.mark.parametrize("algo", sorted(common.ALGOS))
@@ -123,3 +128,28 @@ def test_evaluate_rejects_bad_input(tmp_path: Path) -> None:
     bogus.write_bytes(b"not a zip")
     with pytest.raises(UsageError, match="cannot load"):
         common.evaluate("ZigZag-v0", str(bogus), 1)
+
+
+@pytest.mark.parametrize("env_id", ["vessel_gym/ZigZag-v1", "vessel_gym/ZigZagRandom-v1"])
+def test_zigzag_v1_metrics_are_the_environments_own(env_id):
+    """On ZigZag-v1 the evaluation reports the environment's per-course-change overshoot (the open
+    measurement included), its targets reached and its success, not a recount."""
+    import gymnasium as gym
+
+    from vessel_gym.envs.policies import PIDHeadingAutopilot
+
+    env = gym.make(env_id)
+    policy = PIDHeadingAutopilot(env, Kp=3.0, Kd=1.5)
+    m = common.run_episode(env, policy, seed=4)
+    twin = gym.make(env_id)
+    obs, _ = twin.reset(seed=4)
+    policy.reset()
+    while True:
+        obs, _r, te, tr, info = twin.step(policy(obs))
+        if te or tr:
+            break
+    assert m["overshoot_deg"] == info["overshoot_deg"] > 0.0
+    assert m["max_overshoot_deg"] == info["max_overshoot_deg"]
+    assert m["course_changes"] == info["course_changes"]
+    assert m["reached_pct"] == pytest.approx(100.0 * info["targets_reached"] / info["course_changes"])
+    assert m["success"] is info["is_success"]

@@ -46,6 +46,9 @@ def test_zigzag_verdict() -> None:
     table = results.table("zigzag", [pid, good])
     assert "| pid | — | — | -40.0 ± 5.0 | 13.0 ± 1.0 |" in table
     assert "150k (budget) | 10.0 (3.3)" in table
+    assert "success %" not in table  # ZigZag-v0 has no success flag
+    pid["summary"]["success_rate"], good["summary"]["success_rate"] = 0.0, 0.5
+    assert "| 50 ± 10 | 50 | 5.0 ± 1.0 |" in results.table("zigzag", [pid, good])
 
 
 def test_harbour_verdict_and_table() -> None:
@@ -57,6 +60,10 @@ def test_harbour_verdict_and_table() -> None:
         "sac_HarbourApproach-v0_s0", True, success_rate=0.25, outcomes={"success": 5, "contact": 15}, **extra
     )
     assert results.verdict("harbour", [pid, rl]).startswith("**Does not beat")
+    seeds5 = _row("ppo (5 seeds)", True, success_rate=0.9, success_rate_median=0.95, seeds=5, **extra)
+    seeds5["summary"]["outcomes"] = {"success": 90, "timeout": 10}
+    v = results.verdict("harbour", [pid, seeds5])
+    assert "Median success over its 5 seeds: 95 % (goal ≥ 90 %: met)" in v
     assert "contact 15, success 5" in results.table("harbour", [pid, rl])
 
 
@@ -73,16 +80,52 @@ def test_write_doc_keeps_the_discussion(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
-    """A whole results.py run on one environment with a one-rollout step budget, then a --skip-train rerun."""
+    """A whole results.py run on one environment, 2 seeds x 256 steps with a validation evaluation every 128:
+    curves, table, JSON, shipped agents with sidecars; then a --skip-train rerun."""
+    from agents import shipped
+
     monkeypatch.setattr(results, "EXTRA_EVALS", {})
     doc = tmp_path / "results.md"
+    ship_dir = tmp_path / "trained"
     argv = ["--envs", "ZigZag-v0", "--algos", "ppo", "--timesteps", "256", "--episodes", "1"]
-    argv += ["--out", str(tmp_path / "out"), "--doc", str(doc)]
+    argv += ["--seeds", "2", "--eval-freq", "128", "--eval-episodes", "2"]
+    argv += ["--out", str(tmp_path / "out"), "--doc", str(doc), "--ship-dir", str(ship_dir)]
     assert results.main(argv) == 0
     data = json.loads((tmp_path / "out" / "results.json").read_text())
-    agents = [r["agent"] for r in data["sections"][0]["rows"]]
-    assert agents == ["pid", "scripted", "ppo_ZigZag-v0_s0"]
+    rows = data["sections"][0]["rows"]
+    assert [r["agent"] for r in rows] == ["pid", "scripted", "ppo (2 seeds)"]
+    rl = rows[2]
+    assert [p["seed"] for p in rl["per_seed"]] == [0, 1] and rl["summary"]["seeds"] == 2
+    assert rl["summary"]["return_std"] is not None and rl["training"]["seeds"] == 2
+    curves = data["curves"]["vessel_gym/ZigZag-v0:ppo"]
+    assert curves["timesteps"] and len(curves["return"]) == 2
+    assert Path(curves["png"]).stat().st_size > 0
+    assert sorted(Path(t).name for t in data["tracks"].values()) == [
+        "ZigZag-v0_pid.png",
+        "ZigZag-v0_ppo_ZigZag-v0_s0.png",
+        "ZigZag-v0_scripted.png",
+    ]
     text = doc.read_text()
     assert "### vessel_gym/ZigZag-v0" in text and "256 environment steps per run" in text
-    assert data["eval_seed"] == seeds.TEST_START
-    assert results.main([*argv, "--skip-train"]) == 0
+    assert "over the 2 training seeds" in text
+    assert data["eval_seed"] == seeds.TEST_START and data["training_seeds"] == [0, 1]
+    names = sorted(p.name for p in shipped.list_shipped(ship_dir))
+    assert names == ["ppo_ZigZag-v0_seed0.zip", "ppo_ZigZag-v0_seed1.zip"]
+    meta = shipped.read_sidecar(ship_dir / names[1])
+    assert set(shipped.REQUIRED_KEYS) <= set(meta) and meta["seed"] == 1 and meta["env_version"] == 0
+    assert meta["test_seeds"] == f"{seeds.TEST_START}..{seeds.TEST_START}"
+    assert results.main([*argv, "--skip-train", "--no-ship"]) == 0
+
+
+def test_interval95_and_aggregate() -> None:
+    """The 95 % interval of two seeds uses t(0.975, 1) = 12.706; one seed has none."""
+    import numpy as np
+
+    mean, half = results.interval95([[1.0, 2.0], [3.0, 2.0]])
+    assert np.allclose(mean, [2.0, 2.0]) and np.allclose(half, [12.706 * np.sqrt(2.0) / np.sqrt(2.0), 0.0])
+    assert np.allclose(results.interval95([[5.0]])[1], 0.0)
+    a = {"episodes": 3, "return_mean": -10.0, "return_std": 1.0, "success_rate": 0.0, "outcomes": {"x": 3}}
+    b = {"episodes": 3, "return_mean": -20.0, "return_std": 1.0, "success_rate": 1.0, "outcomes": {"y": 3}}
+    agg = results.aggregate([a, b])
+    assert agg["return_mean"] == -15.0 and agg["return_std"] == 5.0 and agg["seeds"] == 2
+    assert agg["success_rate"] == 0.5 and agg["outcomes"] == {"x": 3, "y": 3}

@@ -15,18 +15,17 @@ from cfd.case import (
     Motion,
     cell_count_estimate,
     hull_level_for,
-    ittc57,
     mesh_spec,
     motion_table,
     pmm_time_step,
     ramp,
-    wall_distance,
     write_free_surface_case,
     write_mesh_case,
     write_pmm_case,
     write_steady_case,
 )
 from cfd.foamdict import Named, Words
+from cfd.friction import ittc57, wall_distance
 from cfd.geometry import wigley_hull, write_stl
 
 L, B, T = 1.0, 0.1, 0.0625

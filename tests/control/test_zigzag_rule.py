@@ -9,6 +9,7 @@ import pytest
 from vessel_gym.control import (
     OVERSHOOT_IMO,
     OVERSHOOT_V0,
+    OVERSHOOT_V1,
     OvershootTracker,
     overshoot_step,
     target_reached,
@@ -49,6 +50,21 @@ def test_modes_differ_on_a_zero_yaw_rate():
     # v0 takes the sample that ends the measurement into the peak; the trial keeps it open while it grows
     assert overshoot_step(1.0, 0.0, peak, 0.2, 0.0, OVERSHOOT_V0) == (0.2, True, True)
     assert overshoot_step(1.0, 0.0, peak, 0.2, -1e-3, OVERSHOOT_IMO) == (0.2, True, False)
+
+
+def test_v1_keeps_the_largest_excursion_until_closed():
+    """V1: the yaw rate never ends the measurement; a second swing past the target raises the overshoot only
+    if it goes further; ``close`` counts it as it stands."""
+    assert overshoot_step(1.0, 0.0, 0.1, 0.05, -1.0, OVERSHOOT_V1) == (0.1, False, False)
+    assert overshoot_step(-1.0, 0.0, 0.1, -0.2, 1.0, OVERSHOOT_V1) == (0.2, True, False)
+    tr = OvershootTracker(OVERSHOOT_V1)
+    tr.start(1.0, 0.2, 0.21, 0.0)
+    for t, (h, r) in enumerate([(0.25, 0.1), (0.22, -0.1), (0.1, -0.1), (0.24, 0.1), (0.27, 0.1)], start=1):
+        assert not tr.update(h, r, float(t))
+    tr.close()
+    assert tr.overshoots_rad == [pytest.approx(0.07)] and tr.times_s == [5.0] and not tr.active
+    tr.close()  # nothing open: nothing counted
+    assert len(tr.overshoots_rad) == 1
 
 
 def test_every_user_calls_the_same_functions():

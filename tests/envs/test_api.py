@@ -25,7 +25,13 @@ def _id(p):
 
 
 def test_ids_registered_with_vector_entry_points():
-    assert ENV_IDS == ["vessel_gym/HarbourApproach-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/ZigZag-v0"]
+    assert ENV_IDS == [
+        "vessel_gym/HarbourApproach-v0",
+        "vessel_gym/TurningCircle-v0",
+        "vessel_gym/ZigZag-v0",
+        "vessel_gym/ZigZag-v1",
+        "vessel_gym/ZigZagRandom-v1",
+    ]
     for env_id in ENV_IDS:
         spec = gym.spec(env_id)
         assert isinstance(spec.entry_point, str) and isinstance(spec.vector_entry_point, str)
@@ -73,7 +79,9 @@ def test_same_seed_same_rollout(env_id, kw):
     b = rollout(gym.make(env_id, max_episode_steps=60, **kw), seed=7, steps=150)
     assert same(a, b)
     c = rollout(gym.make(env_id, max_episode_steps=60, **kw), seed=8, steps=5)
-    assert not np.array_equal(a[0][0], c[0][0]) or env_id.endswith("ZigZag-v0") or "TurningCircle" in env_id
+    # the first observation of ZigZag and TurningCircle does not show what the seed draws (the original
+    # course is not observed; v1's seeded start is tested in test_zigzag_v1.py)
+    assert not np.array_equal(a[0][0], c[0][0]) or "ZigZag" in env_id or "TurningCircle" in env_id
 
 
 @pytest.mark.parametrize("env_id,kw", ALL, ids=_id)

@@ -67,12 +67,14 @@ def test_docs_list_every_config_key():
 
     from vessel_gym.envs.harbour import HarbourApproachConfig, HarbourApproachReward
     from vessel_gym.envs.turning import TurningCircleConfig, TurningCircleReward
-    from vessel_gym.envs.zigzag import ZigZagReward
+    from vessel_gym.envs.zigzag import ZigZagReward, ZigZagV1Config, ZigZagV1Reward
 
     doc = (Path(__file__).parents[2] / "docs" / "envs.md").read_text()
     for cls in (
         ZigZagConfig,
         ZigZagReward,
+        ZigZagV1Config,
+        ZigZagV1Reward,
         TurningCircleConfig,
         TurningCircleReward,
         HarbourApproachConfig,

@@ -1,5 +1,6 @@
-"""Harbour task kernel: the threaded driver matches the serial one; the chart query's contact cases, and its
-beams and clearance against a brute-force reference."""
+"""Harbour task kernel: the threaded driver matches the serial one; the observation follows the environment
+the physics uses; the chart query's contact cases, and its beams and clearance against a brute-force
+reference."""
 
 import gymnasium as gym
 import numpy as np
@@ -8,6 +9,8 @@ import pytest
 import vessel_gym  # noqa: F401
 from vessel_gym.envs import harbour
 from vessel_gym.envs import kernels as kn
+from vessel_gym.physics.environment import CALM, Environment
+from vessel_gym.physics.units import KNOT_M_S
 
 
 def test_threaded_harbour_kernel_matches_serial():
@@ -31,6 +34,33 @@ def test_threaded_harbour_kernel_matches_serial():
         for x, y in zip(r1[:4], r2[:4]):
             assert np.array_equal(x, y)
         assert np.array_equal(r1[4]["min_clearance_m"], r2[4]["min_clearance_m"])
+
+
+def test_observation_follows_set_environment():
+    """A current and a wind set after reset reach the observation: speed over ground and apparent wind as the
+    physics and the bridge see them (the task once kept copies of the environment from reset and reported
+    0.708 m/s over ground here, the bridge 0.651 m/s)."""
+    env = gym.make("vessel_gym/HarbourApproach-v0", observation_type="physical")
+    env.reset(seed=0, options={"environment": CALM})
+    task = env.unwrapped.task
+    sim = task.sim
+    sim.set_environment(Environment(current_speed_m_s=0.5, current_to_deg=90.0, wind_speed_m_s=2.0))
+    obs, _r, _term, _trunc, info = env.step(np.zeros(2, dtype=np.float32))
+    names = [f.name for f in task.observation_features()]
+    reading = sim.bridge(0)
+    sog = reading.sog_kn * KNOT_M_S
+    # over ground = through the water rotated to north/east + the current (0.5 m/s towards east)
+    psi, u, v = sim.heading[0], sim.u[0], sim.v[0]
+    expected = np.hypot(u * np.cos(psi) - v * np.sin(psi), u * np.sin(psi) + v * np.cos(psi) + 0.5)
+    assert sog == pytest.approx(expected, rel=1e-12)
+    assert abs(sog - np.hypot(u, v)) > 0.05  # the current changes it (0.651 against 0.708 m/s)
+    assert info["speed_over_ground_m_s"] == pytest.approx(sog, rel=1e-12)
+    assert obs[names.index("sog")] == pytest.approx(sog, rel=1e-6)  # float32 observation
+    wind = reading.wind_rel_speed_kn * KNOT_M_S
+    assert obs[names.index("wind_speed")] == pytest.approx(wind, rel=1e-6)
+    gamma = np.radians(reading.wind_rel_angle_deg)
+    assert obs[names.index("wind_angle_sin")] == pytest.approx(np.sin(gamma), abs=1e-6)
+    assert obs[names.index("wind_angle_cos")] == pytest.approx(np.cos(gamma), abs=1e-6)
 
 
 def test_chart_query_contact_cases():

@@ -1,5 +1,5 @@
 """``info["is_success"]``, the key Stable-Baselines3 logs a success rate from, exists exactly where a task has
-success (HarbourApproach; TurningCircle in reverse mode), equals ``info["success"]`` and is a Python bool in
+success (HarbourApproach; TurningCircle in reverse mode; ZigZag-v1 and ZigZagRandom-v1), equals ``info["success"]`` and is a Python bool in
 the single environment and an array in the vector environment."""
 
 from __future__ import annotations
@@ -13,6 +13,8 @@ CASES = [
     ("vessel_gym/TurningCircle-v0", {"mode": "reverse"}, True),
     ("vessel_gym/TurningCircle-v0", {"mode": "rate"}, False),
     ("vessel_gym/ZigZag-v0", {}, False),
+    ("vessel_gym/ZigZag-v1", {}, True),
+    ("vessel_gym/ZigZagRandom-v1", {}, True),
 ]
 
 

@@ -6,7 +6,9 @@ import dataclasses
 import json
 import socket
 import time
+from collections.abc import Callable
 
+from vessel_gym.net import protocol as P
 from vessel_gym.physics.bridge import BridgeReading
 
 
@@ -56,11 +58,14 @@ def free_tcp_port() -> int:
 class Peer:
     """A UDP socket on 127.0.0.1 playing a client (or a listen-only receiver)."""
 
-    def __init__(self) -> None:
+    def __init__(self, host: str = "127.0.0.1") -> None:
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.sock.bind(("127.0.0.1", 0))
+        self.sock.bind((host, 0))
         self.sock.setblocking(False)
         self.address = self.sock.getsockname()
+        self.cookie: str | None = None  # from the last welcome
+        self.session: str | None = None  # from the last full welcome
+        self._pending: list[dict] = []  # messages read while joining, returned by the next messages()
 
     def send(self, to: tuple[str, int], msg: dict | bytes) -> None:
         data = msg if isinstance(msg, bytes) else json.dumps(msg).encode()
@@ -77,9 +82,57 @@ class Peer:
             except BlockingIOError:
                 return out
 
+    def _read(self) -> None:
+        """Read what waits; keep the cookie and session of welcomes, keep all but challenges for messages()."""
+        for d in self.raw():
+            m = json.loads(d)
+            if m.get("type") == "welcome":
+                self.cookie = m.get("cookie", self.cookie)
+                if "session" not in m:
+                    continue  # a challenge: only its cookie matters
+                self.session = m["session"]
+            self._pending.append(m)
+
     def messages(self, kind: str | None = None) -> list[dict]:
-        msgs = [json.loads(d) for d in self.raw()]
+        self._read()
+        msgs, self._pending = self._pending, []
         return [m for m in msgs if kind is None or m.get("type") == kind]
+
+    def hello(
+        self, to: tuple[str, int], role: str = "viewer", rate: float | None = None, name: str = "", token=None
+    ) -> None:
+        """Send a hello echoing the cookie and session held (padded, as the bundled clients do)."""
+        self._read()
+        self.send(to, P.encode_hello(role, rate, name, token, cookie=self.cookie, session=self.session))
+
+    def helm(self, to: tuple[str, int], seq: int, rudder: float, telegraph=None, rpm=None) -> None:
+        """Send a helm command in this peer's session."""
+        self.send(to, P.encode_helm(seq, rudder, telegraph=telegraph, rpm_order=rpm, session=self.session))
+
+    def bye(self, to: tuple[str, int]) -> None:
+        self.send(to, P.encode_bye(self.session))
+
+    def join(
+        self,
+        to: tuple[str, int],
+        pump: Callable[[], object],
+        role: str = "viewer",
+        rate: float | None = None,
+        tries: int = 50,
+        **extra,
+    ) -> None:
+        """The full handshake: hello, read the cookie, hello with it, read the session. ``pump`` lets the server
+        run once (service the link, step an environment, or just wait for a server thread)."""
+        self.cookie = self.session = None
+        for _ in range(tries):
+            self.hello(to, role, rate, **extra)
+            time.sleep(0.003)
+            pump()
+            time.sleep(0.003)
+            self._read()
+            if self.session is not None:
+                return
+        raise AssertionError(f"no session from {to} after {tries} hellos")
 
     def close(self) -> None:
         self.sock.close()

@@ -67,6 +67,10 @@ def _non_blank(frame: np.ndarray) -> bool:
 
 def test_helm_panel_keys_and_limits():
     panel = clients.HelmPanel(max_rudder_deg=35.0)
+    panel.handle_key("right")  # a watcher's keys change nothing
+    assert (panel.active, panel.rudder_order_deg) == (False, 0.0)
+    panel.handle_key("t")
+    assert panel.active and not panel.ready  # orders sync from the next state before they are sent
     for _ in range(3):
         panel.handle_key("right")
     assert panel.rudder_order_deg == 15.0
@@ -83,6 +87,9 @@ def test_helm_panel_keys_and_limits():
     assert panel.telegraph == -4
     panel.handle_key("x")
     assert (panel.rudder_order_deg, panel.telegraph) == (0.0, -4)
+    panel.handle_key("w")
+    panel.handle_key("up")
+    assert not panel.active and panel.telegraph == -4
 
 
 def test_panel_syncs_once_from_state_for_a_bumpless_takeover():
@@ -126,6 +133,10 @@ def test_helm_panel_takes_the_helm_and_steers():
     pressed = []
 
     def press(frame, panel, conn):
+        if frame == 10:
+            assert served.helm_states[-1].owner is None  # the panel opened as a watcher
+            assert not conn.helm_sent
+            panel.handle_key("t")
         if panel.ready and not pressed:
             panel.handle_key("right")
             panel.handle_key("right")  # -15 (synced from the state) + 10

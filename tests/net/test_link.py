@@ -26,15 +26,18 @@ def _link(**kw) -> UdpLink:
 
 
 def _hello(peer, link, role="viewer", rate=None, **extra):
-    msg = {"v": 1, "type": "hello", "role": role, **extra}
-    if rate is not None:
-        msg["rate_hz"] = rate
-    peer.send(link.json_address, msg)
+    """Register like a real client: the first time the whole handshake (serviced at the link's last time, so
+    rate counts keep their timeline), later a keep-alive hello echoing the cookie and session."""
+    if peer.session is None:
+        now = link._last_now if link._last_now is not None else 0.0
+        peer.join(link.json_address, lambda: link.service(now, make_reading()), role, rate, **extra)
+    else:
+        peer.hello(link.json_address, role, rate, **extra)
     time.sleep(SETTLE_S)
 
 
 def _helm(peer, link, seq, rudder, telegraph=None, rpm=None):
-    peer.send(link.json_address, P.encode_helm(seq, rudder, telegraph=telegraph, rpm_order=rpm))
+    peer.helm(link.json_address, seq, rudder, telegraph=telegraph, rpm=rpm)
     time.sleep(SETTLE_S)
 
 
@@ -169,7 +172,7 @@ def test_bye_unregisters(peers):
         v = peers()
         _hello(v, link)
         _run(link, 0.0, 0.1)
-        v.send(link.json_address, P.encode_bye())
+        v.bye(link.json_address)
         time.sleep(SETTLE_S)
         _run(link, 0.1, 0.2)
         assert link.clients == [] and link.stats()["clients_left"] == 1
@@ -178,12 +181,16 @@ def test_bye_unregisters(peers):
 def test_max_clients_and_token(peers):
     with _link(max_clients=2, token="s3cret") as link:
         a, b, c = peers(), peers(), peers()
-        _hello(a, link)  # no token
-        _hello(b, link, token="wrong")
+        a.send(link.json_address, P.encode_hello("viewer"))  # no token
+        b.send(link.json_address, P.encode_hello("viewer", token="wrong"))
+        time.sleep(SETTLE_S)
         _run(link, 0.0, 0.04)
         assert link.clients == [] and link.stats()["drop_bad_token"] == 2
-        for p in (a, b, c):
+        assert a.messages() == [] and b.messages() == []  # a bad token gets no answer at all
+        for p in (a, b):
             _hello(p, link, token="s3cret")
+        with pytest.raises(AssertionError, match="no session"):
+            c.join(link.json_address, lambda: link.service(0.04, make_reading()), tries=2, token="s3cret")
         _run(link, 0.04, 0.08)
         assert len(link.clients) == 2 and link.stats()["drop_too_many_clients"] == 1
 
@@ -199,7 +206,8 @@ def test_stats_on_request_and_periodically(peers):
         stats = v.messages("stats")
         assert len(stats) == 1
         counters = stats[0]["counters"]
-        assert counters["drop_bad_json"] == 1 and counters["rx_datagrams"] == 3 and stats[0]["clients"] == 1
+        # two hellos of the handshake, the junk and the request
+        assert counters["drop_bad_json"] == 1 and counters["rx_datagrams"] == 4 and stats[0]["clients"] == 1
         _hello(v, link)
         _run(link, 0.02, 2.5)
         assert len(v.messages("stats")) == 2  # at 1 s and 2 s
@@ -241,7 +249,7 @@ def test_newest_seq_wins_per_client(peers):
         a = peers()
         _hello(a, link, role="helm")
         for seq, rudder in [(5, 5.0), (3, 3.0), (5, 55.0), (4, 4.0)]:  # out of order and duplicate
-            a.send(link.json_address, P.encode_helm(seq, rudder, telegraph=1))
+            a.helm(link.json_address, seq, rudder, telegraph=1)
         time.sleep(SETTLE_S)
         h = link.service(0.0, make_reading())
         assert h.rudder_order_deg == 5.0 and h.seq == 5
@@ -330,7 +338,7 @@ def test_bye_from_owner_releases_with_failsafe(peers):
         _hello(b, link, role="helm")
         _helm(a, link, 1, 5.0, telegraph=2)
         link.service(0.0, make_reading())
-        a.send(link.json_address, P.encode_bye())
+        a.bye(link.json_address)
         time.sleep(SETTLE_S)
         h = link.service(0.02, make_reading())
         assert h.owner is None and h.failsafe and h.rudder_order_deg == 5.0
@@ -428,7 +436,8 @@ def test_absurd_reading_is_counted_not_raised(peers):
     rx, v = peers(), peers()
     with _link(nmea_destinations=[rx.address]) as link:
         _hello(v, link)
-        h = link.service(0.0, make_reading(sog_kn=1e300, telegraph=float("nan")))
+        rx.raw(SETTLE_S)  # the NMEA of the handshake's service call
+        h = link.service(1.0, make_reading(sog_kn=1e300, telegraph=float("nan")))
         assert h == HelmState()
         assert link.stats()["encode_error"] == 2 and link.last_error
         assert rx.raw(SETTLE_S) == []
@@ -473,7 +482,8 @@ def test_state_carries_targets_and_is_split_for_many(peers):
     with _link() as link:
         _hello(v, link, rate=50)
         targets = [_target(i, 211000000 + i) for i in range(30)]
-        link.service(0.0, make_reading(), targets)
+        v.messages()  # the state sent while joining
+        link.service(0.02, make_reading(), targets)
         states = v.messages("state")
         assert len(states) > 1 and {s["parts"] for s in states} == {len(states)}
         assert sorted(t["id"] for s in states for t in s["targets"]) == list(range(30))

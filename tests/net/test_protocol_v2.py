@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import time
 
 import gymnasium as gym
@@ -131,8 +130,29 @@ def test_hello_proto_field():
     assert P.parse_datagram(b'{"v":1,"type":"hello","role":"viewer","proto":7}').proto == 2
 
 
+def _hello2(peer, to, role="viewer", rate=None):
+    """A v2 hello echoing the peer's cookie and session."""
+    peer._read()
+    peer.send(to, P.encode_hello(role, rate, cookie=peer.cookie, session=peer.session, proto=2))
+
+
+def _join2(peer, to, pump, role="viewer", rate=None):
+    """The link's handshake (hello, cookie, hello with it, session) as a v2 client."""
+    peer.cookie = peer.session = None
+    for _ in range(50):
+        _hello2(peer, to, role, rate)
+        time.sleep(SETTLE_S)
+        pump()
+        time.sleep(SETTLE_S)
+        peer._read()
+        if peer.session is not None:
+            return
+    raise AssertionError("no session")
+
+
 def _types(peer):
-    return [json.loads(d)["type"] for d in peer.raw(SETTLE_S)]
+    time.sleep(SETTLE_S)
+    return [m["type"] for m in peer.messages()]
 
 
 def test_link_sends_scene_only_to_v2_clients(peers):
@@ -141,16 +161,15 @@ def test_link_sends_scene_only_to_v2_clients(peers):
         sc = load_scenario("harbour")
         link.set_scene(sc, [P.ShipParticulars(0, "OWN", 7.0, 1.2, 0.4)], ENV)
         v1, v2 = peers(), peers()
-        v1.send(link.json_address, P.encode_hello("helm", 2.0))
-        v2.send(link.json_address, P.encode_hello("viewer", 2.0, proto=2))
-        time.sleep(SETTLE_S)
-        link.service(0.0, make_reading())
+        to = link.json_address
+        v1.join(to, lambda: link.service(0.0, make_reading()), "helm", 2.0)
+        _join2(v2, to, lambda: link.service(0.0, make_reading()), "viewer", 2.0)
         t1, t2 = _types(v1), _types(v2)
-        assert t1 == ["welcome", "state"]
-        assert t2[0] == "welcome" and t2[-1] == "state"
-        assert t2.count("particulars") == 1 and t2.count("scenario") >= 1
+        assert "welcome" in t1 and not set(t1) & set(P.V2_TYPES)
+        assert "welcome" in t2 and t2.count("particulars") == 1 and t2.count("scenario") >= 1
+        assert t2.index("particulars") > t2.index("welcome")  # after the full welcome
         # keep-alive hellos do not resend the scene; a new set_scene (reset) does
-        v2.send(link.json_address, P.encode_hello("viewer", 2.0, proto=2))
+        _hello2(v2, to, "viewer", 2.0)
         time.sleep(SETTLE_S)
         link.service(0.1, make_reading())
         assert _types(v2) == ["welcome"]
@@ -158,20 +177,25 @@ def test_link_sends_scene_only_to_v2_clients(peers):
         link.publish_event("reset", 0.0, 2)
         assert _types(v2) == ["scenario", "particulars", "event"] and _types(v1) == []
         # helm ownership changes reach v2 clients only
-        v1.send(link.json_address, P.encode_helm(1, 5.0, telegraph=2))
+        v1.helm(to, 1, 5.0, telegraph=2)
         time.sleep(SETTLE_S)
         link.service(0.2, make_reading())
-        msgs = [json.loads(d) for d in v2.raw(SETTLE_S)]
-        owner = [m for m in msgs if m["type"] == "helm_owner"]
+        time.sleep(SETTLE_S)
+        owner = [m for m in v2.messages() if m["type"] == "helm_owner"]
         assert len(owner) == 1 and owner[0]["reason"] == "takeover" and owner[0]["you"] is False
         assert owner[0]["owner"] == f"{v1.address[0]}:{v1.address[1]}"
         assert "helm_owner" not in _types(v1)
         link.service(1.5, make_reading())  # watchdog
-        msgs = [json.loads(d) for d in v2.raw(SETTLE_S)]
+        time.sleep(SETTLE_S)
+        msgs = v2.messages()
         assert [(m["owner"], m["reason"]) for m in msgs if m["type"] == "helm_owner"] == [(None, "watchdog")]
         assert link.stats()["tx_v2"] > 0
     finally:
         link.close()
+
+
+def _pump(env):
+    return lambda: env.link.service(env._clock(), env._own_reading)
 
 
 def test_wrapper_publishes_harbour_scene_and_episode_events(peers):
@@ -182,15 +206,15 @@ def test_wrapper_publishes_harbour_scene_and_episode_events(peers):
     try:
         env.reset(seed=0)
         viewer = peers()
-        viewer.send(env.link.json_address, P.encode_hello("viewer", 4.0, proto=2))
-        time.sleep(SETTLE_S)
+        _join2(viewer, env.link.json_address, _pump(env), "viewer", 4.0)
         truncated = False
         while not truncated:
             t[0] += 0.25
             _, _, terminated, truncated, _ = env.step(np.zeros(2, dtype=np.float32))
             assert not terminated
         env.reset()
-        msgs = [P.parse_server_datagram_v2(d) for d in viewer.raw(SETTLE_S)]
+        time.sleep(SETTLE_S)
+        msgs = viewer.messages()
         asm = P.SceneAssembler()
         scenes = [s for s in (asm.add(m) for m in msgs if m["type"] == "scenario") if s is not None]
         assert len(scenes) == 2  # on joining, and at the second reset
@@ -218,18 +242,18 @@ def test_wrapper_publishes_contact_before_the_outcome(peers):
         # 10 m south of the west breakwater (north -1.5 .. 1.5 m), heading for it at 0.5 m/s
         env.reset(seed=0, options={"north_m": -10.0, "east_m": -40.0, "heading_deg": 0.0, "speed_m_s": 0.5})
         viewer = peers()
-        viewer.send(env.link.json_address, P.encode_hello("viewer", 1.0, proto=2))
-        time.sleep(SETTLE_S)
+        _join2(viewer, env.link.json_address, _pump(env), "viewer", 1.0)
         for k in range(400):
             if k % 4 == 3:  # keep-alive every second of link time
-                viewer.send(env.link.json_address, P.encode_hello("viewer", 1.0, proto=2))
+                _hello2(viewer, env.link.json_address, "viewer", 1.0)
                 time.sleep(SETTLE_S)
             t[0] += 0.25
             _, _, terminated, truncated, info = env.step(np.zeros(2, dtype=np.float32))
             if terminated or truncated:
                 break
         assert info["outcome"] == "contact"
-        msgs = [P.parse_server_datagram_v2(d) for d in viewer.raw(SETTLE_S)]
+        time.sleep(SETTLE_S)
+        msgs = viewer.messages()
         events = [m for m in msgs if m["type"] == "event"]
         assert [e["event"] for e in events] == ["contact", "outcome"]
         contact, outcome = events
@@ -252,10 +276,13 @@ def test_panels_draw_the_chart_from_the_scenario_message(peers):
         sc = load_scenario("harbour")
         link.set_scene(sc, [P.ShipParticulars(0, "OWN", 7.0, 1.27, 0.46)], ENV)
         conn.keepalive(0.0)
-        time.sleep(SETTLE_S)
-        link.service(0.0, make_reading(x_m=-100.0, y_m=0.0, hdg_deg=0.0))
-        time.sleep(SETTLE_S)
-        conn.poll(0.0)
+        for k in range(20):  # the handshake: hello, challenge, hello with its cookie, welcome, scene, state
+            time.sleep(SETTLE_S)
+            link.service(0.01 * k, make_reading(x_m=-100.0, y_m=0.0, hdg_deg=0.0))
+            time.sleep(SETTLE_S)
+            conn.poll(0.01 * k)
+            if conn.state is not None and conn.scene is not None:
+                break
         assert conn.state is not None and conn.scene is not None and conn.particulars[0]["draught_m"] == 0.46
         assert len(conn.scene["features"]) == len(P.scenario_features(sc))
         land = np.array(clients._CHART["land"])

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-import json
 import re
 import signal
 import subprocess
@@ -12,10 +11,12 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from vessel_gym import cli
 from vessel_gym.net import protocol as P
+from vessel_gym.net.clients import ServerConnection
 from vessel_gym.net.serve import outcome_line, serve
 from vessel_gym.physics.schema import SpecError
 
@@ -29,6 +30,8 @@ class _Server:
 
     def __init__(self, **kw) -> None:
         self.out = io.StringIO()
+        self.err = io.StringIO()
+        kw.setdefault("err", self.err)
         self.result: list[object] = []
         kw.setdefault("json_bind", ("127.0.0.1", 0))
         kw.setdefault("nmea", [])
@@ -74,8 +77,8 @@ def test_serve_publishes_state_with_traffic_and_nmea_with_ais(peers):
     welcome = []
     t0 = time.monotonic()
     while srv.thread.is_alive() and time.monotonic() - t0 < 10.0:
-        viewer.send(server, P.encode_hello("viewer", 20.0, name="test viewer"))
-        time.sleep(0.25)
+        viewer.hello(server, "viewer", 20.0, name="test viewer")  # echoes the cookie of the last welcome
+        time.sleep(0.1)
         for m in viewer.messages():
             (states if m["type"] == "state" else welcome).append(m)
     assert srv.join() == 0
@@ -110,13 +113,13 @@ def test_human_helm_takes_over_from_the_agent(peers):
     srv = _Server(time_factor=10.0, duration_s=1.5, seed=0)
     server = srv.address()
     panel = peers()
-    panel.send(server, P.encode_hello("helm", 20.0))
+    panel.join(server, lambda: time.sleep(0.05), "helm", 20.0)
     seq = 0
     got = []
     t0 = time.monotonic()
     while srv.thread.is_alive() and time.monotonic() - t0 < 10.0:
         seq += 1
-        panel.send(server, P.encode_helm(seq, -20.0, telegraph=1))
+        panel.helm(server, seq, -20.0, telegraph=1)
         time.sleep(0.05)
         got += panel.messages("state")
     assert srv.join() == 0
@@ -124,6 +127,113 @@ def test_human_helm_takes_over_from_the_agent(peers):
     assert late and late[-1]["rudder_order_deg"] == pytest.approx(-20.0, abs=1e-3)
     assert late[-1]["telegraph"] == 1
     assert "helm takeovers 1" in srv.out.getvalue()
+
+
+def test_helm_changes_are_one_line_each_on_stderr(peers):
+    srv = _Server(time_factor=10.0, duration_s=4.0, seed=0)
+    server = srv.address()
+    a, b = peers(), peers()
+    a.join(server, lambda: time.sleep(0.05), "helm", 20.0, name="panel-A")
+    b.join(server, lambda: time.sleep(0.05), "helm", 20.0, name="panel-B")
+    for seq in range(1, 11):  # A steers for 0.5 s, then falls silent
+        a.helm(server, seq, -10.0, telegraph=1)
+        time.sleep(0.05)
+    time.sleep(1.3)  # the 1 s watchdog releases A
+    for seq in range(1, 11):
+        b.hello(server, "helm", 20.0, name="panel-B")
+        b.helm(server, seq, 10.0, telegraph=2)
+        time.sleep(0.05)
+    b.hello(server, "viewer", 20.0, name="panel-B")  # B gives the helm back
+    assert srv.join() == 0
+    lines = srv.err.getvalue().splitlines()
+    pa, pb = f"'panel-A' (127.0.0.1:{a.address[1]})", f"'panel-B' (127.0.0.1:{b.address[1]})"
+    assert lines == [
+        f"vessel-gym serve: helm taken by {pa} from the agent",
+        f"vessel-gym serve: helm released by {pa} (no command for the watchdog time); failsafe 'hold', "
+        "then the agent after 5 s",
+        f"vessel-gym serve: helm taken by {pb} from the failsafe after {pa}",
+        f"vessel-gym serve: helm released by {pb} (went back to watching); failsafe 'hold', "
+        "then the agent after 5 s",
+    ]
+
+
+def test_token_keeps_out_clients_without_it(peers):
+    srv = _Server(time_factor=10.0, duration_s=1.5, seed=0, token="klärung")
+    server = srv.address()
+    assert "token required" in srv.out.getvalue()
+    outsider = peers()
+    for _ in range(5):
+        outsider.send(server, P.encode_hello("viewer", 20.0, token="klärun"))
+        time.sleep(0.05)
+    member = peers()
+    member.join(server, lambda: time.sleep(0.05), "viewer", 20.0, token="klärung")
+    time.sleep(0.3)
+    assert srv.join() == 0
+    assert outsider.raw() == [] and member.messages("state")
+
+
+@pytest.mark.slow
+def test_real_time_clients_get_state_at_their_rate():
+    """At time factor 1 the link ticks every 10 ms: a 20 Hz and a 50 Hz viewer get their rates (loosely, on a
+    shared machine), with t_s stepping by less than the 0.25 s control interval."""
+    srv = _Server(time_factor=1.0, duration_s=4.0, seed=0)
+    server = srv.address()
+    conns = {rate: ServerConnection(server, "viewer", rate) for rate in (20.0, 50.0)}
+    try:
+        t0 = time.monotonic()
+        counted: dict[float, list] = {rate: [] for rate in conns}
+        while time.monotonic() - t0 < 2.5:
+            now = time.monotonic()
+            for rate, c in conns.items():
+                c.keepalive(now)
+                before = c.states_received
+                c.poll(now)
+                if c.states_received > before and now - t0 > 1.0:  # the last 1.5 s, after joining
+                    counted[rate].append(c.state["t_s"])
+            time.sleep(0.002)
+    finally:
+        for c in conns.values():
+            c.close()
+    assert srv.join() == 0
+    assert len(counted[20.0]) >= 15  # >= 10 per real second
+    assert len(counted[50.0]) >= 30
+    steps = np.diff(counted[50.0])
+    assert np.median(steps) < 0.1  # the physics moved between states, not once per control step
+
+
+def _docs_client_snippet() -> str:
+    text = (ROOT / "docs" / "protocol.md").read_text()
+    after = text[text.index("### Your own client") :]
+    code = after[after.index("```python\n") + len("```python\n") :]
+    return code[: code.index("```")]
+
+
+@pytest.mark.slow
+def test_the_docs_client_snippet_keeps_receiving_past_the_client_timeout():
+    srv = _Server(time_factor=1.0, duration_s=12.0, seed=0)
+    host, port = srv.address()
+    code = _docs_client_snippet()
+    assert 'SERVER = ("127.0.0.1", 10120)' in code
+    code = code.replace('SERVER = ("127.0.0.1", 10120)', f"SERVER = ({host!r}, {port})")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    stamps: list[float] = []
+
+    def read() -> None:
+        for _line in proc.stdout:
+            stamps.append(time.monotonic())
+
+    reader = threading.Thread(target=read, daemon=True)
+    t0 = time.monotonic()
+    reader.start()
+    try:
+        time.sleep(6.0)
+    finally:
+        proc.kill()
+        proc.wait(10)
+        reader.join(5)
+    srv.join()
+    late = [t - t0 for t in stamps if t - t0 > 4.5]  # well past the 3 s client timeout
+    assert len(stamps) >= 30 and len(late) >= 5, (len(stamps), len(late))
 
 
 def test_bad_agent_path_and_scenario_are_one_line_errors(tmp_path):
@@ -151,6 +261,24 @@ def test_cli_maps_bad_agent_to_exit_code_2(capsys, tmp_path):
     err = capsys.readouterr().err
     assert code == 2
     assert err.count("\n") == 1 and "missing.zip" in err
+
+
+def test_cli_token_option_and_environment(capsys, monkeypatch):
+    base = ["serve", "--json", "127.0.0.1:0", "--nmea", "off", "--duration", "0.3", "--time-factor", "10"]
+    assert cli.main([*base, "--token", "x" * 129]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--token must be 1-128 characters" in err
+    assert cli.main([*base, "--token", "s\u00e9same"]) == 0
+    assert "token required" in capsys.readouterr().out
+    monkeypatch.setenv("VESSEL_GYM_TOKEN", "")  # empty: no token
+    assert cli.main(base) == 0
+    assert "token required" not in capsys.readouterr().out
+    monkeypatch.setenv("VESSEL_GYM_TOKEN", "from-env")
+    assert cli.main(base) == 0
+    assert "token required" in capsys.readouterr().out
+    for command in ("helm", "view"):
+        assert cli.main([command, "--token", ""]) == 2
+        assert "--token must be 1-128 characters" in capsys.readouterr().err
 
 
 def test_outcome_line():
@@ -184,9 +312,9 @@ def test_ctrl_c_ends_cleanly_with_exit_code_0():
             if "Ctrl-C" in line:
                 break
         viewer = Peer()
-        viewer.send(("127.0.0.1", port), P.encode_hello("viewer", 10.0))
+        viewer.join(("127.0.0.1", port), lambda: time.sleep(0.05), "viewer", 10.0)
         time.sleep(0.5)
-        assert any(json.loads(d)["type"] == "state" for d in viewer.raw())
+        assert viewer.messages("state")
         viewer.close()
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=30)

@@ -46,7 +46,7 @@ def test_frames_without_render_or_traffic_simulate_none():
     env.step(np.zeros(2, dtype=np.float32))
     assert env.unwrapped._traffic is None
     env.close()
-    zz = gym.make("vessel_gym/ZigZag-v0", render_mode="rgb_array")
+    zz = gym.make("vessel_gym/ZigZag-v1", render_mode="rgb_array")
     zz.reset(seed=0)
     assert zz.render().shape[2] == 3 and zz.unwrapped._traffic is None
     zz.close()

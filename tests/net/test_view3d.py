@@ -271,7 +271,7 @@ def test_page_in_headless_chromium_draws_the_ship_moving(tmp_path):
                 p.wait()
 
 
-def test_link_client_echoes_a_welcome_cookie_in_its_hellos():
+def test_link_client_answers_the_handshake_and_commands_in_its_session():
     server = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
     server.bind(("127.0.0.1", 0))
     server.settimeout(1.0)
@@ -279,13 +279,26 @@ def test_link_client_echoes_a_welcome_cookie_in_its_hellos():
     try:
         link.poll(0.0)
         first, addr = server.recvfrom(4096)
-        assert "cookie" not in json.loads(first)
-        welcome = json.loads(P.encode_welcome(1, "viewer", 20.0, False, P.Limits(), 1.0, 3.0, "hold"))
-        server.sendto(json.dumps({**welcome, "cookie": "c0ffee"}).encode(), addr)
+        assert len(first) >= P.MIN_HELLO_BYTES and P.parse_datagram(first).cookie is None
+        server.sendto(P.encode_challenge(1, "c0ffee"), addr)
         time.sleep(0.01)
-        link.poll(0.1)  # the welcome with a new cookie is answered at once
-        again = json.loads(server.recv(4096))
-        assert again["type"] == "hello" and again["cookie"] == "c0ffee" and again["proto"] == 2
+        link.poll(0.1)  # a challenge is answered at once, with its cookie
+        again = P.parse_datagram(server.recv(4096))
+        assert again.cookie == "c0ffee" and again.proto == 2 and again.session is None
+        full = P.encode_welcome(2, "viewer", 20.0, False, P.Limits(), 1.0, 3.0, "hold", "c0ffee2", "s1")
+        server.sendto(full, addr)
+        time.sleep(0.01)
+        link.poll(0.2)
+        assert link.session == "s1" and link.welcome is not None
+        link.take_helm()
+        hello = P.parse_datagram(server.recv(4096))
+        assert (hello.role, hello.cookie, hello.session) == ("helm", "c0ffee2", "s1")
+        link.poll(1.0)
+        while True:
+            msg = P.parse_datagram(server.recv(4096))
+            if isinstance(msg, P.HelmCommand):
+                break
+        assert msg.session == "s1"
     finally:
         link.close()
         server.close()

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
-from vessel_gym.net import protocol as P
 from vessel_gym.net.link import LinkConfig, UdpLink
 from vessel_gym.net.wrapper import UdpLinkWrapper
 
@@ -42,15 +41,19 @@ def _wrap(env_id="vessel_gym/HarbourApproach-v0", clock=None, link_kw=None, make
     return UdpLinkWrapper(env, cfg, **kw)
 
 
+def _pump(env):
+    """Let the wrapper's link run once at the wrapper's clock (for a client's handshake)."""
+    return lambda: env.link.service(env._clock(), env._own_reading)
+
+
 def _helm_peer(peers, env, rate=None) -> Peer:
     peer = peers()
-    peer.send(env.link.json_address, P.encode_hello("helm", rate))
-    time.sleep(SETTLE_S)
+    peer.join(env.link.json_address, _pump(env), "helm", rate)
     return peer
 
 
 def _order(peer, env, seq, rudder, telegraph=None, rpm=None) -> None:
-    peer.send(env.link.json_address, P.encode_helm(seq, rudder, telegraph=telegraph, rpm_order=rpm))
+    peer.helm(env.link.json_address, seq, rudder, telegraph=telegraph, rpm=rpm)
     time.sleep(SETTLE_S)
 
 
@@ -133,8 +136,8 @@ def test_failsafe_after_one_second_of_silence_then_agent_gets_helm_back(peers):
         assert env.step(agent)[4]["helm"] == "agent"
         assert _rudder_order_deg(env) == pytest.approx(-14.0, abs=1e-4)
         # a panel that commands again takes the helm back at once (after 3.5 s of silence it re-registers)
-        peer.send(env.link.json_address, P.encode_hello("helm"))
-        _order(peer, env, 2, 5.0, telegraph=1)
+        peer.join(env.link.json_address, _pump(env), "helm")
+        _order(peer, env, 1, 5.0, telegraph=1)
         clock.tick()
         assert env.step(agent)[4]["helm"] == "human"
         assert _rudder_order_deg(env) == pytest.approx(5.0, abs=1e-4)
@@ -180,6 +183,22 @@ def test_takeover_never_ignores_the_human_but_still_publishes(peers):
         env.close()
 
 
+def test_close_hands_the_helm_back_to_the_simulation(peers):
+    clock = Clock()
+    env = _wrap(clock=clock)
+    sim = env.unwrapped.sim
+    try:
+        env.reset(seed=0)
+        peer = _helm_peer(peers, env)
+        _order(peer, env, 1, 15.0, telegraph=1)
+        clock.tick()
+        assert env.step(np.zeros(2, dtype=np.float32))[4]["helm"] == "human"
+    finally:
+        env.close()
+    sim.set_helm(rudder_order_rad=-0.1, k=0)  # whoever drives the simulation next has the helm
+    assert float(sim.rudder_order[0]) == -0.1
+
+
 # -- every env and action type ----------------------------------------------------------------------------------
 
 
@@ -198,15 +217,16 @@ def test_human_orders_in_every_env_and_action_type(peers, env_id, action_type, e
         _obs, _r, _te, _tr, info = env.step(_agent_action(env))
         assert info["helm"] == "human"
         rev_table = base.task.helm.rev_table[0] * 60.0  # rpm of telegraph -4..4
-        if action_type == "continuous":
-            assert _rudder_order_deg(env) == pytest.approx(-12.0, abs=1e-4)
-        else:  # nearest of the offered orders (-35, -20, -10, -5, 0, ...)
-            assert _rudder_order_deg(env) == pytest.approx(-10.0, abs=1e-9)
-        if action_type == "discrete" and engine:  # nearest telegraph step: SLOW ASTERN (-300 rpm)
-            assert _rpm_order(env) == pytest.approx(rev_table[2], rel=1e-9)
-            assert base.task.helm.telegraph[0] == -2
-        else:  # continuous engine action or the shaft order set directly
-            assert _rpm_order(env) == pytest.approx(-260.0, rel=1e-5)
+        # the panel's orders reach the physics as given, whatever the agent's action type (a discrete agent
+        # offers -35, -20, -10, -5, 0, ... deg and telegraph steps only)
+        assert _rudder_order_deg(env) == pytest.approx(-12.0, abs=1e-9)
+        assert _rpm_order(env) == pytest.approx(-260.0, rel=1e-12)
+        # the panel is shown the telegraph step nearest its rpm order: SLOW ASTERN (-300 rpm)
+        clock.tick()
+        env.step(_agent_action(env))
+        time.sleep(SETTLE_S)
+        assert peer.messages("state")[-1]["telegraph"] == -2
+        assert _rudder_order_deg(env) == pytest.approx(-12.0, abs=1e-9)  # the agent's action did not win
         # a telegraph order
         _order(peer, env, 2, 3.0, telegraph=3)
         clock.tick()
@@ -255,8 +275,7 @@ def test_no_peers_and_nmea_off_compute_no_readings(peers, env_id):
             assert tr_counting.calls == 0 and tr.steps == 0  # traffic nobody sees is not simulated
         # a viewer makes the readings flow, at its rate
         viewer = peers()
-        viewer.send(env.link.json_address, P.encode_hello("viewer", 2.0))
-        time.sleep(SETTLE_S)
+        viewer.join(env.link.json_address, _pump(env), "viewer", 2.0)  # one state (and reading) at once
         for _ in range(8):  # 2 s at 2 Hz
             clock.tick()
             env.step(_agent_action(env))
@@ -295,11 +314,11 @@ def test_harbour_traffic_reaches_viewers_as_targets(peers):
         assert env.traffic is not None and env.traffic.n == 2
         env.reset(seed=0)
         viewer = peers()
-        viewer.send(env.link.json_address, P.encode_hello("viewer", 4.0))
-        time.sleep(SETTLE_S)
+        viewer.join(env.link.json_address, _pump(env), "viewer", 4.0)
+        viewer.messages()  # the state of the handshake (without targets: the pump sends none)
         for k in range(40):  # 10 s
             if k % 4 == 3:  # keep-alive every second
-                viewer.send(env.link.json_address, P.encode_hello("viewer", 4.0))
+                viewer.hello(env.link.json_address, "viewer", 4.0)
                 time.sleep(SETTLE_S)
             clock.tick()
             env.step(np.zeros(2, dtype=np.float32))
@@ -363,11 +382,11 @@ def test_sim_clock_runs_link_in_simulated_time(peers):
     try:
         env.reset(seed=0)
         viewer = peers()
-        viewer.send(env.link.json_address, P.encode_hello("viewer", 1.0))
-        time.sleep(SETTLE_S)
+        viewer.join(env.link.json_address, _pump(env), "viewer", 1.0)
+        viewer.messages()
         for k in range(40):  # 10 simulated seconds, in a few wall-clock milliseconds
             if k % 4 == 3:  # keep-alive every simulated second
-                viewer.send(env.link.json_address, P.encode_hello("viewer", 1.0))
+                viewer.hello(env.link.json_address, "viewer", 1.0)
                 time.sleep(SETTLE_S)
             env.step(np.zeros(1, dtype=np.float32))
         time.sleep(SETTLE_S)

@@ -7,7 +7,7 @@ import pytest
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.shipfile import abkowitz_term, load_ship
-from vessel_gym.physics.simulation import Simulation
+from vessel_gym.physics.simulation import STEADY_MAX_ITERATIONS, Simulation
 
 
 class PolynomialHull:
@@ -67,3 +67,80 @@ def test_extra_force_component_moves_ship():
 def test_unknown_replacement_rejected():
     with pytest.raises(ValueError, match="replace"):
         Simulation("dtc", replace=["engine"])
+
+
+class CountingShaftDrag:
+    """A drag growing with the shaft speed (so that the steady approach iterates), counting its calls and the
+    batch sizes it is given."""
+
+    def __init__(self, coefficient_N_s2):
+        self.c = coefficient_N_s2
+        self.batches = []
+
+    def forces(self, sim, x):
+        self.batches.append(x.shape)
+        F = np.zeros((x.shape[0], 3))
+        F[:, 0] = -self.c * x[:, lo.X_REV] * np.abs(x[:, lo.X_REV])
+        return F
+
+
+class NoForce:
+    def forces(self, sim, x):
+        return np.zeros((x.shape[0], 3))
+
+
+@pytest.mark.parametrize("method", ["rk4", "euler"])
+def test_component_path_runs_the_compiled_stages(method):
+    """The batch driver with Python components and the compiled driver share their stages: with a component
+    that adds nothing the trajectories agree bit for bit, through rudder and engine orders that make the
+    exact steering-gear stages matter (helm changed mid-run, different ships in one batch)."""
+    runs = []
+    for comps in ([], [NoForce()]):
+        sim = Simulation(
+            ["kvlcc2_l7", "mariner"], n=4, ship_index=[0, 1, 0, 1], dt=0.1, method=method, components=comps
+        )
+        sim.reset(heading_deg=[0.0, 45.0, 90.0, 135.0])
+        sim.set_helm(rudder_order_rad=np.radians([35.0, -20.0, 5.0, 0.0]))
+        sim.step(150)
+        sim.set_helm(rudder_order_rad=np.radians([-35.0, 20.0, 0.0, 10.0]), rev_order=sim.rev * 0.5)
+        sim.step(150)
+        runs.append(sim.state.copy())
+    assert np.array_equal(runs[0], runs[1])
+
+
+@pytest.mark.parametrize("method, stages", [("rk4", 4), ("euler", 1)])
+def test_component_is_evaluated_once_per_stage_for_the_whole_batch(method, stages):
+    """O(N): a step calls a component once per stage with all N states, whatever N."""
+    for n in (1, 64):
+        drag = CountingShaftDrag(0.05)
+        sim = Simulation("kvlcc2_l7", n=n, dt=0.1, method=method, components=[drag])
+        sim.reset()
+        drag.batches.clear()
+        sim.step(10)
+        assert drag.batches == [(n, lo.NX)] * (10 * stages)
+
+
+def test_reset_with_component_calls_it_a_bounded_number_of_times():
+    """A reset evaluates the components on the whole batch a few times, as many for 200 vessels as for 2 (it
+    once evaluated them for every vessel separately: O(N^2)); the steady approach includes their force."""
+    counts = []
+    for n in (2, 200):
+        drag = CountingShaftDrag(0.05)
+        sim = Simulation("kvlcc2_l7", n=n, dt=0.1, components=[drag])
+        drag.batches.clear()
+        sim.reset(heading_deg=np.linspace(0.0, 360.0, n, endpoint=False))
+        assert set(drag.batches) == {(n, lo.NX)}
+        counts.append(len(drag.batches))
+        drag.batches.clear()
+        sim.reset(k=n // 2)  # one vessel: the same bounded number of whole-batch calls
+        assert 1 < len(drag.batches) <= counts[-1]
+    assert counts[0] == counts[1] <= STEADY_MAX_ITERATIONS
+    free = Simulation("kvlcc2_l7", dt=0.1)
+    free.reset()
+    drag = CountingShaftDrag(0.05)
+    held = Simulation("kvlcc2_l7", dt=0.1, components=[drag])
+    held.reset()
+    assert held.rev[0] > free.rev[0]  # the drag needs more rpm for the same speed
+    u0 = held.u[0]
+    held.advance(10.0)
+    assert held.u[0] == pytest.approx(u0, rel=1e-4)  # a steady approach: the drag is in the surge balance

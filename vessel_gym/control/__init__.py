@@ -5,7 +5,6 @@ The manoeuvre trials, the environments' kernels and baselines, the scenarios' tr
 scripts call these functions; the physics does not depend on this package.
 """
 
-from pathlib import Path
 
 from vessel_gym.control.angles import wrap_pi, wrap_pi_upper
 from vessel_gym.control.guidance import leg_frame, los_heading, pursuit_heading, waypoint_reached
@@ -27,6 +26,7 @@ from vessel_gym.control.turning import (
 from vessel_gym.control.zigzag import (
     OVERSHOOT_IMO,
     OVERSHOOT_V0,
+    OVERSHOOT_V1,
     OvershootTracker,
     overshoot_excursion,
     overshoot_step,
@@ -34,15 +34,11 @@ from vessel_gym.control.zigzag import (
     zigzag_execute,
 )
 
-#: this package's sources: compiled callers that inline its functions (the task kernels) key their numba
-#: cache on them
-CONTROL_SOURCES = sorted(Path(__file__).parent.glob("*.py"))
-
 __all__ = [
     "ADVANCE_HEADING_RAD",
-    "CONTROL_SOURCES",
     "OVERSHOOT_IMO",
     "OVERSHOOT_V0",
+    "OVERSHOOT_V1",
     "TACTICAL_HEADING_RAD",
     "OvershootTracker",
     "PidAutopilot",

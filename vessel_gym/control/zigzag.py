@@ -14,8 +14,9 @@ trials helm (:class:`vessel_gym.manoeuvres.helms.ZigZagHelm`), the ZigZag task k
 * :func:`overshoot_excursion` and :func:`overshoot_step`: the excursion past the target and one step of the
   tracker that finds its extreme.
 
-The tracker has two modes, because the ZigZag-v0 environment has always measured a little differently from
-the trial (docs/control.md); v0 keeps its accounting so that its rewards and info do not change:
+The tracker has three modes, because the ZigZag-v0 environment has always measured a little differently from
+the trial (docs/control.md), v0 keeps its accounting so that its rewards and info do not change, and
+ZigZag-v1 measures per course change:
 
 * :data:`OVERSHOOT_IMO` (the trial): the extreme is the last sample at which the excursion still grew (within
   :data:`PEAK_TOL_RAD`); the measurement ends at the first sample after it at which the yaw rate has strictly
@@ -24,6 +25,13 @@ the trial (docs/control.md); v0 keeps its accounting so that its rewards and inf
   the yaw rate is reversed or zero (sign x r <= 0), so the peak includes the step that ends it. The task also
   closes a measurement still running when the next target is reached, charging what it had so far as a
   complete overshoot (in the trial the ship always turns back before it can reach the next target).
+* :data:`OVERSHOOT_V1` (ZigZag-v1 and ZigZagRandom-v1): the overshoot of a course change is the largest
+  excursion past its target from the sample at which the target is reached until the measurement is closed
+  from outside, when the next course change starts (in the IMO schedule, where a change starts at the very
+  sample its predecessor's target is reached, when the change after that starts); the yaw rate does not end
+  it, so a ship that swings past, turns back and swings past again is charged its largest excursion. A
+  measurement still open at the end of an episode counts with what it has. For a ship that turns back once
+  before the next target, it is the IMO overshoot sampled at the control steps.
 """
 
 from __future__ import annotations
@@ -32,6 +40,7 @@ from numba import njit
 
 OVERSHOOT_IMO = 0
 OVERSHOOT_V0 = 1
+OVERSHOOT_V1 = 2
 #: tolerance of the trial's "excursion still growing" test, rad (a sample equal to the peak to rounding
 #: keeps the measurement open)
 PEAK_TOL_RAD = 1e-12
@@ -64,8 +73,9 @@ def overshoot_step(sign, target, peak, heading, r, mode):
 
     ``peak`` (rad) is the largest excursion past ``target`` so far (start it with the excursion at the
     execute); ``rose`` tells that this sample set it; ``finished`` that the extreme has passed (``peak`` is
-    then the overshoot angle). ``r`` is the yaw rate, rad/s; ``mode`` :data:`OVERSHOOT_IMO` or
-    :data:`OVERSHOOT_V0` (module docstring).
+    then the overshoot angle). ``r`` is the yaw rate, rad/s; ``mode`` :data:`OVERSHOOT_IMO`,
+    :data:`OVERSHOOT_V0` or :data:`OVERSHOOT_V1` (module docstring; in V1 ``finished`` is always False: the
+    caller closes the measurement when the next course change starts).
     """
     exc = overshoot_excursion(sign, target, heading)
     if mode == OVERSHOOT_IMO:
@@ -75,6 +85,8 @@ def overshoot_step(sign, target, peak, heading, r, mode):
     rose = exc > peak
     if rose:
         peak = exc
+    if mode == OVERSHOOT_V1:
+        return peak, rose, False
     return peak, rose, sign * r <= 0.0
 
 
@@ -113,15 +125,22 @@ class OvershootTracker:
         if rose:
             self.peak_t = t_s
         if finished:
+            self.close()
+        return finished
+
+    def close(self) -> None:
+        """Count the open measurement as it stands and end it (how :data:`OVERSHOOT_V1` measurements end:
+        when the next course change starts, or at the end of the episode)."""
+        if self.active:
             self.overshoots_rad.append(self.peak)
             self.times_s.append(self.peak_t)
             self.active = False
-        return finished
 
 
 __all__ = [
     "OVERSHOOT_IMO",
     "OVERSHOOT_V0",
+    "OVERSHOOT_V1",
     "PEAK_TOL_RAD",
     "OvershootTracker",
     "overshoot_excursion",

@@ -1,4 +1,5 @@
-"""Gymnasium environments: ZigZag, TurningCircle and HarbourApproach (``vessel_gym/<Name>-v0``).
+"""Gymnasium environments: ZigZag (``-v1``; ``-v0`` deprecated), ZigZagRandom (``-v1``), TurningCircle and
+HarbourApproach (``-v0``), all as ``vessel_gym/<Name>-v<N>``.
 
 Importing this package registers the ids (cheaply: entry points are strings); the environment classes,
 configs and policies load on first attribute access.
@@ -18,6 +19,14 @@ _LAZY = {
     "ZigZagVectorEnv": "zigzag",
     "ZigZagConfig": "zigzag",
     "ZigZagReward": "zigzag",
+    "ZigZagV1Env": "zigzag",
+    "ZigZagV1VectorEnv": "zigzag",
+    "ZigZagV1Config": "zigzag",
+    "ZigZagV1Reward": "zigzag",
+    "ZigZagRandomEnv": "zigzag",
+    "ZigZagRandomVectorEnv": "zigzag",
+    "ZigZagRandomConfig": "zigzag",
+    "DisturbedOpenWaterConfig": "disturbances",
     "TurningCircleEnv": "turning",
     "TurningCircleVectorEnv": "turning",
     "TurningCircleConfig": "turning",

@@ -12,10 +12,8 @@ import numpy as np
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import ShipEnvConfig, make_config, weight
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
-from vessel_gym.physics.atmosphere import air_velocity_earth
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.schema import param
-from vessel_gym.physics.seastate import current_earth
 from vessel_gym.physics.units import DEG
 from vessel_gym.scenarios import Scenario, load_scenario
 from vessel_gym.scenarios.geometry import hull_outline
@@ -212,8 +210,6 @@ class HarbourApproachTask(Task):
         self.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=n0, y_m=e0, k=k)
         s = self.ts[k]
         s[:] = 0.0
-        s[kn.HS_CUR_N], s[kn.HS_CUR_E] = current_earth(env.current_speed_m_s, env.current_to_deg * DEG)
-        s[kn.HS_WIND_N], s[kn.HS_WIND_E] = air_velocity_earth(env.wind_speed_m_s, env.wind_from_deg * DEG)
         s[kn.HS_D_PREV] = math.hypot(self.p[kn.HP_GOAL_N] - n0, self.p[kn.HP_GOAL_E] - e0)
         s[kn.HS_PREV_N], s[kn.HS_PREV_E] = n0, e0
         s[kn.HS_PREV_ORDER] = float(self.sim.rudder_order[k])
@@ -223,6 +219,7 @@ class HarbourApproachTask(Task):
         return (
             self.sim.state,
             self.sim.inputs,
+            self.sim.env,
             self.sim.alive,
             self.ts,
             self.p,

@@ -3,13 +3,14 @@
 The environments and their vector twins call the same kernels (N = 1 and N = 1024 run the same code). Each
 task keeps its per-vessel task state in a float array ``ts`` (N, *N) whose named columns are defined here,
 reads the ship's motion from the simulation's state and input rows (``sim.state``, ``sim.inputs``, columns
-named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome flags. Physics equations are not repeated here: the
-apparent wind comes from :func:`vessel_gym.physics.atmosphere.relative_wind`. Nor are the control rules: angle
-wrapping, the zig-zag rule and overshoot tracker, and the turning-circle geometry are those of
-:mod:`vessel_gym.control`.
+named in :mod:`vessel_gym.physics.layout`), and fills features (physical units), reward terms and outcome
+flags. Physics equations are not repeated here: the velocities over ground, the apparent wind and the
+rotations come from :mod:`vessel_gym.physics.kinematics`, the current and the wind from the simulation's
+environment rows (``sim.env``). Nor are the control rules: angle wrapping, the zig-zag rule and overshoot
+tracker, and the turning-circle geometry are those of :mod:`vessel_gym.control`.
 
-numba caches compiled code per source file, but these kernels inline physics functions, so the cache is
-keyed by a hash of this file and the physics and control packages' sources (stale machine code is discarded).
+These kernels inline physics and control functions, so their numba cache is keyed by a hash of this file and
+the physics and control sources (:mod:`vessel_gym.physics.jitcache`): stale machine code is never loaded.
 
 Why whole rows and not the named accessors (``sim.u``, ...): a numba call unboxes every array argument, about
 0.06 us for a contiguous array and 0.15 us for a strided view such as ``sim.u``; ten views cost a one-ship
@@ -19,37 +20,39 @@ environment step more than its task arithmetic.
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 from numba import njit, prange
 
-from vessel_gym.control import CONTROL_SOURCES
-from vessel_gym.physics import PHYSICS_SOURCES, invalidate_stale_numba_cache
-
-invalidate_stale_numba_cache(
-    Path(__file__).parent / "__pycache__", [Path(__file__), *PHYSICS_SOURCES, *CONTROL_SOURCES]
-)
-
-from vessel_gym.control.angles import PI, wrap_pi  # noqa: E402
-from vessel_gym.control.turning import (  # noqa: E402
+from vessel_gym.control.angles import PI, wrap_pi
+from vessel_gym.control.turning import (
     ADVANCE_HEADING_RAD,
     TACTICAL_HEADING_RAD,
     at_crossing,
     course_axes,
     crossing_fraction,
 )
-from vessel_gym.control.zigzag import (  # noqa: E402
+from vessel_gym.control.zigzag import (
     OVERSHOOT_V0,
+    OVERSHOOT_V1,
     overshoot_excursion,
     overshoot_step,
     target_reached,
     zigzag_execute,
 )
-from vessel_gym.physics import layout as lo  # noqa: E402  (after the cache check)
-from vessel_gym.physics.atmosphere import relative_wind  # noqa: E402
-from vessel_gym.physics.integrate import MAX_CHUNKS  # noqa: E402
-from vessel_gym.physics.vessel import NO_REFCOUNT  # noqa: E402
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.integrate import MAX_CHUNKS
+from vessel_gym.physics.kinematics import (
+    body_point_to_earth,
+    body_to_earth,
+    current_body,
+    earth_to_body,
+    ground_velocity,
+    ground_velocity_body,
+    relative_wind,
+    speed_over_ground,
+)
+from vessel_gym.physics.vessel import NO_REFCOUNT
 
 # outcome flags (HarbourApproach)
 OK = 0
@@ -278,6 +281,147 @@ def zigzag_update(
         f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psik)
         f[ZF_HEAD_DEV] = wrap_pi(psik - s[Z_PSI0])
         f[ZF_TARGET_DEV] = wrap_pi(s[Z_TARGET] - s[Z_PSI0])
+        encode_row(feat, k, enc, obs)
+
+
+# --- ZigZag-v1 ----------------------------------------------------------------------------------------------
+# One schedule for both target kinds: a course change starts when its start time comes (the first after the
+# seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
+# schedule, at the execute (the target reached). Overshoots are measured with the OVERSHOOT_V1 tracker.
+ZV_PSI0 = 0  # original course, rad
+ZV_TARGET = 1  # target heading of the current course change, rad (unwrapped, same branch as the heading)
+ZV_SIGN = 2  # direction in which the current target is reached, +1 starboard / -1 port; 0 before the first
+ZV_SIDE = 3  # IMO schedule: side of the current target (the first change flips it: set -first side)
+ZV_REACHED = 4  # current target reached
+ZV_NEXT = 5  # time at which the next course change starts, s
+ZV_DPSI = 6  # size of the current course change |target - previous target|, rad
+ZV_OS_ON = 7  # an overshoot measurement is open
+ZV_OS_SIGN = 8  # its side (+1 starboard)
+ZV_OS_TGT = 9  # its target, rad
+ZV_OS_PEAK = 10  # its overshoot so far (largest excursion past the target), rad
+ZV_OS_SUM = 11  # overshoots of the closed measurements, summed, rad
+ZV_OS_MAX = 12  # largest closed overshoot, rad
+ZV_OS_N = 13  # closed measurements
+ZV_OS1 = 14  # first and second closed overshoot, rad (the IMO first and second overshoot angles)
+ZV_OS2 = 15
+ZV_CHANGES = 16  # course changes started
+ZV_NREACH = 17  # targets reached
+ZV_MISSED = 18  # course changes that ended with their target not reached
+ZV_PREV_ORDER = 19  # rudder order of the previous step, rad
+ZV_U0 = 20  # approach speed, m/s
+ZV_T = 21  # time since the start of the episode, s
+ZV_PEND_CHANGE = 22  # random schedule: the next course change, drawn in advance (signed), rad
+ZV_PEND_LEG = 23  # random schedule: the duration of the leg it starts, s
+ZV_DRAW = 24  # random schedule: the pending change was used; the task draws the next one
+ZVN = 25
+
+ZVP_PSIZ = 0  # IMO heading deviation psi_z, rad
+ZVP_OS_REF = 1  # overshoot scale of the reward, rad
+ZVP_DMAX = 2  # rudder scale (limit), rad
+ZVP_IMO = 3  # 1: IMO schedule, 0: random course changes
+ZVP_DT = 4  # control interval, s
+ZVP_LEG_LIMIT = 5  # IMO schedule: the next change starts at the latest this long after the last, s
+ZVP_REACH = 6  # target_reached term per radian of course change, 1/rad
+ZVPN = 7
+
+ZVT_HEADING, ZVT_OVERSHOOT, ZVT_REACHED, ZVT_RUDDER, ZVT_SPEED = range(5)
+ZVTN = 5
+
+
+@njit(cache=True)
+def _close_overshoot_v1(s):
+    s[ZV_OS_ON] = 0.0
+    s[ZV_OS_N] += 1.0
+    peak = s[ZV_OS_PEAK]
+    s[ZV_OS_SUM] += peak
+    s[ZV_OS_MAX] = max(s[ZV_OS_MAX], peak)
+    if s[ZV_OS_N] == 1.0:
+        s[ZV_OS1] = peak
+    elif s[ZV_OS_N] == 2.0:
+        s[ZV_OS2] = peak
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def zigzag_v1_update(
+    phase,
+    x,
+    inp,
+    alive,
+    ts,
+    p,
+    w,
+    enc,
+    feat,
+    obs,
+    terms,
+    reward,
+    done,
+):
+    """ZigZag-v1 (phases as :func:`zigzag_update`; a course change due at the reset starts there)."""
+    psiz = p[ZVP_PSIZ]
+    osref = p[ZVP_OS_REF]
+    imo = p[ZVP_IMO] > 0.0
+    for k in range(x.shape[0]):
+        if phase[k] == 0:
+            continue
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        s = ts[k]
+        clear_row(terms, k)
+        reached_now = False
+        if phase[k] == 1:
+            s[ZV_T] += p[ZVP_DT]
+            if s[ZV_OS_ON] > 0.0:
+                before = s[ZV_OS_PEAK]
+                s[ZV_OS_PEAK], _rose, _fin = overshoot_step(
+                    s[ZV_OS_SIGN], s[ZV_OS_TGT], before, psik, rk, OVERSHOOT_V1
+                )
+                terms[k, ZVT_OVERSHOOT] = -(s[ZV_OS_PEAK] - before) / osref
+            if s[ZV_SIGN] != 0.0 and s[ZV_REACHED] == 0.0 and target_reached(s[ZV_SIGN], psik, s[ZV_TARGET]):
+                reached_now = True
+                s[ZV_REACHED] = 1.0
+                s[ZV_NREACH] += 1.0
+                if s[ZV_OS_ON] > 0.0:  # the previous change's measurement ends where this one begins
+                    _close_overshoot_v1(s)
+                s[ZV_OS_ON] = 1.0
+                s[ZV_OS_SIGN] = s[ZV_SIGN]
+                s[ZV_OS_TGT] = s[ZV_TARGET]
+                s[ZV_OS_PEAK] = max(overshoot_excursion(s[ZV_SIGN], s[ZV_TARGET], psik), 0.0)
+                terms[k, ZVT_OVERSHOOT] -= s[ZV_OS_PEAK] / osref
+                terms[k, ZVT_REACHED] = s[ZV_DPSI] * p[ZVP_REACH]
+        if s[ZV_T] >= s[ZV_NEXT] - 1e-9 or (imo and reached_now):  # a course change starts
+            if s[ZV_SIGN] != 0.0 and s[ZV_REACHED] == 0.0:
+                s[ZV_MISSED] += 1.0
+            # closed when the next change starts; the IMO execute starts a change at the very sample the
+            # measurement opens, and the change after that closes it
+            if s[ZV_OS_ON] > 0.0 and not (imo and reached_now):
+                _close_overshoot_v1(s)
+            previous = s[ZV_TARGET]
+            if imo:
+                s[ZV_SIDE], s[ZV_TARGET] = zigzag_execute(s[ZV_PSI0], s[ZV_SIDE], psiz)
+                s[ZV_SIGN] = s[ZV_SIDE]
+                s[ZV_NEXT] = s[ZV_T] + p[ZVP_LEG_LIMIT]
+            else:
+                s[ZV_TARGET] += s[ZV_PEND_CHANGE]
+                s[ZV_SIGN] = 1.0 if s[ZV_TARGET] >= psik else -1.0
+                s[ZV_NEXT] = s[ZV_T] + s[ZV_PEND_LEG]
+                s[ZV_DRAW] = 1.0
+            s[ZV_DPSI] = abs(s[ZV_TARGET] - previous)
+            s[ZV_REACHED] = 0.0
+            s[ZV_CHANGES] += 1.0
+        if phase[k] == 1:
+            terms[k, ZVT_HEADING] = -abs(wrap_pi(s[ZV_TARGET] - psik)) / PI
+            terms[k, ZVT_RUDDER] = rudder_activity(dck, s[ZV_PREV_ORDER], p[ZVP_DMAX])
+            terms[k, ZVT_SPEED] = speed_loss(math.sqrt(uk * uk + vk * vk), s[ZV_U0])
+        done[k] = not alive[k]
+        if done[k]:
+            clear_row(terms, k)
+        _finish(terms, k, w, reward)
+        s[ZV_PREV_ORDER] = dck
+        f = feat[k]
+        motion_features(f, uk, vk, rk, dk, dck, revk)
+        f[ZF_HEAD_ERR] = wrap_pi(s[ZV_TARGET] - psik)
+        f[ZF_HEAD_DEV] = wrap_pi(psik - s[ZV_PSI0])
+        f[ZF_TARGET_DEV] = wrap_pi(s[ZV_TARGET] - s[ZV_PSI0])
         encode_row(feat, k, enc, obs)
 
 
@@ -523,8 +667,7 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
     for i in range(nh):
         x = hull[i, 0]
         y = hull[i, 1]
-        hn[i] = n0 + c * x - s * y
-        he[i] = e0 + s * x + c * y
+        hn[i], he[i] = body_point_to_earth(n0, e0, c, s, x, y)
         if i == 0:
             hb0 = hb1 = hn[0]
             hb2 = hb3 = he[0]
@@ -539,8 +682,7 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
         x = beam_dirs[j, 0]
         y = beam_dirs[j, 1]
         beams[j] = beam_range
-        bw[0, j] = c * x - s * y  # beam direction (north, east)
-        bw[1, j] = s * x + c * y
+        bw[0, j], bw[1, j] = body_to_earth(c, s, x, y)  # beam direction (north, east)
     npoly = polys.shape[0]
     vn = edges[:, 0]
     ve = edges[:, 1]
@@ -647,20 +789,17 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
 
 
 # --- HarbourApproach -----------------------------------------------------------------------------------------
+# (the current and the wind are not task state: the kernel reads the environment rows the physics uses)
 HS_D_PREV = 0  # distance to the goal point at the previous step, m
 HS_PREV_ORDER = 1
-HS_CUR_N = 2  # current (north, east), m/s
-HS_CUR_E = 3
-HS_WIND_N = 4  # air velocity over ground (north, east), m/s (the true wind blows towards it)
-HS_WIND_E = 5
-HS_MIN_CLEAR = 6  # smallest clearance this episode, m
-HS_CLEAR = 7  # clearance now, m
-HS_T = 8
-HS_PATH = 9  # distance sailed over ground, m
-HS_PREV_N = 10
-HS_PREV_E = 11
-HS_SOG = 12  # speed over ground, m/s
-HSN = 13
+HS_MIN_CLEAR = 2  # smallest clearance this episode, m
+HS_CLEAR = 3  # clearance now, m
+HS_T = 4
+HS_PATH = 5  # distance sailed over ground, m
+HS_PREV_N = 6
+HS_PREV_E = 7
+HS_SOG = 8  # speed over ground, m/s
+HSN = 9
 
 HP_L = 0
 HP_DMAX = 1
@@ -699,18 +838,36 @@ HTN = 8
 
 
 @njit(cache=True)
-def harbour_update(phase, x, inp, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
+def harbour_update(phase, x, inp, env, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
     """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
-    stepped vessels. Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1 (the
-    range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's scratch
-    and runs :func:`_harbour_range`."""
+    stepped vessels. ``env`` is the simulation's environment rows (``sim.env``: current and wind as the
+    physics sees them). Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1
+    (the range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's
+    scratch and runs :func:`_harbour_range`."""
     nb = beam_dirs.shape[0]
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
     he = np.empty(hull.shape[0])
     bw = np.empty((2, nb))
     _harbour_range(
-        phase, x, inp, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args, beams, hn, he, bw
+        phase,
+        x,
+        inp,
+        env,
+        alive,
+        ts,
+        p,
+        hull,
+        edges,
+        polys,
+        pbox,
+        goal_verts,
+        beam_dirs,
+        *args,
+        beams,
+        hn,
+        he,
+        bw,
     )
 
 
@@ -719,6 +876,7 @@ def _harbour_range(
     phase,
     x,
     inp,
+    env,
     alive,
     ts,
     p,
@@ -755,9 +913,10 @@ def _harbour_range(
         clear_row(terms, k)
         c = math.cos(psik)
         sn = math.sin(psik)
-        vn = c * uk - sn * vk + s[HS_CUR_N]
-        ve = sn * uk + c * vk + s[HS_CUR_E]
-        sog = math.sqrt(vn * vn + ve * ve)
+        cur_n = env[k, lo.E_CUR_N]
+        cur_e = env[k, lo.E_CUR_E]
+        vn, ve = ground_velocity(uk, vk, c, sn, cur_n, cur_e)
+        sog = speed_over_ground(vn, ve)
         flag, clear = chart_query(
             nk,
             ek,
@@ -825,22 +984,19 @@ def _harbour_range(
         s[HS_PREV_E] = ek
         s[HS_SOG] = sog
         # body-frame quantities as sensed on the bridge
-        ug = uk + c * s[HS_CUR_N] + sn * s[HS_CUR_E]
-        vg = vk - sn * s[HS_CUR_N] + c * s[HS_CUR_E]
-        Vrw, _gamma, cos_g, sin_g = relative_wind(ug, vg, c, sn, s[HS_WIND_N], s[HS_WIND_E])
+        ug, vg = ground_velocity_body(uk, vk, c, sn, cur_n, cur_e)
+        Vrw, _gamma, cos_g, sin_g = relative_wind(ug, vg, c, sn, env[k, lo.E_WIND_N], env[k, lo.E_WIND_E])
         f = feat[k]
         motion_features(f, uk, vk, rk, dk, dck, revk)
         f[HF_REV_C] = revck
-        f[HF_GOAL_X] = c * gn + sn * ge
-        f[HF_GOAL_Y] = -sn * gn + c * ge
+        f[HF_GOAL_X], f[HF_GOAL_Y] = earth_to_body(c, sn, gn, ge)
         f[HF_GOAL_DIST] = dist
         f[HF_GOAL_HDG_ERR] = herr
         f[HF_SOG] = sog
         f[HF_WIND_SPEED] = Vrw
         f[HF_WIND_SIN] = sin_g
         f[HF_WIND_COS] = cos_g
-        f[HF_CUR_X] = c * s[HS_CUR_N] + sn * s[HS_CUR_E]
-        f[HF_CUR_Y] = -sn * s[HS_CUR_N] + c * s[HS_CUR_E]
+        f[HF_CUR_X], f[HF_CUR_Y] = current_body(c, sn, cur_n, cur_e)
         for j in range(nb):
             f[HFN0 + j] = beams[j]
         encode_row(feat, k, enc, obs)

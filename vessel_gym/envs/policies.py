@@ -5,7 +5,8 @@ Each policy reads the observation through the environment's :class:`~vessel_gym.
 environment's action type (continuous or discrete helm). Observations may be one (obs_dim,) vector or a
 batch (N, obs_dim) from a vector environment; stateful policies keep one state per row (``reset(mask)``).
 
-* :class:`ZigZagRule`: the IMO zig-zag rule in ``ZigZag-v0`` (rudder to the side of the current target).
+* :class:`ZigZagRule`: the IMO zig-zag rule in ``ZigZag-v1`` / ``ZigZag-v0`` (rudder to the side of the
+  current target).
 * :class:`TurningRule`: a constant rudder (the IMO 35-degree turning circle) in ``TurningCircle-v0``.
 * :class:`PIDHeadingAutopilot`: PID on heading error with rate-of-turn damping (ZigZag, HarbourApproach).
 * :class:`HarbourPilot`: line-of-sight PID steering and a distance-scheduled engine order (HarbourApproach).

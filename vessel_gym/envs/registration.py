@@ -9,6 +9,16 @@ ENVIRONMENTS: dict[str, tuple[str, str, int]] = {
         "vessel_gym.envs.zigzag:ZigZagVectorEnv",
         480,
     ),
+    "vessel_gym/ZigZag-v1": (
+        "vessel_gym.envs.zigzag:ZigZagV1Env",
+        "vessel_gym.envs.zigzag:ZigZagV1VectorEnv",
+        480,
+    ),
+    "vessel_gym/ZigZagRandom-v1": (
+        "vessel_gym.envs.zigzag:ZigZagRandomEnv",
+        "vessel_gym.envs.zigzag:ZigZagRandomVectorEnv",
+        480,
+    ),
     "vessel_gym/TurningCircle-v0": (
         "vessel_gym.envs.turning:TurningCircleEnv",
         "vessel_gym.envs.turning:TurningCircleVectorEnv",

@@ -10,8 +10,9 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import OpenWaterConfig, weight
+from vessel_gym.envs.config import weight
 from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
+from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.schema import check_ranges, param
 
@@ -32,7 +33,7 @@ class TurningCircleReward:
 
 
 @dataclass(frozen=True, kw_only=True)
-class TurningCircleConfig(OpenWaterConfig):
+class TurningCircleConfig(DisturbedOpenWaterConfig):
     """TurningCircle-v0 configuration (see :class:`TurningCircleEnv`)."""
 
     mode: str = param("rate", choices=MODES, doc="task: hold a rate of turn, a radius, or reverse course")
@@ -58,6 +59,7 @@ class TurningCircleTask(Task):
     def __init__(self, config: TurningCircleConfig, n: int) -> None:
         check_ranges(config, ("rate_prime", "radius_L", "initial_heading_deg"), "TurningCircle config")
         super().__init__(config, n)
+        self.disturbances = Disturbances(config, self.ship, "TurningCircle config")
         self.mode = MODES.index(config.mode)
         self.ts = np.zeros((n, kn.TCN))
         p = np.zeros(kn.TCPN)
@@ -119,6 +121,7 @@ class TurningCircleTask(Task):
             raise ValueError(
                 f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s, command)"
             )
+        self.disturbances.apply(self.sim, k, rng, heading)
         self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
         s = self.ts[k]
         s[:] = 0.0
@@ -275,7 +278,15 @@ class TurningCircleEnv(ShipEnv):
     ## Starting State
 
     Steady straight approach at ``approach_speed_m_s`` (default test speed), rudder amidships, heading
-    uniform in ``initial_heading_deg`` (default 0), at the origin, calm water.
+    uniform in ``initial_heading_deg`` (default 0), at the origin. Calm water by default; the opt-in
+    disturbance keys (``wind_speed_m_s``, ``current_speed_m_s``, ``Hs_m`` and their direction and period
+    ranges, :class:`~vessel_gym.envs.disturbances.DisturbedOpenWaterConfig`) draw wind, current and waves
+    per episode with the reset seed and set them as the vessel's environment in the simulation before the
+    steady approach is solved (wind and waves need a ship with ``[windage]`` / ``[wave_drift]``, else
+    construction raises ``SpecError``; the default ``kvlcc2_l7`` has neither, ``kvlcc2``, ``mariner`` and
+    ``dtc`` have both). With all ranges at their calm defaults nothing is drawn and episodes are those of
+    calm water, bit for bit. Advance, transfer and tactical diameter are measured over the ground, so a
+    current carries them; the IMO figures are defined in calm water.
 
     ## Episode End
 
@@ -298,7 +309,10 @@ class TurningCircleEnv(ShipEnv):
 
     ``gymnasium.make("vessel_gym/TurningCircle-v0", render_mode=None, config=None, **overrides)``; keys of
     :class:`~vessel_gym.envs.zigzag.ZigZagEnv`'s shared part plus ``mode``, ``rate_prime``, ``radius_L``,
-    ``side``, ``approach_speed_m_s``, ``initial_heading_deg``, ``reward``. Strict: unknown keys raise.
+    ``side``, ``approach_speed_m_s``, ``initial_heading_deg``, the disturbance ranges ``wind_speed_m_s``,
+    ``wind_from_rel_deg``, ``current_speed_m_s``, ``current_to_rel_deg``, ``Hs_m``, ``Tp_s``,
+    ``wave_from_rel_deg`` (directions relative to the original course), ``reward``. Strict: unknown keys
+    raise.
     ``reset(options={"heading_deg", "speed_m_s", "command"})``: ``command`` is r_c in rad/s (rate mode) or
     the curvature in 1/m (radius mode).
 
@@ -308,7 +322,8 @@ class TurningCircleEnv(ShipEnv):
 
     ## Version History
 
-    * v0: initial version.
+    * v0: initial version; later given the opt-in disturbance keys (their calm defaults leave v0's
+      episodes unchanged).
     """
 
     Task = TurningCircleTask

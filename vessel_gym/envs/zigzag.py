@@ -12,6 +12,7 @@ import numpy as np
 from vessel_gym.envs import kernels as kn
 from vessel_gym.envs.config import OpenWaterConfig, weight
 from vessel_gym.envs.core import PHASE_STEP, Feature, ShipEnv, ShipVectorEnv, Task, _uniform
+from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
 
@@ -177,6 +178,11 @@ class ZigZagTask(Task):
 class ZigZagEnv(ShipEnv):
     """Course-changing autopilot built around the IMO zig-zag manoeuvre (MSC.137(76)).
 
+    Deprecated: use ``vessel_gym/ZigZag-v1`` (:class:`ZigZagV1Env`) and ``vessel_gym/ZigZagRandom-v1``.
+    v0 stays registered with unchanged behaviour, but its reward ranks badly: its overshoot term keeps
+    charging a target the ship has already left behind, a helm that stops just short of a target stalls
+    the IMO schedule, and every seed gives the same episode (version history below).
+
     ## Description
 
     A ship starts in a steady straight approach. Its target heading alternates between
@@ -279,7 +285,11 @@ class ZigZagEnv(ShipEnv):
 
     ## Version History
 
-    * v0: initial version.
+    * v0: initial version. Deprecated in favour of v1: the overshoot term charges the running measurement
+      of the last reached target until the yaw rate reverses, also while the ship turns correctly toward a
+      new target in the same direction; ``overshoot_count`` and the overshoot angles count only finished
+      measurements; the IMO schedule waits for the target indefinitely, so a helm that aims 0.5-2 deg short
+      stalls it and scores better than one that completes it; the default episode ignores the seed.
     """
 
     Task = ZigZagTask
@@ -290,3 +300,379 @@ class ZigZagVectorEnv(ShipVectorEnv):
     """Native vector version of :class:`ZigZagEnv` (one simulation of ``num_envs`` ships)."""
 
     Env = ZigZagEnv
+
+
+# --- ZigZag-v1 ----------------------------------------------------------------------------------------------
+#: the IMO schedule's next course change starts at the latest this many ship time scales L / U_T after the
+#: last one. It must not cut the zig-zag of a helm that completes it: the IMO 10/10 rule itself takes 4.5-6.7
+#: L / U_T from execute to execute on kvlcc2_l7 (27-40 s), a PID helm 2-3.3 L / U_T; so the limit bites only on
+#: a helm that stops short of a target or never gets there, and gives it the next course change anyway
+LEG_TIME_LIMIT_L_U = 10.0
+#: the target_reached bonus of a course change equals the heading_error charge of a turn whose error falls
+#: linearly to zero in 2 x this many L / U_T, the leg time limit: a helm that reaches a target within the
+#: limit earns about what the turn costs it or more, so completing a course change always beats stopping
+#: short of it, and, in the IMO schedule, a helm gains by completing more course changes
+REACH_TIME_L_U = 5.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagV1Reward:
+    """Weights of the ZigZag-v1 reward terms (reward = sum of weight x term)."""
+
+    heading_error: float = weight(1.0, "-|target - heading| / pi")
+    overshoot: float = weight(1.0, "-growth of the course change's overshoot / overshoot scale")
+    target_reached: float = weight(
+        1.0, "on reaching a target: +|course change| / pi x 5 (L / U_T) / control interval"
+    )
+    rudder_activity: float = weight(0.1, "-|change of rudder order| / (2 rudder limit)")
+    speed_loss: float = weight(0.1, "-max(0, U0 - U) / U0")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagV1Config(DisturbedOpenWaterConfig):
+    """ZigZag-v1 configuration (see :class:`ZigZagV1Env`)."""
+
+    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
+    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
+    first_side: str = param("random", choices=("starboard", "port", "random"), doc="imo: first target side")
+    first_change_s: tuple[float, ...] = param(
+        (0.0, 10.0), unit="s", lo=0.0, hi=1e5, doc="[min, max] time of the first course change"
+    )
+    leg_time_limit_s: float | None = param(
+        None,
+        unit="s",
+        lo=0.01,
+        hi=1e5,
+        doc="imo: the next course change starts at the latest this long after the last (default 10 L / U_T)",
+    )
+    course_change_deg: tuple[float, ...] = param(
+        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
+    )
+    leg_time_s: tuple[float, ...] = param(
+        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
+    )
+    initial_heading_deg: tuple[float, ...] = param(
+        (0.0, 360.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
+    )
+    success_overshoot_deg: float | None = param(
+        None,
+        unit="deg",
+        lo=0.0,
+        hi=180.0,
+        doc="success: mean overshoot per course change at most this (default half the overshoot scale)",
+    )
+    reward: ZigZagV1Reward = param(ZigZagV1Reward(), doc="reward weights")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagRandomConfig(ZigZagV1Config):
+    """ZigZagRandom-v1 configuration: ZigZag-v1 with the random course-change schedule."""
+
+    schedule: str = param("random", choices=("imo", "random"), doc="target schedule")
+
+
+class ZigZagV1Task(Task):
+    Config = ZigZagV1Config
+    kernel = staticmethod(kn.zigzag_v1_update)
+    n_features = kn.ZFN
+
+    def __init__(self, config: ZigZagV1Config, n: int) -> None:
+        where = f"{type(config).__name__}"
+        check_ranges(
+            config, ("course_change_deg", "leg_time_s", "initial_heading_deg", "first_change_s"), where
+        )
+        super().__init__(config, n)
+        self.disturbances = Disturbances(config, self.ship, where)
+        self.imo = config.schedule == "imo"
+        self.psi_z = config.zigzag_heading_deg * DEG
+        self.overshoot_ref = self.psi_z if self.imo else config.course_change_deg[0] * DEG
+        self.leg_time_limit = (
+            config.leg_time_limit_s
+            if config.leg_time_limit_s is not None
+            else LEG_TIME_LIMIT_L_U * self.L / self.U_T
+        )
+        self.success_overshoot = (
+            config.success_overshoot_deg * DEG
+            if config.success_overshoot_deg is not None
+            else 0.5 * self.overshoot_ref
+        )
+        self.ts = np.zeros((n, kn.ZVN))
+        p = np.zeros(kn.ZVPN)
+        p[kn.ZVP_PSIZ] = self.psi_z
+        p[kn.ZVP_OS_REF] = self.overshoot_ref
+        p[kn.ZVP_DMAX] = (
+            self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
+        )
+        p[kn.ZVP_IMO] = 1.0 if self.imo else 0.0
+        p[kn.ZVP_DT] = config.control_interval_s
+        p[kn.ZVP_LEG_LIMIT] = self.leg_time_limit
+        p[kn.ZVP_REACH] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
+        self.p = p
+
+    observation_features = ZigZagTask.observation_features
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        c = self.config
+        opts = dict(options or {})
+        heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
+        speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or self.U_T))
+        if opts:
+            raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
+        self.disturbances.apply(self.sim, k, rng, heading)
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
+        s = self.ts[k]
+        s[:] = 0.0
+        psi0 = float(self.sim.heading[k])
+        s[kn.ZV_PSI0] = psi0
+        s[kn.ZV_TARGET] = psi0
+        s[kn.ZV_U0] = speed
+        s[kn.ZV_PREV_ORDER] = float(self.sim.rudder_order[k])
+        s[kn.ZV_NEXT] = _uniform(rng, c.first_change_s)
+        if self.imo:
+            side = {"starboard": 1.0, "port": -1.0}.get(c.first_side)
+            if side is None:
+                side = 1.0 if rng.random() < 0.5 else -1.0
+            s[kn.ZV_SIDE] = -side  # the first change flips it to the first side
+        else:
+            self._draw_change(k, rng)
+
+    def _draw_change(self, k: int, rng: np.random.Generator) -> None:
+        """Draw vessel k's next random course change and the duration of the leg it starts."""
+        c = self.config
+        s = self.ts[k]
+        s[kn.ZV_PEND_CHANGE] = (
+            _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
+        )
+        s[kn.ZV_PEND_LEG] = _uniform(rng, c.leg_time_s)
+        s[kn.ZV_DRAW] = 0.0
+
+    kernel_args = ZigZagTask.kernel_args
+
+    def update(self, phase: np.ndarray) -> None:
+        super().update(phase)
+        if self.imo:
+            return
+        # the kernel started a course change: draw the one after it
+        if self.n == 1:  # a scalar test: the one-ship step should not pay for flatnonzero
+            if self.ts[0, kn.ZV_DRAW]:
+                self._draw_change(0, self.rngs[0])
+            return
+        for k in np.flatnonzero(self.ts[:, kn.ZV_DRAW]):
+            self._draw_change(int(k), self.rngs[k])
+
+    # --- info -------------------------------------------------------------------------------------------
+    def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
+        """(overshoot per course change, largest overshoot, success) from the task columns ``s`` of all
+        vessels (the batched info): the open measurement counts with its overshoot so far."""
+        running = s[kn.ZV_OS_PEAK] * s[kn.ZV_OS_ON]
+        per_change = (s[kn.ZV_OS_SUM] + running) / np.maximum(s[kn.ZV_CHANGES], 1.0)
+        largest = np.maximum(s[kn.ZV_OS_MAX], running)
+        success = (s[kn.ZV_MISSED] == 0.0) & (s[kn.ZV_NREACH] >= 1.0) & (per_change <= self.success_overshoot)
+        return per_change, largest, success
+
+    def info(self, k: int) -> dict[str, Any]:
+        s = self.ts[k].tolist()
+        # as _metrics, on Python floats (the one-ship step should not pay for numpy scalar arithmetic)
+        running = s[kn.ZV_OS_PEAK] * s[kn.ZV_OS_ON]
+        per_change = (s[kn.ZV_OS_SUM] + running) / max(s[kn.ZV_CHANGES], 1.0)
+        success = s[kn.ZV_MISSED] == 0.0 and s[kn.ZV_NREACH] >= 1.0 and per_change <= self.success_overshoot
+        return {
+            "reward_terms": self.weighted_terms(k),
+            "time_s": s[kn.ZV_T],
+            "target_heading_deg": math.degrees(s[kn.ZV_TARGET]) % 360.0,
+            "heading_error_deg": math.degrees(self.feat[k, kn.ZF_HEAD_ERR]),
+            "course_changes": int(s[kn.ZV_CHANGES]),
+            "targets_reached": int(s[kn.ZV_NREACH]),
+            "targets_missed": int(s[kn.ZV_MISSED]),
+            "overshoot_deg": math.degrees(per_change),
+            "max_overshoot_deg": math.degrees(max(s[kn.ZV_OS_MAX], running)),
+            "overshoot_1_deg": math.degrees(s[kn.ZV_OS1]),
+            "overshoot_2_deg": math.degrees(s[kn.ZV_OS2]),
+            "success": success,
+            "is_success": success,
+            "diverged": not self.sim.alive[k],
+        }
+
+    def batch_info(self) -> dict[str, Any]:
+        s = self.task_columns()
+        per_change, largest, success = self._metrics(s)
+        return {
+            "reward_terms": self.batch_weighted_terms(),
+            "time_s": s[kn.ZV_T],
+            "target_heading_deg": np.degrees(s[kn.ZV_TARGET]) % 360.0,
+            "heading_error_deg": np.degrees(self.feat[:, kn.ZF_HEAD_ERR]),
+            "course_changes": s[kn.ZV_CHANGES].astype(np.int64),
+            "targets_reached": s[kn.ZV_NREACH].astype(np.int64),
+            "targets_missed": s[kn.ZV_MISSED].astype(np.int64),
+            "overshoot_deg": np.degrees(per_change),
+            "max_overshoot_deg": np.degrees(largest),
+            "overshoot_1_deg": np.degrees(s[kn.ZV_OS1]),
+            "overshoot_2_deg": np.degrees(s[kn.ZV_OS2]),
+            "success": success,
+            "is_success": success.copy(),
+            "diverged": ~self.sim.alive,
+        }
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        return {
+            "target_heading_rad": float(self.ts[k, kn.ZV_TARGET]),
+            "original_course_rad": float(self.ts[k, kn.ZV_PSI0]),
+            "title": "ZigZag",
+        }
+
+
+class ZigZagRandomTask(ZigZagV1Task):
+    Config = ZigZagRandomConfig
+
+
+class ZigZagV1Env(ShipEnv):
+    """Course-changing autopilot around the IMO zig-zag manoeuvre, with honest overshoot accounting.
+
+    ## Description
+
+    A ship starts in a steady straight approach on a seeded original course and holds it until the first
+    course change (seeded time in ``first_change_s``); from then on its target heading changes by a
+    schedule, and the agent, holding the helm, should bring the ship onto each new target quickly, with
+    little overshoot, rudder activity and speed loss.
+
+    * ``schedule="imo"`` (``vessel_gym/ZigZag-v1``): the target alternates between ``original course +
+      psi`` and ``original course - psi`` (first side seeded), changing when the heading reaches the
+      current target (the IMO MSC.137(76) execute) or, at the latest, ``leg_time_limit_s`` after the last
+      change (default 10 L / U_T, 59 s for ``kvlcc2_l7``, where the IMO 10/10 rule needs up to 6.7 L / U_T and a
+      PID helm 2-3.3 L / U_T from one course change to the next). So the schedule
+      cannot be stalled by stopping short of a target.
+    * ``schedule="random"`` (``vessel_gym/ZigZagRandom-v1``, :class:`ZigZagRandomEnv`): course changes of
+      ``course_change_deg`` either side every ``leg_time_s`` seconds (drawn with the reset seed).
+
+    A target counts as reached when the heading reaches or passes it (:func:`vessel_gym.control.zigzag.
+    target_reached`, the IMO execute); a helm that approaches it asymptotically from one side never
+    reaches it. Overshoot is measured per course change (``OVERSHOOT_V1`` of :mod:`vessel_gym.control.zigzag`):
+    the largest excursion past the change's target from the moment it is reached until the measurement is
+    closed when the next course change starts (IMO schedule: the change after the one the execute
+    starts). A course change whose target is never reached has overshoot 0; a measurement still open at
+    the end of the episode counts with what it has, in the reward and in ``info`` alike.
+
+    Default ship: ``kvlcc2_l7`` (7 m KVLCC2 model, 1.18 m/s test speed, L / U_T = 5.9 s), physics step and
+    control interval 0.25 s.
+
+    ## Action Space
+
+    As ZigZag-v0: ``Box(-1, 1, (1,))`` rudder order x rudder limit (+ starboard); ``(2,)`` with
+    ``engine_control`` (engine order x full ahead / full astern rpm); clipped; NaN raises.
+    ``action_type="discrete"``: helm orders (x telegraph steps).
+
+    ## Observation Space
+
+    As ZigZag-v0 (``Box(-1, 1, (8,), float32)`` normalized): u, v, r, rudder, rudder_order, (rev),
+    heading_error (target - heading), heading_deviation (heading - original course), target_deviation
+    (target - original course). The original course itself is not observed (the task is the same on every
+    course), nor are the disturbances (only their effect on the motion).
+
+    ## Rewards
+
+    reward = sum of weight x term (config ``reward``); weighted terms in ``info["reward_terms"]``. psi_ref
+    is the overshoot scale: ``zigzag_heading_deg`` (IMO) or the smallest ``course_change_deg`` (random).
+
+    | Term | Default weight | Value per step |
+    |------|----------------|----------------|
+    | heading_error | 1.0 | -abs(target - heading) / pi |
+    | overshoot | 1.0 | -(growth this step of the current course change's overshoot) / psi_ref |
+    | target_reached | 1.0 | at the step a target is reached: +abs(course change) / pi x 5 (L / U_T) / control interval |
+    | rudder_activity | 0.1 | -abs(change of rudder order) / (2 x rudder limit) |
+    | speed_loss | 0.1 | -max(0, U0 - U) / U0 |
+
+    Over an episode the overshoot term sums to -(sum of the overshoots per course change, the open one
+    included) / psi_ref. The target_reached bonus equals the heading_error charge of a turn whose error
+    falls linearly to zero in 10 L / U_T, the IMO leg time limit: a helm that reaches a target earns
+    about what the turn costs it or more, so no helm gains by stopping short of a target or never reaching
+    it, and in the IMO schedule completing more course changes pays (``tests/envs/test_zigzag_v1.py``
+    ranks a completing PID helm above helms that aim 0.5-2 deg short and above timid helms, on both
+    schedules). The speed-loss weight is 0.1 (v0: 0.5, under which the speed every turn costs outweighed
+    the heading error and a helm that turned less scored better).
+
+    ## Starting State
+
+    Steady straight approach at ``approach_speed_m_s`` (default the test speed), rudder amidships,
+    original course uniform in ``initial_heading_deg`` (default 0-360 deg), at the origin. IMO first side
+    ``first_side`` (default random); first course change at a time uniform in ``first_change_s``
+    (default 0-10 s). Calm water unless the disturbance ranges are set: ``wind_speed_m_s`` /
+    ``wind_from_rel_deg``, ``current_speed_m_s`` / ``current_to_rel_deg``, ``Hs_m`` / ``Tp_s`` /
+    ``wave_from_rel_deg`` (directions relative to the original course; wind and waves from, current
+    towards) are drawn per episode with the reset seed and set as the vessel's environment in the
+    simulation before the steady approach is solved. Wind and waves need a ship with ``[windage]`` /
+    ``[wave_drift]`` tables (``kvlcc2``, ``mariner``, ``dtc``; the default ``kvlcc2_l7`` tank model has
+    neither): on a ship without, construction raises ``SpecError``. All of these come from the reset
+    seed: seeds give different episodes.
+
+    ## Episode End
+
+    * Termination: the simulation diverged (``info["diverged"]``).
+    * Truncation: 480 steps (120 s) by the registered time limit.
+
+    ## Success
+
+    ``info["is_success"]`` (and ``info["success"]``, the same): no course change has ended with its target
+    unreached, at least one target has been reached, and the overshoot per course change (the open one
+    included) is at most ``success_overshoot_deg`` (default psi_ref / 2: 5 deg on the 10 deg IMO
+    schedule). Read at the end of the episode (SB3's ``Monitor`` does), it says the helm completed the
+    schedule with small overshoot; the current course change, still running at the time limit, is not
+    held against it.
+
+    ## Info
+
+    ``reward_terms``, ``time_s``, ``target_heading_deg``, ``heading_error_deg``, ``course_changes``
+    (started so far), ``targets_reached``, ``targets_missed`` (course changes ended unreached),
+    ``overshoot_deg`` (overshoot per course change: the sum of the overshoots, the open measurement
+    included, / course changes), ``max_overshoot_deg``, ``overshoot_1_deg`` and ``overshoot_2_deg``
+    (the first two closed measurements: in the IMO schedule the IMO first and second overshoot angles,
+    sampled at the control steps; 0 until closed), ``is_success``, ``success``, ``diverged``.
+
+    ## Arguments
+
+    ``gymnasium.make("vessel_gym/ZigZag-v1", render_mode=None, config=None, **overrides)``; config class
+    :class:`ZigZagV1Config` (strict, as ZigZag-v0). Keys: the shared ones, ``schedule``,
+    ``zigzag_heading_deg``, ``first_side``, ``first_change_s``, ``leg_time_limit_s``,
+    ``course_change_deg``, ``leg_time_s``, ``approach_speed_m_s``, ``initial_heading_deg``, the
+    disturbance ranges above, ``success_overshoot_deg``, ``reward``.
+    ``reset(options={"heading_deg": ..., "speed_m_s": ...})`` fixes the start.
+
+    ## Vectorized environment
+
+    ``gymnasium.make_vec("vessel_gym/ZigZag-v1", num_envs=N)`` (:class:`ZigZagV1VectorEnv`; and
+    ``ZigZagRandom-v1``, :class:`ZigZagRandomVectorEnv`): one simulation of N ships, the same task code;
+    vessel k seeded with ``seed + k`` follows the single environment seeded so.
+
+    ## Version History
+
+    * v1: overshoot measured per course change and closed when the next change starts, the open one
+      counted at the end (v0 charged a running measurement against a target the ship had left behind and
+      counted only finished ones); IMO leg time limit; seeded original course, first side and first change
+      time; target_reached term, speed-loss weight 0.1; wind, current and waves; ``is_success``; the
+      random schedule registered as ``ZigZagRandom-v1``.
+    * v0: initial version (:class:`ZigZagEnv`, deprecated).
+    """
+
+    Task = ZigZagV1Task
+    env_name = "ZigZag-v1"
+
+
+class ZigZagV1VectorEnv(ShipVectorEnv):
+    """Native vector version of :class:`ZigZagV1Env` (one simulation of ``num_envs`` ships)."""
+
+    Env = ZigZagV1Env
+
+
+class ZigZagRandomEnv(ZigZagV1Env):
+    """ZigZag-v1 with the random course-change schedule as its default (``schedule="random"``): course
+    changes of ``course_change_deg`` (10-40 deg, either side) every ``leg_time_s`` (20-40 s), the first after
+    ``first_change_s``. Everything else, the reward, the overshoot accounting and success included, is
+    :class:`ZigZagV1Env`'s; see its docstring."""
+
+    Task = ZigZagRandomTask
+    env_name = "ZigZagRandom-v1"
+
+
+class ZigZagRandomVectorEnv(ShipVectorEnv):
+    """Native vector version of :class:`ZigZagRandomEnv`."""
+
+    Env = ZigZagRandomEnv

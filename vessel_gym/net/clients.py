@@ -2,19 +2,23 @@
 
 Both talk plain UDP to a :class:`~vessel_gym.net.link.UdpLink` on this or another host, register with ``hello``
 (repeated every 0.5 s as keep-alive), and draw a readout panel plus a north-up chart of the own track and the
-targets. The helm panel also sends its full order (rudder, telegraph) at 10-20 Hz:
+targets. The helm panel starts as a watcher (registered as a viewer, sending no orders); after ``t`` it takes
+the helm and sends its full order (rudder, telegraph) at 10-20 Hz:
 
 =============  ===============================================
 key            action
 =============  ===============================================
+t              take the helm
+w              give the helm back and watch (released at once)
 left / right   rudder order 5 deg to port / starboard
 0              rudder midships
 up / down      telegraph one step ahead / astern
 Esc, q         quit (sends ``bye``, releasing the helm)
 =============  ===============================================
 
-The panel takes its initial orders from the first state it receives, so taking the helm does not jerk the
-rudder or the engine. pygame is imported only inside the functions that draw (extra ``render``).
+On ``t`` the panel takes its orders from the next state it receives, so taking the helm does not jerk the
+rudder or the engine. Both clients join with the cookie handshake of ``docs/protocol.md`` and accept datagrams
+only from the server they joined. pygame is imported only inside the functions that draw (extra ``render``).
 """
 
 from __future__ import annotations
@@ -64,8 +68,10 @@ class ServerConnection:
     """Non-blocking UDP connection to a link's JSON channel.
 
     ``poll()`` reads everything waiting and keeps the newest complete ``state`` (parts of one ``seq`` merged),
-    the last ``welcome`` and ``stats``. ``keepalive(now_s)`` sends ``hello`` every 0.5 s. With ``listen`` set the
-    socket binds there and never sends anything (a listen-only viewer fed by ``json_static_destinations``).
+    the last ``welcome`` and ``stats``; datagrams from any other address than ``server`` are dropped (counted
+    in ``foreign``). ``keepalive(now_s)`` sends ``hello`` every 0.5 s, echoing the cookie and session of the
+    last ``welcome``. With ``listen`` set the socket binds there and never sends anything (a listen-only viewer
+    fed by ``json_static_destinations``).
     """
 
     def __init__(
@@ -82,7 +88,10 @@ class ServerConnection:
         self.server = (socket.gethostbyname(server[0]), int(server[1]))
         self.role = role
         self.listen_only = listen is not None
-        self._hello = protocol.encode_hello(role, rate_hz, name, token, proto=2)  # v2: the chart as well
+        self._rate_hz, self._name, self._token = rate_hz, name, token
+        self.cookie: str | None = None  # from the last welcome
+        self.session: str | None = None  # from the last full welcome: this client is registered
+        self.foreign = 0  # datagrams from other addresses than the server, dropped
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.sock.setblocking(False)
         self.sock.bind(listen if listen is not None else ("", 0))
@@ -118,18 +127,42 @@ class ServerConnection:
         except OSError:
             pass  # unreachable server: the keep-alive retries
 
+    def hello(self) -> None:
+        """Send a ``hello`` now (padded; with the cookie and session held)."""
+        self._sendto(
+            protocol.encode_hello(
+                self.role,
+                self._rate_hz,
+                self._name,
+                self._token,
+                cookie=self.cookie,
+                session=self.session,
+                proto=2,  # v2: the chart as well
+            )
+        )
+
     def keepalive(self, now_s: float) -> None:
         """Send ``hello`` if the last one is 0.5 s old (clock of ``now_s``: any monotonic seconds)."""
         if now_s - self._last_hello >= HELLO_INTERVAL_S:
             self._last_hello = now_s
-            self._sendto(self._hello)
+            self.hello()
+
+    def set_role(self, role: str) -> None:
+        """Re-register as ``"helm"`` or ``"viewer"`` (a helm owner becoming a viewer releases the helm)."""
+        if role not in protocol.ROLES:
+            raise ValueError(f"role must be one of {protocol.ROLES}, not {role!r}")
+        if role != self.role:
+            self.role = role
+            self.hello()
 
     def send_helm(
         self, rudder_order_deg: float, telegraph: int | None = None, rpm_order: float | None = None
     ) -> None:
-        """Send one full helm command with the next ``seq``."""
+        """Send one full helm command with the next ``seq`` (nothing before the server gave a session)."""
+        if self.session is None:
+            return
         self._seq += 1
-        self._sendto(protocol.encode_helm(self._seq, rudder_order_deg, telegraph, rpm_order))
+        self._sendto(protocol.encode_helm(self._seq, rudder_order_deg, telegraph, rpm_order, self.session))
         self.helm_sent += 1
 
     def poll(self, now_s: float = 0.0) -> int:
@@ -137,11 +170,14 @@ class ServerConnection:
         n = 0
         while True:
             try:
-                data, _ = self.sock.recvfrom(65536)
+                data, source = self.sock.recvfrom(65536)
             except (BlockingIOError, InterruptedError):
                 return n
             except OSError:  # an error reported on the socket: try again next frame
                 return n
+            if source[:2] != self.server:  # only the server joined may feed the display
+                self.foreign += 1
+                continue
             try:
                 msg = protocol.parse_server_datagram_v2(data)
             except ProtocolError:
@@ -153,7 +189,7 @@ class ServerConnection:
             if kind == "state":
                 self._on_state(msg)
             elif kind == "welcome":
-                self.welcome = msg
+                self._on_welcome(msg)
             elif kind == "scenario":
                 self.scene = self._scene_parts.add(msg) or self.scene
             elif kind == "particulars":
@@ -161,6 +197,20 @@ class ServerConnection:
                     self.particulars[msg["id"]] = msg
             elif kind == "stats":
                 self.stats = msg
+
+    def _on_welcome(self, msg: dict) -> None:
+        cookie, session = msg.get("cookie"), msg.get("session")
+        if isinstance(cookie, str):
+            self.cookie = cookie
+        if not isinstance(session, str):
+            self.hello()  # a challenge: echo its cookie at once (one hello per challenge, never a loop)
+            return
+        if session != self.session:  # a new registration (e.g. the server restarted): seqs start again
+            self.session = session
+            self._seq = 0
+            self.state = None
+            self._parts_seq, self._parts = -1, {}
+        self.welcome = msg
 
     def _on_state(self, msg: dict) -> None:
         seq, part, parts = msg.get("seq"), msg.get("part", 0), msg.get("parts", 1)
@@ -185,8 +235,8 @@ class ServerConnection:
 
     def close(self, bye: bool = True) -> None:
         """Send ``bye`` (unless listen-only or ``bye`` is false) and close the socket."""
-        if bye:
-            self._sendto(protocol.encode_bye())
+        if bye and self.session is not None:
+            self._sendto(protocol.encode_bye(self.session))
         self.sock.close()
 
 
@@ -198,6 +248,17 @@ class HelmPanel:
     rudder_order_deg: float = 0.0
     telegraph: int = 0
     ready: bool = False  # orders initialised from the ship's state (only then are they sent)
+    active: bool = False  # the panel has asked for the helm (key t); a watcher sends no orders
+
+    def take(self) -> None:
+        """Ask for the helm: orders are synced from the next state, then sent."""
+        if not self.active:
+            self.active = True
+            self.ready = False
+
+    def watch(self) -> None:
+        """Give the helm back and only watch."""
+        self.active = False
 
     def sync(self, state: Mapping) -> None:
         """Take the current orders from a state message, once (bumpless takeover)."""
@@ -211,8 +272,15 @@ class HelmPanel:
         self.ready = True
 
     def handle_key(self, key: str) -> None:
-        """Apply one key: ``left``, ``right``, ``0``, ``up`` or ``down`` (others are ignored)."""
-        if key == "left":
+        """Apply one key: ``t`` (take), ``w`` (watch), and while holding the helm ``left``, ``right``, ``0``,
+        ``up`` or ``down`` (others are ignored)."""
+        if key == "t":
+            self.take()
+        elif key == "w":
+            self.watch()
+        elif not self.active:
+            return
+        elif key == "left":
             self.rudder_order_deg = max(-self.max_rudder_deg, self.rudder_order_deg - RUDDER_STEP_DEG)
         elif key == "right":
             self.rudder_order_deg = min(self.max_rudder_deg, self.rudder_order_deg + RUDDER_STEP_DEG)
@@ -392,7 +460,8 @@ def render(
         text("PANEL ORDER", 12, y, _DIM)
         text(f"rudder {panel.rudder_order_deg:+.0f} deg", 12, y + 24, _ORDER)
         text(_telegraph_name(panel.telegraph), 12, y + 48, _ORDER)
-        text("<- -> rudder  0 midships  up/down engine  q quit", 12, h - 24, _DIM, small)
+        keys = "w watch  <- -> rudder  0 midships  up/down engine" if panel.active else "t take the helm"
+        text(f"{keys}  q quit", 12, h - 24, _DIM, small)
     helm_ok = s.get("helm_ok")
     text("HELM OK" if helm_ok else "NO HELM", left_w - 90, 16, _STBD if helm_ok else _WARN, font)
 
@@ -487,6 +556,7 @@ class ClientResult:
 
 
 _KEYS = {"K_LEFT": "left", "K_RIGHT": "right", "K_UP": "up", "K_DOWN": "down", "K_0": "0", "K_KP0": "0"}
+_KEYS.update({"K_t": "t", "K_w": "w"})
 
 
 def _run(
@@ -542,17 +612,21 @@ def _run(
                     limit = conn.welcome.get("max_rudder_deg")
                     if isinstance(limit, (int, float)) and 0 < limit < 90:
                         panel.max_rudder_deg = float(limit)
-                if state is not None:
-                    panel.sync(state)
             if on_frame is not None:
                 on_frame(frame, panel, conn)
-            if panel is not None and panel.ready and now >= next_helm:
+            if panel is not None:
+                conn.set_role("helm" if panel.active else "viewer")
+                if panel.active and state is not None:
+                    panel.sync(state)
+            if panel is not None and panel.active and panel.ready and now >= next_helm:
                 conn.send_helm(panel.rudder_order_deg, panel.telegraph)
                 next_helm = max(next_helm + 1.0 / helm_rate_hz, now)
             result.owned_helm |= conn.owns_helm
             age = conn.seconds_since_data(now)
             if age > 2.0:
                 status = "! no data from server"
+            elif panel is not None and not panel.active:
+                status = "watching (t takes the helm)"
             elif panel is not None:
                 status = "you have the helm" if conn.owns_helm else "helm: other panel or none"
             else:
@@ -590,20 +664,22 @@ def run_helm(
     fps: float = 30.0,
     capture: bool = False,
     on_frame: Callable[[int, HelmPanel | None, ServerConnection], None] | None = None,
+    take: bool = False,
 ) -> ClientResult:
     """Run the helm panel against the link at ``server`` until closed or ``max_frames``/``duration_s`` (s).
 
-    Sends full helm commands at ``rate_hz`` (10-20 Hz) once the first state has arrived, asks for state at
-    ``state_rate_hz``. ``headless`` uses SDL's dummy video driver; ``capture`` keeps the last frame in the
+    Starts as a watcher; after the ``t`` key (or ``take=True``) sends full helm commands at ``rate_hz`` (10-20
+    Hz), synced from the state at that moment; asks for state at ``state_rate_hz``. ``headless`` uses SDL's dummy video driver; ``capture`` keeps the last frame in the
     result; ``on_frame(frame, panel, connection)`` is called every frame before sending (scripted input).
     """
     if not 1.0 <= rate_hz <= 50.0:
         raise ValueError(f"helm rate_hz must be 1-50, not {rate_hz}")
-    conn = ServerConnection(server, "helm", state_rate_hz, name, token)
+    conn = ServerConnection(server, "viewer", state_rate_hz, name, token)
     title = f"vessel-gym helm - {name}"
-    return _run(
-        conn, HelmPanel(), rate_hz, title, max_frames, duration_s, headless, size, fps, capture, on_frame
-    )
+    panel = HelmPanel()
+    if take:
+        panel.take()
+    return _run(conn, panel, rate_hz, title, max_frames, duration_s, headless, size, fps, capture, on_frame)
 
 
 def run_viewer(

@@ -5,13 +5,23 @@ current time and readings; the call drains the JSON socket without blocking, app
 due, and returns the :class:`HelmState` in force. Nothing a peer sends can raise out of it: every rejected
 datagram is counted by reason in :meth:`UdpLink.stats`, and socket errors are counted too.
 
-Helm rules (``docs/protocol.md`` has the full text):
+Handshake and limits (``docs/protocol.md`` has the full text):
 
-- A client registers with ``hello`` (role ``viewer`` or ``helm``) and stays registered while it sends something
-  valid at least every ``client_timeout_s`` (3 s); silent clients are dropped.
-- Only registered ``helm`` clients may command. The first command while nobody owns the helm takes ownership;
-  commands from other panels are dropped (``not_owner``) while an owner exists.
-- Per client, only a command with a higher ``seq`` than the last one is applied (``stale_seq`` otherwise).
+- A ``hello`` without a valid ``cookie`` gets only a short ``welcome`` carrying a cookie (an HMAC of the sender's
+  address and the time under a secret of this link, so the link keeps no state for it), and only if that answer
+  is no larger than the hello: an address that has not shown that it receives gets no more bytes than it sent.
+- A ``hello`` that echoes a valid cookie registers the client (role ``viewer`` or ``helm``) with a fresh random
+  ``session``, sent in the full ``welcome``; ``helm`` and ``bye`` must carry that session. A client stays
+  registered while it renews its hello (or, as helm owner, commands) at least every ``client_timeout_s`` (3 s).
+- Each source address may send ``max_rate_per_source_hz`` datagrams per second (more are dropped unread), and
+  one host may hold ``max_clients_per_host`` of the ``max_clients`` slots.
+- Tokens are compared as UTF-8 bytes in constant time.
+
+Helm rules:
+
+- Only registered ``helm`` clients may command, within their session. The first command while nobody owns the
+  helm takes ownership; commands from other panels are dropped (``not_owner``) while an owner exists.
+- Per session, only a command with a higher ``seq`` than the last one is applied (``stale_seq`` otherwise).
 - If the owner sends no command for ``watchdog_s`` (1 s), or says ``bye``, ownership is released,
   ``helm_ok`` becomes false and the failsafe policy applies to the orders: ``hold`` keeps the last order,
   ``midships_stop`` orders rudder 0 and telegraph STOP (or 0 rpm). Another helm panel may then take over.
@@ -22,12 +32,17 @@ rates, the watchdog and the timeouts are measured in it.
 
 from __future__ import annotations
 
+import base64
 import dataclasses
+import hashlib
 import hmac
 import ipaddress
 import math
+import os
+import secrets
 import select
 import socket
+import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime, timedelta, timezone
@@ -46,6 +61,7 @@ from vessel_gym.net.protocol import (
     ShipParticulars,
     StatsRequest,
     Target,
+    encode_challenge,
     encode_event,
     encode_helm_owner,
     encode_particulars,
@@ -60,7 +76,25 @@ from vessel_gym.physics.bridge import BridgeReading
 Address = tuple[str, int]
 
 FAILSAFE_POLICIES = ("hold", "midships_stop")
-LINK_DROP_REASONS = ("unregistered", "not_helm", "not_owner", "stale_seq", "too_many_clients", "bad_token")
+LINK_DROP_REASONS = (
+    "unregistered",
+    "not_helm",
+    "not_owner",
+    "stale_seq",
+    "too_many_clients",
+    "bad_token",
+    "short_hello",
+    "bad_session",
+    "rate_limited",
+)
+HELM_CHANGE_REASONS = ("command", "watchdog", "timeout", "bye", "viewer", "new_session")
+# A cookie is valid this long after it was issued (s of the link's monotonic clock). Every full welcome carries a
+# fresh one, and clients renew their hello at least once a second, so a live client never holds an old cookie.
+COOKIE_LIFETIME_S = 10.0
+# Per-source rate limits are kept for at most this many source addresses; beyond it, unknown sources share one
+# bucket (a flood from many spoofed addresses then limits itself, not the registered clients).
+MAX_RATE_SOURCES = 4096
+STATS_REQUEST_INTERVAL_S = 1.0  # a client gets at most one stats reply on request per this many s
 NMEA_MAX_DATAGRAM_BYTES = 1400
 RECEIVE_BUFFER_BYTES = 1 << 20
 # A periodic send is made up to this fraction of its period early, so that rounding of a simulated clock
@@ -117,10 +151,12 @@ class LinkConfig:
     default_rate_hz: float = 20.0  # state rate for a hello without rate_hz, 1-50 Hz
     allow_remote: bool = False  # binding to a non-loopback address requires this
     token: str | None = None  # if set, a hello must carry this token
+    max_rate_per_source_hz: float = 200.0  # datagrams/s from one source address (burst: 1 s of it), 10-1e5
     failsafe: str = "hold"  # "hold" | "midships_stop"
     watchdog_s: float = 1.0  # helm silence after which the owner loses the helm, s (0.1-10)
     client_timeout_s: float = 3.0  # silence after which a client is dropped, s (0.5-60)
     max_clients: int = 16
+    max_clients_per_host: int = 8  # client slots one IP address may hold
     stats_interval_s: float = 5.0  # period of unsolicited stats messages to clients, s (0.5-3600)
     max_datagrams_per_call: int = 256  # receive budget per service() call
     limits: Limits = field(default_factory=Limits)
@@ -162,7 +198,15 @@ class LinkConfig:
         put("watchdog_s", _check_number("watchdog_s", self.watchdog_s, 0.1, 10.0))
         put("client_timeout_s", _check_number("client_timeout_s", self.client_timeout_s, 0.5, 60.0))
         put("stats_interval_s", _check_number("stats_interval_s", self.stats_interval_s, 0.5, 3600.0))
-        for name, low, high in (("max_clients", 1, 1024), ("max_datagrams_per_call", 1, 100000)):
+        put(
+            "max_rate_per_source_hz",
+            _check_number("max_rate_per_source_hz", self.max_rate_per_source_hz, 10.0, 100000.0),
+        )
+        for name, low, high in (
+            ("max_clients", 1, 1024),
+            ("max_clients_per_host", 1, 1024),
+            ("max_datagrams_per_call", 1, 100000),
+        ):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
                 raise ValueError(f"LinkConfig.{name} must be an integer in [{low}, {high}], not {value!r}")
@@ -225,6 +269,20 @@ class HelmState:
 NO_HELM = HelmState()
 
 
+@dataclass(frozen=True)
+class HelmChange:
+    """The helm changed hands at link time ``t_s``: ``owner`` took it (``reason`` "command") or ``previous``
+    lost it (``reason`` one of "watchdog", "timeout", "bye", "viewer", "new_session"; ``owner`` is then None).
+    Names are the clients' hello names."""
+
+    t_s: float
+    reason: str
+    owner: Address | None = None
+    owner_name: str = ""
+    previous: Address | None = None
+    previous_name: str = ""
+
+
 @dataclass
 class _Client:
     role: str
@@ -232,7 +290,9 @@ class _Client:
     name: str
     last_seen: float
     next_due: float
+    session: str = ""
     last_seq: int = -1
+    last_stats: float = -math.inf  # link time of the last stats reply on request
     proto: int = 1  # 2: also gets the v2 scene, event and helm_owner messages
 
 
@@ -301,7 +361,15 @@ class UdpLink:
             self._nmea_sock = nsock
 
         self._clients: dict[Address, _Client] = {}
+        self._secret = os.urandom(32)  # cookie key; a new link invalidates every cookie of an old one
+        self._cookie_clock = time.monotonic  # cookies age in real time whatever clock service() gets
+        self._token = None if config.token is None else _token_bytes(config.token)
+        self._buckets: dict[Address | None, list[float]] = {}  # source -> [datagrams allowed, last time]
+        self._helm_changes: list[HelmChange] = []
         self._owner: Address | None = None
+        self._owner_name = ""
+        self._last_owner: Address | None = None  # the owner before the current one (for HelmChange)
+        self._last_name = ""
         self._owner_cmd_time = 0.0
         self._orders: HelmCommand | None = None
         self._failsafe = False
@@ -322,7 +390,8 @@ class UdpLink:
         self._scene_source: tuple = (None, (), None)  # what set_scene was given
         self._scene: list[bytes] | None = []  # its v2 datagrams, encoded on first need (None: not yet)
         self.last_error: str | None = None  # text of the last counted encoding/socket error
-        counters = ["rx_datagrams", "rx_accepted", "tx_state", "tx_welcome", "tx_stats", "tx_nmea_datagrams"]
+        counters = ["rx_datagrams", "rx_accepted", "tx_state", "tx_welcome", "tx_challenge", "tx_stats"]
+        counters += ["tx_nmea_datagrams"]
         counters += ["tx_nmea_sentences", "tx_ais_sentences", "tx_error", "rx_error", "encode_error"]
         counters += ["clients_joined", "clients_left", "clients_timed_out"]
         counters += ["helm_takeovers", "helm_watchdog", "helm_released", "tx_v2"]
@@ -357,6 +426,11 @@ class UdpLink:
             }
             for addr, c in self._clients.items()
         ]
+
+    def pop_helm_changes(self) -> list[HelmChange]:
+        """The helm ownership changes since the last call, oldest first (kept until popped, at most 1000)."""
+        out, self._helm_changes = self._helm_changes, []
+        return out
 
     def stats(self) -> dict[str, int]:
         """Copy of the counters (the key set is fixed).
@@ -393,7 +467,7 @@ class UdpLink:
         if self._readable():
             self._receive(now_s)
         if self._owner is not None and now_s - self._owner_cmd_time > self.config.watchdog_s:
-            self._release(now_s, "helm_watchdog")
+            self._release(now_s, "helm_watchdog", "watchdog")
         serve = bool(self._clients) or bool(
             self._static_dest and now_s + self._static_slack >= self._static_due
         )
@@ -432,33 +506,98 @@ class UdpLink:
                 self.last_error = f"recv: {exc}"
                 continue
             counters["rx_datagrams"] += 1
+            if not self._admit(addr, now_s):
+                counters["drop_rate_limited"] += 1
+                continue
             try:
                 msg = parse_datagram(data, self.config.limits, self.config.default_rate_hz)
             except ProtocolError as exc:
                 counters["drop_" + exc.reason] += 1
                 continue
-            self._handle(now_s, addr, msg)
+            self._handle(now_s, addr, msg, len(data))
 
     def _drop(self, reason: str) -> None:
         self._counters["drop_" + reason] += 1
 
-    def _handle(self, now_s: float, addr: Address, msg: object) -> None:
+    def _admit(self, addr: Address, now_s: float) -> bool:
+        """Token bucket per source address: ``max_rate_per_source_hz`` datagrams/s, bursts of 1 s of it."""
+        rate = self.config.max_rate_per_source_hz
+        buckets = self._buckets
+        key: Address | None = addr
+        bucket = buckets.get(addr)
+        if bucket is None:
+            if len(buckets) >= MAX_RATE_SOURCES:
+                # forget sources that have been quiet long enough to have a full bucket again
+                for k in [k for k, b in buckets.items() if k is not None and now_s - b[1] >= 1.0]:
+                    del buckets[k]
+            if len(buckets) >= MAX_RATE_SOURCES:
+                key = None
+                bucket = buckets.get(None)
+            if bucket is None:
+                bucket = buckets[key] = [rate, now_s]
+        allowed = min(rate, bucket[0] + max(now_s - bucket[1], 0.0) * rate)
+        bucket[1] = now_s
+        if allowed < 1.0:
+            bucket[0] = allowed
+            return False
+        bucket[0] = allowed - 1.0
+        return True
+
+    def _cookie(self, addr: Address, issued: int) -> str:
+        mac = hmac.new(self._secret, f"{addr[0]}|{addr[1]}|{issued}".encode(), hashlib.sha256).digest()
+        return f"{issued:x}." + base64.urlsafe_b64encode(mac[:16]).rstrip(b"=").decode("ascii")
+
+    def _new_cookie(self, addr: Address) -> str:
+        return self._cookie(addr, int(self._cookie_clock()))
+
+    def _cookie_ok(self, addr: Address, cookie: str | None) -> bool:
+        """True if ``cookie`` was issued by this link to ``addr`` less than COOKIE_LIFETIME_S ago."""
+        if cookie is None:
+            return False
+        head, dot, _ = cookie.partition(".")
+        if not dot or not 0 < len(head) <= 12 or not all(c in "0123456789abcdef" for c in head):
+            return False
+        issued = int(head, 16)
+        if not 0.0 <= self._cookie_clock() - issued <= COOKIE_LIFETIME_S + 1.0:  # +1: whole-second stamps
+            return False
+        return hmac.compare_digest(self._cookie(addr, issued).encode("ascii"), _token_bytes(cookie))
+
+    def _handle(self, now_s: float, addr: Address, msg: object, size: int) -> None:
         client = self._clients.get(addr)
         if isinstance(msg, Hello):
-            token = self.config.token
-            if token is not None and (msg.token is None or not hmac.compare_digest(msg.token, token)):
+            token = self._token
+            if token is not None and (
+                msg.token is None or not hmac.compare_digest(_token_bytes(msg.token), token)
+            ):
                 self._drop("bad_token")
                 return
+            if not self._cookie_ok(addr, msg.cookie):
+                data = encode_challenge(self._msg_seq + 1, self._new_cookie(addr))
+                if len(data) > size:  # never more bytes than came in to an address not shown to receive
+                    self._drop("short_hello")
+                    return
+                self._msg_seq += 1
+                self._counters["rx_accepted"] += 1
+                self._send(addr, data, "tx_challenge")
+                return
             if client is None:
-                if len(self._clients) >= self.config.max_clients:
+                host = addr[0]
+                if len(self._clients) >= self.config.max_clients or (
+                    sum(1 for a in self._clients if a[0] == host) >= self.config.max_clients_per_host
+                ):
                     self._drop("too_many_clients")
                     return
-                client = _Client(msg.role, msg.rate_hz, msg.name, now_s, now_s)
+                client = _Client(msg.role, msg.rate_hz, msg.name, now_s, now_s, session=secrets.token_hex(8))
                 self._clients[addr] = client
                 self._counters["clients_joined"] += 1
             else:
+                if msg.session != client.session:  # a restarted client: its commands count from a new seq
+                    if addr == self._owner:
+                        self._release(now_s, "helm_released", "new_session")
+                    client.session = secrets.token_hex(8)
+                    client.last_seq = -1
                 if client.role == "helm" and msg.role != "helm" and addr == self._owner:
-                    self._release(now_s, "helm_released")
+                    self._release(now_s, "helm_released", "viewer")
                 if msg.rate_hz != client.rate_hz:
                     client.next_due = min(client.next_due, now_s + 1.0 / msg.rate_hz)
                 client.role, client.rate_hz, client.name = msg.role, msg.rate_hz, msg.name
@@ -473,17 +612,25 @@ class UdpLink:
         if client is None:
             self._drop("unregistered")
             return
-        client.last_seen = now_s  # any valid message keeps a client alive, even a command that is dropped
+        if isinstance(msg, (HelmCommand, Bye)) and msg.session != client.session:
+            self._drop("bad_session")  # a forged or stale command: it neither steers nor keeps the client
+            return
         if isinstance(msg, HelmCommand):
+            client.last_seen = now_s
             self._command(now_s, addr, client, msg)
+            return
+        if isinstance(msg, StatsRequest) and now_s - client.last_stats < STATS_REQUEST_INTERVAL_S:
+            # anyone can forge a request in a client's name: a ~1 kB reply per 100-byte request is bounded
+            self._drop("rate_limited")
             return
         self._counters["rx_accepted"] += 1
         if isinstance(msg, Bye):
             if addr == self._owner:
-                self._release(now_s, "helm_released")
+                self._release(now_s, "helm_released", "bye")
             del self._clients[addr]
             self._counters["clients_left"] += 1
         elif isinstance(msg, StatsRequest):
+            client.last_stats = now_s
             self._send(addr, self._stats_message(now_s), "tx_stats")
 
     def _command(self, now_s: float, addr: Address, client: _Client, cmd: HelmCommand) -> None:
@@ -496,7 +643,11 @@ class UdpLink:
         client.last_seq = cmd.seq
         if self._owner is None:
             self._owner = addr
+            self._owner_name = client.name
             self._counters["helm_takeovers"] += 1
+            self._helm_change(
+                HelmChange(now_s, "command", addr, client.name, self._last_owner, self._last_name)
+            )
             self._owner_changed("takeover")
         elif self._owner != addr:
             self._drop("not_owner")
@@ -507,9 +658,15 @@ class UdpLink:
         self._failsafe = False
         self._update_helm()
 
-    def _release(self, now_s: float, counter: str) -> None:
+    def _helm_change(self, change: HelmChange) -> None:
+        if len(self._helm_changes) < 1000:  # bounded if nobody pops them
+            self._helm_changes.append(change)
+
+    def _release(self, now_s: float, counter: str, reason: str) -> None:
         """Owner lost (watchdog, bye, role change or timeout): apply the failsafe policy, free the helm."""
         self._counters[counter] += 1
+        self._helm_change(HelmChange(now_s, reason, previous=self._owner, previous_name=self._owner_name))
+        self._last_owner, self._last_name = self._owner, self._owner_name
         self._owner = None
         self._owner_changed("watchdog" if counter == "helm_watchdog" else "released")
         orders = self._orders
@@ -601,6 +758,7 @@ class UdpLink:
         self._stats_due += delta
         for c in self._clients.values():
             c.last_seen += delta
+            c.last_stats += delta
             c.next_due += delta
         for table in (self._ais_pos_due, self._ais_static_due):
             for key in table:
@@ -633,6 +791,8 @@ class UdpLink:
             cfg.watchdog_s,
             cfg.client_timeout_s,
             cfg.failsafe,
+            cookie=self._new_cookie(addr),
+            session=client.session,
         )
         self._send(addr, data, "tx_welcome")
 
@@ -660,7 +820,7 @@ class UdpLink:
             del self._clients[addr]
             self._counters["clients_timed_out"] += 1
             if addr == self._owner:
-                self._release(now_s, "helm_watchdog")
+                self._release(now_s, "helm_watchdog", "timeout")
         if self._static_dest and now_s + self._static_slack >= self._static_due:
             if parts is None:
                 parts = self._encode_state(own(), targets)
@@ -801,6 +961,11 @@ class UdpLink:
     def __del__(self) -> None:
         if not getattr(self, "_closed", True):
             self.close()
+
+
+def _token_bytes(text: str) -> bytes:
+    """UTF-8 bytes of any str, lone surrogates included (JSON may carry them as escapes), for compare_digest."""
+    return text.encode("utf-8", "surrogatepass")
 
 
 def _advance(due: float, period: float, now_s: float) -> float:

@@ -5,7 +5,9 @@ One UTF-8 JSON object per UDP datagram, always with ``"v": 1`` and a ``"type"``.
 and rate of turn are positive to starboard; x is north and y east of the scenario's reference point.
 
 Client to server: ``hello``, ``helm``, ``bye``, ``stats_request``. Server to client: ``welcome``, ``state``,
-``stats``. The full schema with ranges is in ``docs/protocol.md``.
+``stats``. The full schema with ranges is in ``docs/protocol.md``. Joining takes two hellos: the first is
+answered by a short ``welcome`` with a ``cookie`` (:func:`encode_challenge`), the second echoes it and is answered
+by the full ``welcome`` with a ``session`` that ``helm`` and ``bye`` then carry.
 
 Incoming datagrams are parsed by :func:`parse_datagram`, which either returns a typed message or raises
 :class:`ProtocolError` carrying a short reason code for the caller's drop counters. Out-of-range numbers are
@@ -30,6 +32,12 @@ MAX_RATE_HZ = 50.0
 MAX_SEQ = 2**53 - 1  # largest integer every JSON implementation (JavaScript, C# double) holds exactly
 MAX_NAME_CHARS = 32
 MAX_TOKEN_CHARS = 128
+MAX_COOKIE_CHARS = 64
+MAX_SESSION_CHARS = 32
+# A hello that carries no valid cookie is answered only if the answer is no larger than the hello (no
+# amplification towards an address that has not shown it receives); clients pad such hellos to this size, which
+# leaves room for the challenge (about 80 bytes).
+MIN_HELLO_BYTES = 128
 TELEGRAPH_MIN = -4
 TELEGRAPH_MAX = 4
 
@@ -107,6 +115,8 @@ class Hello:
     rate_hz: float
     name: str = ""
     token: str | None = None
+    cookie: str | None = None  # echoed from the last welcome: proof that the sender receives at its address
+    session: str | None = None  # the session the client holds (from its last full welcome)
     proto: int = 1  # 2: the client also wants the v2 messages (scenario, particulars, event, helm_owner)
 
 
@@ -122,11 +132,14 @@ class HelmCommand:
     rudder_order_deg: float
     telegraph: int | None = None
     rpm_order: float | None = None
+    session: str | None = None  # the sender's session (from its welcome); seq counts within it
 
 
 @dataclass(frozen=True)
 class Bye:
-    """The client leaves (releases the helm if it held it)."""
+    """The client leaves (releases the helm if it held it); ``session`` as in :class:`HelmCommand`."""
+
+    session: str | None = None
 
 
 @dataclass(frozen=True)
@@ -170,12 +183,16 @@ def _get_int(obj: Mapping, key: str, required: bool) -> int | None:
     return value
 
 
-def _get_str(obj: Mapping, key: str, max_chars: int) -> str | None:
+def _get_str(obj: Mapping, key: str, max_chars: int, truncate: bool = True) -> str | None:
     value = obj.get(key)
     if value is None:
         return None
     if not isinstance(value, str):
         raise ProtocolError("bad_field", f"{key} must be a string")
+    if (
+        len(value) > max_chars and not truncate
+    ):  # a secret is never truncated: a long one would match its prefix
+        raise ProtocolError("bad_field", f"{key} longer than {max_chars} characters")
     return value[:max_chars]
 
 
@@ -228,6 +245,7 @@ def parse_datagram(
             rudder_order_deg=_clamp(rudder, -limits.max_rudder_deg, limits.max_rudder_deg),
             telegraph=None if telegraph is None else int(_clamp(telegraph, TELEGRAPH_MIN, TELEGRAPH_MAX)),
             rpm_order=None if rpm_order is None else _clamp(rpm_order, -limits.max_rpm, limits.max_rpm),
+            session=_get_str(obj, "session", MAX_SESSION_CHARS, truncate=False),
         )
     if kind == "hello":
         _get_seq(obj, required=False)
@@ -239,12 +257,14 @@ def parse_datagram(
             role=role,
             rate_hz=_clamp(default_rate_hz if rate is None else rate, MIN_RATE_HZ, MAX_RATE_HZ),
             name=_get_str(obj, "name", MAX_NAME_CHARS) or "",
-            token=_get_str(obj, "token", MAX_TOKEN_CHARS),
+            token=_get_str(obj, "token", MAX_TOKEN_CHARS, truncate=False),
+            cookie=_get_str(obj, "cookie", MAX_COOKIE_CHARS, truncate=False),
+            session=_get_str(obj, "session", MAX_SESSION_CHARS, truncate=False),
             proto=2 if (_get_int(obj, "proto", required=False) or 1) >= 2 else 1,
         )
     if kind == "bye":
         _get_seq(obj, required=False)
-        return Bye()
+        return Bye(session=_get_str(obj, "session", MAX_SESSION_CHARS, truncate=False))
     if kind == "stats_request":
         _get_seq(obj, required=False)
         return StatsRequest()
@@ -380,23 +400,34 @@ def encode_welcome(
     watchdog_s: float,
     timeout_s: float,
     failsafe: str,
+    cookie: str | None = None,
+    session: str | None = None,
 ) -> bytes:
-    """Reply to every ``hello``: the granted rate, whether this client owns the helm, and the link rules."""
-    return _dumps(
-        {
-            "v": PROTOCOL_VERSION,
-            "type": "welcome",
-            "seq": int(seq),
-            "role": role,
-            "rate_hz": rate_hz,
-            "helm": bool(helm),
-            "max_rudder_deg": limits.max_rudder_deg,
-            "max_rpm": limits.max_rpm,
-            "watchdog_s": watchdog_s,
-            "timeout_s": timeout_s,
-            "failsafe": failsafe,
-        }
-    ).encode()
+    """Reply to a ``hello`` with a valid cookie: the granted rate, whether this client owns the helm, the link
+    rules, the client's ``session`` and a fresh ``cookie`` for its next hellos."""
+    msg: dict[str, object] = {
+        "v": PROTOCOL_VERSION,
+        "type": "welcome",
+        "seq": int(seq),
+        "role": role,
+        "rate_hz": rate_hz,
+        "helm": bool(helm),
+        "max_rudder_deg": limits.max_rudder_deg,
+        "max_rpm": limits.max_rpm,
+        "watchdog_s": watchdog_s,
+        "timeout_s": timeout_s,
+        "failsafe": failsafe,
+    }
+    if cookie is not None:
+        msg["cookie"] = cookie
+    if session is not None:
+        msg["session"] = session
+    return _dumps(msg).encode()
+
+
+def encode_challenge(seq: int, cookie: str) -> bytes:
+    """The short ``welcome`` to a hello without a valid cookie: only the cookie to echo (no session yet)."""
+    return _dumps({"v": PROTOCOL_VERSION, "type": "welcome", "seq": int(seq), "cookie": cookie}).encode()
 
 
 def encode_stats(seq: int, t_s: float, counters: Mapping[str, int], clients: int) -> bytes:
@@ -418,10 +449,21 @@ def encode_stats(seq: int, t_s: float, counters: Mapping[str, int], clients: int
 
 
 def encode_hello(
-    role: str, rate_hz: float | None = None, name: str = "", token: str | None = None, proto: int = 1
+    role: str,
+    rate_hz: float | None = None,
+    name: str = "",
+    token: str | None = None,
+    cookie: str | None = None,
+    session: str | None = None,
+    pad_to: int = MIN_HELLO_BYTES,
+    proto: int = 1,
 ) -> bytes:
-    """A client's ``hello`` (send on start and at least once a second as keep-alive); ``proto=2`` asks for the
-    v2 messages too."""
+    """A client's ``hello`` (send on start and at least once a second as keep-alive).
+
+    ``cookie`` and ``session`` are echoed from the last ``welcome``. The datagram is padded with a ``pad``
+    field to ``pad_to`` bytes, so that a server that does not (or no longer) knows the sender may answer it.
+    ``proto=2`` asks for the v2 messages too.
+    """
     if role not in ROLES:
         raise ValueError(f"role must be one of {ROLES}, not {role!r}")
     msg: dict[str, object] = {"v": PROTOCOL_VERSION, "type": "hello", "role": role}
@@ -431,15 +473,29 @@ def encode_hello(
         msg["name"] = name[:MAX_NAME_CHARS]
     if token is not None:
         msg["token"] = token
+    if cookie is not None:
+        msg["cookie"] = cookie
+    if session is not None:
+        msg["session"] = session
     if proto != 1:
         msg["proto"] = int(proto)
-    return _dumps(msg).encode()
+    data = _dumps(msg).encode()
+    short = pad_to - len(data) - len(',"pad":""')
+    if short > 0:
+        msg["pad"] = "." * short
+        data = _dumps(msg).encode()
+    return data
 
 
 def encode_helm(
-    seq: int, rudder_order_deg: float, telegraph: int | None = None, rpm_order: float | None = None
+    seq: int,
+    rudder_order_deg: float,
+    telegraph: int | None = None,
+    rpm_order: float | None = None,
+    session: str | None = None,
 ) -> bytes:
-    """A full ``helm`` command; exactly one of ``telegraph`` (-4..4) and ``rpm_order`` (rev/min)."""
+    """A full ``helm`` command; exactly one of ``telegraph`` (-4..4) and ``rpm_order`` (rev/min); ``session``
+    from the sender's welcome."""
     if (telegraph is None) == (rpm_order is None):
         raise ValueError("give exactly one of telegraph and rpm_order")
     msg: dict[str, object] = {
@@ -452,12 +508,16 @@ def encode_helm(
         msg["telegraph"] = int(telegraph)
     else:
         msg["rpm_order"] = float(rpm_order)
+    if session is not None:
+        msg["session"] = session
     return _dumps(msg).encode()
 
 
-def encode_bye() -> bytes:
-    """A client's ``bye``."""
-    return b'{"v":1,"type":"bye"}'
+def encode_bye(session: str | None = None) -> bytes:
+    """A client's ``bye`` (with the session of its welcome)."""
+    if session is None:
+        return b'{"v":1,"type":"bye"}'
+    return _dumps({"v": PROTOCOL_VERSION, "type": "bye", "session": session}).encode()
 
 
 def encode_stats_request() -> bytes:

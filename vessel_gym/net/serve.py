@@ -1,9 +1,12 @@
 """``vessel-gym serve``: a HarbourApproach scenario in real time on the UDP link.
 
 The scenario runs paced to wall-clock time (times ``time_factor``) by a
-:class:`~vessel_gym.net.pacing.RealTimePacer` at the environment's control rate. A human with a helm panel
+:class:`~vessel_gym.net.pacing.RealTimePacer` at a link tick finer than the control interval: within each
+control step the physics advances in its own time steps as wall-clock time passes, and the link is serviced
+every tick (at most ``LINK_TICK_S`` of wall-clock time apart), so every client gets state at the rate it asked
+for (up to 50 Hz) while the agent still acts once per control interval. A human with a helm panel
 (``vessel-gym helm``) takes the helm by sending orders; when nobody holds it, the ``agent`` policy steers (the
-PID pilot by default). Viewers (``vessel-gym view``, Unity, ...) get the JSON state with the scenario's traffic
+PID pilot by default); each change of helm owner is one line on stderr. Viewers (``vessel-gym view``, Unity, ...) get the JSON state with the scenario's traffic
 as ``targets``, chartplotters get NMEA 0183 with the traffic as AIS. Each episode ends on success, contact,
 grounding, leaving the chart or the time limit; a one-line outcome is printed and the scenario starts again.
 Ctrl-C (or ``duration_s``) ends the run with exit code 0.
@@ -17,8 +20,30 @@ import time
 from collections.abc import Sequence
 from typing import Any, TextIO
 
-from vessel_gym.net.link import Address, LinkConfig, UdpLink
+from vessel_gym.net.link import Address, HelmChange, LinkConfig, UdpLink
 from vessel_gym.net.pacing import RealTimePacer
+
+# Longest wall-clock time between two services of the link: 10 ms serves the 50 Hz maximum state rate with each
+# state at most half a period late.
+LINK_TICK_S = 0.01
+_RELEASE_TEXT = {
+    "watchdog": "no command for the watchdog time",
+    "timeout": "silent for the client timeout",
+    "bye": "said bye",
+    "viewer": "went back to watching",
+    "new_session": "joined again",
+}
+
+
+def link_ticks(control_interval_s: float, time_factor: float) -> int:
+    """Ticks per control step: the fewest that keep a tick within LINK_TICK_S of wall-clock time."""
+    return max(1, math.ceil(control_interval_s / time_factor / LINK_TICK_S - 1e-9))
+
+
+def physics_steps(control_interval_s: float, dt_s: float, ticks: int) -> int:
+    """Physics steps per control step for ``ticks`` ticks: a multiple of ``ticks`` (the physics moves at every
+    tick) whose step is no longer than the environment's own ``dt_s`` (never a coarser integration)."""
+    return ticks * max(1, math.ceil(control_interval_s / ticks / dt_s - 1e-9))
 
 
 def _addr(a: Address) -> str:
@@ -53,6 +78,8 @@ def serve(
     agent_resume_s: float | None = 5.0,
     max_episode_steps: int | None = None,
     out: TextIO | None = None,
+    token: str | None = None,
+    err: TextIO | None = None,
 ) -> int:
     """Run ``scenario`` (built-in name or TOML path) live on the UDP link until Ctrl-C or ``duration_s``.
 
@@ -69,11 +96,14 @@ def serve(
         seed: seed of the first episode (later episodes continue its random stream).
         max_episode_steps: episode time limit in control steps (default: the environment's registered one).
         out: where the messages go (default stdout).
+        token: shared secret every client's hello must carry (None: none).
+        err: where the helm-change lines go (default stderr).
 
     Returns 0. A bad scenario raises :class:`~vessel_gym.physics.schema.SpecError`, a bad agent, address or
     setting ``ValueError`` (one line each), before anything is bound or printed.
     """
     out = out if out is not None else sys.stdout
+    err = err if err is not None else sys.stderr
     if isinstance(time_factor, bool) or not (math.isfinite(time_factor) and time_factor > 0.0):
         raise ValueError(f"time_factor must be a positive number, not {time_factor!r}")
     if duration_s is not None and not (math.isfinite(duration_s) and duration_s > 0.0):
@@ -95,6 +125,8 @@ def serve(
             agent_resume_s=agent_resume_s,
             max_episode_steps=max_episode_steps,
             out=out,
+            token=token,
+            err=err,
         )
     except KeyboardInterrupt:  # Ctrl-C while loading: nothing to clean up beyond what _serve closed
         print("vessel-gym serve: interrupted", file=out, flush=True)
@@ -116,6 +148,8 @@ def _serve(
     agent_resume_s: float | None,
     max_episode_steps: int | None,
     out: TextIO,
+    token: str | None,
+    err: TextIO,
 ) -> int:
     import gymnasium as gym
 
@@ -129,6 +163,12 @@ def _serve(
     if max_episode_steps is not None:
         make_kw["max_episode_steps"] = max_episode_steps
     env = gym.make("vessel_gym/HarbourApproach-v0", **make_kw)
+    # The physics must move at every link tick: shorten its step if the default one is longer than a tick.
+    control, dt = env.unwrapped.config.control_interval_s, env.unwrapped.task.dt
+    nsub = physics_steps(control, dt, link_ticks(control, time_factor))
+    if nsub != env.unwrapped.task.nsub:
+        env.close()
+        env = gym.make("vessel_gym/HarbourApproach-v0", dt_s=control / nsub, **make_kw)
     try:
         policy = load_policy(agent, env)
         config = LinkConfig(
@@ -137,6 +177,7 @@ def _serve(
             json_static_destinations=tuple(listen_only),
             allow_remote=allow_remote,
             failsafe=failsafe,
+            token=token,
         )
         try:
             wrapped = UdpLinkWrapper(
@@ -150,7 +191,7 @@ def _serve(
         env.close()
         raise
     try:
-        return _run(wrapped, sc, policy, agent, time_factor, duration_s, seed, out)
+        return _run(wrapped, sc, policy, agent, time_factor, duration_s, seed, out, err)
     finally:
         wrapped.close()
 
@@ -167,7 +208,8 @@ def _banner(wrapped: Any, sc: Any, agent: str, time_factor: float, out: TextIO) 
         f"time factor {time_factor:g}"
     )
     json_at = _addr(link.json_address)
-    p(f"  JSON state/helm: listening on {json_at}")
+    auth = ", token required" if cfg.token is not None else ""
+    p(f"  JSON state/helm: listening on {json_at}{auth}")
     p(f"    join with: vessel-gym helm --server {json_at}   or   vessel-gym view --server {json_at}")
     if cfg.nmea_destinations:
         nmea = ", ".join(_addr(a) for a in cfg.nmea_destinations)
@@ -185,10 +227,72 @@ def _banner(wrapped: Any, sc: Any, agent: str, time_factor: float, out: TextIO) 
         else f"then the agent after {wrapped.agent_resume_s:g} s"
     )
     p(
-        f"  helm: agent {agent!r} until a helm panel commands; failsafe {cfg.failsafe!r} after "
+        f"  helm: agent {agent!r} until a helm panel takes it; failsafe {cfg.failsafe!r} after "
         f"{cfg.watchdog_s:g} s of silence, {resume}"
     )
+    p(f"  state: up to 50 Hz per client (link tick {1e3 * LINK_TICK_S:g} ms), agent every control step")
     p("  Ctrl-C to stop.")
+
+
+def helm_change_line(change: HelmChange, before: str, failsafe: str, agent_resume_s: float | None) -> str:
+    """One line for a change of helm owner; ``before`` is who steered until then ("agent", "human", ...)."""
+
+    def who(name: str, addr: Address | None) -> str:
+        return f"{name or 'panel'!r} ({_addr(addr)})" if addr is not None else "nobody"
+
+    if change.owner is not None:
+        if before == "agent" or change.previous is None:
+            source = "the agent"
+        else:
+            source = f"the failsafe after {who(change.previous_name, change.previous)}"
+        return f"vessel-gym serve: helm taken by {who(change.owner_name, change.owner)} from {source}"
+    then = (
+        "until a panel takes it" if agent_resume_s is None else f"then the agent after {agent_resume_s:g} s"
+    )
+    reason = _RELEASE_TEXT.get(change.reason, change.reason)
+    return (
+        f"vessel-gym serve: helm released by {who(change.previous_name, change.previous)} ({reason}); "
+        f"failsafe {failsafe!r}, {then}"
+    )
+
+
+class _Ticker:
+    """Runs one control step of the physics in link ticks paced to wall-clock time.
+
+    It replaces the task's ``advance`` (``sim.step(nsub)``, the whole control interval at once) by ``ticks``
+    slices: at tick i the physics has made ``i * nsub // ticks`` of its steps, the pacer waits for the tick's
+    deadline and the link is serviced, so the state a client gets is the state of the physics at that moment.
+    """
+
+    def __init__(self, wrapped: Any, time_factor: float, report: Any) -> None:
+        base = wrapped.unwrapped
+        self.task = base.task
+        self.sim = base.sim
+        control = base.config.control_interval_s
+        self.nsub = int(self.task.nsub)
+        self.ticks = link_ticks(control, time_factor)
+        self.pacer = RealTimePacer(self.ticks / control, time_factor)
+        self.wrapped = wrapped
+        self.report = report
+
+    def advance(self) -> None:
+        done = 0
+        for i in range(1, self.ticks + 1):
+            due = i * self.nsub // self.ticks
+            if due > done:
+                self.sim.step(due - done)
+                done = due
+            self.pacer.wait()
+            if i < self.ticks:  # the last tick's service is the next step's own (UdpLinkWrapper.step)
+                self.wrapped.service()
+                self.report()
+
+    def __enter__(self) -> _Ticker:
+        self.task.advance = self.advance  # instance attribute: shadows the class's method for this task only
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        del self.task.advance
 
 
 def _run(
@@ -200,9 +304,19 @@ def _run(
     duration_s: float | None,
     seed: int | None,
     out: TextIO,
+    err: TextIO,
 ) -> int:
-    control_interval = wrapped.unwrapped.config.control_interval_s
-    pacer = RealTimePacer(1.0 / control_interval, time_factor)
+    link: UdpLink = wrapped.link
+    steered = [wrapped.steered_by]
+
+    def report() -> None:
+        for change in link.pop_helm_changes():
+            line = helm_change_line(change, steered[0], link.config.failsafe, wrapped.agent_resume_s)
+            print(line, file=err, flush=True)
+        steered[0] = wrapped.steered_by
+
+    ticker = _Ticker(wrapped, time_factor, report)
+    pacer = ticker.pacer
     start = time.monotonic()
     episode = 1
     try:
@@ -214,7 +328,9 @@ def _run(
         pacer.reset()
         while duration_s is None or time.monotonic() - start < duration_s:
             action = policy(obs)
-            obs, _r, terminated, truncated, info = wrapped.step(action)
+            with ticker:  # the physics and the link in ticks, paced
+                obs, _r, terminated, truncated, info = wrapped.step(action)
+            report()
             if terminated or truncated:
                 by = {k: v - by_start[k] for k, v in wrapped.steps_by.items()}
                 print(outcome_line(episode, info, truncated and not terminated, by), file=out, flush=True)
@@ -222,7 +338,6 @@ def _run(
                 obs, _info = wrapped.reset()
                 policy.reset()
                 by_start = dict(wrapped.steps_by)
-            pacer.wait()
     except KeyboardInterrupt:
         pass
     stats = wrapped.link.stats()
@@ -238,4 +353,4 @@ def _run(
     return 0
 
 
-__all__ = ["outcome_line", "serve"]
+__all__ = ["LINK_TICK_S", "helm_change_line", "link_ticks", "outcome_line", "physics_steps", "serve"]

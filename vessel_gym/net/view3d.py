@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import json
 import math
 import socket
 import sys
@@ -218,7 +217,9 @@ class LinkClient:
         self.sock.bind(("127.0.0.1" if self.server[0].startswith("127.") else "0.0.0.0", 0))
         self.sock.setblocking(False)
         self.state: dict | None = None
-        self.welcome: dict | None = None
+        self.welcome: dict | None = None  # the last full welcome (with a session)
+        self.cookie: str | None = None  # from the last welcome, echoed in each hello
+        self.session: str | None = None  # from the last full welcome, sent with helm orders and bye
         self.scene: dict | None = None
         self.scene_version = 0
         self.particulars: dict[int, dict] = {}
@@ -243,15 +244,13 @@ class LinkClient:
             self.dropped += 1
 
     def hello(self) -> None:
+        """A padded ``hello`` with the cookie and session of the last welcome (the link's handshake)."""
         role = "helm" if self.helm else "viewer"
-        data = encode_hello(role, self.rate_hz, self.name, self.token, proto=2)
-        cookie = (self.welcome or {}).get("cookie")
-        if isinstance(cookie, (str, int)) and not isinstance(cookie, bool):
-            # A link that proves the client receives before streaming sends a cookie in its welcome; echo it.
-            msg = json.loads(data)
-            msg["cookie"] = cookie
-            data = json.dumps(msg, separators=(",", ":")).encode()
-        self._send(data)
+        self._send(
+            encode_hello(
+                role, self.rate_hz, self.name, self.token, cookie=self.cookie, session=self.session, proto=2
+            )
+        )
 
     def take_helm(self) -> None:
         """Become a helm panel, starting from the orders in force (taking the helm moves nothing)."""
@@ -276,7 +275,11 @@ class LinkClient:
             self._hello_due = now + HELLO_PERIOD_S
         if self.helm and now >= self._helm_due:
             self._helm_seq += 1
-            self._send(encode_helm(self._helm_seq, self.rudder_order_deg, telegraph=self.telegraph))
+            self._send(
+                encode_helm(
+                    self._helm_seq, self.rudder_order_deg, telegraph=self.telegraph, session=self.session
+                )
+            )
             self._helm_due = now + HELM_PERIOD_S
         for _ in range(budget):
             try:
@@ -314,12 +317,13 @@ class LinkClient:
             self._last_state_seq = seq
             self.state = msg
         elif kind == "welcome":
-            fresh_cookie = msg.get("cookie") is not None and msg.get("cookie") != (self.welcome or {}).get(
-                "cookie"
-            )
+            if isinstance(msg.get("cookie"), str):
+                self.cookie = msg["cookie"]
+            if not isinstance(msg.get("session"), str):
+                self.hello()  # a challenge: echo its cookie at once (one hello per challenge)
+                return
+            self.session = msg["session"]
             self.welcome = msg
-            if fresh_cookie:
-                self.hello()
         elif kind == "scenario":
             scene = self._assembler.add(msg)
             if scene is not None:
@@ -340,7 +344,7 @@ class LinkClient:
     def close(self) -> None:
         if self.helm:
             self.helm = False
-        self._send(encode_bye())
+        self._send(encode_bye(self.session))
         self.sock.close()
 
 

@@ -2,7 +2,8 @@
 
 :class:`UdpLinkWrapper` opens a :class:`~vessel_gym.net.link.UdpLink` for the environment's ship. At each step
 it services the link (receives helm commands, sends the own ship's JSON state, NMEA 0183 and the targets as
-JSON and AIS), and while a human helm panel holds the helm, the panel's orders replace the agent's action.
+JSON and AIS), and while a human helm panel holds the helm, the panel's orders override the agent's on the
+simulation (:meth:`~vessel_gym.physics.simulation.Simulation.override_helm`, in SI units).
 ``info["helm"]`` says who steered the step: ``"agent"``, ``"human"`` or ``"failsafe"``.
 
 Cost. The own ship's readings (``sim.bridge``) are computed only when the link has a client to serve or NMEA
@@ -26,7 +27,7 @@ from vessel_gym.net.link import HelmState, LinkConfig, UdpLink
 from vessel_gym.net.protocol import Limits, ShipParticulars
 from vessel_gym.net.traffic import Traffic
 from vessel_gym.physics.bridge import BridgeReading
-from vessel_gym.physics.units import DEG
+from vessel_gym.physics.units import DEG, RPM
 
 TAKEOVER_MODES = ("helm", "never")
 STEERED_BY = ("agent", "human", "failsafe")
@@ -50,8 +51,8 @@ class UdpLinkWrapper(gym.Wrapper):
         config: a :class:`LinkConfig`, a mapping for :meth:`LinkConfig.from_dict`, or None for the defaults
             (JSON on 127.0.0.1:10120, NMEA to 127.0.0.1:10110). If its ``limits`` are the defaults they are
             replaced by the ship's (rudder limit, full telegraph rpm), which the helm panel shows.
-        takeover: ``"helm"`` (default): while a helm panel holds the helm its orders replace the agent's
-            action; ``"never"``: publish only, helm commands are ignored.
+        takeover: ``"helm"`` (default): while a helm panel holds the helm its orders override the agent's;
+            ``"never"``: publish only, helm commands are ignored.
         agent_resume_s: after the panel loses the helm (watchdog, ``bye``), the link's failsafe orders
             (``hold`` or ``midships_stop``) apply for this long (link-clock seconds), then the agent steers
             again. None: the failsafe orders stay in force until a panel commands again.
@@ -66,12 +67,13 @@ class UdpLinkWrapper(gym.Wrapper):
         link: an open :class:`UdpLink` to use instead of opening one (``config`` must then be None); it is
             not closed by :meth:`close`.
 
-    Human orders are converted to the environment's action type: a continuous rudder action is the order as
-    a fraction of the rudder limit, a continuous engine action the shaft speed of the telegraph step (or
-    ``rpm_order``) as a fraction of full ahead / full astern; discrete actions take the nearest rudder order
-    and telegraph step offered. Without engine control in the action, the shaft-speed order is set on the
-    simulation directly (and stays after the panel lets go, as on a ship). The wrapper works on single
-    environments; it reads vessel 0.
+    Human orders reach the physics as the panel gives them, whatever the environment's action type: the
+    rudder order converted once from degrees to radians, the engine order as the shaft speed of the telegraph
+    step (or ``rpm_order`` converted to rev/s). The agent's action is still applied (and checked) at every step;
+    the panel's orders override it on the simulation while the panel (or the link's failsafe) holds the helm.
+    When the agent gets the helm back, its next action sets the orders; without engine control in the action
+    the panel's shaft-speed order stays, as on a ship. The wrapper works on single environments; it reads
+    vessel 0.
     """
 
     def __init__(
@@ -104,10 +106,9 @@ class UdpLinkWrapper(gym.Wrapper):
         self._sim = base.sim
         task = base.task
         self._helm = task.helm
-        self._rev_table = np.asarray(task.helm.rev_table[0], dtype=np.float64)  # rev/s of telegraph -4..4
-        self._continuous = base.config.action_type == "continuous"
-        self._engine = bool(task.helm.engine)
-        self._discrete_telegraph = not self._continuous and self._engine
+        # rev/s of telegraph steps -4..4
+        self._rev_table = np.array([self._sim.telegraph_rev(t, 0) for t in range(-4, 5)], dtype=np.float64)
+        self._discrete_telegraph = base.config.action_type == "discrete" and bool(task.helm.engine)
 
         if clock == "wall":
             self._clock: Callable[[], float] = time.monotonic
@@ -158,9 +159,7 @@ class UdpLinkWrapper(gym.Wrapper):
         self._last_helm: HelmState | None = None
         self._lost_at: float | None = None
         self._who = "agent"
-        self._action: Any = None  # the action replacing the agent's, or None
-        self._rev: float | None = None  # shaft-speed order set on the simulation (no engine control), rev/s
-        self._telegraph: int | None = None  # telegraph of the orders in force (for the published state)
+        self._telegraph: int | None = None  # telegraph of the overriding orders; None: the agent steers
         self._steps_by = dict.fromkeys(STEERED_BY, 0)  # steps before the current helm spell
         self._who_since = 0  # total step count when the current helm spell began
         self._episode = 0
@@ -199,35 +198,25 @@ class UdpLinkWrapper(gym.Wrapper):
 
     # --- helm -------------------------------------------------------------------------------------------------
 
-    def _convert(self, helm: HelmState) -> None:
-        """The orders of ``helm`` as an action of the environment (+ a direct shaft order without engine)."""
-        rudder = float(helm.rudder_order_deg) * DEG
+    def _override(self, helm: HelmState) -> None:
+        """Hold the orders of ``helm`` on the simulation, in SI units (the link speaks degrees and rpm)."""
         if helm.telegraph is not None:
             telegraph = int(helm.telegraph)
             rev = float(self._rev_table[telegraph + 4])
         elif helm.rpm_order is not None:
-            rev = float(helm.rpm_order) / 60.0
+            rev = float(helm.rpm_order) * RPM
             telegraph = 0 if rev == 0.0 else self._nearest_step(rev)
         else:  # pragma: no cover - a command always has one engine order
             rev = float(self._sim.rev_order[0])
             telegraph = self._nearest_step(rev)
-        h = self._helm
-        if self._continuous:
-            a = [min(max(rudder / float(h.rudder_limit_rad[0]), -1.0), 1.0)]
-            if self._engine:
-                full = float(h.full_ahead[0]) if rev >= 0.0 else float(h.full_astern[0])
-                a.append(min(max(rev / full, -1.0), 1.0) if full > 0.0 else 0.0)
-            action: Any = np.array(a, dtype=np.float32)
-        else:
-            i = int(np.argmin(np.abs(h.orders_rad - rudder)))
-            if self._engine:
-                j = int(np.argmin(np.abs(h.steps - telegraph)))
-                action = np.array([i, j], dtype=np.int64)
-            else:
-                action = np.int64(i)
-        self._action = action
-        self._rev = None if self._engine else rev
+        self._sim.override_helm(0, rudder_order_rad=float(helm.rudder_order_deg) * DEG, rev_order=rev)
         self._telegraph = telegraph
+
+    def _release(self) -> None:
+        """Hand the helm back to the agent (its next action sets the orders)."""
+        if self._telegraph is not None:
+            self._sim.override_helm(0)
+            self._telegraph = None
 
     def _decide(self, now: float, helm: HelmState) -> None:
         """Who steers, given the link's helm state at link time ``now``."""
@@ -243,9 +232,9 @@ class UdpLinkWrapper(gym.Wrapper):
             resumed = self.agent_resume_s is not None and now - self._lost_at >= self.agent_resume_s
             who = "agent" if resumed else "failsafe"
         if who == "agent":
-            self._action = self._rev = self._telegraph = None
-        elif helm is not self._last_helm or self._action is None:
-            self._convert(helm)
+            self._release()
+        elif helm is not self._last_helm or self._telegraph is None:
+            self._override(helm)
         self._last_helm = helm
         if who != self._who:
             self._steps_by[self._who] += self._total_steps - self._who_since
@@ -258,6 +247,13 @@ class UdpLinkWrapper(gym.Wrapper):
         self._last_service = now
         self._next_service = now + self.min_service_interval_s
         self._decide(now, helm)
+
+    def service(self) -> HelmState:
+        """Service the link now, between steps (a real-time loop's finer ticks: state at the clients' rates).
+
+        Orders received take effect from the next step, as orders received at a step do."""
+        self._service(self._clock())
+        return self.link.helm
 
     # --- gymnasium API ----------------------------------------------------------------------------------------
 
@@ -276,10 +272,6 @@ class UdpLinkWrapper(gym.Wrapper):
         now = self._clock()
         if not self._last_service <= now < self._next_service:  # due (or the clock went back)
             self._service(now)
-        if self._action is not None:
-            action = self._action
-            if self._rev is not None:
-                self._sim.set_helm(rev_order=self._rev)
         obs, reward, terminated, truncated, info = self.env.step(action)
         self._steps += 1
         self._total_steps += 1
@@ -319,6 +311,7 @@ class UdpLinkWrapper(gym.Wrapper):
         self.link.publish_event("outcome", t, self._episode, outcome=str(outcome or "ended"), **figures)
 
     def close(self) -> None:
+        self._release()
         if self._owns_link:
             self.link.close()
         super().close()

@@ -1,7 +1,7 @@
 """Environment & atmosphere: air density and wind loads on the above-water hull (Blendermann 1994).
 
 Wind direction is meteorological ("from", clockwise from north). Wind loads act on the velocity of the air
-relative to the ship over ground.
+relative to the ship over ground (:func:`vessel_gym.physics.kinematics.relative_wind`).
 """
 
 from __future__ import annotations
@@ -11,6 +11,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.kinematics import relative_wind
 from vessel_gym.physics.units import P_ISA_PA, R_DRY_AIR_J_KGK, T_ISA_K
 
 
@@ -31,27 +32,11 @@ def air_velocity_earth(wind_speed, wind_from):
 
 
 @njit(cache=True)
-def relative_wind(u_g, v_g, cos_psi, sin_psi, w_n, w_e):
-    """Apparent wind in the body frame from the air velocity (w_n, w_e) over ground (m/s, north/east).
-
-    (u_g, v_g) is the ship's velocity over ground in body axes, (cos_psi, sin_psi) its heading.
-    Returns (V m/s, gamma rad, cos gamma, sin gamma): speed and the angle the wind comes from relative to the
-    bow, positive from starboard, also as a unit vector (cos gamma = -w_x/V, sin gamma = -w_y/V, exact, so
-    that the wind loads need no trigonometry of gamma); gamma = 0 in still air.
-    """
-    wx = cos_psi * w_n + sin_psi * w_e - u_g  # air relative to the ship, body axes
-    wy = -sin_psi * w_n + cos_psi * w_e - v_g
-    V = math.sqrt(wx * wx + wy * wy)
-    if V > 0.0:
-        return V, math.atan2(-wy, -wx), -wx / V, -wy / V
-    return V, 0.0, 1.0, 0.0
-
-
-@njit(cache=True)
 def apparent_wind(u_g, v_g, psi, wind_speed, wind_from):
     """Apparent wind in the body frame: (speed m/s, angle from the bow rad, positive from starboard).
 
-    (u_g, v_g) is the ship's velocity over ground in body axes.
+    (u_g, v_g) is the ship's velocity over ground in body axes;
+    :func:`~vessel_gym.physics.kinematics.relative_wind` does the kinematics.
     """
     w_n, w_e = air_velocity_earth(wind_speed, wind_from)
     V, gamma, _, _ = relative_wind(u_g, v_g, math.cos(psi), math.sin(psi), w_n, w_e)
@@ -74,8 +59,8 @@ def blendermann_wind_loads(P, V_rw, gamma, cos_gamma, sin_gamma, rho_air):
     otherwise; X = q C_X A_F, Y = q C_Y A_L, N = q C_N A_L L, q = 1/2 rho_air V_rw^2.
     gamma is the angle the wind comes from relative to the bow (positive from starboard), so a head wind
     (gamma = 0) gives X < 0 and a wind from starboard pushes the ship to port (Y < 0); cos_gamma and sin_gamma
-    are its cosine and sine (from :func:`relative_wind`), so that g = |gamma| has cos g = cos_gamma,
-    sin g = |sin_gamma| and sin 2g = 2 sin g cos g without further trigonometry.
+    are its cosine and sine (from :func:`~vessel_gym.physics.kinematics.relative_wind`), so that g = |gamma|
+    has cos g = cos_gamma, sin g = |sin_gamma| and sin 2g = 2 sin g cos g without further trigonometry.
     Returns (X, Y, N) in N, N, N m.
     """
     if P[lo.P_WIND_ON] == 0.0 or V_rw <= 0.0:

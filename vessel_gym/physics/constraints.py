@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.kinematics import added_mass_coriolis_forces
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.vessel import N_OUT, forces, mass_matrix, pack
 
@@ -81,9 +82,10 @@ def captive_forces(
             Yi += f[1]
             Ni += f[2]
             # added-mass Coriolis: the part of the kernel's C(nu) nu beyond the rigid body's
-            Xi += (P[lo.P_CX_VR] - m) * v[i] * r[i] + (P[lo.P_CX_RR] - m * xG) * r[i] ** 2
-            Yi -= (P[lo.P_CY_UR] - m) * u[i] * r[i]
-            Ni -= (P[lo.P_CN_UR] - m * xG) * u[i] * r[i]
+            XA, YA, NA = added_mass_coriolis_forces(P, u[i], v[i], r[i])
+            Xi += XA
+            Yi += YA
+            Ni += NA
             acc = np.array([udot[i], vdot[i], rdot[i]])
             reac = -MA @ acc
             Xi += reac[0]

@@ -13,7 +13,7 @@ import numpy as np
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.atmosphere import air_density, air_velocity_earth
-from vessel_gym.physics.schema import param
+from vessel_gym.physics.schema import check_fields, param
 from vessel_gym.physics.seastate import current_earth, effective_zeta2
 from vessel_gym.physics.units import DEG, P_ISA_PA, T_ISA_K
 
@@ -31,6 +31,10 @@ class Environment:
     Hs_m: float = param(0.0, unit="m", lo=0.0, hi=16.0, doc="significant wave height")
     Tp_s: float = param(8.0, unit="s", lo=1.0, hi=25.0, doc="spectral peak period")
     wave_from_deg: float = param(0.0, unit="deg", lo=-360.0, hi=360.0, doc="mean wave direction, from")
+
+    def __post_init__(self) -> None:
+        # at construction, so a bad value is named here and not met later as a kernel or engine failure
+        check_fields(self, "Environment")
 
     @property
     def rho_air_kg_m3(self) -> float:

@@ -1,8 +1,11 @@
 """Fixed-step integrators over batched state arrays (RK4 default, explicit Euler for comparison).
 
 One compiled source serves a single ship and a batch of 16384: the per-vessel step below is called by a
-serial driver and by a parallel (``prange``) driver, so both give bitwise identical results. Parameters are
-indexed per vessel through ``ship_index`` so that a batch of identical ships shares one cached parameter row.
+serial driver and by a parallel (``prange``) driver, so both give bitwise identical results. The stages of a
+step (:func:`stage_state`, :func:`finish_step`) are the same functions in the driver with a hook for forces
+computed in Python (:func:`run_with_components`), which runs them for the whole batch stage by stage and calls
+the hook once per stage in between. Parameters are indexed per vessel through ``ship_index`` so that a batch
+of identical ships shares one cached parameter row.
 A vessel whose state would become non-finite stops integrating, keeps its last finite state and is flagged
 (divergence detection): a diverged vessel never shows a NaN.
 
@@ -46,48 +49,71 @@ def _finite(x):
     return True
 
 
-@njit(cache=True, **NO_REFCOUNT)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
-    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place.
+@njit(cache=True)
+def n_stages(method):
+    """Right-hand-side evaluations per step: 4 for RK4, 1 for explicit Euler."""
+    return 1 if method == EULER else 4
 
-    ``k1``..``k4`` and ``xt`` are scratch rows of length NX; the new state is
-    formed in ``xt`` and committed only if finite. Returns False on divergence, with ``x`` left at the last
-    finite state.
+
+@njit(cache=True, **NO_REFCOUNT)
+def stage_state(x, k, h, delta, xt):
+    """Fill ``xt`` with the state at which an RK4 stage evaluates the right-hand side, x + h k (h = c dt with
+    c = 1/2, 1/2, 1 of the classical tableau, k the stage before's derivative), with the rudder angle
+    ``delta`` (rad) at that stage's time.
 
     The rudder angle is not integrated by the method: with the order held over the step, the steering gear's
     equation has an exact solution (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every
-    stage reads at its own time (t + dt/2 for RK4's middle stages, t + dt at the end).
+    stage reads at its own time (t + dt/2 for the middle stages, t + dt at the end).
+    """
+    for i in range(lo.NX):
+        xt[i] = x[i] + h * k[i]
+    xt[lo.X_DELTA] = delta
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt):
+    """Combine the stage derivatives into the state one step on (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
+    Euler: x + dt k1, k2..k4 unused), formed in ``xt`` with the rudder angle ``delta_end`` at t + dt, and
+    commit it to ``x`` only if finite. Returns False on divergence, with ``x`` left at the last finite
+    state."""
+    if method == EULER:
+        for i in range(lo.NX):
+            xt[i] = x[i] + dt * k1[i]
+    else:
+        sixth = dt / 6.0
+        for i in range(lo.NX):
+            xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+    xt[lo.X_DELTA] = delta_end
+    if not _finite(xt):
+        return False
+    for i in range(lo.NX):
+        x[i] = xt[i]
+    return True
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
+    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held.
+
+    ``k1``..``k4`` and ``xt`` are scratch rows of length NX. Returns False on divergence, with ``x`` left at
+    the last finite state. The stages are :func:`stage_state` and :func:`finish_step`, which the batch driver
+    with Python components (:func:`run_with_components`) runs as well.
     """
     half = 0.5 * dt
-    sixth = dt / 6.0
     D = lo.X_DELTA
     for _ in range(nsteps):
         d_end = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], dt)
         derivatives(P, x, inp, env, F_ext, k1)
-        if method == EULER:
-            for i in range(lo.NX):
-                xt[i] = x[i] + dt * k1[i]
-        else:
+        if method != EULER:
             d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
-            for i in range(lo.NX):
-                xt[i] = x[i] + half * k1[i]
-            xt[D] = d_half
+            stage_state(x, k1, half, d_half, xt)
             derivatives(P, xt, inp, env, F_ext, k2)
-            for i in range(lo.NX):
-                xt[i] = x[i] + half * k2[i]
-            xt[D] = d_half
+            stage_state(x, k2, half, d_half, xt)
             derivatives(P, xt, inp, env, F_ext, k3)
-            for i in range(lo.NX):
-                xt[i] = x[i] + dt * k3[i]
-            xt[D] = d_end
+            stage_state(x, k3, dt, d_end, xt)
             derivatives(P, xt, inp, env, F_ext, k4)
-            for i in range(lo.NX):
-                xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-        xt[D] = d_end
-        if not _finite(xt):
+        if not finish_step(x, k1, k2, k3, k4, dt, method, d_end, xt):
             return False
-        for i in range(lo.NX):
-            x[i] = xt[i]
     return True
 
 
@@ -140,17 +166,73 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
 
 
 @njit(cache=True)
-def steering_gear_angles_batch(Ps, ship_index, X, U, t, out):
-    """Rudder angles of a batch ``t`` seconds on with the orders held (the Python-component path's stages)."""
+def stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt):
+    """The states ``Xt`` (N, NX) at which RK4 stage ``stage`` (1, 2 or 3; 0 is the step's start ``X``) of
+    every vessel evaluates the right-hand side, from the stage derivatives ``K`` (N, 4, NX)
+    (:func:`stage_state`).
+
+    Stage 2 is called with ``Xt`` still holding stage 1's states and takes their rudder angles (both at
+    t + dt/2), as :func:`step_vessel` solves each stage time's angle once."""
+    h = 0.5 * dt if stage < 3 else dt
     for b in range(X.shape[0]):
-        out[b] = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], t)
+        if stage == 2:
+            d = Xt[b, lo.X_DELTA]
+        else:
+            d = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], h)
+        stage_state(X[b], K[b, stage - 1], h, d, Xt[b])
 
 
 @njit(cache=True)
-def derivatives_batch(Ps, ship_index, X, U, E, F, Xdot):
-    """State derivatives of a batch (used by the Python-component path and by tests)."""
+def stage_derivatives_batch(Ps, ship_index, X, U, E, F, K, stage):
+    """Right-hand side of every vessel of a batch at the stage states ``X`` with the forces ``F`` (N, 3),
+    into ``K[:, stage]``."""
     for b in range(X.shape[0]):
-        derivatives(Ps[ship_index[b]], X[b], U[b], E[b], F[b], Xdot[b])
+        derivatives(Ps[ship_index[b]], X[b], U[b], E[b], F[b], K[b, stage])
+
+
+@njit(cache=True)
+def finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt):
+    """:func:`finish_step` of every alive vessel of a batch (``Xt`` holding the last stage's states); marks
+    diverged vessels dead. Returns the number alive."""
+    count = 0
+    for b in range(X.shape[0]):
+        if alive[b]:
+            if method == EULER:
+                d_end = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], dt)
+            else:  # stage 4's state, at t + dt
+                d_end = Xt[b, lo.X_DELTA]
+            Kb = K[b]
+            ok = finish_step(X[b], Kb[0], Kb[1], Kb[2], Kb[3], dt, method, d_end, Xt[b])
+            alive[b] = ok
+            count += ok
+    return count
+
+
+def run_with_components(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, component_forces):
+    """Integrate a batch whose right-hand side includes forces computed in Python, with the same stages as
+    :func:`run_serial` (:func:`stage_state`, :func:`finish_step`).
+
+    ``component_forces(Xs)`` returns the (N, 3) forces (X N, Y N, N N m) on every vessel at the batch of stage
+    states ``Xs`` (N, NX); it is called once per stage for the whole batch, so a vectorised component costs
+    O(N) per evaluation. ``F`` (N, 3) is added to it. Every vessel's right-hand side is evaluated (the
+    components see the whole batch); only alive vessels are advanced. Returns the number alive.
+    """
+    n = X.shape[0]
+    K = np.zeros((n, 4, lo.NX))
+    Xt = np.empty((n, lo.NX))
+    Fs = np.empty((n, 3))
+    count = int(alive.sum())
+    for _ in range(nsteps):
+        for stage in range(n_stages(method)):
+            if stage == 0:
+                Xs = X
+            else:
+                stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt)
+                Xs = Xt
+            np.add(F, np.asarray(component_forces(Xs), dtype=float).reshape(n, 3), out=Fs)
+            stage_derivatives_batch(Ps, ship_index, Xs, U, E, Fs, K, stage)
+        count = finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt)
+    return count
 
 
 @njit(cache=True)

@@ -170,7 +170,20 @@ def shaft_acceleration(P, n, gov_i, n_order, Q_prop):
         Q_drive = s * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * Q_e
         if s < 0.0:
             Q_drive *= P[lo.P_ENG_ASTERN]
-    n_rated_p = P[lo.P_ENG_NRATED] / P[lo.P_GEAR]
-    Q_f = P[lo.P_Q_FRIC] * n / n_rated_p
-    ndot = (Q_drive - Q_prop - Q_f) / (2.0 * math.pi * P[lo.P_I_SHAFT])
+    ndot = (Q_drive - Q_prop - shaft_friction_torque(P, n)) / (2.0 * math.pi * P[lo.P_I_SHAFT])
     return ndot, di, fuel, n_e, Q_e
+
+
+@njit(cache=True)
+def shaft_friction_torque(P, n):
+    """Friction torque of shafting and gearbox (N m at the propeller shaft), Q_f = Q_f,rated n / n_rated,P:
+    linear in the shaft speed n (rev/s), ``friction_torque_fraction`` of the rated torque at rated speed."""
+    n_rated_p = P[lo.P_ENG_NRATED] / P[lo.P_GEAR]
+    return P[lo.P_Q_FRIC] * n / n_rated_p
+
+
+@njit(cache=True)
+def engine_torque_to_hold(P, n, Q_prop):
+    """Engine torque (N m) that holds the shaft at n rev/s ahead against the propeller torque Q_prop (N m):
+    the shaft equation with dn/dt = 0 and the clutch ahead, Q_E = (Q_P + Q_f(n)) / (eta_G i)."""
+    return (Q_prop + shaft_friction_torque(P, n)) / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR])

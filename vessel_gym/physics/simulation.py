@@ -23,13 +23,13 @@ from vessel_gym.physics.geodesy import local_to_latlon
 from vessel_gym.physics.integrate import (
     EULER,
     RK4,
-    derivatives_batch,
     forces_batch,
     run_parallel,
     run_serial,
-    steering_gear_angles_batch,
+    run_with_components,
 )
-from vessel_gym.physics.propulsion import engine_torque
+from vessel_gym.physics.kinematics import ground_velocity, speed_over_ground
+from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import DEG, KNOT_M_S
 from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, pack
@@ -38,6 +38,8 @@ from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, p
 # microseconds on an idle machine, milliseconds when other processes hold the cores. Both bounds are
 # measured with benchmarks/bench_physics.py --drivers (docs/performance.md).
 STEADY_CACHE_SIZE = 1024  # entries (two rows of 9 and 2 floats each)
+# surge balances solved again at most this many times while user component forces still change with the rpm
+STEADY_MAX_ITERATIONS = 20
 PARALLEL_MIN_BATCH = 64  # vessels
 PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread work)
 
@@ -47,8 +49,10 @@ class ForceComponent(Protocol):
 
     ``forces`` receives the simulation and the state array being evaluated (N, NX) (inside an RK4 stage
     this is the stage state, not ``sim.state``) and returns an (N, 3) array of X (N), Y (N), N (N m) at the
-    body origin. Plug a whole replacement hull in by giving the ship file ``[hull] model`` of your own and
-    returning its forces here (see docs/components.md).
+    body origin. It is called once per stage for the whole batch (and a few times per ``reset``, whatever the
+    number of vessels reset), so a component written with numpy array operations costs O(N). Plug a whole
+    replacement hull in by giving the ship file ``[hull] model`` of your own and returning its forces here
+    (see docs/components.md).
     """
 
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
@@ -68,7 +72,8 @@ class Simulation:
         dt: physics step, s.
         method: "rk4" (default) or "euler".
         environment: one :class:`Environment` for all vessels (``set_environment`` changes one vessel).
-        components: user :class:`ForceComponent` objects (evaluated in Python at every RK stage).
+        components: user :class:`ForceComponent` objects (evaluated in Python for the whole batch at every
+            RK stage, :func:`~vessel_gym.physics.integrate.run_with_components`).
         replace: names of built-in force components switched off because a user component replaces them:
             any of "hull", "rudder", "wind", "waves".
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
@@ -165,34 +170,60 @@ class Simulation:
         hd = self._per_vessel(heading_deg)
         xs = self._per_vessel(x_m)
         ys = self._per_vessel(y_m)
-        cache = self._steady_cache
-        if len(cache) > STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
-            cache.clear()
+        if self.components:  # user forces take part in the equilibrium: solved for all vessels at once
+            self._reset_with_components(idx, sp, hd)
+        else:
+            cache = self._steady_cache
+            if len(cache) > STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
+                cache.clear()
+            for j in idx:
+                si = int(self.ship_index[j])
+                speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
+                # parameters as they are now
+                key = (self.Ps[si].tobytes(), speed, hd[j], self.env[j].tobytes())
+                if key not in cache:
+                    cache[key] = steady_state(
+                        self.ships[si], self.Ps[si], speed, env=self.env[j], heading_rad=hd[j] * DEG
+                    )
+                self.state[j], self.inputs[j] = cache[key]
         for j in idx:
-            si = int(self.ship_index[j])
-            speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
-            key = (self.Ps[si].tobytes(), speed, hd[j], self.env[j].tobytes())  # parameters as they are now
-            if self.components:  # user forces take part in the equilibrium
-                cache[key] = steady_state(
-                    self.ships[si],
-                    self.Ps[si],
-                    speed,
-                    extra=self._extra_for(j),
-                    env=self.env[j],
-                    heading_rad=hd[j] * DEG,
-                )
-            elif key not in cache:
-                cache[key] = steady_state(
-                    self.ships[si], self.Ps[si], speed, env=self.env[j], heading_rad=hd[j] * DEG
-                )
-            xrow, urow = cache[key]
-            self.state[j] = xrow
-            self.inputs[j] = urow
             self.state[j, lo.X_N] = xs[j]
             self.state[j, lo.X_E] = ys[j]
             self.alive[j] = True
         if k is None:
             self.t = 0.0
+
+    def _reset_with_components(self, idx, sp, hd) -> None:
+        """Steady approaches of the vessels ``idx`` with the user components' forces in the balance.
+
+        The components are evaluated for the whole batch at once (the vessels being reset at their trial
+        states, the others as they are), the surge balance is solved again for the vessels whose forces
+        changed, up to :data:`STEADY_MAX_ITERATIONS` times: O(N) work and a bounded number of component calls.
+        """
+        solvers = {}
+        for j in idx:
+            si = int(self.ship_index[j])
+            speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
+            solvers[j] = _SteadyApproach(self.ships[si], self.Ps[si], speed, self.env[j], hd[j] * DEG)
+        X = self.state.copy()
+        for j, s in solvers.items():
+            X[j] = s.x
+        with np.errstate(all="ignore"):
+            F = self._ext(X)
+        pending = [j for j, s in solvers.items() if s.start(F[j])]
+        for _ in range(STEADY_MAX_ITERATIONS - 1):
+            if not pending:
+                break
+            for j in pending:
+                X[j] = solvers[j].x
+            with np.errstate(all="ignore"):
+                F_new = self._ext(X)
+            pending = [j for j in pending if not np.array_equal(F_new[j], F[j])]
+            for j in pending:
+                F[j] = F_new[j]
+                solvers[j].balance(F[j])
+        for j, s in solvers.items():
+            self.state[j], self.inputs[j] = s.finish()
 
     def _per_vessel(self, value: float | np.ndarray) -> np.ndarray:
         """``value`` as one float per vessel (a scalar is repeated without copying)."""
@@ -200,27 +231,61 @@ class Simulation:
             return _Repeat(float(value))
         return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))
 
-    def _extra_for(self, j: int):
-        def extra(xrow: np.ndarray) -> np.ndarray:
-            X = self.state.copy()
-            X[j] = xrow
-            return self._ext(X)[j]
-
-        return extra
-
     # --- helm -----------------------------------------------------------------------------------------------
+    # Orders of vessels whose helm is overridden (override_helm), by vessel: (rudder rad, shaft rev/s), None for
+    # an order not overridden. None while no helm is overridden, so that set_helm then pays one test.
+    _helm_override: dict[int, tuple[float | None, float | None]] | None = None
+
     def set_helm(
         self,
         rudder_order_rad: float | np.ndarray | None = None,
         rev_order: float | np.ndarray | None = None,
         k: int | slice | None = None,
     ) -> None:
-        """Rudder order (rad, positive starboard) and propeller shaft-speed order (rev/s, negative astern)."""
+        """Rudder order (rad, positive starboard) and propeller shaft-speed order (rev/s, negative astern).
+
+        An order of a vessel whose helm is overridden (:meth:`override_helm`) stays as the override set it.
+        """
         sl = slice(None) if k is None else k
         if rudder_order_rad is not None:
             self.inputs[sl, lo.U_DELTA_C] = rudder_order_rad
         if rev_order is not None:
             self.inputs[sl, lo.U_REV_C] = rev_order
+        if self._helm_override is not None:
+            self._hold_override()
+
+    def override_helm(
+        self, k: int = 0, rudder_order_rad: float | None = None, rev_order: float | None = None
+    ) -> None:
+        """Give vessel k's helm to a helmsman outside the simulation's owner (a helm panel on the network).
+
+        The orders given, rudder (rad, positive starboard) and shaft speed (rev/s, negative astern), apply at
+        once and win over :meth:`set_helm` (an agent's or an autopilot's orders) until the next call for vessel
+        k; an order left None is not overridden. A call with neither order hands the helm back: the orders in
+        force stay until set_helm changes them, as on a ship when the helmsman lets go of the wheel.
+        """
+        if not 0 <= k < self.n:
+            raise ValueError(f"override_helm: vessel {k} is not in [0, {self.n - 1}]")
+        for name, value in (("rudder_order_rad", rudder_order_rad), ("rev_order", rev_order)):
+            if value is not None and not math.isfinite(value):
+                raise ValueError(f"override_helm: {name} must be a finite number, got {value!r}")
+        held = dict(self._helm_override or {})
+        if rudder_order_rad is None and rev_order is None:
+            held.pop(k, None)
+        else:
+            held[k] = (
+                None if rudder_order_rad is None else float(rudder_order_rad),
+                None if rev_order is None else float(rev_order),
+            )
+        self._helm_override = held or None
+        self._hold_override()
+
+    def _hold_override(self) -> None:
+        for j, (rudder, rev) in (self._helm_override or {}).items():
+            if rudder is not None:
+                self.inputs[j, lo.U_DELTA_C] = rudder
+            if rev is not None:
+                self.inputs[j, lo.U_REV_C] = rev
 
     def telegraph_rev(self, telegraph: int | np.ndarray, k: int | None = None) -> np.ndarray:
         """Propeller rev/s for a telegraph step (-4..4) from each ship's ``telegraph_rpm`` table."""
@@ -238,7 +303,21 @@ class Simulation:
         if nsteps < 0:
             raise ValueError("nsteps must be >= 0")
         if self.components:
-            alive = self._step_python(nsteps)
+            # a diverging vessel overflows in the components' numpy; it is flagged, not warned about
+            with np.errstate(all="ignore"):
+                alive = run_with_components(
+                    self.Ps,
+                    self.ship_index,
+                    self.state,
+                    self.inputs,
+                    self.env,
+                    self.F_ext,
+                    self.dt,
+                    nsteps,
+                    self.method,
+                    self.alive,
+                    self._component_forces,
+                )
         else:
             threaded = self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK
             run = run_parallel if threaded else run_serial
@@ -261,47 +340,16 @@ class Simulation:
         """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""
         return self.step(steps_for(duration_s, self.dt))
 
-    def _ext(self, x: np.ndarray) -> np.ndarray:
-        F = self.F_ext.copy()
+    def _component_forces(self, x: np.ndarray) -> np.ndarray:
+        """Sum of the user components' forces (N, 3) on the batch of states ``x`` (N, NX)."""
+        F = np.zeros((self.n, 3))
         for c in self.components:
             F += np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
         return F
 
-    def _step_python(self, nsteps: int) -> int:
-        with np.errstate(all="ignore"):  # a diverging vessel overflows; it is flagged below, not warned about
-            return self._rk_python(nsteps)
-
-    def _rk_python(self, nsteps: int) -> int:
-        dt = self.dt
-        D = lo.X_DELTA
-        for _ in range(nsteps):
-            x = self.state
-            # the rudder angle at the stage times, solved exactly as in integrate.step_vessel
-            d_end = np.empty(self.n)
-            steering_gear_angles_batch(self.Ps, self.ship_index, x, self.inputs, dt, d_end)
-            k1 = np.empty_like(x)
-            derivatives_batch(self.Ps, self.ship_index, x, self.inputs, self.env, self._ext(x), k1)
-            if self.method == EULER:
-                xn = x + dt * k1
-            else:
-                d_half = np.empty(self.n)
-                steering_gear_angles_batch(self.Ps, self.ship_index, x, self.inputs, 0.5 * dt, d_half)
-                k2, k3, k4 = np.empty_like(x), np.empty_like(x), np.empty_like(x)
-                x2 = x + 0.5 * dt * k1
-                x2[:, D] = d_half
-                derivatives_batch(self.Ps, self.ship_index, x2, self.inputs, self.env, self._ext(x2), k2)
-                x3 = x + 0.5 * dt * k2
-                x3[:, D] = d_half
-                derivatives_batch(self.Ps, self.ship_index, x3, self.inputs, self.env, self._ext(x3), k3)
-                x4 = x + dt * k3
-                x4[:, D] = d_end
-                derivatives_batch(self.Ps, self.ship_index, x4, self.inputs, self.env, self._ext(x4), k4)
-                xn = x + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-            xn[:, D] = d_end
-            ok = np.isfinite(xn).all(axis=1) & self.alive
-            self.state[ok] = xn[ok]
-            self.alive &= ok
-        return int(self.alive.sum())
+    def _ext(self, x: np.ndarray) -> np.ndarray:
+        """All external forces (N, 3) at the states ``x``: ``F_ext`` plus the user components'."""
+        return self.F_ext + self._component_forces(x)
 
     # --- named quantities (tasks ask these, never index raw state) ----------------------------------------
     @property
@@ -356,12 +404,10 @@ class Simulation:
 
     def ground_velocity(self) -> tuple[np.ndarray, np.ndarray]:
         """Velocity over ground (north, east), m/s."""
-        c, s = np.cos(self.heading), np.sin(self.heading)
-        cur = self.env[:, lo.E_CUR_SPEED]
-        to = self.env[:, lo.E_CUR_TO]
-        vn = c * self.u - s * self.v + cur * np.cos(to)
-        ve = s * self.u + c * self.v + cur * np.sin(to)
-        return vn, ve
+        psi = self.heading
+        return ground_velocity(
+            self.u, self.v, np.cos(psi), np.sin(psi), self.env[:, lo.E_CUR_N], self.env[:, lo.E_CUR_E]
+        )
 
     def forces(self) -> dict[str, np.ndarray]:
         """Component forces at the current state (N, N m; see vessel.FORCE_NAMES)."""
@@ -391,8 +437,8 @@ class Simulation:
         forces(self.Ps[self.ship_index[k]], self.state[k], self.inputs[k], self.env[k], out)  # vessel k only
         f = {"gamma_rw": out[FORCE_NAMES.index("gamma_rw")], "V_rw": out[FORCE_NAMES.index("V_rw")]}
         psi, u, v = float(self.heading[k]), float(self.u[k]), float(self.v[k])
-        vn = math.cos(psi) * u - math.sin(psi) * v + out[FORCE_NAMES.index("current_n")]
-        ve = math.sin(psi) * u + math.cos(psi) * v + out[FORCE_NAMES.index("current_e")]
+        cur_n, cur_e = float(self.env[k, lo.E_CUR_N]), float(self.env[k, lo.E_CUR_E])
+        vn, ve = ground_velocity(u, v, math.cos(psi), math.sin(psi), cur_n, cur_e)
         lat, lon = local_to_latlon(self.north[k], self.east[k], *self.reference_latlon_deg)
         e = self.environments[k]
         return BridgeReading(
@@ -403,7 +449,7 @@ class Simulation:
             lon_deg=lon,
             hdg_deg=wrap_deg(math.degrees(self.heading[k])),
             cog_deg=wrap_deg(math.degrees(math.atan2(ve, vn))),
-            sog_kn=float(math.hypot(vn, ve) / KNOT_M_S),
+            sog_kn=float(speed_over_ground(vn, ve) / KNOT_M_S),
             stw_kn=float(self.u[k] / KNOT_M_S),
             stw_transverse_kn=float(self.v[k] / KNOT_M_S),
             rot_dpm=float(math.degrees(self.r[k]) * 60.0),
@@ -489,6 +535,63 @@ def _fuel_index_for(P, n_e, Q_need):
     return 0.5 * (a + b)
 
 
+class _SteadyApproach:
+    """The steady straight run of one vessel, solved in steps so that user component forces (evaluated by the
+    caller, for one vessel or a whole batch at once) can take part: :meth:`start` with the forces at the trial
+    state :attr:`x`, :meth:`balance` with the forces at the last solution until they no longer change, then
+    :meth:`finish`."""
+
+    def __init__(self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float):
+        self.ship, self.P, self.speed, self.env = ship, P, speed_m_s, env
+        self.x = np.zeros(lo.NX)
+        self.inp = np.zeros(lo.NU)
+        self.x[lo.X_U] = speed_m_s
+        self.x[lo.X_PSI] = heading_rad
+        self.nrev = 0.0
+        self.n_max = 0.0
+        if ship.propeller is not None:
+            self.n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
+            self.x[lo.X_REV] = self.inp[lo.U_REV_C] = self.n_max
+
+    def start(self, F: np.ndarray) -> bool:
+        """Check at full trial rpm with the forces F (3,) that the propeller can make the speed (raises
+        SimulationError if not). Returns whether a surge balance is to be solved (a ship with a propeller)."""
+        if self.ship.propeller is None:
+            return False
+        xd = np.zeros(lo.NX)
+        derivatives(self.P, self.x, self.inp, self.env, F, xd)
+        if xd[lo.X_U] < 0.0:
+            raise SimulationError(
+                f"{self.ship.name}: the propeller cannot make {self.speed / KNOT_M_S:.2f} kn below "
+                f"{self.n_max * 60:.0f} rpm"
+            )
+        self.balance(F)
+        return True
+
+    def balance(self, F: np.ndarray) -> None:
+        """Solve the shaft speed of zero surge acceleration with the forces F (3,) (updates :attr:`x`)."""
+        self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max)
+
+    def finish(self) -> tuple[np.ndarray, np.ndarray]:
+        """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
+        speed."""
+        x, P = self.x, self.P
+        if self.ship.propeller is None:
+            return x.copy(), self.inp.copy()
+        Q_prop = forces(P, x, self.inp, self.env, np.zeros(N_OUT))[FORCE_NAMES.index("Q_prop")]
+        nrev = self.nrev
+        Q_need = engine_torque_to_hold(P, nrev, Q_prop)
+        n_e = P[lo.P_GEAR] * nrev
+        if engine_torque(P, n_e, 1.0) < Q_need:
+            raise SimulationError(
+                f"{self.ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for "
+                f"{self.speed / KNOT_M_S:.2f} kn "
+                f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
+            )
+        x[lo.X_GOV] = _fuel_index_for(P, n_e, Q_need)
+        return x.copy(), self.inp.copy()
+
+
 def steady_state(
     ship: Ship,
     P: np.ndarray,
@@ -507,42 +610,17 @@ def steady_state(
     that do not depend on the shaft speed)."""
     if env is None:
         env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
-    x = np.zeros(lo.NX)
-    inp = np.zeros(lo.NU)
-    x[lo.X_U] = speed_m_s
-    x[lo.X_PSI] = heading_rad
-    if ship.propeller is None:
-        return x, inp
-    n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
-    xd = np.zeros(lo.NX)
+    s = _SteadyApproach(ship, P, speed_m_s, env, heading_rad)
 
     def extra_forces() -> np.ndarray:
-        return np.zeros(3) if extra is None else np.asarray(extra(x.copy()), dtype=float)
+        return np.zeros(3) if extra is None else np.asarray(extra(s.x.copy()), dtype=float)
 
-    x[lo.X_REV] = inp[lo.U_REV_C] = n_max
     F = extra_forces()
-    derivatives(P, x, inp, env, F, xd)
-    if xd[lo.X_U] < 0.0:
-        raise SimulationError(
-            f"{ship.name}: the propeller cannot make {speed_m_s / KNOT_M_S:.2f} kn below {n_max * 60:.0f} rpm"
-        )
-    for _ in range(20 if extra is not None else 1):
-        nrev = _surge_balance_rev(P, x, inp, env, F, n_max)
-        F_new = extra_forces()
-        if np.array_equal(F_new, F):
-            break
-        F = F_new
-    # governor integrator at the fuel index whose torque holds that shaft speed
-    out = forces(P, x, inp, env, np.zeros(N_OUT))
-    Q_prop = out[14]
-    Q_need = (Q_prop + P[lo.P_Q_FRIC] * nrev / (P[lo.P_ENG_NRATED] / P[lo.P_GEAR])) / (
-        P[lo.P_ETA_GEAR] * P[lo.P_GEAR]
-    )
-    n_e = P[lo.P_GEAR] * nrev
-    if engine_torque(P, n_e, 1.0) < Q_need:
-        raise SimulationError(
-            f"{ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for {speed_m_s / KNOT_M_S:.2f} kn "
-            f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
-        )
-    x[lo.X_GOV] = _fuel_index_for(P, n_e, Q_need)
-    return x.copy(), inp.copy()
+    if s.start(F) and extra is not None:
+        for _ in range(STEADY_MAX_ITERATIONS - 1):
+            F_new = extra_forces()
+            if np.array_equal(F_new, F):
+                break
+            F = F_new
+            s.balance(F)
+    return s.finish()

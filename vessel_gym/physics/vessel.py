@@ -7,7 +7,9 @@ on velocities through the water, so a uniform current only adds to the kinematic
 10.1 for an irrotational constant current):
 
     M nu_r' + C nu_r = tau_hull + tau_prop + tau_rudder + tau_wind + tau_waves + tau_ext,
-    eta' = R(psi) nu_r + V_current.
+    eta' = R(psi) nu_r + V_current,
+
+with C nu_r, R(psi) and the velocities over ground and of the air from :mod:`vessel_gym.physics.kinematics`.
 
 :func:`pack` turns a :class:`~vessel_gym.physics.shipfile.Ship` into the parameter row read by the compiled
 kernel; :func:`derivatives` is the one source of the equations used by every integrator, the environments,
@@ -22,8 +24,14 @@ import numpy as np
 from numba import njit
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.atmosphere import blendermann_wind_loads, relative_wind
+from vessel_gym.physics.atmosphere import blendermann_wind_loads
 from vessel_gym.physics.hull import drift_angle, hull_forces
+from vessel_gym.physics.kinematics import (
+    add_coriolis_forces,
+    ground_velocity,
+    ground_velocity_body,
+    relative_wind,
+)
 from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
 from vessel_gym.physics.seastate import drift_coefficient_table, wave_drift_forces
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, abkowitz_term
@@ -239,8 +247,7 @@ def force_terms(P, x, env):
     ce = env[lo.E_CUR_E]
     c = math.cos(psi)
     s = math.sin(psi)
-    u_g = u + c * cn + s * ce
-    v_g = v - s * cn + c * ce
+    u_g, v_g = ground_velocity_body(u, v, c, s, cn, ce)
     Vrw, gam, cos_gam, sin_gam = relative_wind(u_g, v_g, c, s, env[lo.E_WIND_N], env[lo.E_WIND_E])
     XW, YW, NW = blendermann_wind_loads(P, Vrw, gam, cos_gam, sin_gam, env[lo.E_RHO_AIR])
     XD, YD, ND = wave_drift_forces(P, env[lo.E_ZETA2], env[lo.E_WAVE_FROM], psi)
@@ -298,11 +305,17 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     u = x[lo.X_U]
     v = x[lo.X_V]
     r = x[lo.X_R]
-    X = f[0] + f[3] + f[4] + f[7] + f[10] + F_ext[0] + P[lo.P_CX_VR] * v * r + P[lo.P_CX_RR] * r * r
-    Y = f[1] + f[5] + f[8] + f[11] + F_ext[1] - P[lo.P_CY_UR] * u * r
-    N = f[2] + f[6] + f[9] + f[12] + F_ext[2] - P[lo.P_CN_UR] * u * r
-    c = f[20]  # cos(psi), sin(psi) from force_terms
-    s = f[21]
+    X, Y, N = add_coriolis_forces(
+        P,
+        u,
+        v,
+        r,
+        f[0] + f[3] + f[4] + f[7] + f[10] + F_ext[0],
+        f[1] + f[5] + f[8] + f[11] + F_ext[1],
+        f[2] + f[6] + f[9] + f[12] + F_ext[2],
+    )
+    # cos(psi), sin(psi) from force_terms; f[18], f[19] the current (north, east)
+    vn, ve = ground_velocity(u, v, f[20], f[21], f[18], f[19])
     delta_dot = steering_gear_rate(P, x[lo.X_DELTA], inp[lo.U_DELTA_C])
     ndot = 0.0
     gdot = 0.0
@@ -311,8 +324,8 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     xdot[lo.X_U] = X / P[lo.P_M11]
     xdot[lo.X_V] = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
     xdot[lo.X_R] = P[lo.P_MI32] * Y + P[lo.P_MI33] * N
-    xdot[lo.X_N] = c * u - s * v + f[18]
-    xdot[lo.X_E] = s * u + c * v + f[19]
+    xdot[lo.X_N] = vn
+    xdot[lo.X_E] = ve
     xdot[lo.X_PSI] = r
     xdot[lo.X_DELTA] = delta_dot
     xdot[lo.X_REV] = ndot

@@ -14,11 +14,17 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from vessel_gym.physics.schema import SpecError, build, builtin_names, param, read_toml, resolve_data_path
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.scenarios import geometry as geo
 
 SCENARIO_DIR = Path(__file__).parent
+
+#: size bound of a scenario file, bytes: room for charts of some 100,000 vertices (the built-in harbour is
+#: under 10 kB); larger files are refused unread
+MAX_SCENARIO_FILE_BYTES = 4 << 20
 
 #: obstacle kinds in the order used by the compiled kernels and the renderer
 HARD_KINDS = ("land", "breakwater", "quay")
@@ -191,7 +197,7 @@ def load_scenario(scenario: str | Path | Scenario) -> Scenario:
     path = resolve_scenario_path(scenario)
     where = str(path)
     try:
-        data = read_toml(path)
+        data = read_toml(path, MAX_SCENARIO_FILE_BYTES)
         sc = build(Scenario, data, where)
     except ScenarioError:
         raise
@@ -211,9 +217,12 @@ def _check_polygon(points: tuple[tuple[float, ...], ...], where: str) -> list[tu
     pts = _pts(points)
     if len(pts) < 3:
         raise ScenarioError(f"{where}: a polygon needs at least 3 points, got {len(pts)}")
+    rep = geo.repeated_vertex(pts)
+    if rep is not None:
+        raise ScenarioError(f"{where}[{rep[1]}]: repeats vertex {rep[0]} (a polygon visits each point once)")
     hit = geo.self_intersection(pts)
     if hit is not None:
-        raise ScenarioError(f"{where}: polygon is self-intersecting (edges {hit[0]} and {hit[1]} cross)")
+        raise ScenarioError(f"{where}: polygon is self-intersecting (edges {hit[0]} and {hit[1]} meet)")
     if abs(geo.signed_area(pts)) < 1e-9:
         raise ScenarioError(f"{where}: polygon has zero area")
     return pts
@@ -286,15 +295,11 @@ def validate(sc: Scenario, where: str = "scenario") -> None:
         raise ScenarioError(f"{where} water_depth_m: must be finite")
 
 
-def _leg_hits(a: tuple[float, float], b: tuple[float, float], poly: list[tuple[float, float]]) -> bool:
-    n = len(poly)
-    return any(geo.segments_intersect(a, b, poly[i], poly[(i + 1) % n]) for i in range(n))
-
-
 def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
     """Checks of the ``[[traffic]]`` entries: ship, start, waypoints and legs in navigable water, MMSIs."""
     n0, n1, e0, e1 = sc.bounds_m
-    hard = sc.hard_obstacles()
+    # arrays once, not per point and leg: the point and leg tests are vectorised over a polygon's edges
+    hard = [(kind, name, np.asarray(obs)) for kind, name, obs in sc.hard_obstacles()]
     seen: dict[int, int] = {}
     ships: dict[str, Ship] = {sc.ship: own_ship}
     for i, t in enumerate(sc.traffic):
@@ -326,7 +331,7 @@ def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
         pts = [("start_m", (float(t.start_m[0]), float(t.start_m[1])))] + [
             (f"route_m[{j}]", (float(p[0]), float(p[1]))) for j, p in enumerate(t.route_m)
         ]
-        shoals = sc.shoals(draught)
+        shoals = [(name, np.asarray(obs)) for name, obs in sc.shoals(draught)]
         for key, p in pts:
             if not (n0 <= p[0] <= n1 and e0 <= p[1] <= e1):
                 raise ScenarioError(f"{label} {key}: outside bounds_m")
@@ -341,5 +346,5 @@ def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
             legs.append((pts[-1][1], pts[1][1], "route_m[0]"))
         for a, b, key in legs:
             for kind, name, obs in hard:
-                if _leg_hits(a, b, obs):
+                if geo.segment_meets_polygon(a, b, obs):
                     raise ScenarioError(f"{label} {key}: the leg to it crosses {kind} {name!r}")

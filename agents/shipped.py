@@ -1,0 +1,156 @@
+"""Shipped agents: small SB3 zips under ``agents/trained/`` with a JSON sidecar saying how they were made.
+
+Convention: ``agents/trained/<algo>_<env>_seed<N>.zip`` (e.g. ``ppo_ZigZag-v0_seed0.zip``): the algorithm
+first (:func:`vessel_gym.policy.load_policy` reads it from the part before the first underscore), then the
+short env id with its version, then the training seed. Next to it ``<same stem>.json``:
+
+* ``env_id``, ``env_version`` (the ``-vN`` of the id), ``env_kwargs`` / ``eval_env_kwargs`` (what the agent
+  was trained and is evaluated with), ``algo``, ``hyperparams`` (the block as trained);
+* ``seed`` (training seed; copies ``seed .. seed + n_envs - 1``), ``n_timesteps`` (budget),
+  ``num_timesteps`` (steps trained), ``n_envs``;
+* ``validation_seeds`` / ``test_seeds`` (the episode seed ranges of :mod:`agents.seeds` used for model
+  selection and for the final numbers), ``test`` (the test-set summary, when evaluated);
+* ``vessel_gym_version``, ``stable_baselines3``, ``torch``, ``created`` (UTC date).
+
+``<stem>_vecnormalize.pkl`` is shipped too when training normalised observations. :func:`read_sidecar`
+is what ``evaluate.py`` uses to find the environment arguments of a shipped agent.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import json
+import re
+import shutil
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from agents import seeds
+from agents.common import UsageError, check_algo, env_short_name, json_safe, sidecar
+
+TRAINED_DIR = Path(__file__).resolve().parent / "trained"
+#: ``<algo>_<Env>-v<N>_seed<S>``
+NAME_RE = re.compile(r"^(?P<algo>[a-z0-9]+)_(?P<env>[A-Za-z0-9]+-v\d+)_seed(?P<seed>\d+)$")
+#: sidecar keys every shipped agent has
+REQUIRED_KEYS = (
+    "env_id",
+    "env_version",
+    "algo",
+    "seed",
+    "n_timesteps",
+    "hyperparams",
+    "validation_seeds",
+    "test_seeds",
+    "vessel_gym_version",
+)
+
+
+def shipped_stem(algo: str, env_id: str, seed: int) -> str:
+    """``ppo``, ``vessel_gym/ZigZag-v0``, 3 -> ``ppo_ZigZag-v0_seed3``."""
+    return f"{check_algo(algo)}_{env_short_name(env_id)}_seed{int(seed)}"
+
+
+def env_version(env_id: str) -> int:
+    """The ``N`` of an id ending in ``-vN``."""
+    m = re.search(r"-v(\d+)$", env_id)
+    if m is None:
+        raise UsageError(f"env id {env_id!r} has no -vN version suffix")
+    return int(m.group(1))
+
+
+def seed_range(split: str, n: int) -> str:
+    """``"2000000..2000019"``: the first ``n`` episode seeds of ``split``, as the sidecar writes them."""
+    s = seeds.episode_seeds(split, n)
+    return f"{s[0]}..{s[-1]}" if s else ""
+
+
+def make_sidecar(record: Mapping[str, Any], validation_episodes: int, test_episodes: int) -> dict[str, Any]:
+    """The JSON sidecar of a model from its run record (``<stem>.yml`` written by :func:`agents.common.train`)."""
+    import stable_baselines3 as sb3
+    import torch
+
+    import vessel_gym
+
+    env_id = str(record["env_id"])
+    out = {
+        "env_id": env_id,
+        "env_version": env_version(env_id),
+        "env_kwargs": record.get("env_kwargs") or {},
+        "eval_env_kwargs": record.get("eval_env_kwargs") or {},
+        "algo": record["algo"],
+        "hyperparams": record.get("hyperparams") or {},
+        "seed": int(record["seed"]),
+        "n_envs": record.get("n_envs"),
+        "n_timesteps": record.get("n_timesteps"),
+        "num_timesteps": record.get("num_timesteps"),
+        "validation_seeds": seed_range("validation", validation_episodes),
+        "test_seeds": seed_range("test", test_episodes),
+        "vessel_gym_version": vessel_gym.__version__,
+        "stable_baselines3": str(sb3.__version__),
+        "torch": str(torch.__version__),
+        "created": dt.datetime.now(dt.timezone.utc).date().isoformat(),
+    }
+    if record.get("test") is not None:
+        out["test"] = record["test"]
+    return out
+
+
+def ship(
+    model_path: str | Path,
+    meta: Mapping[str, Any],
+    dest: str | Path = TRAINED_DIR,
+    *,
+    overwrite: bool = True,
+) -> Path:
+    """Copy a trained model (and its ``_vecnormalize.pkl``) to ``dest/<algo>_<env>_seed<N>.zip`` with its
+    JSON sidecar ``meta``; returns the new zip's path. ``overwrite=False`` refuses to replace a file."""
+    missing = [k for k in REQUIRED_KEYS if k not in meta]
+    if missing:
+        raise UsageError(f"sidecar of {model_path} lacks {', '.join(missing)}")
+    dest = Path(dest)
+    dest.mkdir(parents=True, exist_ok=True)
+    target = dest / f"{shipped_stem(meta['algo'], meta['env_id'], meta['seed'])}.zip"
+    if target.exists() and not overwrite:
+        raise UsageError(f"{target} exists (not overwritten)")
+    shutil.copyfile(model_path, target)
+    vn = sidecar(model_path, "_vecnormalize.pkl")
+    if vn.is_file():
+        shutil.copyfile(vn, sidecar(target, "_vecnormalize.pkl"))
+    sidecar(target, ".json").write_text(json.dumps(json_safe(dict(meta)), indent=1, sort_keys=False) + "\n")
+    return target
+
+
+def read_sidecar(model_path: str | Path) -> dict[str, Any]:
+    """The JSON sidecar of a shipped agent (empty if there is none); a broken one is a :class:`UsageError`."""
+    path = sidecar(model_path, ".json")
+    if not path.is_file():
+        return {}
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, json.JSONDecodeError) as exc:
+        raise UsageError(f"{path}: not a readable JSON sidecar ({exc})") from None
+    if not isinstance(data, dict):
+        raise UsageError(f"{path}: expected a JSON object")
+    return data
+
+
+def list_shipped(directory: str | Path = TRAINED_DIR) -> list[Path]:
+    """The shipped agent zips of ``directory`` that follow the naming convention and have a sidecar."""
+    d = Path(directory)
+    if not d.is_dir():
+        return []
+    return sorted(p for p in d.glob("*.zip") if NAME_RE.match(p.stem) and sidecar(p, ".json").is_file())
+
+
+__all__ = [
+    "NAME_RE",
+    "REQUIRED_KEYS",
+    "TRAINED_DIR",
+    "env_version",
+    "list_shipped",
+    "make_sidecar",
+    "read_sidecar",
+    "ship",
+    "shipped_stem",
+]

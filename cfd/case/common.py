@@ -1,0 +1,150 @@
+"""What every OpenFOAM case of a study shares: the hull patch, numerics, decomposition, forces output.
+
+fvSchemes and fvSolution (steady SIMPLEC or transient PIMPLE), decomposeParDict, the forces and y+ function
+objects, transport and turbulence properties, copying the finished mesh into a case, and asking a running
+solver to stop.
+"""
+
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+from typing import Any
+
+from .. import foamdict
+from ..foamdict import Words
+
+HULL_PATCH = "hull"
+
+
+def decompose_dict(n: int) -> dict[str, Any]:
+    # scotch/metis are stub libraries in Debian's v1912; hierarchical always works
+    return {
+        "numberOfSubdomains": n,
+        "method": "hierarchical",
+        "hierarchicalCoeffs": {"n": (n, 1, 1), "order": "xyz"},
+        "coeffs": {"n": (n, 1, 1), "order": "xyz"},
+    }
+
+
+def write_schemes(system: Path, steady: bool) -> None:
+    div_u = "bounded Gauss linearUpwind grad(U)" if steady else "Gauss linearUpwind grad(U)"
+    div_t = "bounded Gauss upwind" if steady else "Gauss upwind"
+    foamdict.write(
+        system / "fvSchemes",
+        {
+            "ddtSchemes": {"default": "steadyState" if steady else "Euler"},
+            "gradSchemes": {"default": "Gauss linear", "grad(U)": "cellLimited Gauss linear 1"},
+            "divSchemes": {
+                "default": "none",
+                "div(phi,U)": div_u,
+                "div(phi,k)": div_t,
+                "div(phi,omega)": div_t,
+                "div((nuEff*dev2(T(grad(U)))))": "Gauss linear",
+            },
+            "laplacianSchemes": {"default": "Gauss linear limited corrected 0.5"},
+            "interpolationSchemes": {"default": "linear"},
+            "snGradSchemes": {"default": "limited corrected 0.5"},
+            "wallDist": {"method": "meshWave"},
+        },
+    )
+
+
+def write_solution(system: Path, steady: bool, residual_p: float = 1e-5) -> None:
+    solvers: dict[str, Any] = {
+        "p": {"solver": "GAMG", "smoother": "GaussSeidel", "tolerance": 1e-7, "relTol": 0.05},
+        "(U|k|omega)": {
+            "solver": "smoothSolver",
+            "smoother": "symGaussSeidel",
+            "tolerance": 1e-8,
+            "relTol": 0.1,
+        },
+    }
+    if steady:
+        algo = {
+            "SIMPLE": {
+                "nNonOrthogonalCorrectors": 0,
+                "consistent": True,
+                "residualControl": {"p": residual_p, "U": residual_p / 10, '"(k|omega)"': residual_p},
+            }
+        }
+        relax = {"equations": {"U": 0.9, '".*"': 0.7}}
+    else:
+        solvers["(p|pcorr)Final"] = {
+            "solver": "GAMG",
+            "smoother": "GaussSeidel",
+            "tolerance": 1e-7,
+            "relTol": 0,
+        }
+        solvers["(U|k|omega)Final"] = {
+            "solver": "smoothSolver",
+            "smoother": "symGaussSeidel",
+            "tolerance": 1e-8,
+            "relTol": 0,
+        }
+        algo = {
+            "PIMPLE": {
+                "momentumPredictor": True,
+                "nOuterCorrectors": 2,
+                "nCorrectors": 2,
+                "nNonOrthogonalCorrectors": 0,
+                "correctPhi": False,
+            }
+        }
+        relax = {"equations": {'".*"': 1}}
+    quoted = {(f'"{k}"' if "|" in k else k): v for k, v in solvers.items()}
+    foamdict.write(system / "fvSolution", {"solvers": quoted, **algo, "relaxationFactors": relax})
+
+
+def function_objects(rho: float, write_yplus: bool) -> dict[str, Any]:
+    fo: dict[str, Any] = {
+        "forces": {
+            "type": "forces",
+            "libs": ['"libforces.so"'],
+            "writeControl": "timeStep",
+            "writeInterval": 1,
+            "patches": [HULL_PATCH],
+            "rho": "rhoInf",
+            "rhoInf": rho,
+            "CofR": (0, 0, 0),
+            "log": False,
+        }
+    }
+    if write_yplus:
+        fo["yPlus"] = {"type": "yPlus", "libs": ['"libfieldFunctionObjects.so"'], "writeControl": "writeTime"}
+    return fo
+
+
+def write_constant(case: Path, nu: float) -> None:
+    const = case / "constant"
+    foamdict.write(
+        const / "transportProperties", {"transportModel": "Newtonian", "nu": Words("[0 2 -1 0 0 0 0]", nu)}
+    )
+    foamdict.write(
+        const / "turbulenceProperties",
+        {"simulationType": "RAS", "RAS": {"RASModel": "kOmegaSST", "turbulence": True, "printCoeffs": True}},
+    )
+
+
+def symmetry_plane() -> dict[str, Any]:
+    return {"type": "symmetryPlane"}
+
+
+def link_mesh(case: Path, mesh_case: Path) -> None:
+    """Copy the finished polyMesh into a case (cases must not share it: moving meshes write to it)."""
+    dst = case / "constant" / "polyMesh"
+    if dst.exists():
+        shutil.rmtree(dst)
+    shutil.copytree(mesh_case / "constant" / "polyMesh", dst)
+
+
+def request_stop(case: Path) -> bool:
+    """Ask a running solver to write its fields and stop (``stopAt writeNow``); False if already asked."""
+    path = case / "system" / "controlDict"
+    text = path.read_text()
+    new = re.sub(r"^(stopAt\s+)endTime;", r"\1writeNow;", text, count=1, flags=re.M)
+    if new == text:
+        return False
+    path.write_text(new)
+    return True
