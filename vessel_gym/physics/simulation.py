@@ -226,13 +226,17 @@ class Simulation:
         the fuel index that holds it (IMO trials start from a steady approach). Speed None: the ship's
         IMO test speed. Raises SimulationError if the engine cannot make that speed.
         """
+        speed_m_s = np.nan if speed_m_s is None else speed_m_s
+        if k is not None and not self.components:  # an environment resets one ship at a time: scalar code
+            self._reset_one(k, speed_m_s, heading_deg, x_m, y_m)
+            return
         idx = np.arange(self.n) if k is None else np.array([k])
         if self.components:  # user forces take part in the equilibrium: solved for all vessels at once
-            sp = self._per_vessel(np.nan if speed_m_s is None else speed_m_s)
+            sp = self._per_vessel(speed_m_s)
             hd = self._per_vessel(heading_deg)
             self._reset_with_components(idx.tolist(), sp, hd)
         else:
-            self._reset_steady(idx, np.nan if speed_m_s is None else speed_m_s, heading_deg)
+            self._reset_steady(idx, speed_m_s, heading_deg)
         # every vessel's row is set above (state and inputs), position and flag here: numpy over idx, O(N)
         self.state[idx, lo.X_PSI] = self._at(heading_deg, idx) * DEG
         self.state[idx, lo.X_N] = self._at(x_m, idx)
@@ -245,15 +249,29 @@ class Simulation:
         """A scalar or per-vessel ``value`` as floats of the vessels ``idx``."""
         return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))[idx]
 
-    def _reset_steady(self, idx: np.ndarray, speed_m_s, heading_deg) -> None:
-        """Steady approaches of the vessels ``idx`` without user components, one solve per distinct approach.
+    def _one(self, value: float | np.ndarray, k: int) -> float:
+        """A scalar or per-vessel ``value`` of vessel k, as a float."""
+        if isinstance(value, (float, int)):
+            return float(value)
+        return float(np.broadcast_to(np.asarray(value, dtype=float), (self.n,))[k])
 
-        An approach is keyed by the ship's parameter row as it is now, the speed, the environment row and the
-        heading -- the heading only where the environment has a direction (wind, current or waves): in still
-        air and water over calm sea no force depends on it (the rotations meet zero vectors), so the solution
-        is the same to the bit and only X_PSI differs, which the caller sets. The distinct keys of a call are
-        found with numpy (O(N log N) in C); the cache keeps at most STEADY_CACHE_SIZE entries at any time.
-        """
+    def _reset_one(self, k: int, speed_m_s, heading_deg, x_m, y_m) -> None:
+        """:meth:`reset` of vessel k alone (no user components), in scalar code."""
+        si = int(self.ship_index[k])
+        sp = self._one(speed_m_s, k)
+        speed = self.ships[si].test_speed_m_s if math.isnan(sp) else sp
+        hd = self._one(heading_deg, k)
+        env = self.env[k]
+        hkey = hd if env[_DIRECTIONAL_ENV].any() else 0.0
+        self.state[k], self.inputs[k] = self._steady_row(si, speed, hkey, env)
+        self.state[k, lo.X_PSI] = hd * DEG
+        self.state[k, lo.X_N] = self._one(x_m, k)
+        self.state[k, lo.X_E] = self._one(y_m, k)
+        self.alive[k] = True
+
+    def _reset_steady(self, idx: np.ndarray, speed_m_s, heading_deg) -> None:
+        """Steady approaches of the vessels ``idx`` without user components, one solve per distinct approach
+        (:meth:`_steady_row`), found with numpy (O(N log N) in C) and spread over the vessels by indexing."""
         si = self.ship_index[idx]
         test = np.array([s.test_speed_m_s for s in self.ships], dtype=float)
         sp = self._at(speed_m_s, idx)
@@ -266,23 +284,33 @@ class Simulation:
             first, inverse = np.zeros(1, dtype=np.int64), np.zeros(len(idx), dtype=np.int64)
         else:
             _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-        cache = self._steady_cache
         rows_x = np.empty((len(first), lo.NX))
         rows_u = np.empty((len(first), lo.NU))
         for q, f in enumerate(first):
-            s = int(si[f])
-            key = (self._params_key(s), float(speed[f]), float(hkey[f]), env[f].tobytes())
-            hit = cache.get(key)
-            if hit is None:
-                hit = steady_state(
-                    self.ships[s], self.Ps[s], float(speed[f]), env=env[f], heading_rad=float(hkey[f]) * DEG
-                )
-                if len(cache) >= STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
-                    cache.clear()
-                cache[key] = hit
-            rows_x[q], rows_u[q] = hit
+            rows_x[q], rows_u[q] = self._steady_row(int(si[f]), float(speed[f]), float(hkey[f]), env[f])
         self.state[idx] = rows_x[inverse.reshape(-1)]
         self.inputs[idx] = rows_u[inverse.reshape(-1)]
+
+    def _steady_row(
+        self, si: int, speed: float, hkey: float, env: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(state row, input row) of ship si's steady approach, from the cache or solved (:func:`steady_state`).
+
+        An approach is keyed by the ship's parameter row as it is now, the speed, the environment row and the
+        heading ``hkey`` (deg) -- the heading only where the environment has a direction (wind, current or
+        waves; else the caller passes 0): in still air and water over a calm sea no force depends on it (the
+        rotations meet zero vectors), so the solution is the same to the bit and only X_PSI differs, which the
+        caller sets. The cache holds at most STEADY_CACHE_SIZE entries at any time, within a call too.
+        """
+        cache = self._steady_cache
+        key = (self._params_key(si), speed, hkey, env.tobytes())
+        hit = cache.get(key)
+        if hit is None:
+            hit = steady_state(self.ships[si], self.Ps[si], speed, env=env, heading_rad=hkey * DEG)
+            if len(cache) >= STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
+                cache.clear()
+            cache[key] = hit
+        return hit
 
     def _params_key(self, si: int) -> bytes:
         """Ship ``si``'s parameter row as bytes (the parameters as they are now), the same object while they
