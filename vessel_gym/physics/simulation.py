@@ -49,6 +49,7 @@ DRIVER_SMOOTHING = 0.2  # weight of the newest call in the running cost of a dri
 # the driver not in use is timed again every so many calls, so that a change of load is noticed; the interval
 # grows with its measured extra cost so that trying it costs at most DRIVER_TRIAL_COST of the run time
 DRIVER_TRIAL_COST = 0.02  # fraction of run time
+DRIVER_SPIKE = 4.0  # most a single call's time per vessel-step may exceed the running cost by (a factor)
 DRIVER_TRIAL_EVERY = (8, 512)  # calls, least and most between two trials
 # environment row entries with a direction: while all are zero no force depends on the heading
 _DIRECTIONAL_ENV = [lo.E_CUR_N, lo.E_CUR_E, lo.E_WIND_N, lo.E_WIND_E, lo.E_ZETA2]
@@ -91,6 +92,9 @@ class _DriverChoice:
             return
         c = seconds / work
         old = self.cost[driver]
+        # a call descheduled by another process counts as DRIVER_SPIKE x the running cost at most
+        if old > 0.0:
+            c = min(c, DRIVER_SPIKE * old)
         self.cost[driver] = c if old == 0.0 else old + DRIVER_SMOOTHING * (c - old)
         lo_c, hi_c = sorted(self.cost)
         if lo_c > 0.0:
