@@ -199,6 +199,125 @@ def bench_drivers(repeats: int) -> None:
             )
 
 
+# (N, nsteps per call) of the load comparison: the vector environments' call (1024 ships, one or two RK4 steps per
+# action), a control interval of 16384 ships
+LOAD_CASES = ((1024, 1), (1024, 2), (1024, 10), (16384, 1))
+TARGET_THREADS_LOSS = 0.10  # the driver Simulation.step uses is at most 10 % slower than the serial one
+
+
+SETUP_SIZES = (1024, 16384, 262144)
+TARGET_SETUP_S = 5.0  # s, Simulation of 262144 vessels built and reset
+TARGET_BYTES_PER_VESSEL = 2048  # B held by a Simulation per vessel
+
+
+def bench_setup() -> None:
+    """Construction and reset of N vessels (kvlcc2), calm and in wind with distinct headings, and the bytes of
+    arrays the simulation holds per vessel (its steady-state cache included)."""
+    print(
+        f"\nset-up (kvlcc2): construction and reset of N vessels, wall, one run each; goals: N = 262144 built and "
+        f"reset in < {TARGET_SETUP_S:g} s, <= {TARGET_BYTES_PER_VESSEL} B per vessel"
+    )
+    print(
+        f"{'N':>7s} {'build s':>8s} {'reset s':>8s} {'us/vessel':>9s} {'reset, headings s':>17s} "
+        f"{'wind+headings s':>15s} {'B/vessel':>8s}  goal"
+    )
+    Simulation("kvlcc2", n=2, environment=WIND).reset(heading_deg=[0.0, 90.0])  # load the compiled code
+    for n in SETUP_SIZES:
+        hd = np.random.default_rng(0).uniform(0.0, 360.0, n)
+        t0 = time.perf_counter()
+        sim = Simulation("kvlcc2", n=n, dt=0.1)
+        t1 = time.perf_counter()
+        sim.reset()
+        t2 = time.perf_counter()
+        sim.reset(heading_deg=hd)
+        t3 = time.perf_counter()
+        windy = Simulation("kvlcc2", n=min(n, 16384), dt=0.1, environment=WIND)
+        t4 = time.perf_counter()
+        windy.reset(heading_deg=hd[: windy.n])
+        t5 = time.perf_counter()
+        held = sum(v.nbytes for v in vars(windy).values() if isinstance(v, np.ndarray))
+        held += sum(8 * len(v) for v in vars(windy).values() if isinstance(v, list))
+        held += sum(x.nbytes + u.nbytes + len(key[3]) for key, (x, u) in windy._steady_cache.items())
+        held += sum(len(b) for b in windy._param_bytes.values())
+        per_vessel = held / windy.n
+        total = t2 - t0
+        ok = total < TARGET_SETUP_S and per_vessel <= TARGET_BYTES_PER_VESSEL
+        goal = ("meets" if ok else "MISSES") if n == SETUP_SIZES[-1] else ""
+        print(
+            f"{n:7d} {t1 - t0:8.3f} {t2 - t1:8.3f} {total / n * 1e6:9.2f} {t3 - t2:17.3f} "
+            f"{(t5 - t4) * n / windy.n:15.3f} {per_vessel:8.0f}  {goal}"
+        )
+    print("  (wind+headings: N distinct approaches, one solve each; timed at min(N, 16384) and scaled to N)")
+
+
+def busy_loop() -> subprocess.Popen:
+    """Another process keeping one core busy (a pure-Python loop), as a learner or a second simulation would."""
+    return subprocess.Popen([sys.executable, "-c", "while True: pass"])
+
+
+def bench_load(repeats: int) -> None:
+    """Serial driver, threaded driver and ``Simulation.step`` (which chooses per call by measured time) on the
+    machine as it is, then with a busy-loop process started for the second table; one run, medians of
+    interleaved repeats (kvlcc2 in wind, dt 0.1 s)."""
+    print(
+        f"\nthreads under load: vessel-steps/s (wall, median of {repeats} interleaved repeats), kvlcc2; goal: "
+        f"Simulation.step never more than {TARGET_THREADS_LOSS:.0%} slower than the serial driver"
+    )
+    for loaded in (False, True):
+        hog = busy_loop() if loaded else None
+        try:
+            time.sleep(0.5 if loaded else 0.0)
+            load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+            what = "with a busy-loop process" if loaded else "as the machine is (no busy loop of ours)"
+            print(f"\n{what}, load average {load:.2f}")
+            print(
+                f"{'N':>6s} {'nsteps':>6s} {'serial':>10s} {'threaded':>10s} {'step()':>10s} "
+                f"{'thr/ser':>7s} {'step/ser':>8s}  goal"
+            )
+            for n, nsteps in LOAD_CASES:
+                sim = make_sim("kvlcc2", n)
+                args = (
+                    sim.Ps,
+                    sim.ship_index,
+                    sim.state,
+                    sim.inputs,
+                    sim.env,
+                    sim.F_ext,
+                    sim.dt,
+                    nsteps,
+                    RK4,
+                )
+                args += (sim.alive,)
+                calls = {
+                    "serial": lambda a=args: run_serial(*a),
+                    "threaded": lambda a=args: run_parallel(*a),
+                    "step": lambda sim=sim, k=nsteps: sim.step(k),
+                }
+                for call in calls.values():  # warm-up, and the choice's first timings
+                    for _ in range(20):
+                        call()
+                per = {name: [] for name in calls}
+                for _ in range(repeats):  # interleaved, so a change of load hits all three alike
+                    for name, call in calls.items():
+                        k, t0 = 0, time.perf_counter()
+                        while time.perf_counter() - t0 < MIN_TIMED_S:
+                            call()
+                            k += 1
+                        per[name].append((time.perf_counter() - t0) / k)
+                rate = {name: n * nsteps / statistics.median(v) for name, v in per.items()}
+                loss = rate["serial"] / rate["step"] - 1.0
+                verdict = "meets" if loss <= TARGET_THREADS_LOSS else f"MISSES ({loss:+.0%})"
+                print(
+                    f"{n:6d} {nsteps:6d} {fmt_rate(rate['serial']):>10s} {fmt_rate(rate['threaded']):>10s} "
+                    f"{fmt_rate(rate['step']):>10s} {rate['threaded'] / rate['serial']:7.2f} "
+                    f"{rate['step'] / rate['serial']:8.2f}  {verdict}"
+                )
+        finally:
+            if hog is not None:
+                hog.kill()
+                hog.wait()
+
+
 def bench_cli(repeats: int) -> None:
     print("\nvessel-gym imo kvlcc2 (wall, median of runs after one warm-up run)")
     exe = shutil.which("vessel-gym")
@@ -227,6 +346,13 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--repeats", type=int, default=7, help="timed repeats per figure (median)")
     ap.add_argument("--drivers", action="store_true", help="also time serial vs parallel drivers")
     ap.add_argument("--cli", action="store_true", help="also time `vessel-gym imo kvlcc2`")
+    ap.add_argument(
+        "--load",
+        action="store_true",
+        help="serial vs threaded vs step(), without and with a busy-loop process",
+    )
+    ap.add_argument("--setup", action="store_true", help="also time construction and reset up to N = 262144")
+    ap.add_argument("--only", action="store_true", help="skip the Simulation.step and component sections")
     ap.add_argument("--quick", action="store_true", help="3 repeats, batches of 1 and 1024 only")
     args = ap.parse_args(argv)
     repeats = 3 if args.quick else args.repeats
@@ -237,8 +363,13 @@ def main(argv: list[str] | None = None) -> None:
         f"numba {numba.__version__}, {os.cpu_count()} CPUs, "
         f"load average {load:.2f}, {repeats} repeats"
     )
-    bench_step(repeats, cases)
-    bench_components(repeats)
+    if not args.only:
+        bench_step(repeats, cases)
+        bench_components(repeats)
+    if args.load:
+        bench_load(repeats)
+    if args.setup:
+        bench_setup()
     if args.drivers:
         bench_drivers(repeats)
     if args.cli:

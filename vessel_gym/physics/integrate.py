@@ -20,6 +20,7 @@ compiler delete the divergence check.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 from numba import njit, prange
@@ -27,6 +28,13 @@ from numba import njit, prange
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.steering import steering_gear_angle
 from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives, forces
+
+# The threaded driver's worker threads sleep between calls rather than spin (GNU OpenMP spins for up to
+# ~300000 polls after a parallel region by default). Spinning buys a few microseconds per call on an idle
+# machine and costs whole time slices when other processes (a learner, another simulation) want the cores:
+# the spinning threads take them. Read by the OpenMP runtime when numba starts its threads, at the first
+# threaded call, so it is set here; a value set by the user wins. Measured in docs/performance.md.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 RK4 = 0
 EULER = 1

@@ -10,6 +10,7 @@ N = 16384 run the same compiled code.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
 from typing import Protocol
 
@@ -42,6 +43,63 @@ STEADY_CACHE_SIZE = 1024  # entries (two rows of 9 and 2 floats each)
 STEADY_MAX_ITERATIONS = 20
 PARALLEL_MIN_BATCH = 64  # vessels
 PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread work)
+# Above those bounds the driver is chosen per call by measured wall time per vessel-step (_DriverChoice): the
+# second core may be taken by another process at any time, and then the threaded driver waits for it.
+DRIVER_SMOOTHING = 0.2  # weight of the newest call in the running cost of a driver (exponential average)
+# the driver not in use is timed again every so many calls, so that a change of load is noticed; the interval
+# grows with its measured extra cost so that trying it costs at most DRIVER_TRIAL_COST of the run time
+DRIVER_TRIAL_COST = 0.02  # fraction of run time
+DRIVER_SPIKE = 4.0  # most a single call's time per vessel-step may exceed the running cost by (a factor)
+DRIVER_TRIAL_EVERY = (8, 512)  # calls, least and most between two trials
+# environment row entries with a direction: while all are zero no force depends on the heading
+_DIRECTIONAL_ENV = [lo.E_CUR_N, lo.E_CUR_E, lo.E_WIND_N, lo.E_WIND_E, lo.E_ZETA2]
+
+
+class _DriverChoice:
+    """Serial or threaded batch driver for a call, whichever has the lower running wall time per vessel-step.
+
+    Both drivers give bitwise identical results, so the choice changes timing only. Each driver is timed on
+    its first eligible calls; afterwards the slower one is tried once every k calls, k = (cost ratio - 1) /
+    DRIVER_TRIAL_COST within DRIVER_TRIAL_EVERY, so that a wrong choice costs at most ~2 % and a change of
+    the machine's load is followed within a few hundred calls.
+    """
+
+    __slots__ = ("cost", "warm", "calls", "every")
+
+    def __init__(self) -> None:
+        self.cost = [0.0, 0.0]  # s per vessel-step, serial and threaded; 0 until measured
+        self.warm = [False, False]  # a driver's first call loads its code and starts threads: not timed
+        self.calls = 0
+        self.every = DRIVER_TRIAL_EVERY[0]
+
+    def pick(self) -> int:
+        """0 for the serial driver, 1 for the threaded one."""
+        serial, threaded = self.cost
+        if threaded == 0.0:
+            return 1
+        if serial == 0.0:
+            return 0
+        best = 0 if serial <= threaded else 1
+        self.calls += 1
+        if self.calls >= self.every:
+            self.calls = 0
+            return 1 - best
+        return best
+
+    def record(self, driver: int, seconds: float, work: int) -> None:
+        if not self.warm[driver]:
+            self.warm[driver] = True
+            return
+        c = seconds / work
+        old = self.cost[driver]
+        # a call descheduled by another process counts as DRIVER_SPIKE x the running cost at most
+        if old > 0.0:
+            c = min(c, DRIVER_SPIKE * old)
+        self.cost[driver] = c if old == 0.0 else old + DRIVER_SMOOTHING * (c - old)
+        lo_c, hi_c = sorted(self.cost)
+        if lo_c > 0.0:
+            k = (hi_c / lo_c - 1.0) / DRIVER_TRIAL_COST
+            self.every = int(min(max(k, DRIVER_TRIAL_EVERY[0]), DRIVER_TRIAL_EVERY[1]))
 
 
 class ForceComponent(Protocol):
@@ -136,8 +194,12 @@ class Simulation:
         self.components = list(components)
         self.reference_latlon_deg = reference_latlon_deg
         self.environments: list[Environment] = [environment] * n
-        for k in range(n):
-            self.set_environment(environment, k)
+        self.set_environment(environment)
+        # Ps rows as bytes, by ship, for the steady-state cache keys: one object shared by every entry of a
+        # ship while its parameters are unchanged (a row is ~7.5 kB; one copy per entry would dominate)
+        self._param_bytes: dict[int, bytes] = {}
+        # serial or threaded driver, chosen by measured time per vessel-step (see _DriverChoice)
+        self._driver = _DriverChoice()
 
     # --- set-up -------------------------------------------------------------------------------------------
     def ship(self, k: int = 0) -> Ship:
@@ -145,11 +207,14 @@ class Simulation:
 
     def set_environment(self, environment: Environment, k: int | None = None) -> None:
         """Set the environment of vessel k (all vessels when k is None)."""
-        idx = range(self.n) if k is None else [k]
-        for j in idx:
-            s = self.ship(j)
-            self.env[j] = environment.row(s.particulars.L_m, s.particulars.T_m)
-            self.environments[j] = environment
+        if k is None:  # one row per ship, spread over the vessels in one numpy operation
+            rows = np.stack([environment.row(s.particulars.L_m, s.particulars.T_m) for s in self.ships])
+            self.env[:] = rows[self.ship_index]
+            self.environments[:] = [environment] * self.n
+            return
+        s = self.ship(k)
+        self.env[k] = environment.row(s.particulars.L_m, s.particulars.T_m)
+        self.environments[k] = environment
 
     def reset(
         self,
@@ -165,33 +230,101 @@ class Simulation:
         the fuel index that holds it (IMO trials start from a steady approach). Speed None: the ship's
         IMO test speed. Raises SimulationError if the engine cannot make that speed.
         """
-        idx = range(self.n) if k is None else (k,)
-        sp = self._per_vessel(np.nan if speed_m_s is None else speed_m_s)
-        hd = self._per_vessel(heading_deg)
-        xs = self._per_vessel(x_m)
-        ys = self._per_vessel(y_m)
+        speed_m_s = np.nan if speed_m_s is None else speed_m_s
+        if k is not None and not self.components:  # an environment resets one ship at a time: scalar code
+            self._reset_one(k, speed_m_s, heading_deg, x_m, y_m)
+            return
+        idx = np.arange(self.n) if k is None else np.array([k])
         if self.components:  # user forces take part in the equilibrium: solved for all vessels at once
-            self._reset_with_components(idx, sp, hd)
+            sp = self._per_vessel(speed_m_s)
+            hd = self._per_vessel(heading_deg)
+            self._reset_with_components(idx.tolist(), sp, hd)
         else:
-            cache = self._steady_cache
-            if len(cache) > STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
-                cache.clear()
-            for j in idx:
-                si = int(self.ship_index[j])
-                speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
-                # parameters as they are now
-                key = (self.Ps[si].tobytes(), speed, hd[j], self.env[j].tobytes())
-                if key not in cache:
-                    cache[key] = steady_state(
-                        self.ships[si], self.Ps[si], speed, env=self.env[j], heading_rad=hd[j] * DEG
-                    )
-                self.state[j], self.inputs[j] = cache[key]
-        for j in idx:
-            self.state[j, lo.X_N] = xs[j]
-            self.state[j, lo.X_E] = ys[j]
-            self.alive[j] = True
+            self._reset_steady(idx, speed_m_s, heading_deg)
+        # every vessel's row is set above (state and inputs), position and flag here: numpy over idx, O(N)
+        self.state[idx, lo.X_PSI] = self._at(heading_deg, idx) * DEG
+        self.state[idx, lo.X_N] = self._at(x_m, idx)
+        self.state[idx, lo.X_E] = self._at(y_m, idx)
+        self.alive[idx] = True
         if k is None:
             self.t = 0.0
+
+    def _at(self, value: float | np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """A scalar or per-vessel ``value`` as floats of the vessels ``idx``."""
+        return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))[idx]
+
+    def _one(self, value: float | np.ndarray, k: int) -> float:
+        """A scalar or per-vessel ``value`` of vessel k, as a float."""
+        if isinstance(value, (float, int)):
+            return float(value)
+        return float(np.broadcast_to(np.asarray(value, dtype=float), (self.n,))[k])
+
+    def _reset_one(self, k: int, speed_m_s, heading_deg, x_m, y_m) -> None:
+        """:meth:`reset` of vessel k alone (no user components), in scalar code."""
+        si = int(self.ship_index[k])
+        sp = self._one(speed_m_s, k)
+        speed = self.ships[si].test_speed_m_s if math.isnan(sp) else sp
+        hd = self._one(heading_deg, k)
+        env = self.env[k]
+        hkey = hd if env[_DIRECTIONAL_ENV].any() else 0.0
+        self.state[k], self.inputs[k] = self._steady_row(si, speed, hkey, env)
+        self.state[k, lo.X_PSI] = hd * DEG
+        self.state[k, lo.X_N] = self._one(x_m, k)
+        self.state[k, lo.X_E] = self._one(y_m, k)
+        self.alive[k] = True
+
+    def _reset_steady(self, idx: np.ndarray, speed_m_s, heading_deg) -> None:
+        """Steady approaches of the vessels ``idx`` without user components, one solve per distinct approach
+        (:meth:`_steady_row`), found with numpy (O(N log N) in C) and spread over the vessels by indexing."""
+        si = self.ship_index[idx]
+        test = np.array([s.test_speed_m_s for s in self.ships], dtype=float)
+        sp = self._at(speed_m_s, idx)
+        speed = np.where(np.isnan(sp), test[si], sp)
+        env = self.env[idx]
+        directional = (env[:, _DIRECTIONAL_ENV] != 0.0).any(axis=1)
+        hkey = np.where(directional, self._at(heading_deg, idx), 0.0)
+        keys = np.column_stack([si.astype(float), speed, hkey, env])
+        if len(idx) == 1 or (keys == keys[0]).all():
+            first, inverse = np.zeros(1, dtype=np.int64), np.zeros(len(idx), dtype=np.int64)
+        else:
+            _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+        rows_x = np.empty((len(first), lo.NX))
+        rows_u = np.empty((len(first), lo.NU))
+        for q, f in enumerate(first):
+            rows_x[q], rows_u[q] = self._steady_row(int(si[f]), float(speed[f]), float(hkey[f]), env[f])
+        self.state[idx] = rows_x[inverse.reshape(-1)]
+        self.inputs[idx] = rows_u[inverse.reshape(-1)]
+
+    def _steady_row(
+        self, si: int, speed: float, hkey: float, env: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(state row, input row) of ship si's steady approach, from the cache or solved (:func:`steady_state`).
+
+        An approach is keyed by the ship's parameter row as it is now, the speed, the environment row and the
+        heading ``hkey`` (deg) -- the heading only where the environment has a direction (wind, current or
+        waves; else the caller passes 0): in still air and water over a calm sea no force depends on it (the
+        rotations meet zero vectors), so the solution is the same to the bit and only X_PSI differs, which the
+        caller sets. The cache holds at most STEADY_CACHE_SIZE entries at any time, within a call too.
+        """
+        cache = self._steady_cache
+        key = (self._params_key(si), speed, hkey, env.tobytes())
+        hit = cache.get(key)
+        if hit is None:
+            hit = steady_state(self.ships[si], self.Ps[si], speed, env=env, heading_rad=hkey * DEG)
+            if len(cache) >= STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
+                cache.clear()
+            cache[key] = hit
+        return hit
+
+    def _params_key(self, si: int) -> bytes:
+        """Ship ``si``'s parameter row as bytes (the parameters as they are now), the same object while they
+        are unchanged."""
+        b = self.Ps[si].tobytes()
+        old = self._param_bytes.get(si)
+        if old == b:
+            return old
+        self._param_bytes[si] = b
+        return b
 
     def _reset_with_components(self, idx, sp, hd) -> None:
         """Steady approaches of the vessels ``idx`` with the user components' forces in the balance.
@@ -289,13 +422,14 @@ class Simulation:
 
     def telegraph_rev(self, telegraph: int | np.ndarray, k: int | None = None) -> np.ndarray:
         """Propeller rev/s for a telegraph step (-4..4) from each ship's ``telegraph_rpm`` table."""
-        tg = np.broadcast_to(np.asarray(telegraph, dtype=np.int64), (self.n,))
-        out = np.zeros(self.n)
-        for j in range(self.n) if k is None else [k]:
-            eng = self.ship(j).engine
-            if eng is not None:
-                out[j] = eng.telegraph_rpm[int(np.clip(tg[j], -4, 4)) + 4] / 60.0
-        return out if k is None else out[k]
+        table = np.zeros((len(self.ships), 9))  # rev/s by ship and step; 0 for a ship without an engine
+        for i, s in enumerate(self.ships):
+            if s.engine is not None:
+                table[i] = np.asarray(s.engine.telegraph_rpm, dtype=float) / 60.0
+        tg = np.clip(np.asarray(telegraph, dtype=np.int64), -4, 4) + 4
+        if k is not None:
+            return table[self.ship_index[k], np.broadcast_to(tg, (self.n,))[k]]
+        return table[self.ship_index, np.broadcast_to(tg, (self.n,))]
 
     # --- integration ----------------------------------------------------------------------------------------
     def step(self, nsteps: int = 1) -> int:
@@ -319,9 +453,13 @@ class Simulation:
                     self._component_forces,
                 )
         else:
-            threaded = self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK
-            run = run_parallel if threaded else run_serial
-            alive = run(
+            work = self.n * nsteps
+            if self.n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK:
+                driver = self._driver.pick()
+                t0 = time.perf_counter()
+            else:
+                driver = -1
+            alive = (run_parallel if driver == 1 else run_serial)(
                 self.Ps,
                 self.ship_index,
                 self.state,
@@ -333,6 +471,8 @@ class Simulation:
                 self.method,
                 self.alive,
             )
+            if driver >= 0:
+                self._driver.record(driver, time.perf_counter() - t0, work)
         self.t += nsteps * self.dt
         return int(alive)
 

@@ -1,0 +1,179 @@
+"""Set-up of a large batch: construction, reset and the steady-state cache in numpy, memory per vessel, and the
+per-call choice of the batch driver.
+
+The reference for "results unchanged" is the per-vessel definition: :func:`steady_state` of each vessel at its
+own heading, speed and environment, and each ship's ``telegraph_rpm`` table read directly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics import simulation as simmod
+from vessel_gym.physics.environment import CALM, Environment
+from vessel_gym.physics.simulation import STEADY_CACHE_SIZE, Simulation, _DriverChoice, steady_state
+from vessel_gym.physics.units import DEG
+
+WIND = Environment(wind_speed_m_s=12.0, wind_from_deg=30.0)
+CURRENT = Environment(current_speed_m_s=0.5, current_to_deg=100.0)
+
+
+def per_vessel_reset(sim: Simulation, headings_deg: np.ndarray, speeds: np.ndarray) -> tuple[np.ndarray, ...]:
+    """State and input rows of a reset solved vessel by vessel, each at its own heading."""
+    X = np.zeros((sim.n, lo.NX))
+    U = np.zeros((sim.n, lo.NU))
+    for j in range(sim.n):
+        si = sim.ship_index[j]
+        X[j], U[j] = steady_state(
+            sim.ships[si], sim.Ps[si], float(speeds[j]), env=sim.env[j], heading_rad=headings_deg[j] * DEG
+        )
+    return X, U
+
+
+@pytest.mark.parametrize("environment", [CALM, WIND, CURRENT], ids=["calm", "wind", "current"])
+def test_batch_reset_equals_per_vessel_solutions_bit_for_bit(environment):
+    sim = Simulation(["kvlcc2", "mariner"], n=12, ship_index=[0, 1] * 6, environment=environment)
+    headings = np.array([0.0, 0.0, 37.0, 37.0, 180.0, 181.0, -90.0, 359.0, 12.5, 12.5, 270.0, 5.0])
+    speeds = np.array([s.test_speed_m_s for s in sim.ships])[sim.ship_index]
+    speeds[4:8] = 5.0
+    sim.reset(speed_m_s=np.where(np.arange(12) >= 4, speeds, np.nan), heading_deg=headings, x_m=3.0)
+    X, U = per_vessel_reset(sim, headings, speeds)
+    X[:, lo.X_N] = 3.0
+    assert np.array_equal(sim.state, X)
+    assert np.array_equal(sim.inputs, U)
+    # one vessel at a time (the environments' path) gives the same rows
+    one = Simulation(["kvlcc2", "mariner"], n=12, ship_index=[0, 1] * 6, environment=environment)
+    for k in range(12):
+        one.reset(speed_m_s=speeds[k], heading_deg=headings[k], x_m=3.0, k=k)
+    assert np.array_equal(one.state, X)
+    assert np.array_equal(one.inputs, U)
+
+
+def test_heading_is_keyed_only_where_the_environment_has_a_direction():
+    headings = np.linspace(0.0, 360.0, 64, endpoint=False)
+    calm = Simulation("kvlcc2", n=64)
+    calm.reset(heading_deg=headings)
+    assert len(calm._steady_cache) == 1  # the heading cannot change a calm-water approach
+    X, _ = per_vessel_reset(calm, headings, np.full(64, calm.ships[0].test_speed_m_s))
+    assert np.array_equal(calm.state, X)  # ...and indeed does not, to the bit
+    windy = Simulation("kvlcc2", n=64, environment=WIND)
+    windy.reset(heading_deg=headings)
+    assert len(windy._steady_cache) == 64  # in wind it does
+
+
+def test_cache_stays_bounded_within_one_call(monkeypatch):
+    monkeypatch.setattr(simmod, "STEADY_CACHE_SIZE", 16)
+    sim = Simulation("kvlcc2", n=100, environment=WIND)
+    sim.reset(heading_deg=np.arange(100.0))  # 100 distinct approaches in one call
+    assert 0 < len(sim._steady_cache) <= 16
+    X, _ = per_vessel_reset(sim, np.arange(100.0), np.full(100, sim.ships[0].test_speed_m_s))
+    assert np.array_equal(sim.state, X)
+
+
+def test_cache_entries_share_one_copy_of_the_parameters():
+    sim = Simulation("kvlcc2", n=64, environment=WIND)
+    sim.reset(heading_deg=np.arange(64.0))
+    sim.reset(heading_deg=100.0 + np.arange(64.0))
+    assert len({id(key[0]) for key in sim._steady_cache}) == 1
+    sim.Ps[0, lo.P_RHO] *= 1.01  # changed parameters are a new key, not a stale hit
+    sim.reset(heading_deg=0.0, k=0)
+    assert len({key[0] for key in sim._steady_cache}) == 2
+
+
+def nbytes_held(sim: Simulation) -> int:
+    """Bytes of the arrays and lists a simulation holds (the cache's contents included)."""
+    total = 0
+    for value in vars(sim).values():
+        if isinstance(value, np.ndarray):
+            total += value.nbytes
+        elif isinstance(value, list):
+            total += 8 * len(value)  # one reference per element; the elements are shared objects
+    for key, (x, u) in sim._steady_cache.items():
+        total += sum(len(part) for part in key if isinstance(part, bytes) and part is not key[0])
+        total += x.nbytes + u.nbytes
+    total += sum(len(b) for b in sim._param_bytes.values())
+    return total
+
+
+@pytest.mark.parametrize("environment", [CALM, WIND], ids=["calm", "wind"])
+def test_memory_per_vessel_is_under_2_kB(environment):
+    n = 4096
+    sim = Simulation("kvlcc2", n=n, environment=environment)
+    sim.reset(heading_deg=np.random.default_rng(1).uniform(0.0, 360.0, n))
+    assert len(sim._steady_cache) <= STEADY_CACHE_SIZE
+    per_vessel = nbytes_held(sim) / n
+    assert per_vessel <= 2048, f"{per_vessel:.0f} B per vessel"
+
+
+def test_telegraph_table_matches_the_ships_rpm_tables():
+    sim = Simulation(["kvlcc2", "mariner"], n=6, ship_index=[0, 1, 1, 0, 0, 1])
+    steps = np.array([-4, -1, 0, 2, 4, 9])  # 9 is clipped to 4
+    got = sim.telegraph_rev(steps)
+    for j in range(6):
+        table = sim.ship(j).engine.telegraph_rpm
+        assert got[j] == table[min(steps[j], 4) + 4] / 60.0
+        assert sim.telegraph_rev(steps, k=j) == got[j]
+    assert np.array_equal(
+        sim.telegraph_rev(3), [sim.ship(j).engine.telegraph_rpm[7] / 60.0 for j in range(6)]
+    )
+
+
+def test_construction_and_reset_call_the_solver_once_per_distinct_approach(monkeypatch):
+    """Set-up cost in counts, not time: building and resetting N vessels evaluates one environment row per
+    ship and solves one steady approach per distinct (ship, speed, environment) in calm water, whatever N."""
+    from vessel_gym.physics import environment as envmod
+
+    counts = {"row": 0, "steady": 0}
+    row, solve = envmod.Environment.row, simmod.steady_state
+
+    def counted_row(self, *a, **kw):
+        counts["row"] += 1
+        return row(self, *a, **kw)
+
+    def counted_steady(*a, **kw):
+        counts["steady"] += 1
+        return solve(*a, **kw)
+
+    monkeypatch.setattr(envmod.Environment, "row", counted_row)
+    monkeypatch.setattr(simmod, "steady_state", counted_steady)
+    for n in (10, 10_000):
+        counts.update(row=0, steady=0)
+        sim = Simulation("kvlcc2", n=n)
+        sim.reset(heading_deg=np.linspace(0.0, 360.0, n))
+        assert counts == {"row": 1, "steady": 1}
+
+
+def test_driver_choice_follows_the_measured_cost():
+    choice = _DriverChoice()
+    assert choice.pick() == 1  # first call of each driver is not timed (code loading, thread start)
+    choice.record(1, 1.0, 1000)
+    assert choice.pick() == 1
+    choice.record(1, 6e-3, 1000)  # threaded: 6 us per vessel-step (threads waiting for a busy core)
+    assert choice.pick() == 0
+    choice.record(0, 1.0, 1000)
+    assert choice.pick() == 0
+    choice.record(0, 1e-3, 1000)  # serial: 1 us
+    picks = [choice.pick() for _ in range(1000)]
+    # the slower driver is tried again now and then, at most DRIVER_TRIAL_COST of the time in extra cost
+    assert 0 < sum(picks) <= 1000 * simmod.DRIVER_TRIAL_COST / (6.0 - 1.0) + 1
+    for _ in range(40):  # the load goes away: the threaded driver becomes the faster one
+        choice.record(1, 0.5e-3, 1000)
+    assert choice.pick() == 1
+
+
+def test_simulation_step_results_do_not_depend_on_the_driver_chosen():
+    a = Simulation("kvlcc2", n=128, environment=WIND)
+    a.reset(heading_deg=np.linspace(0.0, 360.0, 128))
+    a.set_helm(rudder_order_rad=10 * DEG)
+    b = Simulation("kvlcc2", n=128, environment=WIND)
+    b.reset(heading_deg=np.linspace(0.0, 360.0, 128))
+    b.set_helm(rudder_order_rad=10 * DEG)
+    b._driver.cost = [1.0, 2.0]  # b always serial, a explores both
+    b._driver.warm = [True, True]
+    b._driver.every = 10**9
+    for _ in range(20):
+        a.step(10)
+        b.step(10)
+    assert np.array_equal(a.state, b.state)
