@@ -329,7 +329,9 @@ class Ship:
         return self.particulars.test_speed_kn * 1852.0 / 3600.0
 
     def with_hull(self, hull: AbkowitzHull | MMGHull | UserHull) -> Ship:
-        return dataclasses.replace(self, hull=hull)
+        """This ship with another hull (a user's hull component named by the file leaves with the old one)."""
+        kept = tuple(e for e in self.components if e.slot != "hull")
+        return dataclasses.replace(self, hull=hull, components=kept)
 
 
 _SECTIONS = {
