@@ -163,7 +163,7 @@ def compose(
         if slot in filled:
             raise ValueError(
                 f"{where}: {name_of(c)} fills slot {slot!r}, which the ship's {filled[slot]} fills; "
-                f"replace it (replace=[{slot!r}]) or give the component slot 'extra'"
+                f"replace it (replace=[{slot!r}]; in a ship file's [[components]] replace = true) or use slot 'extra'"
             )
         taken[slot] = name_of(c)
         if slot == "hull":
