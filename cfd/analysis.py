@@ -34,8 +34,18 @@ from .fitting import (
 from .friction import ittc57
 from .jobs import FinishedStudy
 from .postprocess import body_forces, read_forces
+from .regression import choose, fit_forms, spread
 from .report import write_report
-from .shipfile import build_ship, default_template, load_template, scale_factor_to, validate_ship, write_ship
+from .shipfile import (
+    borrowed_note,
+    build_ship,
+    default_template,
+    load_template,
+    scale_factor_to,
+    validate_ship,
+    write_ship,
+)
+from .verification import verify
 
 SEA_WATER_NU = 1.1892e-6  # m²/s, ITTC 7.5-02-01-03 sea water at 15 °C (full-scale friction)
 SHIP_KEYS = (
@@ -69,6 +79,12 @@ class StudyResult:
     derivatives: dict[str, float]
     normalisation: str
     provenance: dict[str, Any]
+    verification: dict[str, Any]
+    borrowed: str = ""  # what the ship file took from its template, and how it was scaled
+
+    @property
+    def verified(self) -> bool:
+        return self.verification["verdict"] == "VERIFIED"
 
 
 def full_scale_resistance(
@@ -201,9 +217,13 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         # (not exactly symmetric) mesh, removed from every angle before the mirrored fit.
         fit = fit_static_drift(v, Y - Y[0], N - N[0], X_N=X, U_m_s=U, normalisation="SI", symmetric=True)
         fits["drift"] = fit
-        for k in ("Y_v", "N_v", "Y_vvv", "N_vvv", "X_vv"):
-            if k in fit.derivatives:
-                si[k] = fit.derivatives[k]
+        # the form written to the ship file is the study's choice (cfd.regression); the others are reported
+        forms = fit_forms(v, Y - Y[0], N - N[0], U_m_s=U)
+        chosen, why = choose(forms, s.drift_form)
+        terms, how = chosen.ship_terms(v[v != 0.0])
+        for k, val in {**terms, "X_vv": fit.derivatives.get("X_vv")}.items():
+            if val is not None:
+                si[k] = val
                 origin[k] = "static drift"
         prov_tests["drift"] = {
             "speed_m_s": U,
@@ -214,6 +234,21 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
             "N_Nm": N,
             "cubic_fit": bool(fit.details["cubic"]),
             "fit": "beta = 0 bias removed, then mirrored about v = 0 (symmetric hull): Y_0 = N_0 = 0",
+            "regression": {
+                "written": chosen.form,
+                "reason": why,
+                "conversion": how,
+                "spread_SI": spread(forms),
+                "forms": {
+                    name: {
+                        "terms_SI": f.terms,
+                        "std_error_SI": f.std_error,
+                        "residuals": f.residuals,
+                        "runs": f.points,
+                    }
+                    for name, f in forms.items()
+                },
+            },
         }
 
     # -- pure sway and pure yaw
@@ -338,6 +373,8 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         particulars["test_speed_kn"] = U_out * 3600.0 / 1852.0
     derivatives = {k: float(prime[k]) for k in SHIP_KEYS if k in prime}
 
+    borrowed, borrowed_info = borrowed_note(template, template_path, L, lam)
+    gate = verify(p, {k: ship_origin.get(k, origin.get(k, "")) for k in {**origin, **derivatives}})
     spec = p.spec
     mesh = p.jobs["mesh"].summary
     hull_src = "wigley (generated, parabolic Wigley)" if s.hull == "wigley" else str(s.hull)
@@ -393,7 +430,9 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         "clarke83": {k: clarke[k] for k in CLARKE_KEYS},
         "scale": {**scale_info, "resistance_N": R0, "resistance_speed_m_s": U_out},
         "template": str(template_path) if template_path else "none (hull-only ship file)",
+        "borrowed": borrowed_info,
         "wall_time_s": {k: round(v, 1) for k, v in p.wall_s.items()},
+        "verification": {k: gate[k] for k in ("verdict", "failures", "derivatives")},
     }
     if "sway" in fits:
         dyn = nondimensionalise(
@@ -416,7 +455,13 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
             "(half-way between the perpendiculars) in the waterplane. "
             f"Normalisation {norm}. Surge terms are a Taylor expansion about U_ref: "
             "X = X_0 + X_u (u-U) + X_uu (u-U)^2 + X_vv v^2 + X_rr r^2. "
-            "Double-body flow: no wave resistance or free-surface effects. "
+            f"Verification gate: {gate['verdict']}"
+            + (
+                f" ({len(gate['failures'])} checks failed, see [source.provenance.verification]). "
+                if gate["failures"]
+                else ". "
+            )
+            + "Double-body flow: no wave resistance or free-surface effects. "
             + (
                 f"Hull scaled by {lam:.6g} from the CFD model (L = {L:g} m) to the template's length; "
                 "non-dimensional sway/yaw derivatives kept, resistance extrapolated with the ITTC-1978 "
@@ -424,8 +469,9 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
                 if lam != 1.0
                 else ""
             )
-            + "x_G is the centre of buoyancy of the hull. Propulsion, rudder, steering and other tables "
-            "copied unchanged from the template. [source.provenance] says which test gave each derivative."
+            + "x_G is the centre of buoyancy of the hull. "
+            + borrowed
+            + " [source.provenance] says which test gave each derivative."
         ),
         "sign_convention": "Standard body axes (x forward, y starboard, z down). OpenFOAM's case frame (y to port, "
         "z up) is converted with Y = -Fy, N = -Mz, v = -v_case, r = -r_case; Y_v, N_v, N_r < 0 and Y_r > 0 "
@@ -472,6 +518,7 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
                     "origin": origin,
                     "fit_residuals": {k: f.residuals for k, f in fits.items()},
                     "dynamic_sway": provenance.get("dynamic_sway"),
+                    "verification": gate,
                     "provenance": provenance,
                 }
             ),
@@ -488,7 +535,8 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         clarke=clarke,
         origin=origin,
         provenance=provenance,
+        verification=gate,
     )
     if problem:
         raise CfdError("ship file check", f"vessel-gym cannot load the ship file: {problem}", ship_file)
-    return StudyResult(ship_file, report_dir, derivatives, norm, provenance)
+    return StudyResult(ship_file, report_dir, derivatives, norm, provenance, gate, borrowed)

@@ -7,7 +7,8 @@
     vessel-cfd clarke --lpp L --bwl B --tm T --cb CB
 
 Exit codes: 0 success, 1 a CFD step failed (one line on stderr naming the step and its log),
-2 bad input (one line on stderr naming the argument or key and the allowed range).
+2 bad input (one line on stderr naming the argument or key and the allowed range), 3 the study finished
+and wrote its ship file and report, but the verification gate failed (UNVERIFIED; see report/summary.md).
 """
 
 from __future__ import annotations
@@ -16,7 +17,9 @@ import argparse
 import dataclasses
 import json
 import os
+import signal
 import sys
+import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
@@ -24,6 +27,8 @@ from typing import Any, NoReturn
 from . import __version__
 from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_file, parse_list, parse_number
 from .errors import CfdError, InputError
+
+EXIT_UNVERIFIED = 3  # the run finished but its verification gate failed
 
 
 def _error_line(message: str) -> None:
@@ -88,6 +93,11 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
     ("scale-to", "template (scale particulars to the template's length) or cfd"),
     ("k-zz", "yaw radius of gyration (m; default from the template, else 0.25 Lpp)"),
     ("form-factor", "form factor k for ship-scale resistance (default: from the CFD)"),
+    (
+        "drift-form",
+        "static-drift regression written to the ship file: abkowitz (Y_v v + Y_vvv v^3), mmg "
+        "(Y_v v + Y_v|v| v|v|, written as its best cubic), linear (small angles), auto (lower residual)",
+    ),
 )
 
 
@@ -121,6 +131,22 @@ def _parser() -> _Parser:
     for opt, text in RUN_OPTIONS:
         run.add_argument(f"--{opt}", help=_run_help(opt, text))
     run.add_argument("--quiet", action="store_true", help="no progress lines")
+    grid = sub.add_parser(
+        "study", help="grid study: the study at three gradings, Richardson extrapolation and GCI"
+    )
+    grid.add_argument("--gradings", required=True, help="three gradings 1-5, e.g. 1,2,3")
+    grid.add_argument("--study", help="study TOML file (keys as the options of run, with underscores)")
+    for opt, text in RUN_OPTIONS:
+        if opt != "grading":
+            grid.add_argument(f"--{opt}", help=_run_help(opt, text))
+    grid.add_argument("--quiet", action="store_true", help="no progress lines")
+    sl = sub.add_parser("slurm", help="SLURM job array for the written, unfinished cases of a study")
+    sl.add_argument("--cases", required=True, help="the study's cases folder (OUT/cases)")
+    sl.add_argument("--nodes", default="1", help="nodes per case")
+    sl.add_argument("--tasks-per-node", default="32", help="MPI ranks per node")
+    sl.add_argument("--time", default="04:00:00", help="time limit per case, [D-]HH:MM:SS")
+    sl.add_argument("--partition", help="SLURM partition")
+    sl.add_argument("--account", help="SLURM account")
     sub.add_parser("interactive", help="interactive set-up (the default without a command)")
     w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
     for opt in ("lpp", "bwl", "tm", "out"):
@@ -130,6 +156,33 @@ def _parser() -> _Parser:
         c.add_argument(f"--{opt}", required=True)
     c.add_argument("--normalisation", default="half_rho_L2_U2")
     return p
+
+
+def _grid(args: argparse.Namespace) -> int:
+    from .gridstudy import run_grid_study  # noqa: PLC0415
+    from .runner import Progress  # noqa: PLC0415
+
+    values = parse_list("gradings", args.gradings, 0, 5)
+    if len(set(values)) != 3 or any(g != int(g) or g < 1 for g in values):
+        raise InputError("gradings", f"three different whole gradings in [1, 5] (got {args.gradings})")
+    gradings = [int(g) for g in values]
+    args.grading = None
+    study = _study(args)
+    rep = run_grid_study(study, gradings, Progress(quiet=args.quiet))
+    print(f"grid study: {study.out / 'grid_study.md'}")
+    for k, q in rep["quantities"].items():
+        gci = f", GCI {100 * q['gci_fine']:.2f} %" if "gci_fine" in q else ""
+        unc = f", U {q['uncertainty']:.4g}" if "uncertainty" in q else ""
+        print(f"  {k}: {q['condition']}{gci}{unc}")
+    return 0
+
+
+def _study(args: argparse.Namespace) -> Study:
+    raw = {opt.replace("-", "_"): getattr(args, opt.replace("-", "_"), None) for opt, _ in RUN_OPTIONS}
+    raw = {k: v for k, v in raw.items() if v is not None}
+    if args.study:
+        return load_study_file(args.study, raw)
+    return build_study(raw)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -157,7 +210,17 @@ def _execute(study: Study, quiet: bool = False) -> int:
     print(f"report:    {result.report_dir}")
     keys = [k for k in ("Y_v", "N_v", "Y_r", "N_r", "Y_vdot", "N_rdot") if k in d]
     print(f"derivatives ({result.normalisation}): " + ", ".join(f"{k} {d[k]:.5g}" for k in keys))
-    return 0
+    print(f"borrowed:  {result.borrowed}")
+    gate = result.verification
+    if result.verified:
+        print("verification: VERIFIED (every check passed; see report/summary.md)")
+        return 0
+    print(
+        f"verification: UNVERIFIED, {len(gate['failures'])} checks failed ({'; '.join(gate['failures'][:3])}"
+        + (", ..." if len(gate["failures"]) > 3 else "")
+        + "); the ship file and report are written, see report/summary.md",
+    )
+    return EXIT_UNVERIFIED
 
 
 # ---------------------------------------------------------------------------------- interactive
@@ -364,13 +427,64 @@ def interactive(read: Callable[[str], str] = input, run: bool = True) -> Study |
     print(json.dumps(study.as_dict(), indent=1, default=str))
     if not run:
         return study
+    saved = save_study(study)
+    print(f"Study saved to {saved}; the same study runs again with: vessel-cfd run --study {saved}")
     if not _ask("Start the run? (y/n)", _yes_no, "y", read):
-        print("Not started. The same study can be run with: vessel-cfd run --study FILE")
+        print("Not started.")
         return 0
     return _execute(study)
 
 
+def save_study(study: Study) -> Path:
+    """Write ``study`` as a study file in its output folder: ``study.toml``, or ``study-N.toml`` when a
+    different study file is already there (a user's file is never overwritten). Keys equal to their
+    default are left out, so the defaults that depend on the hull are derived again on loading."""
+    from .shipfile import dumps_toml  # noqa: PLC0415
+
+    defaults = {f.name: f.default for f in dataclasses.fields(Study)}
+    keys = {}
+    for k, v in study.as_dict().items():
+        if v is None or v == defaults.get(k):
+            continue
+        keys[k] = ",".join(v) if k == "tests" else (list(v) if isinstance(v, tuple) else v)
+    text = dumps_toml(keys, f"Study file written by the vessel-cfd {__version__} interactive set-up.")
+    try:
+        study.out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError("out", f"cannot create directory {study.out} ({exc.strerror or exc})") from None
+    for n in range(1000):
+        path = study.out / ("study.toml" if n == 0 else f"study-{n}.toml")
+        if not path.exists():
+            path.write_text(text)
+            return path
+        if path.read_text() == text:
+            return path
+    raise InputError("out", f"{study.out} already holds 1000 study files")
+
+
 # ---------------------------------------------------------------------------------- small commands
+def _slurm(args: argparse.Namespace) -> int:
+    from .cluster import pending_cases, write_slurm  # noqa: PLC0415
+    from .runner import parse_check_mesh  # noqa: PLC0415
+
+    cases = Path(args.cases)
+    log = cases / "mesh" / "log.checkMesh"
+    if not log.is_file():
+        raise InputError("cases", f"{cases} has no meshed study (missing {log})")
+    cells = int(parse_check_mesh(log)["cells"])
+    script = write_slurm(
+        cases,
+        cells=cells,
+        nodes=int(parse_number("nodes", args.nodes, 1, 1000, integer=True)),
+        tasks_per_node=int(parse_number("tasks_per_node", args.tasks_per_node, 1, 1024, integer=True)),
+        time_limit=args.time,
+        partition=args.partition,
+        account=args.account,
+    )
+    print(f"{script}: {len(pending_cases(cases))} cases; submit with: sbatch {script}")
+    return 0
+
+
 def _wigley(args: argparse.Namespace) -> int:
     from .geometry import hydrostatics, wigley_hull, write_stl  # noqa: PLC0415
 
@@ -404,9 +518,17 @@ def _clarke(args: argparse.Namespace) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vessel-cfd`` console script."""
     args = _parser().parse_args(argv)
+    # SIGTERM (a batch system's stop, kill) ends the run like Ctrl-C: solvers stopped, finished cases kept
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _sigterm)
     try:
         if args.command == "run":
             return _run(args)
+        if args.command == "study":
+            return _grid(args)
+        if args.command == "slurm":
+            return _slurm(args)
         if args.command == "wigley":
             return _wigley(args)
         if args.command == "clarke":
@@ -424,8 +546,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         _error_line(f"vessel-cfd: error: {where}{exc.strerror or exc}")
         return 2
     except KeyboardInterrupt:
-        print("vessel-cfd: interrupted; finished cases are kept and a rerun resumes", file=sys.stderr)
+        _error_line("vessel-cfd: interrupted; running solvers stopped, finished cases kept (a rerun resumes)")
         return 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _sigterm(signum: int, frame: Any) -> NoReturn:
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -21,6 +21,8 @@ except ModuleNotFoundError:  # Python 3.10
 
 
 from .errors import InputError
+from .regression import CHOICES as DRIFT_FORMS
+from .regression import DEFAULT as DRIFT_FORM_DEFAULT
 
 TESTS = ("tow", "drift", "sway", "yaw")
 GRADINGS = {1: "ULTRA COARSE", 2: "COARSE", 3: "MEDIUM", 4: "FINE", 5: "ULTRA FINE"}
@@ -71,6 +73,7 @@ class Study:
     scale_to: str = "template"  # "template" or "cfd"
     k_zz: float = 0.0  # m; 0 -> from the template's k_zz/L, else 0.25 L
     form_factor: float = -1.0  # k of (1+k) for full-scale resistance; < 0 -> from the CFD (double body)
+    drift_form: str = DRIFT_FORM_DEFAULT  # static-drift regression written to the ship file (cfd.regression)
 
     @property
     def U_ref(self) -> float:
@@ -211,6 +214,7 @@ KEYS = (
     "scale_to",
     "k_zz",
     "form_factor",
+    "drift_form",
 )
 
 
@@ -333,6 +337,8 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
         kw["scale_to"] = _choice("scale_to", raw["scale_to"], ("template", "cfd"))
     if raw.get("k_zz") not in (None, ""):
         kw["k_zz"] = parse_number("k_zz", raw["k_zz"], 0.0, lpp, lo_open=True)
+    if "drift_form" in raw:
+        kw["drift_form"] = _choice("drift_form", raw["drift_form"], DRIFT_FORMS)
     if raw.get("form_factor") not in (None, ""):
         kw["form_factor"] = parse_number("form_factor", raw["form_factor"], 0.0, 1.0)
     re_l = pmm * lpp / kw.get("nu", Study.nu)

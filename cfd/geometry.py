@@ -200,6 +200,48 @@ def hydrostatics(triangles: np.ndarray) -> Hydrostatics:
     )
 
 
+# --------------------------------------------------------------------------------------- surface check
+@dataclass(frozen=True)
+class SurfaceCheck:
+    """Topology of the part of a hull surface that lies below a plane z = ``z_max``.
+
+    An *open* edge belongs to one triangle only (a hole or a gap between patches); a *non-manifold*
+    edge to three or more. Either one below the waterline lets snappyHexMesh mesh the inside of the
+    hull as well as the outside, and the forces then come from both sides of the skin.
+    """
+
+    open_edges: int
+    non_manifold_edges: int
+    first_defect_m: tuple[float, float, float] | None  # midpoint of one defective edge
+
+    @property
+    def closed(self) -> bool:
+        return self.open_edges == 0 and self.non_manifold_edges == 0
+
+
+def check_surface(triangles: np.ndarray, z_max: float = 0.0, tol_m: float | None = None) -> SurfaceCheck:
+    """Count open and non-manifold edges with a point below ``z_max`` (vertices merged within ``tol_m``,
+    default 10⁻⁶ of the hull's size, since STL files repeat each vertex once per triangle)."""
+    tris = np.asarray(triangles, dtype=float)
+    pts = tris.reshape(-1, 3)
+    if tol_m is None:
+        tol_m = 1e-6 * max(float(np.ptp(pts, axis=0).max()), 1e-12)
+    _, idx = np.unique(np.round(pts / tol_m).astype(np.int64), axis=0, return_inverse=True)
+    idx = idx.reshape(-1, 3)
+    edges = np.concatenate([idx[:, [0, 1]], idx[:, [1, 2]], idx[:, [2, 0]]])
+    edges.sort(axis=1)
+    edges = edges[edges[:, 0] != edges[:, 1]]  # degenerate (sliver) triangles
+    uniq, count = np.unique(edges, axis=0, return_counts=True)
+    first = np.zeros(len(pts), dtype=np.int64)
+    first[idx.ravel()] = np.arange(len(pts))  # one input point per merged vertex
+    a, b = pts[first[uniq[:, 0]]], pts[first[uniq[:, 1]]]
+    wet = np.minimum(a[:, 2], b[:, 2]) < z_max - tol_m
+    open_, multi = wet & (count == 1), wet & (count > 2)
+    bad = np.flatnonzero(open_ | multi)
+    where = tuple(float(c) for c in 0.5 * (a[bad[0]] + b[bad[0]])) if len(bad) else None
+    return SurfaceCheck(int(open_.sum()), int(multi.sum()), where)
+
+
 # --------------------------------------------------------------------------------------- placement
 @dataclass(frozen=True)
 class PlacedHull:
@@ -266,6 +308,16 @@ def place_hull(
         raise InputError(
             "bwl",
             f"underwater breadth of the STL is {hydro.bwl_m:.4g} m vs Bwl = {bwl:.4g} m (allowed 0.8-1.2x)",
+        )
+    surface = check_surface(placed, 0.0)
+    if not surface.closed:
+        x, y, z = surface.first_defect_m or (0.0, 0.0, 0.0)
+        raise InputError(
+            "hull",
+            f"the STL is not closed below the waterline: {surface.open_edges} open and "
+            f"{surface.non_manifold_edges} non-manifold edges (one at x = {x:.4g}, y = {y:.4g}, z = {z:.4g} m "
+            "about midship in the waterplane); the mesher would fill the inside of the hull too. "
+            "Repair the STL (e.g. surfaceCheck, meshlab) so every edge joins exactly two triangles",
         )
     plo = placed.reshape(-1, 3)[:, 0]
     if plo.min() > -0.3 * lpp or plo.max() < 0.3 * lpp:

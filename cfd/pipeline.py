@@ -21,6 +21,7 @@ import hashlib
 import json
 import math
 import shutil
+import threading
 import time
 from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
 from pathlib import Path
@@ -47,8 +48,18 @@ from .config import Study
 from .errors import CfdError
 from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, write_stl
 from .jobs import FinishedStudy, Job
-from .postprocess import body_forces, forces_settled, read_forces, steady_forces
-from .runner import Progress, check_openfoam, mpi_available, parse_check_mesh, read_boundary, run_app
+from .postprocess import body_forces, forces_settled, read_forces, read_yplus, steady_forces
+from .runner import (
+    STOP,
+    Progress,
+    check_openfoam,
+    mpi_available,
+    parse_check_mesh,
+    patch_area,
+    read_boundary,
+    run_app,
+    stop_all,
+)
 
 DONE = "vessel-cfd.done.json"
 PARALLEL_CELLS = 200_000  # above this, each case runs MPI-parallel on all procs instead of side by side
@@ -86,6 +97,9 @@ class Pipeline:
         self.per_case_procs = 1
         self.jobs: dict[str, Job] = {}
         self.wall: dict[str, float] = {}
+        self._count = threading.Lock()
+        self._reached = 0  # cases started or found done, for "case k of n"
+        self._solved: list[float] = []  # wall times of the solver cases run so far (for the ETA)
 
     # ------------------------------------------------------------------ hull and mesh
     def prepare_hull(self) -> PlacedHull:
@@ -148,7 +162,12 @@ class Pipeline:
                 raise CfdError("checkMesh (mesh)", f"unusable mesh: {reason}", log)
             for w in check["warnings"]:
                 self.progress("checkMesh", f"warning: {w}")
-            return {**check, "hull_faces": int(hull["nFaces"]), "patches": sorted(patches)}
+            return {
+                **check,
+                "hull_faces": int(hull["nFaces"]),
+                "hull_area_m2": patch_area(case, hull),
+                "patches": sorted(patches),
+            }
 
         return Job("mesh", "mesh", "mesh", key, action)
 
@@ -187,13 +206,9 @@ class Pipeline:
                 "stopped_on_settled_forces": bool(stopped),
                 "band": sf.band,
             }
-            yp = case / "postProcessing" / "yPlus"
-            files = sorted(yp.glob("*/yPlus.dat"))
-            if files:
-                rows = [r.split() for r in files[-1].read_text().splitlines() if r and not r.startswith("#")]
-                rows = [r for r in rows if len(r) >= 5 and r[1] == HULL_PATCH]
-                if rows:
-                    summary["yplus_min_max_mean"] = [float(x) for x in rows[-1][2:5]]
+            yplus = read_yplus(case, HULL_PATCH)
+            if yplus is not None:
+                summary["yplus_min_max_mean"] = list(yplus)
             return summary
 
         return Job(name, kind, label, key, action, params={"U": U, "beta": beta})
@@ -301,17 +316,22 @@ class Pipeline:
             except (OSError, json.JSONDecodeError):
                 done = {}
             if done.get("key") == key:
-                self.progress(job.label, f"already done ({case.name}), skipped")
+                self.progress(job.label, f"{self._case_number()} already done ({case.name}), skipped")
                 self.wall[job.name] = float(done.get("wall_s", 0.0))
                 return done.get("summary", {})
         if case.exists():
             shutil.rmtree(case)
         case.mkdir(parents=True)
-        self.progress(job.label, f"started in {case}")
+        number = self._case_number()
+        self.progress(job.label, f"{number} started in {case}")
         t0 = time.monotonic()
         summary = job.action(job, case, procs)
         wall = time.monotonic() - t0
         self.wall[job.name] = wall
+        if job.kind != "mesh":
+            with self._count:
+                self._solved.append(wall)
+        self.progress(job.label, f"{number} finished in {wall:.0f} s{self._eta()}")
         marker.write_text(
             json.dumps(
                 {
@@ -324,16 +344,39 @@ class Pipeline:
                 default=str,
             )
         )
-        self.progress(job.label, f"finished in {wall:.0f} s")
         return summary
+
+    def _case_number(self) -> str:
+        with self._count:
+            self._reached += 1
+            return f"case {self._reached} of {len(self.jobs)}"
+
+    def _eta(self) -> str:
+        """Remaining cases x mean wall time of the solver cases run so far / cases side by side."""
+        with self._count:
+            left = len(self.jobs) - self._reached
+            if not left or not self._solved:
+                return ""
+            side_by_side = max(1, self.study.procs // self.per_case_procs)
+            eta = left * (sum(self._solved) / len(self._solved)) / min(side_by_side, left)
+        return f"; {left} to go, ETA {eta / 60.0:.1f} min"
 
     def _run_parallel(self, jobs: list[Job]) -> None:
         s = self.study
         per = self.per_case_procs
         workers = max(1, s.procs // per)
         with ThreadPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(self._run_job, j, per): j for j in jobs}
-            done, pending = wait(futures, return_when=FIRST_EXCEPTION)
+            futures: dict = {}
+            try:
+                for j in jobs:
+                    futures[pool.submit(self._run_job, j, per)] = j
+                done, pending = wait(futures, return_when=FIRST_EXCEPTION)
+            except KeyboardInterrupt:  # Ctrl-C or SIGTERM: stop the running solvers, keep finished cases
+                stop_all()
+                for f in futures:
+                    f.cancel()
+                wait(futures)
+                raise
             errors = [f.exception() for f in done if f.exception() is not None]
             if errors:
                 for f in pending:
@@ -368,6 +411,7 @@ class Pipeline:
     def run(self) -> StudyResult:
         s = self.study
         t0 = time.monotonic()
+        STOP.clear()
         check_openfoam(parallel=s.mesh_procs > 1)
         self.progress("hull", f"preparing {s.hull}")
         hull = self.prepare_hull()

@@ -142,3 +142,19 @@ def forces_settled(
         and np.ptp(F[:, 1]) <= tol * scale
         and np.ptp(M[:, 2]) <= tol * 0.1 * L * scale
     )
+
+
+def read_yplus(case: Path, patch: str = "hull") -> tuple[float, float, float] | None:
+    """(min, max, mean) y+ on ``patch`` at the last time the ``yPlus`` function object wrote, or None."""
+    files = sorted((case / "postProcessing" / "yPlus").glob("*/yPlus.dat"))
+    if not files:
+        return None
+    rows = [r.split() for r in files[-1].read_text().splitlines() if r and not r.startswith("#")]
+    rows = [r for r in rows if len(r) >= 5 and r[1] == patch]
+    if not rows:
+        return None
+    try:
+        lo, hi, mean = (float(x) for x in rows[-1][2:5])
+    except ValueError:
+        return None
+    return lo, hi, mean

@@ -35,6 +35,7 @@ def write_report(
     clarke: dict[str, float],
     origin: dict[str, str],
     provenance: dict[str, Any],
+    verification: dict[str, Any] | None = None,
 ) -> list[Path]:
     """Write the plots (unless ``plots`` is false or matplotlib is missing) and ``summary.md`` into
     ``report_dir``; return the files written."""
@@ -53,7 +54,11 @@ def write_report(
     no_plots = (
         "plots switched off" if not plots else ("" if plt is not None else "matplotlib is not installed")
     )
-    written.append(_summary(report_dir, p, model_prime, clarke, origin, provenance, written, no_plots))
+    written.append(
+        _summary(
+            report_dir, p, model_prime, clarke, origin, provenance, written, no_plots, verification or {}
+        )
+    )
     return written
 
 
@@ -237,6 +242,7 @@ def _summary(
     provenance: dict[str, Any],
     plots: list[Path],
     no_plots: bool,
+    verification: dict[str, Any],
 ) -> Path:
     s = p.study
     mesh = provenance["mesh"]
@@ -253,13 +259,17 @@ def _summary(
         "",
         f"## Derivatives at model scale ({s.normalisation}, standard body axes)",
         "",
-        "| derivative | value | Clarke (1983) | CFD / Clarke | from |",
-        "|---|---|---|---|---|",
+        "| derivative | value | Clarke (1983) | CFD / Clarke | from | verification |",
+        "|---|---|---|---|---|---|",
     ]
+    status = verification.get("derivatives", {})
     for k, v in model_prime.items():
         c = clarke.get(k)
         ratio = f"{v / c:.3f}" if c and origin.get(k, "").startswith(("static", "pure")) else ""
-        lines.append(f"| {k} | {v:.6g} | {'' if c is None else f'{c:.6g}'} | {ratio} | {origin.get(k, '')} |")
+        lines.append(
+            f"| {k} | {v:.6g} | {'' if c is None else f'{c:.6g}'} | {ratio} | {origin.get(k, '')} "
+            f"| {status.get(k, '').split(' (')[0]} |"
+        )
     if "dynamic_sway" in provenance:
         dyn = provenance["dynamic_sway"]
         lines += [
@@ -277,6 +287,11 @@ def _summary(
         + (f" (ITTC-1978 form factor method, k = {sc['form_factor_k']:.3f})" if "form_factor_k" in sc else "")
         + "; the sway/yaw derivatives above are scale-independent.",
     ]
+    regression = provenance["tests"].get("drift", {}).get("regression")
+    if regression:
+        lines += _regression_lines(regression)
+    if verification:
+        lines += _verification_lines(verification)
     lines += ["", "## Fit residuals (rms residual / rms force)", ""]
     for name, res in provenance["fit_residuals"].items():
         lines.append(f"- {name}: " + ", ".join(f"{k} {v:.3g}" for k, v in res.items()))
@@ -288,3 +303,59 @@ def _summary(
     path = out / "summary.md"
     path.write_text("\n".join(lines))
     return path
+
+
+def _verification_lines(v: dict[str, Any]) -> list[str]:
+    """The verification section of summary.md: verdict, then every check of the study and of each case."""
+
+    def row(where: str, c: dict[str, Any]) -> str:
+        verdict = {True: "pass", False: "**FAIL**", None: "**not checked**"}[c["passed"]]
+        value = c["value"]
+        if isinstance(value, dict):
+            value = ", ".join(f"{k} {_fmt(x)}" for k, x in value.items())
+        return f"| {where} | {c['name']} | {_fmt(value)} | {c['limit']} | {verdict} {c['note']} |"
+
+    lines = [
+        "",
+        f"## Verification: {v['verdict']}",
+        "",
+        "Every derivative from a case that fails a check (or could not be checked) is marked unverified; "
+        "limits in docs/cfd.md. " + (f"Failed: {'; '.join(v['failures'])}." if v["failures"] else ""),
+        "",
+        "| case | check | value | limit | result |",
+        "|---|---|---|---|---|",
+    ]
+    lines += [row("study", c) for c in v["study"]]
+    lines += [row(name, c) for name, checks in v["cases"].items() for c in checks]
+    return lines
+
+
+def _regression_lines(reg: dict[str, Any]) -> list[str]:
+    """The static-drift regression forms: each term with its standard error, the residuals, the choice."""
+
+    def term(f: dict[str, Any], k: str) -> str:
+        se = f["std_error_SI"].get(k)
+        return f"{f['terms_SI'][k]:.5g}" + (f" ± {se:.2g}" if se is not None else "")
+
+    lines = [
+        "",
+        "## Static drift: regression forms (SI, model scale; ± one standard error)",
+        "",
+        "| form | Y_v | nonlinear Y term | N_v | nonlinear N term | residual Y, N | runs |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for name, f in reg["forms"].items():
+        nl = [k for k in f["terms_SI"] if k not in ("Y_v", "N_v")]
+        ynl = next((f"{k} {term(f, k)}" for k in nl if k.startswith("Y")), "")
+        nnl = next((f"{k} {term(f, k)}" for k in nl if k.startswith("N")), "")
+        lines.append(
+            f"| {name} | {term(f, 'Y_v')} | {ynl} | {term(f, 'N_v')} | {nnl} | "
+            f"{f['residuals']['Y']:.3g}, {f['residuals']['N']:.3g} | {f['runs']} |"
+        )
+    sp = reg["spread_SI"]
+    lines += [
+        "",
+        f"Written to the ship file: **{reg['written']}** ({reg['reason']}; {reg['conversion']}). "
+        f"Spread of the linear terms over the forms: Y_v {sp['Y_v']:.3g}, N_v {sp['N_v']:.3g}.",
+    ]
+    return lines

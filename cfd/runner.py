@@ -9,12 +9,15 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import threading
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
+
+import numpy as np
 
 from .errors import CfdError
 
@@ -116,6 +119,33 @@ def failure_reason(log: Path) -> str:
     return (lines[-1].strip() if lines else "no output")[:300]
 
 
+# Set by stop_all(): every running application's process group is terminated and no new one starts.
+STOP = threading.Event()
+TERMINATE_GRACE_S = 5.0  # s between SIGTERM and SIGKILL of an application's process group
+
+
+class Stopped(CfdError):
+    """An application was stopped because the study was interrupted (Ctrl-C or SIGTERM)."""
+
+
+def stop_all() -> None:
+    """Ask every running :func:`run_app` (in any thread) to terminate its application and return."""
+    STOP.set()
+
+
+def _terminate_group(proc: subprocess.Popen) -> None:
+    """SIGTERM to the application's whole process group (mpirun and its ranks too), SIGKILL after a grace."""
+    if proc.poll() is not None:
+        return
+    try:
+        os.killpg(proc.pid, signal.SIGTERM)
+        proc.wait(timeout=TERMINATE_GRACE_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+
+
 def run_app(
     argv: Sequence[str],
     case: Path,
@@ -143,6 +173,8 @@ def run_app(
         if hasattr(os, "geteuid") and os.geteuid() == 0:
             mpi.insert(1, "--allow-run-as-root")
         cmd = [*mpi, *cmd, "-parallel"]
+    if STOP.is_set():
+        raise Stopped(step, "not started: the study was interrupted")
     if shutil.which(cmd[0]) is None:
         raise CfdError(step, f"{cmd[0]} not found on PATH (install with: apt-get install openfoam)")
     t0 = time.monotonic()
@@ -150,10 +182,16 @@ def run_app(
     last_report = last_tick = t0
     diverged = ""
     with open(log, "wb") as fh:
-        proc = subprocess.Popen(cmd, cwd=case, stdout=fh, stderr=subprocess.STDOUT, env=foam_env())
+        # its own session and process group, so that stopping it reaches mpirun's ranks as well
+        proc = subprocess.Popen(
+            cmd, cwd=case, stdout=fh, stderr=subprocess.STDOUT, env=foam_env(), start_new_session=True
+        )
         try:
             while proc.poll() is None:
                 time.sleep(0.25)
+                if STOP.is_set():
+                    _terminate_group(proc)
+                    raise Stopped(step, f"{app} stopped: the study was interrupted", log)
                 now = time.monotonic()
                 if on_tick is not None and now - last_tick >= 2.0:
                     last_tick = now
@@ -168,7 +206,7 @@ def run_app(
                     c = float(co[-1]) if co[-1] not in (b"nan", b"inf") else float("inf")
                     if not c <= max_courant:
                         diverged = f"Courant number {c:.3g} > {max_courant:g}"
-                        proc.kill()
+                        _terminate_group(proc)
                         break
                 if progress is not None:
                     where = f"time {float(times[-1]):.6g}" if times else "running"
@@ -176,8 +214,7 @@ def run_app(
                         where += f"/{end_time:.6g} ({100.0 * float(times[-1]) / end_time:.0f} %)"
                     progress(step, f"{app} {where}, elapsed {now - t0:.0f} s")
         finally:
-            if proc.poll() is None:
-                proc.kill()
+            _terminate_group(proc)
             rc = proc.wait()
     if diverged:
         raise CfdError(step, f"{app} diverged: {diverged}", log)
@@ -232,3 +269,58 @@ def parse_check_mesh(log: Path) -> dict[str, object]:
         "max_non_orthogonality": num(r"Mesh non-orthogonality Max: ([0-9.eE+-]+)"),
         "max_skewness": num(r"Max skewness = ([0-9.eE+-]+)"),
     }
+
+
+_FACE = re.compile(r"(\d+)\(([^)]*)\)")
+
+
+def _ascii_body(path: Path) -> str | None:
+    """The text after the FoamFile header of an ASCII mesh file, or None (binary or unreadable)."""
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError):
+        return None
+    head_end = text.find("}", text.find("FoamFile")) + 1 if "FoamFile" in text else 0
+    if re.search(r"format\s+binary", text[:head_end]):
+        return None
+    return text[head_end:]
+
+
+def patch_area(case: Path, patch: dict[str, str]) -> float | None:
+    """Area (m²) of one patch of an ASCII ``constant/polyMesh`` (``patch`` as from :func:`read_boundary`),
+    summed over fan triangles of each face; None when the mesh is binary or unreadable."""
+    poly = case / "constant" / "polyMesh"
+    points, faces = _ascii_body(poly / "points"), _ascii_body(poly / "faces")
+    try:
+        start, n = int(patch["startFace"]), int(patch["nFaces"])
+        m = re.search(r"(\d+)\s*\(", points or "")
+        if m is None or faces is None:
+            return None
+        count = int(m.group(1))
+        pts = np.array(
+            points[m.end() :].replace("(", " ").replace(")", " ").split()[: 3 * count], dtype=float
+        )
+        pts = pts.reshape(count, 3)
+        if "faceCompactList" in faces[:200] or re.match(r"\s*\d+\s*\(\s*\d+\s+\d", faces):
+            lists = [b.split() for b in re.findall(r"\d+\s*\(([^)]*)\)", faces)]
+            offsets, labels = np.array(lists[0], dtype=int), np.array(lists[1], dtype=int)
+            polys = [labels[offsets[i] : offsets[i + 1]] for i in range(start, start + n)]
+        else:
+            opener = re.search(r"\d+\s*\(", faces)
+            if opener is None:
+                return None
+            polys = []
+            for i, fm in enumerate(_FACE.finditer(faces, opener.end())):
+                if i >= start + n:
+                    break
+                if i >= start:
+                    polys.append(np.array(fm.group(2).split(), dtype=int))
+        if len(polys) != n:
+            return None
+        area = 0.0
+        for f in polys:
+            v = pts[f]
+            area += 0.5 * float(np.linalg.norm(np.cross(v[1:-1] - v[0], v[2:] - v[0]), axis=1).sum())
+        return area
+    except (KeyError, ValueError, IndexError):
+        return None

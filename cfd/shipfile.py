@@ -167,3 +167,34 @@ def validate_ship(path: Path) -> str | None:
     except ValueError as exc:
         return str(exc)
     return None
+
+
+def borrowed_note(
+    template: Mapping[str, Any], path: Path | None, L_cfd: float, lam: float
+) -> tuple[str, dict[str, Any]]:
+    """What a ship file for a bare CFD hull borrows from its template, and how it was scaled: one sentence
+    for ``[source] notes`` and the command line, and the same as a provenance table."""
+    tables = [k for k in template if k not in ("name", "source", "particulars", "hull")]
+    if not tables:
+        return "No tables borrowed: the ship file holds the CFD hull only.", {"tables": []}
+    name = str(template.get("name", Path(path).stem if path else "the template"))
+    L_t = template.get("particulars", {}).get("L_m")
+    L_t = float(L_t) if isinstance(L_t, (int, float)) and L_t > 0 else None
+    text = f"The CFD hull is bare; [{'], ['.join(tables)}] are borrowed unchanged from {name} ({path})" + (
+        f", a ship of L = {L_t:g} m" if L_t else ""
+    )
+    if lam != 1.0:
+        text += (
+            f"; the hull (CFD model L = {L_cfd:g} m) is scaled by {lam:.6g} to that length (lengths x lambda, "
+            "displacement x lambda^3, speeds x sqrt(lambda), resistance by the ITTC-1978 form factor method) "
+            "so that they fit it."
+        )
+    elif L_t and abs(L_t / L_cfd - 1.0) > 0.01:
+        text += (
+            f"; NOT scaled (scale_to = cfd): the hull keeps L = {L_cfd:g} m, so these tables were sized for a "
+            f"ship {L_t / L_cfd:.3g} times as long."
+        )
+    else:
+        text += "; same length, nothing scaled."
+    info = {"from": name, "file": str(path), "tables": tables, "template_L_m": L_t, "scale_factor": lam}
+    return text, info

@@ -259,7 +259,34 @@ def build_parser() -> argparse.ArgumentParser:
             default=None,
             help="close after this many wall-clock seconds (default: when the window is closed)",
         )
-    for sp in (sv, hm, vw):
+    v3 = sub.add_parser(
+        "view3d", help="3D view in the browser of a running 'vessel-gym serve' (extra 'view3d')"
+    )
+    v3.add_argument(
+        "--server", metavar="HOST:PORT", default="127.0.0.1:10120", help="the link's JSON channel"
+    )
+    v3.add_argument(
+        "--http", metavar="HOST:PORT", default="127.0.0.1:8080", help="where the page is served (loopback)"
+    )
+    v3.add_argument(
+        "--camera",
+        default="chase",
+        choices=("chase", "bridge", "top-down", "harbour", "free"),
+        help="first camera (C cycles them in the page)",
+    )
+    v3.add_argument(
+        "--rate",
+        type=_finite("--rate", 1.0, 50.0),
+        default=20.0,
+        help="state rate asked of the link, Hz (1-50)",
+    )
+    v3.add_argument(
+        "--duration",
+        type=_finite("--duration", 0.1, 1e7),
+        default=None,
+        help="stop after this many wall-clock seconds (default: at Ctrl-C)",
+    )
+    for sp in (sv, hm, vw, v3):
         add_token_option(sp)
     return p
 
@@ -540,6 +567,23 @@ def _main(argv: Sequence[str] | None) -> int:
                     check_bindable(listen, "--listen")
                 clients.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
             return 0
+        if args.command == "view3d":
+            try:
+                import viser  # noqa: F401
+
+                from vessel_gym.net.view3d import view3d
+            except ImportError:
+                raise UsageError(
+                    "vessel-gym view3d: needs the 'view3d' extra: pip install 'vessel-gym[view3d]'"
+                ) from None
+            return view3d(
+                resolve_address(host_port(args.server, "--server"), "--server"),
+                host_port(args.http, "--http"),
+                camera=args.camera,
+                rate_hz=args.rate,
+                token=token_arg(args),
+                duration_s=args.duration,
+            )
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
         _error_line(str(exc))

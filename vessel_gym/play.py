@@ -126,6 +126,7 @@ def play(
     """
     import pygame
 
+    from vessel_gym.net.traffic import Traffic
     from vessel_gym.render import ChartRenderer
 
     env = HarbourApproachEnv(
@@ -149,6 +150,7 @@ def play(
     rev0 = float(env.sim.rev_order[0])
     tele_i = int(np.argmin(np.abs(task.helm.rev_table[0] - rev0)))
     view = ChartRenderer("human", ship=task.ship, scenario=sc, fps=0.0, size=size)
+    traffic = Traffic.from_scenario(sc, task.dt, dt)  # drawn only: the debrief scores the own ship
     clock = pygame.time.Clock()
     scripted: dict[int, list[int]] = {}
     for step, name in keys:
@@ -199,6 +201,7 @@ def play(
                     track,
                     telegraph=TELEGRAPH_STEPS[tele_i],
                     overlay={**task.overlay(0), "title": f"{sc.name}  (paused)"},
+                    targets=traffic.lazy_targets(steps) if traffic is not None else (),
                 )
                 clock.tick(20)
                 continue
@@ -211,6 +214,7 @@ def play(
                 track,
                 telegraph=TELEGRAPH_STEPS[tele_i],
                 overlay={**task.overlay(0), "title": f"{sc.name}  x{speedup:g}"},
+                targets=traffic.lazy_targets(steps) if traffic is not None else (),
             )
             if realtime:
                 clock.tick(speedup / dt)

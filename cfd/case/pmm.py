@@ -128,7 +128,7 @@ def write_pmm_case(
             "timePrecision": 10,
             "runTimeModifiable": False,
             "adjustTimeStep": False,
-            "functions": function_objects(flow.rho, write_yplus=False),
+            "functions": function_objects(flow.rho, write_yplus=True),
         },
     )
     write_schemes(system, steady=False)

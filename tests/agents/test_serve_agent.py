@@ -1,4 +1,4 @@
-"""`vessel-gym serve --agent PATH` puts a trained SB3 agent on the helm (UDP link issue + agents issue)."""
+"""`vessel-gym serve --agent PATH` puts a trained SB3 agent on the helm."""
 
 from __future__ import annotations
 

@@ -37,6 +37,7 @@ TRUE_PRIME = {  # rho_L2_U2
     "X_rr": 0.00005,
 }
 C_R = 0.35  # resistance R = C_R U^2 (N)
+_SQUARE = ((0, 0), (1, 0), (1, 1), (0, 1))
 
 
 def _coef(key: str, U: float) -> float:
@@ -65,8 +66,23 @@ class FakeFoam:
         nan_in: str | None = None,
         fail_app: str | None = None,
         check_finding: str = "",
+        yplus: tuple[float, float, float] = (40.0, 250.0, 120.0),
+        courant: float = 1.8,
+        hull_area_factor: float = 1.0,
+        bounding_k_in: str | None = None,
+        settle: bool = True,
+        grid_error: float | None = None,
     ) -> None:
+        # grid_error c: forces times (1 + c h^2), h = 2^-H the hull cell size in units of the background
+        # cell for hull level H, and 100 x 8^H cells: a second-order grid convergence (p = 2, r = 2)
+        self.grid_error = grid_error
+        self.level = 0
         self.hull_faces = hull_faces
+        self.yplus = yplus  # (min, max, mean) written by the yPlus function object
+        self.courant = courant  # largest Courant number in the PMM logs
+        self.hull_area_factor = hull_area_factor  # hull patch area / STL wetted area (2: inside meshed too)
+        self.bounding_k_in = bounding_k_in  # a case-name prefix whose log bounds k < 0 to the end
+        self.settle = settle  # False: steady forces keep drifting to the last iteration
         self.check_finding = check_finding  # a "***" line for the checkMesh log
         self.nan_in = nan_in  # a case-name prefix whose solver produces NaN forces
         self.fail_app = fail_app  # an application that "crashes"
@@ -102,15 +118,33 @@ class FakeFoam:
         (poly / "boundary").write_text(
             f"FoamFile\n{{\n    object boundary;\n}}\n\n{len(patches)}\n(\n{body})\n"
         )
-        for name in ("points", "faces", "owner", "neighbour"):
+        for name in ("owner", "neighbour"):
             (poly / name).write_text("fake\n")
+        # the hull patch: hull_faces squares whose total area is the STL's wetted area (x hull_area_factor)
+        from cfd.geometry import hydrostatics, read_stl
+
+        wetted = hydrostatics(read_stl(case / "constant" / "triSurface" / "hull.stl")).wetted_area_m2
+        n = max(self.hull_faces, 1)
+        side = float(np.sqrt(wetted * self.hull_area_factor / n))
+        pts = "".join(
+            f"({(i + dx) * side:.12g} {dy * side:.12g} 0)\n" for i in range(n) for dx, dy in _SQUARE
+        )
+        faces = "".join(f"4({4 * i} {4 * i + 1} {4 * i + 2} {4 * i + 3})\n" for i in range(n))
+        head = "FoamFile\n{{\n    format ascii;\n    class {};\n}}\n\n"
+        (poly / "points").write_text(head.format("vectorField") + f"{4 * n}\n(\n{pts})\n")
+        (poly / "faces").write_text(head.format("faceList") + f"{n}\n(\n{faces})\n")
 
     def _checkMesh(self, case: Path) -> None:
+        levels = re.findall(
+            r"level\s+\(\s*(\d+)\s+\d+\s*\)", (case / "system" / "snappyHexMeshDict").read_text()
+        )
+        self.level = max(map(int, levels))
+        cells = 1234 if self.grid_error is None else 100 * 8**self.level
         verdict = (
             f" ***{self.check_finding}\n\nFailed 1 mesh checks.\n" if self.check_finding else "\nMesh OK.\n"
         )
         (case / "log.checkMesh").write_text(
-            "Mesh stats\n    cells:            1234\n    Max skewness = 0.5 OK.\n"
+            f"Mesh stats\n    cells:            {cells}\n    Max skewness = 0.5 OK.\n"
             "    Mesh non-orthogonality Max: 30 average: 5\n" + verdict + "\nEnd\n"
         )
 
@@ -126,12 +160,15 @@ class FakeFoam:
         N = _coef("N_v", U) * v + _coef("N_vvv", U) * v**3
         n = 100
         it = np.arange(1, n + 1, dtype=float)
-        relax = 1.0 - np.exp(-it / 3.0)
+        relax = (
+            1.0 - np.exp(-it / 3.0) if self.settle else 0.5 + 0.5 * it / n
+        )  # drifting: 5 % over the last 10
         F = np.column_stack([X * relax, -Y * relax, np.zeros(n)])
         M = np.column_stack([np.zeros(n), np.zeros(n), -N * relax])
         if self.nan_in and case.name.startswith(self.nan_in):
             F[-5:] = np.nan
         self._write_forces(case, it, F, M)
+        self._logs(case, "simpleFoam", it)
         final = case / str(n)
         final.mkdir()
         for f in (case / "0").iterdir():
@@ -176,11 +213,34 @@ class FakeFoam:
         self._write_forces(
             case, t[keep], np.column_stack([Fx[keep], Fy[keep], z]), np.column_stack([z, z, Mz[keep]])
         )
+        self._logs(case, "pimpleFoam", t[keep])
         final = case / f"{t_end:g}"
         final.mkdir()
 
-    @staticmethod
-    def _write_forces(case: Path, t: np.ndarray, F: np.ndarray, M: np.ndarray) -> None:
+    def _logs(self, case: Path, app: str, times: np.ndarray) -> None:
+        """Solver log lines the verification reads (time, Courant number, bounded k) and the y+ output."""
+        late = bool(self.bounding_k_in and case.name.startswith(self.bounding_k_in))
+        lines = []
+        for i, ti in enumerate(times):
+            lines.append(f"Time = {ti:.10g}\n")
+            if app == "pimpleFoam":
+                lines.append(
+                    f"Courant Number mean: 0.05 max: {self.courant * (0.5 + 0.5 * i / len(times)):.6g}\n"
+                )
+            if late and i > 0.5 * len(times):
+                lines.append("bounding k, min: -1.2e-06 max: 0.01 average: 0.001\n")
+        with open(case / f"log.{app}", "a") as fh:
+            fh.write("".join(lines))
+        d = case / "postProcessing" / "yPlus" / "0"
+        d.mkdir(parents=True, exist_ok=True)
+        lo, hi, mean = self.yplus
+        (d / "yPlus.dat").write_text(
+            f"# y+ ()\n# Time\tpatch\tmin\tmax\taverage\n{times[-1]:.10g}\thull\t{lo}\t{hi}\t{mean}\n"
+        )
+
+    def _write_forces(self, case: Path, t: np.ndarray, F: np.ndarray, M: np.ndarray) -> None:
+        if self.grid_error is not None:
+            F, M = (A * (1.0 + self.grid_error * 4.0**-self.level) for A in (F, M))
         d = case / "postProcessing" / "forces" / "0"
         d.mkdir(parents=True, exist_ok=True)
         ftxt, mtxt = _forces_table(t, F, M)

@@ -3,6 +3,7 @@ study files, the small commands."""
 
 from __future__ import annotations
 
+import itertools
 import json
 from pathlib import Path
 
@@ -94,8 +95,8 @@ def test_cli_study_option_validates(tmp_path, capsys):
     assert "grading" in capsys.readouterr().err
 
 
-def test_interactive_flow_reasks_invalid_answers(capsys, tmp_path):
-    answers = iter(
+def _answers(tmp_path):
+    return iter(
         [
             "7",
             "5",  # simulation type: invalid, then full PMM
@@ -126,6 +127,10 @@ def test_interactive_flow_reasks_invalid_answers(capsys, tmp_path):
             str(DATA / "small_ship.toml"),
         ]
     )
+
+
+def test_interactive_flow_reasks_invalid_answers(capsys, tmp_path):
+    answers = _answers(tmp_path)
     study = interactive(read=lambda prompt: next(answers), run=False)
     out = capsys.readouterr().out
     assert "WELCOME TO vessel-cfd" in out and "ULTRA COARSE" in out
@@ -169,3 +174,20 @@ def test_build_study_defaults_scale_with_the_hull():
     assert s.sway_amplitude == (0.1,)  # 0.025 L
     assert s.sway_period == pytest.approx(3.14159265 * 4.0 / s.pmm_speed, rel=1e-6)
     assert s.as_dict()["out"] == str(Path.cwd() / "x")  # relative paths resolve against the cwd
+
+
+def test_interactive_set_up_saves_its_study_file_without_overwriting(capsys, tmp_path):
+    answers = _answers(tmp_path)
+    study = interactive(read=lambda prompt: next(answers), run=False)
+    for _ in range(2):  # the same study twice: one file
+        answers = itertools.chain(_answers(tmp_path), ["n"])
+        assert interactive(read=lambda prompt, a=answers: next(a)) == 0
+    saved = tmp_path / "out" / "study.toml"
+    assert f"Study saved to {saved}" in capsys.readouterr().out
+    assert sorted(p.name for p in saved.parent.iterdir()) == ["study.toml"]
+    assert load_study_file(saved) == study  # the saved file gives back the same study
+    saved.write_text("# the user's own study file\n")
+    answers = itertools.chain(_answers(tmp_path), ["n"])
+    interactive(read=lambda prompt: next(answers))
+    assert saved.read_text() == "# the user's own study file\n"
+    assert load_study_file(saved.parent / "study-1.toml") == study

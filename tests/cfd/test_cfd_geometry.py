@@ -97,3 +97,23 @@ def test_place_hull_moves_mirrors_and_checks(wigley):
         place_hull(moved, L, B, 2 * T)  # no freeboard
     with pytest.raises(InputError, match="bwl"):
         place_hull(moved, L, 2 * B, T)
+
+
+def test_a_hole_below_the_waterline_is_refused_before_meshing(wigley):
+    from cfd.geometry import check_surface
+
+    moved = wigley + np.array([0.5, 0.0, T])  # keel at z = 0, waterline at z = T, deck at 2T
+    assert check_surface(wigley).closed
+    centroid_z = moved[:, :, 2].mean(axis=1)
+    wet = np.flatnonzero(centroid_z < 0.5 * T)
+    holed = np.delete(moved, wet[len(wet) // 2], axis=0)  # one triangle missing under water
+    check = check_surface(holed - np.array([0.0, 0.0, T]))
+    assert check.open_edges == 3 and check.non_manifold_edges == 0
+    with pytest.raises(InputError, match="not closed below the waterline: 3 open") as exc:
+        place_hull(holed, L, B, T)
+    assert "\n" not in str(exc.value)
+    dry = np.flatnonzero(centroid_z > 1.5 * T)
+    place_hull(np.delete(moved, dry[0], axis=0), L, B, T)  # a hole in the dry part is cut away: accepted
+    doubled = np.concatenate([moved, moved[wet[:1]]])  # a third triangle on an edge
+    with pytest.raises(InputError, match="non-manifold"):
+        place_hull(doubled, L, B, T)

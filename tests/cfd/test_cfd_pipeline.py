@@ -109,6 +109,16 @@ def test_scaled_ship_file_and_half_normalisation(tmp_path, fake):
     assert result.provenance["scale"]["form_factor_k"] == pytest.approx(
         result.provenance["scale"]["form_factor_k"]
     )
+    notes = ship.source.notes
+    assert "[rudder], [steering_gear]" in notes and "borrowed unchanged from small-template" in notes
+    assert "a ship of L = 2 m" in notes and "scaled by 2 to that length" in notes
+    assert result.provenance["borrowed"]["tables"][:2] == ["rudder", "steering_gear"]
+
+
+def test_an_unscaled_ship_file_says_its_borrowed_tables_were_sized_for_another_ship(tmp_path, fake):
+    result = run(study(tmp_path, tests="tow", speeds="1.0"), fake)  # scale_to = cfd, template L = 2 m
+    assert "NOT scaled (scale_to = cfd)" in result.borrowed and "2 times as long" in result.borrowed
+    assert result.borrowed in result.ship_file.read_text()
 
 
 def test_resume_skips_finished_cases_and_redoes_changed_ones(tmp_path, monkeypatch):
@@ -214,3 +224,4 @@ def test_cli_run_exit_codes(tmp_path, monkeypatch, capsys):
     assert main([*args, "--scale-to", "cfd", "--speeds", "1.0"]) == 0
     out = capsys.readouterr().out
     assert "ship file:" in out and (tmp_path / "o" / "ship.toml").is_file()
+    assert "borrowed:  The CFD hull is bare; [rudder]" in out

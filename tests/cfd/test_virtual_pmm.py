@@ -1,5 +1,5 @@
 """Closed loop without OpenFOAM: the captive mode of the simulator, fitted by cfd.fitting, must recover the
-ship file's own derivatives (issue: cfd/ closed loop, virtual PMM)."""
+ship file's own derivatives."""
 
 from __future__ import annotations
 

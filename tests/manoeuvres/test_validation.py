@@ -50,7 +50,7 @@ def test_kvlcc2_turning_circle_35_port(ship):
 @pytest.mark.parametrize(("rudder", "heading"), list(MMG_SIM_ZIGZAG))
 def test_kvlcc2_zigzag_overshoots(rudder, heading):
     """10/10 and 20/20 zig-zags both ways against the MMG simulation of Kim et al. (2021), Table 8, within
-    +-1 deg (the issue's accuracy of a correct implementation of the published set). The free-running
+    +-1 deg (the accuracy expected of a correct implementation of the published set). The free-running
     overshoots (EFD) are larger - the simulation underpredicts them in that table - so they are checked
     only for ordering: simulation <= free-running + 1 deg."""
     z = zigzag("kvlcc2", rudder, heading, n_overshoots=len(MMG_SIM_ZIGZAG[(rudder, heading)]))

@@ -448,6 +448,7 @@ class ShipEnv(gym.Env):
         self.observation_space = self.task.layout.space()
         self._renderer = None
         self._track: list[tuple[float, float]] = []
+        self._traffic: Any = None  # the scenario's traffic, simulated only for frames (first render)
         self._step_phase = np.full(1, PHASE_STEP, dtype=np.int8)
         self._reset_phase = np.full(1, PHASE_RESET, dtype=np.int8)
         self._reset_done = False
@@ -489,8 +490,28 @@ class ShipEnv(gym.Env):
         if self._renderer is None:
             self._renderer = self.task.renderer(self.render_mode)
         return self._renderer.draw(
-            self.sim, 0, self._track, telegraph=self._telegraph(), overlay=self.task.overlay(0)
+            self.sim,
+            0,
+            self._track,
+            telegraph=self._telegraph(),
+            overlay=self.task.overlay(0),
+            targets=self._traffic_targets(),
         )
+
+    def _traffic_targets(self) -> Any:
+        """The scenario's ``[[traffic]]`` ships at this step, simulated only when a frame is drawn (the task, its
+        observations and reward never see them)."""
+        scenario = getattr(self.task, "scenario", None)
+        if scenario is None or not scenario.traffic:
+            return ()
+        if self._traffic is None:
+            from vessel_gym.net.traffic import Traffic
+
+            self._traffic = Traffic.from_scenario(scenario, self.task.dt, self.config.control_interval_s)
+        steps = max(len(self._track) - 1, 0)  # one track point per step since the reset
+        if steps < self._traffic.steps:  # a new episode
+            self._traffic.reset()
+        return self._traffic.lazy_targets(steps)
 
     def _telegraph(self) -> int | None:
         return (

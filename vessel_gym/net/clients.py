@@ -98,6 +98,9 @@ class ServerConnection:
         self.state: dict | None = None  # newest complete state message
         self.welcome: dict | None = None
         self.stats: dict | None = None
+        self.scene: dict | None = None  # the last complete v2 scenario message
+        self.particulars: dict[int, dict] = {}  # v2 particulars by ship id (0 = own ship)
+        self._scene_parts = protocol.SceneAssembler()
         self.states_received = 0
         self.dropped = 0
         self.helm_sent = 0
@@ -128,7 +131,13 @@ class ServerConnection:
         """Send a ``hello`` now (padded; with the cookie and session held)."""
         self._sendto(
             protocol.encode_hello(
-                self.role, self._rate_hz, self._name, self._token, cookie=self.cookie, session=self.session
+                self.role,
+                self._rate_hz,
+                self._name,
+                self._token,
+                cookie=self.cookie,
+                session=self.session,
+                proto=2,  # v2: the chart as well
             )
         )
 
@@ -170,7 +179,7 @@ class ServerConnection:
                 self.foreign += 1
                 continue
             try:
-                msg = protocol.parse_server_datagram(data)
+                msg = protocol.parse_server_datagram_v2(data)
             except ProtocolError:
                 self.dropped += 1
                 continue
@@ -181,7 +190,12 @@ class ServerConnection:
                 self._on_state(msg)
             elif kind == "welcome":
                 self._on_welcome(msg)
-            else:
+            elif kind == "scenario":
+                self.scene = self._scene_parts.add(msg) or self.scene
+            elif kind == "particulars":
+                if isinstance(msg.get("id"), int):
+                    self.particulars[msg["id"]] = msg
+            elif kind == "stats":
                 self.stats = msg
 
     def _on_welcome(self, msg: dict) -> None:
@@ -332,6 +346,43 @@ def _hull(cx: float, cy: float, hdg_deg: float, length_px: float, beam_px: float
     return [(cx + a * fwd[0] + b * stb[0], cy + a * fwd[1] + b * stb[1]) for a, b in local]
 
 
+_CHART = {"land": (74, 66, 48), "breakwater": (96, 96, 102), "quay": (118, 118, 126)}
+_SHOAL = (92, 84, 52)
+_GOAL = (70, 190, 90)
+
+
+def _draw_chart(pygame, surface, scene: Mapping, to_screen: Callable, draught_m: float) -> None:
+    """The v2 scenario under the ships: depth areas shallower than the own draught (shoals), land,
+    breakwaters and quays filled, the goal outlined (same geometry as the simulation's chart)."""
+    features = [f for f in scene.get("features") or [] if isinstance(f, Mapping)]
+
+    def poly(f: Mapping) -> list | None:
+        pts = f.get("points")
+        if not isinstance(pts, list) or len(pts) < 3:
+            return None
+        try:
+            return [to_screen(float(p[0]), float(p[1])) for p in pts]
+        except (TypeError, ValueError, IndexError):
+            return None
+
+    for f in features:
+        depth = f.get("depth_m")
+        if f.get("kind") == "depth" and isinstance(depth, (int, float)) and depth < draught_m:
+            pts = poly(f)
+            if pts:
+                pygame.draw.polygon(surface, _SHOAL, pts)
+    for f in features:
+        colour = _CHART.get(str(f.get("kind")))
+        pts = poly(f) if colour else None
+        if pts:
+            pygame.draw.polygon(surface, colour, pts)
+    for f in features:
+        if f.get("kind") == "goal":
+            pts = poly(f)
+            if pts:
+                pygame.draw.polygon(surface, _GOAL, pts, 2)
+
+
 def render(
     surface,
     state: Mapping | None,
@@ -339,11 +390,14 @@ def render(
     panel: HelmPanel | None = None,
     status: str = "",
     title: str = "vessel-gym",
+    scene: Mapping | None = None,
+    own_draught_m: float = 0.0,
 ) -> None:
     """Draw one frame on a pygame ``surface``: readouts on the left, a north-up chart on the right.
 
     ``state`` is a state message (None: waiting for data); ``track`` the own (x_m, y_m) history; ``panel`` the
-    helm orders to show next to the ship's (helm panel only); ``status`` a one-line link status.
+    helm orders to show next to the ship's (helm panel only); ``status`` a one-line link status; ``scene`` a v2
+    scenario message drawn under the ships (shoals are depth areas shallower than ``own_draught_m``).
     """
     pygame = _pygame()
     w, h = surface.get_size()
@@ -437,6 +491,8 @@ def render(
     def to_screen(x_m: float, y_m: float) -> tuple[float, float]:
         return ccx + (y_m - oy) * scale, ccy - (x_m - ox) * scale
 
+    if scene is not None:
+        _draw_chart(pygame, surface, scene, to_screen, own_draught_m)
     for k in (0.5, 1.0):
         pygame.draw.circle(surface, _RING, (int(ccx), int(ccy)), int(rng * k * scale), 1)
     text(f"range {rng:.0f} m", int(cx0 + 10), 10, _DIM, small)
@@ -470,11 +526,13 @@ def render_frame_array(
     status: str = "",
     size: tuple[int, int] = (900, 560),
     title: str = "vessel-gym",
+    scene: Mapping | None = None,
+    own_draught_m: float = 0.0,
 ) -> np.ndarray:
     """Render one frame off-screen and return it as a (height, width, 3) uint8 RGB array (no display needed)."""
     pygame = _pygame()
     surface = pygame.Surface(size)
-    render(surface, state, track, panel, status, title)
+    render(surface, state, track, panel, status, title, scene, own_draught_m)
     return np.ascontiguousarray(pygame.surfarray.array3d(surface).transpose(1, 0, 2))
 
 
@@ -573,7 +631,9 @@ def _run(
                 status = "you have the helm" if conn.owns_helm else "helm: other panel or none"
             else:
                 status = f"viewer, {len(track)} track points"
-            render(screen, state, track, panel, status, title)
+            own = conn.particulars.get(0) or {}
+            draught = own.get("draught_m") if isinstance(own.get("draught_m"), (int, float)) else 0.0
+            render(screen, state, track, panel, status, title, conn.scene, draught)
             pygame.display.flip()
             frame += 1
             if capture:

@@ -58,9 +58,14 @@ from vessel_gym.net.protocol import (
     HelmCommand,
     Limits,
     ProtocolError,
+    ShipParticulars,
     StatsRequest,
     Target,
     encode_challenge,
+    encode_event,
+    encode_helm_owner,
+    encode_particulars,
+    encode_scenario,
     encode_state,
     encode_stats,
     encode_welcome,
@@ -288,6 +293,7 @@ class _Client:
     session: str = ""
     last_seq: int = -1
     last_stats: float = -math.inf  # link time of the last stats reply on request
+    proto: int = 1  # 2: also gets the v2 scene, event and helm_owner messages
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -381,12 +387,14 @@ class UdpLink:
         self._ais_static_due: dict[int, float] = {}
         self._ais_seq_id = 0
         self._ais_channel = "A"
+        self._scene_source: tuple = (None, (), None)  # what set_scene was given
+        self._scene: list[bytes] | None = []  # its v2 datagrams, encoded on first need (None: not yet)
         self.last_error: str | None = None  # text of the last counted encoding/socket error
         counters = ["rx_datagrams", "rx_accepted", "tx_state", "tx_welcome", "tx_challenge", "tx_stats"]
         counters += ["tx_nmea_datagrams"]
         counters += ["tx_nmea_sentences", "tx_ais_sentences", "tx_error", "rx_error", "encode_error"]
         counters += ["clients_joined", "clients_left", "clients_timed_out"]
-        counters += ["helm_takeovers", "helm_watchdog", "helm_released"]
+        counters += ["helm_takeovers", "helm_watchdog", "helm_released", "tx_v2"]
         counters += [f"drop_{r}" for r in REASONS + LINK_DROP_REASONS]
         self._counters: dict[str, int] = dict.fromkeys(counters, 0)
 
@@ -596,6 +604,10 @@ class UdpLink:
             client.last_seen = now_s
             self._counters["rx_accepted"] += 1
             self._send_welcome(addr, client)
+            if msg.proto >= 2 and client.proto < 2:  # joined (or upgraded) as v2: send the scene once
+                for data in self._scene_datagrams():
+                    self._send(addr, data, "tx_v2")
+            client.proto = msg.proto
             return
         if client is None:
             self._drop("unregistered")
@@ -636,6 +648,7 @@ class UdpLink:
             self._helm_change(
                 HelmChange(now_s, "command", addr, client.name, self._last_owner, self._last_name)
             )
+            self._owner_changed("takeover")
         elif self._owner != addr:
             self._drop("not_owner")
             return
@@ -655,6 +668,7 @@ class UdpLink:
         self._helm_change(HelmChange(now_s, reason, previous=self._owner, previous_name=self._owner_name))
         self._last_owner, self._last_name = self._owner, self._owner_name
         self._owner = None
+        self._owner_changed("watchdog" if counter == "helm_watchdog" else "released")
         orders = self._orders
         if orders is not None:
             self._failsafe = True
@@ -666,6 +680,63 @@ class UdpLink:
                     rpm_order=None if orders.rpm_order is None else 0.0,
                 )
         self._update_helm()
+
+    # -- protocol v2 ------------------------------------------------------------------------------------------
+
+    def set_scene(
+        self,
+        scenario: object | None,
+        ships: Sequence[ShipParticulars],
+        environment: object | None = None,
+    ) -> None:
+        """Publish the scene (protocol v2): the scenario's polygons and sea state and the ships' particulars.
+
+        Sent now to every client that said ``"proto": 2`` and later to each one when it joins; call it again at
+        each reset (the sea state is drawn per episode). The datagrams are encoded only when a v2 client needs
+        them (a training loop without viewers pays nothing); encoding errors are counted (``encode_error``).
+        """
+        if self._closed:
+            return
+        self._scene_source = (scenario, tuple(ships), environment)
+        self._scene = None
+        for addr, c in self._clients.items():
+            if c.proto >= 2:
+                for data in self._scene_datagrams():
+                    self._send(addr, data, "tx_v2")
+
+    def _scene_datagrams(self) -> list[bytes]:
+        if self._scene is None:
+            scenario, ships, environment = self._scene_source
+            seq = self._next_seq()
+            try:
+                scene = encode_scenario(seq, scenario, environment)
+                scene += [encode_particulars(seq, ship) for ship in ships]
+            except (ValueError, TypeError, OverflowError) as exc:
+                self._counters["encode_error"] += 1
+                self.last_error = f"scene: {exc}"
+                scene = []
+            self._scene = scene
+        return self._scene
+
+    def publish_event(self, event: str, t_s: float, episode: int, **fields: object) -> None:
+        """Send an ``event`` (``reset``, ``outcome``, ``contact``; protocol v2) to every v2 client."""
+        if self._closed or not self._clients:
+            return
+        data = encode_event(self._next_seq(), event, t_s, episode, **fields)
+        for addr, c in self._clients.items():
+            if c.proto >= 2:
+                self._send(addr, data, "tx_v2")
+
+    def _owner_changed(self, reason: str) -> None:
+        owner = self._owner
+        name = None
+        if owner is not None:
+            client = self._clients.get(owner)
+            name = (client.name if client is not None else "") or f"{owner[0]}:{owner[1]}"
+        seq = self._next_seq()
+        for addr, c in self._clients.items():
+            if c.proto >= 2:
+                self._send(addr, encode_helm_owner(seq, name, addr == owner, reason), "tx_v2")
 
     def _update_helm(self) -> None:
         o = self._orders

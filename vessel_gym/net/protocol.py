@@ -117,6 +117,7 @@ class Hello:
     token: str | None = None
     cookie: str | None = None  # echoed from the last welcome: proof that the sender receives at its address
     session: str | None = None  # the session the client holds (from its last full welcome)
+    proto: int = 1  # 2: the client also wants the v2 messages (scenario, particulars, event, helm_owner)
 
 
 @dataclass(frozen=True)
@@ -259,6 +260,7 @@ def parse_datagram(
             token=_get_str(obj, "token", MAX_TOKEN_CHARS, truncate=False),
             cookie=_get_str(obj, "cookie", MAX_COOKIE_CHARS, truncate=False),
             session=_get_str(obj, "session", MAX_SESSION_CHARS, truncate=False),
+            proto=2 if (_get_int(obj, "proto", required=False) or 1) >= 2 else 1,
         )
     if kind == "bye":
         _get_seq(obj, required=False)
@@ -454,11 +456,13 @@ def encode_hello(
     cookie: str | None = None,
     session: str | None = None,
     pad_to: int = MIN_HELLO_BYTES,
+    proto: int = 1,
 ) -> bytes:
     """A client's ``hello`` (send on start and at least once a second as keep-alive).
 
     ``cookie`` and ``session`` are echoed from the last ``welcome``. The datagram is padded with a ``pad``
     field to ``pad_to`` bytes, so that a server that does not (or no longer) knows the sender may answer it.
+    ``proto=2`` asks for the v2 messages too.
     """
     if role not in ROLES:
         raise ValueError(f"role must be one of {ROLES}, not {role!r}")
@@ -473,6 +477,8 @@ def encode_hello(
         msg["cookie"] = cookie
     if session is not None:
         msg["session"] = session
+    if proto != 1:
+        msg["proto"] = int(proto)
     data = _dumps(msg).encode()
     short = pad_to - len(data) - len(',"pad":""')
     if short > 0:
@@ -542,3 +548,274 @@ def parse_server_datagram(data: bytes) -> dict:
     if obj.get("type") not in SERVER_TYPES:
         raise ProtocolError("bad_type")
     return obj
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Protocol v2: what a viewer needs to draw the scene (server -> client, only to clients that said "proto": 2)
+#
+# v2 adds four server message types and changes none of v1: ``state``, ``welcome`` and ``stats`` keep
+# ``"v": 1``, the new messages carry ``"v": 2`` (a v1 reader never gets them, and would drop them as
+# ``bad_version`` if it did). Every datagram stays within MAX_STATE_DATAGRAM_BYTES.
+
+PROTOCOL_V2 = 2
+V2_TYPES = ("scenario", "particulars", "event", "helm_owner")
+SCENE_KINDS = ("land", "breakwater", "quay", "depth", "start", "goal")  # "kind" of a scenario feature
+EVENTS = ("reset", "outcome", "contact")
+HELM_OWNER_REASONS = ("takeover", "watchdog", "released")
+KNOT_M_S = 1852.0 / 3600.0  # m/s per knot (international nautical mile per hour)
+
+
+@dataclass(frozen=True)
+class ShipParticulars:
+    """Static data of one ship for the ``particulars`` message: ``id`` 0 is the own ship, others are the ids of
+    ``state.targets``. Lengths in m; ``outline`` is the waterline outline in body axes (x forward, y starboard,
+    m), by default the project's hull outline from L and B."""
+
+    id: int
+    name: str
+    length_m: float
+    beam_m: float
+    draught_m: float
+    outline: tuple[tuple[float, float], ...] | None = None
+
+
+def encode_particulars(seq: int, ship: ShipParticulars) -> bytes:
+    """A ``particulars`` message (one ship). The outline is rounded to 0.01 m."""
+    from vessel_gym.scenarios.geometry import hull_outline
+
+    outline = ship.outline if ship.outline is not None else hull_outline(ship.length_m, ship.beam_m)
+    data = _dumps(
+        {
+            "v": PROTOCOL_V2,
+            "type": "particulars",
+            "seq": int(seq),
+            "id": int(ship.id),
+            "own": ship.id == 0,
+            "name": str(ship.name)[:MAX_NAME_CHARS],
+            "length_m": _num(ship.length_m, 2),
+            "beam_m": _num(ship.beam_m, 2),
+            "draught_m": _num(ship.draught_m, 2),
+            "outline_m": [[_num(x, 2), _num(y, 2)] for x, y in outline],
+        }
+    ).encode()
+    if len(data) > MAX_STATE_DATAGRAM_BYTES:
+        raise ValueError(f"ship {ship.id} outline of {len(outline)} points does not fit one datagram")
+    return data
+
+
+def _points(points: Sequence[Sequence[float]]) -> list[list[float | None]]:
+    return [[_num(p[0], 2), _num(p[1], 2)] for p in points]
+
+
+def scenario_features(scenario: object) -> list[dict]:
+    """The scenario's polygons as ``scenario.features`` entries (before splitting): land, breakwaters, quays,
+    depth areas (with ``depth_m``), the start region and the goal (with ``heading_deg``, its tolerance, the
+    goal point and the speed limit). ``scenario`` is a :class:`~vessel_gym.scenarios.Scenario`."""
+    out: list[dict] = []
+    for kind in ("land", "breakwater", "quay"):
+        for area in getattr(scenario, kind):
+            out.append({"kind": kind, "name": area.name, "points": _points(area.points)})
+    for area in scenario.depth_area:
+        out.append(
+            {
+                "kind": "depth",
+                "name": area.name,
+                "depth_m": _num(area.depth_m, 2),
+                "points": _points(area.points),
+            }
+        )
+    out.append({"kind": "start", "name": "start", "points": _points(scenario.start.points)})
+    goal = scenario.goal
+    out.append(
+        {
+            "kind": "goal",
+            "name": "goal",
+            "points": _points(goal.points),
+            "point_m": _points([scenario.goal_point])[0],
+            "heading_deg": _num(goal.heading_deg % 360.0, 2),
+            "heading_tolerance_deg": _num(goal.heading_tolerance_deg, 2),
+            "max_speed_kn": _num(goal.max_speed_m_s / KNOT_M_S, 2),
+        }
+    )
+    return out
+
+
+def environment_fields(environment: object | None) -> dict[str, float | None]:
+    """Wind, current and sea state of the episode (``scenario.sea``): speeds in kn, directions true."""
+    if environment is None:
+        return {}
+    e = environment
+    return {
+        "wind_speed_kn": _num(e.wind_speed_m_s / KNOT_M_S, 2),
+        "wind_from_deg": _num(e.wind_from_deg % 360.0, 1),
+        "current_speed_kn": _num(e.current_speed_m_s / KNOT_M_S, 2),
+        "current_to_deg": _num(e.current_to_deg % 360.0, 1),
+        "hs_m": _num(e.Hs_m, 2),
+        "tp_s": _num(e.Tp_s, 2),
+        "wave_from_deg": _num(e.wave_from_deg % 360.0, 1),
+    }
+
+
+def encode_scenario(
+    seq: int,
+    scenario: object | None,
+    environment: object | None = None,
+    max_bytes: int = MAX_STATE_DATAGRAM_BYTES,
+) -> list[bytes]:
+    """The ``scenario`` message as ``parts`` datagrams of at most ``max_bytes`` bytes that share ``seq``.
+
+    Every part repeats the head (name, geodetic reference, bounds, open-water depth, ``sea``) and carries some
+    of the ``features``; a polygon too long for one datagram is split into pieces with the same ``id`` whose
+    ``points`` are concatenated in part order. ``scenario`` None (open water) sends the head with no features.
+    """
+    head: dict[str, object] = {"v": PROTOCOL_V2, "type": "scenario", "seq": int(seq)}
+    if scenario is not None:
+        head["name"] = str(scenario.name)[:64]
+        lat, lon = scenario.reference_latlon_deg
+        head["ref_lat_deg"] = _num(lat, 7)
+        head["ref_lon_deg"] = _num(lon, 7)
+        head["bounds_m"] = [_num(b, 2) for b in scenario.bounds_m]  # north min, north max, east min, east max
+        head["water_depth_m"] = _num(scenario.water_depth_m, 2)
+        features = scenario_features(scenario)
+    else:
+        head["name"] = ""
+        features = []
+    head["sea"] = environment_fields(environment)
+    prefix = _dumps(head)[:-1] + ',"features":['
+    tail_room = len('],"part":9999,"parts":9999}')
+    room = max_bytes - len(prefix.encode()) - tail_room
+    if room < 200:
+        raise ValueError(f"a {max_bytes}-byte datagram leaves no room for scenario features")
+    items: list[str] = []
+    for i, f in enumerate(features):
+        f = {"id": i, **f}
+        text = _dumps(f)
+        if len(text.encode()) + 1 <= room:
+            items.append(text)
+            continue
+        pts = f.pop("points")
+        base = _dumps({**f, "points": []})
+        per_point = max(len(_dumps(p)) + 1 for p in pts)
+        n = max(1, (room - len(base.encode()) - 1) // per_point)
+        items += [_dumps({**f, "points": pts[j : j + n]}) for j in range(0, len(pts), n)]
+    chunks: list[list[str]] = [[]]
+    size = 0
+    for item in items:
+        n = len(item.encode()) + 1
+        if size + n > room and chunks[-1]:
+            chunks.append([])
+            size = 0
+        chunks[-1].append(item)
+        size += n
+    parts = len(chunks)
+    return [
+        f'{prefix}{",".join(chunk)}],"part":{i},"parts":{parts}}}'.encode() for i, chunk in enumerate(chunks)
+    ]
+
+
+def encode_event(seq: int, event: str, t_s: float, episode: int, **fields: object) -> bytes:
+    """An ``event``: ``reset`` (an episode starts), ``outcome`` (it ended: ``outcome`` and figures) or
+    ``contact`` (the hull touched land, a breakwater or a quay, or grounded: ``what``). Extra ``fields`` are
+    numbers (rounded to 0.01) or strings."""
+    if event not in EVENTS:
+        raise ValueError(f"event must be one of {EVENTS}, not {event!r}")
+    msg: dict[str, object] = {
+        "v": PROTOCOL_V2,
+        "type": "event",
+        "seq": int(seq),
+        "event": event,
+        "t_s": _num(t_s, 3),
+        "episode": int(episode),
+    }
+    for key, value in fields.items():
+        if isinstance(value, str):
+            msg[key] = value[:64]
+        elif isinstance(value, (bool, int)) and not isinstance(value, float):
+            msg[key] = value
+        else:
+            msg[key] = _num(float(value), 2)  # type: ignore[arg-type]
+    return _dumps(msg).encode()
+
+
+def encode_helm_owner(seq: int, owner: str | None, you: bool, reason: str) -> bytes:
+    """A ``helm_owner`` change: ``owner`` is the new owner's name (or ``host:port`` when it gave none), None
+    when the helm is free; ``you`` is true for the client that owns it; ``reason`` one of
+    :data:`HELM_OWNER_REASONS`."""
+    if reason not in HELM_OWNER_REASONS:
+        raise ValueError(f"reason must be one of {HELM_OWNER_REASONS}, not {reason!r}")
+    return _dumps(
+        {
+            "v": PROTOCOL_V2,
+            "type": "helm_owner",
+            "seq": int(seq),
+            "owner": owner,
+            "you": bool(you),
+            "reason": reason,
+        }
+    ).encode()
+
+
+def parse_server_datagram_v2(data: bytes) -> dict:
+    """Decode any server datagram a v2 client receives: the v1 types with ``"v": 1`` and the v2 types with
+    ``"v": 2``. Same checks as :func:`parse_server_datagram`; a ``scenario`` part must carry a ``features``
+    list and integer ``part`` < ``parts``, a ``particulars`` an ``outline_m`` list of [x, y] pairs."""
+    if len(data) > 65536:
+        raise ProtocolError("oversize", f"{len(data)} bytes")
+    try:
+        obj = _DECODER.decode(data.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise ProtocolError("bad_utf8") from None
+    except _NonFinite:
+        raise ProtocolError("non_finite") from None
+    except (ValueError, RecursionError):
+        raise ProtocolError("bad_json") from None
+    if not isinstance(obj, dict):
+        raise ProtocolError("not_object")
+    version, kind = obj.get("v"), obj.get("type")
+    if isinstance(version, bool) or version not in (PROTOCOL_VERSION, PROTOCOL_V2):
+        raise ProtocolError("bad_version")
+    if kind not in (SERVER_TYPES if version == PROTOCOL_VERSION else V2_TYPES):
+        raise ProtocolError("bad_type")
+    if kind == "scenario":
+        part, parts = _get_int(obj, "part", True), _get_int(obj, "parts", True)
+        if not 0 <= part < parts or not isinstance(obj.get("features"), list):
+            raise ProtocolError("bad_field", "scenario part/parts/features")
+    elif kind == "particulars":
+        outline = obj.get("outline_m")
+        if not isinstance(outline, list) or not all(isinstance(p, list) and len(p) == 2 for p in outline):
+            raise ProtocolError("bad_field", "particulars outline_m")
+    return obj
+
+
+class SceneAssembler:
+    """Collects the parts of ``scenario`` messages and returns the whole scene once all parts of one ``seq``
+    are in: ``add(msg)`` gives the merged message (``features`` with split polygons joined again) or None."""
+
+    def __init__(self) -> None:
+        self._seq: int | None = None
+        self._parts: dict[int, dict] = {}
+
+    def add(self, msg: Mapping) -> dict | None:
+        seq = msg.get("seq")
+        if seq != self._seq:
+            if self._seq is not None and isinstance(seq, int) and seq < self._seq:
+                return None  # a late part of an older scene
+            self._seq, self._parts = seq, {}
+        self._parts[int(msg["part"])] = dict(msg)
+        parts = int(msg["parts"])
+        if len(self._parts) < parts:
+            return None
+        merged: dict[int, dict] = {}
+        for i in range(parts):
+            for f in self._parts[i]["features"]:
+                if not isinstance(f, dict):
+                    continue
+                fid = f.get("id")
+                if fid in merged:
+                    merged[fid]["points"] = merged[fid]["points"] + list(f.get("points", []))
+                else:
+                    merged[fid] = {**f, "points": list(f.get("points", []))}
+        whole = {k: v for k, v in self._parts[0].items() if k not in ("part", "parts", "features")}
+        whole["features"] = list(merged.values())
+        self._parts = {}
+        return whole

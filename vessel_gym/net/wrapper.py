@@ -24,7 +24,7 @@ import gymnasium as gym
 import numpy as np
 
 from vessel_gym.net.link import HelmState, LinkConfig, UdpLink
-from vessel_gym.net.protocol import Limits
+from vessel_gym.net.protocol import Limits, ShipParticulars
 from vessel_gym.net.traffic import Traffic
 from vessel_gym.physics.bridge import BridgeReading
 from vessel_gym.physics.units import DEG, RPM
@@ -162,6 +162,7 @@ class UdpLinkWrapper(gym.Wrapper):
         self._telegraph: int | None = None  # telegraph of the overriding orders; None: the agent steers
         self._steps_by = dict.fromkeys(STEERED_BY, 0)  # steps before the current helm spell
         self._who_since = 0  # total step count when the current helm spell began
+        self._episode = 0
 
     # --- state ------------------------------------------------------------------------------------------------
 
@@ -261,6 +262,8 @@ class UdpLinkWrapper(gym.Wrapper):
         self._steps = 0
         if self.traffic is not None:
             self.traffic.reset()
+        self._episode += 1
+        self._publish_scene()
         self._service(self._clock())
         info["helm"] = self._who
         return obs, info
@@ -273,7 +276,39 @@ class UdpLinkWrapper(gym.Wrapper):
         self._steps += 1
         self._total_steps += 1
         info["helm"] = self._who
+        if terminated or truncated:
+            self._publish_outcome(info, truncated and not terminated)
         return obs, reward, terminated, truncated, info
+
+    # --- protocol v2 ------------------------------------------------------------------------------------------
+
+    def _publish_scene(self) -> None:
+        """Scenario, sea state and particulars for v2 viewers, and the ``reset`` event (once per episode)."""
+        task = self.env.unwrapped.task
+        p = task.ship.particulars
+        ships = [ShipParticulars(0, task.ship.name, p.L_m, p.B_m, p.T_m)]
+        if self.traffic is not None:
+            for tid, spec, ship in zip(self.traffic.ids, self.traffic.specs, self.traffic.ships):
+                q = ship.particulars
+                ships.append(ShipParticulars(tid, spec.name, q.L_m, q.B_m, q.T_m))
+        environments = getattr(self._sim, "environments", None)
+        self.link.set_scene(getattr(task, "scenario", None), ships, environments[0] if environments else None)
+        self.link.publish_event("reset", float(self._sim.t), self._episode)
+
+    def _publish_outcome(self, info: dict[str, Any], time_limit: bool) -> None:
+        outcome = (
+            "time_limit"
+            if time_limit and info.get("outcome", "running") == "running"
+            else info.get("outcome")
+        )
+        t = float(self._sim.t)
+        if outcome in ("contact", "grounding"):
+            own = self._own_reading()
+            self.link.publish_event("contact", t, self._episode, what=outcome, x_m=own.x_m, y_m=own.y_m)
+        figures = {
+            k: float(info[k]) for k in ("path_m", "min_clearance_m", "distance_to_goal_m") if k in info
+        }
+        self.link.publish_event("outcome", t, self._episode, outcome=str(outcome or "ended"), **figures)
 
     def close(self) -> None:
         self._release()

@@ -22,9 +22,13 @@ X_PSI = 5  # heading, rad (clockwise from north); not wrapped while integrating
 X_DELTA = 6  # actual rudder angle, rad (positive to starboard)
 X_REV = 7  # propeller shaft speed, rev/s (negative astern)
 X_GOV = 8  # speed-governor integrator state, fuel-index units (-)
-NX = 9
+# position of a direct-reversing engine's reversing gear (fuel-pump cams and starting-air distributor), -:
+# +1 set for ahead, -1 for astern, in between while shifting (propulsion.direct_reversing_drive); unused (0)
+# by a clutch or ideal drive
+X_CAM = 9
+NX = 10
 
-STATE_NAMES = ("u", "v", "r", "x", "y", "psi", "delta", "n", "governor")
+STATE_NAMES = ("u", "v", "r", "x", "y", "psi", "delta", "n", "governor", "reversing_gear")
 
 # --- input u[k, :] ---------------------------------------------------------------------------------------------
 U_DELTA_C = 0  # rudder order, rad
@@ -191,6 +195,16 @@ P_BKAPPA = _field("blendermann_kappa")
 WAVE_NA = 73  # 0..360 deg in 5 deg steps
 P_WAVE_ON = _field("has_wave_drift")
 P_WAVE_TAB = _field("wave_drift_table", 3 * WAVE_NA)
+
+# engine reversing (propulsion.py): a clutch/gearbox (or ideal) drive, or a direct-reversing two-stroke diesel
+# started and braked on starting air
+REVERSING_CLUTCH = 0
+REVERSING_DIRECT_AIR = 1
+P_REV_KIND = _field("reversing")
+P_REV_TIME = _field("reversal_time")  # time to shift the reversing gear from one direction to the other, s
+P_REV_AIR = _field("air_brake_rev")  # engine speed below which starting air may be applied, rev/s
+P_REV_FIRE = _field("firing_rev")  # engine speed in the ordered direction at which fuel is admitted, rev/s
+P_REV_QAIR = _field("Q_air")  # engine torque of the starting air, N m
 
 NP = len(_names)
 PARAM_NAMES = tuple(_names)

@@ -8,6 +8,11 @@ efficiency, clutch ahead / neutral / astern) and the propeller shaft against the
 Shaft equation (rigid shafting, clutch engaged):
     2 pi I dn/dt = s eta_G i Q_E(n_E, f) - Q_P(u_a, n) - Q_f(n),     n_E = s i n
 with s = +1 ahead / -1 astern (clutch direction, from the sign of the order) and s = 0 clutch out.
+
+A ship file may instead declare a direct-reversing two-stroke diesel (``[engine] reversing =
+"direct_air_start"``): engine and propeller are one shaft, there is no clutch, and reversing follows the
+sequence of :func:`direct_reversing_drive` (fuel off, windmilling, reversing gear shifted, starting air
+against the rotation below a threshold speed, fuel in the new direction above the firing speed).
 """
 
 from __future__ import annotations
@@ -156,22 +161,109 @@ def governor(P, n, gov_i, n_order):
     return f, di, s, n_e
 
 
-@njit(cache=True)
-def shaft_acceleration(P, n, gov_i, n_order, Q_prop):
-    """dn/dt (rev/s^2) and the governor integrator rate for the propeller shaft.
+# phases of a direct-reversing engine (direct_reversing_drive); a clutch drive reports RUNNING or FUEL_OFF
+PHASE_RUNNING = 0  # fuel on, governed, turning in the ordered direction
+PHASE_FUEL_OFF = 1  # stop ordered, or turning against the order faster than starting air may be applied
+PHASE_SHIFTING = 2  # reversing gear moving to the ordered direction, fuel off
+PHASE_AIR = 3  # starting air in the ordered direction: braking the windmilling shaft, then starting it
+#: part of the reversal time spent in the final exponential approach of the reversing gear, so that its
+#: derivative is continuous enough for RK4 (the gear counts as set within CAM_SET of its end position), -
+CAM_TAU_FRACTION = 0.1
+CAM_SET = 0.05  # reversing-gear travel units (full travel 2), -
+#: engine speed band over which the fuel-off drag torque changes sign through n = 0 (a Coulomb-like drag
+#: regularised so that a stopped shaft stays at rest instead of chattering), fraction of rated speed, -
+DRAG_BAND = 0.02
 
-    Returns (dn/dt, dx_gov/dt, fuel index, engine speed rev/s, engine torque N m).
+
+@njit(cache=True)
+def engine_drag_torque(P, n_e):
+    """Torque (N m, signed like the engine speed n_e rev/s, opposing rotation) of an engine turned without
+    fuel: the zero-fuel column of the torque map (friction and pumping losses), regularised through n_e = 0."""
+    q = engine_torque(P, abs(n_e), 0.0)  # <= 0: a drag
+    band = DRAG_BAND * P[lo.P_ENG_NRATED]
+    return q * max(-1.0, min(1.0, n_e / band))
+
+
+@njit(cache=True)
+def direct_reversing_drive(P, n, cam, gov_i, n_order):
+    """Drive torque of a direct-reversing two-stroke diesel and the rates of its internal states.
+
+    The reversing sequence of a slow-speed crosshead engine on bridge control (engine and propeller on one
+    shaft, no clutch): when the order's direction d (+1 ahead, -1 astern, 0 stop; the clutch threshold of
+    :func:`clutch_direction`) differs from the way the engine is set, fuel is cut at once and the
+    reversing gear (fuel-pump cams, starting-air distributor; state ``cam``) moves towards d at 2/T_rev, so
+    the shift takes about the reversal time T_rev. The ship's way keeps the propeller windmilling ahead
+    meanwhile. With the gear set, starting air is admitted in direction d only once the engine speed
+    against d is below the air-braking threshold (``air_brake_rev``): it brakes the shaft to rest and
+    starts it the other way, with the starting-air torque ``Q_air``. Fuel is admitted (PI governor) once
+    the engine turns in direction d at the firing speed; astern its torque is limited to
+    ``astern_torque_ratio`` of the ahead map. Without fuel the engine's friction and pumping drag acts.
+
+    The phase is a function of the state (cam, n), so the integrator steps it as it steps any state; a
+    phase changes inside a step where the state crosses a threshold (order held over the step).
+    Returns (drive torque at the propeller shaft N m, d cam/dt 1/s, d x_gov/dt 1/s, fuel index, engine
+    speed rev/s signed, engine torque N m, phase).
     """
+    d = clutch_direction(P, n_order)
+    T_rev = P[lo.P_REV_TIME]
+    dcam = 0.0
+    if d != 0.0:
+        rate = 2.0 / T_rev
+        dcam = max(-rate, min(rate, (d - cam) / (CAM_TAU_FRACTION * T_rev)))
+    i_g = P[lo.P_GEAR]
+    n_e = i_g * n
+    bleed = -gov_i * 0.2  # governor integrator bleeds off (5 s) while there is no fuel, as with the clutch out
+    if d == 0.0 or abs(d - cam) > CAM_SET:
+        phase = PHASE_FUEL_OFF if d == 0.0 else PHASE_SHIFTING
+        Q_e = engine_drag_torque(P, n_e)
+        return i_g * Q_e, dcam, bleed, 0.0, n_e, Q_e, phase
+    w = d * n_e  # engine speed in the ordered direction, rev/s
+    if w >= P[lo.P_REV_FIRE]:
+        e = (i_g * abs(n_order) - w) / P[lo.P_ENG_NRATED]
+        f_raw = P[lo.P_GOV_KP] * e + gov_i
+        f = min(max(f_raw, 0.0), 1.0)
+        di = P[lo.P_GOV_KI] * e
+        if (f_raw >= 1.0 and e > 0.0) or (f_raw <= 0.0 and e < 0.0):
+            di = 0.0
+        Q_e = d * engine_torque(P, w, f)
+        if d < 0.0:
+            Q_e *= P[lo.P_ENG_ASTERN]
+        return P[lo.P_ETA_GEAR] * i_g * Q_e, dcam, di, f, n_e, Q_e, PHASE_RUNNING
+    if w > -P[lo.P_REV_AIR]:
+        Q_e = d * P[lo.P_REV_QAIR]
+        return i_g * Q_e, dcam, bleed, 0.0, n_e, Q_e, PHASE_AIR
+    Q_e = engine_drag_torque(P, n_e)
+    return i_g * Q_e, dcam, bleed, 0.0, n_e, Q_e, PHASE_FUEL_OFF
+
+
+@njit(cache=True)
+def engine_drive(P, n, cam, gov_i, n_order):
+    """Drive torque at the propeller shaft (N m) of the ship's plant and its state rates: the direct-reversing
+    engine, or the engine through a clutch (ahead / neutral / astern, instant) and gearbox.
+
+    Returns (drive torque, d cam/dt, d x_gov/dt, fuel index, engine speed rev/s, engine torque N m, phase).
+    """
+    if P[lo.P_REV_KIND] == lo.REVERSING_DIRECT_AIR:
+        return direct_reversing_drive(P, n, cam, gov_i, n_order)
     fuel, di, s, n_e = governor(P, n, gov_i, n_order)
-    Q_e = 0.0
-    Q_drive = 0.0
-    if s != 0.0:
-        Q_e = engine_torque(P, n_e, fuel)
-        Q_drive = s * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * Q_e
-        if s < 0.0:
-            Q_drive *= P[lo.P_ENG_ASTERN]
+    if s == 0.0:
+        return 0.0, 0.0, di, fuel, n_e, 0.0, PHASE_FUEL_OFF
+    Q_e = engine_torque(P, n_e, fuel)
+    Q_drive = s * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * Q_e
+    if s < 0.0:
+        Q_drive *= P[lo.P_ENG_ASTERN]
+    return Q_drive, 0.0, di, fuel, n_e, Q_e, PHASE_RUNNING
+
+
+@njit(cache=True)
+def shaft_acceleration(P, n, cam, gov_i, n_order, Q_prop):
+    """dn/dt (rev/s^2), the reversing-gear rate (1/s) and the governor integrator rate for the propeller shaft.
+
+    Returns (dn/dt, d cam/dt, dx_gov/dt, fuel index, engine speed rev/s, engine torque N m).
+    """
+    Q_drive, dcam, di, fuel, n_e, Q_e, _phase = engine_drive(P, n, cam, gov_i, n_order)
     ndot = (Q_drive - Q_prop - shaft_friction_torque(P, n)) / (2.0 * math.pi * P[lo.P_I_SHAFT])
-    return ndot, di, fuel, n_e, Q_e
+    return ndot, dcam, di, fuel, n_e, Q_e
 
 
 @njit(cache=True)

@@ -260,6 +260,28 @@ class Engine:
     telegraph_rpm: tuple[float, ...] = param(
         unit="rpm", lo=-10000.0, hi=10000.0, doc="propeller rpm for full astern ... stop ... full ahead (9)"
     )
+    reversing: str = param(
+        "clutch",
+        choices=("clutch", "direct_air_start"),
+        doc="clutch: ahead/neutral/astern clutch and gearbox (or an ideal drive), instant; direct_air_start: "
+        "direct-reversing diesel, fuel off, reversing gear, starting air, fuel astern",
+    )
+    reversal_time_s: float = param(
+        15.0, unit="s", lo=1.0, hi=120.0, doc="direct_air_start: time to shift the reversing gear"
+    )
+    air_brake_rpm_fraction: float = param(
+        0.35,
+        unit="-",
+        lo=0.05,
+        hi=0.6,
+        doc="direct_air_start: engine speed / rated below which starting air may be applied",
+    )
+    firing_rpm_fraction: float = param(
+        0.15, unit="-", lo=0.02, hi=0.5, doc="direct_air_start: engine speed / rated at which fuel is admitted"
+    )
+    starting_air_torque_fraction: float = param(
+        0.5, unit="-", lo=0.05, hi=2.0, doc="direct_air_start: starting-air torque / rated torque"
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -410,6 +432,11 @@ def _check_engine(eng: Engine, where: str) -> None:
     t = eng.telegraph_rpm
     if t[4] != 0.0 or any(b <= a for a, b in zip(t, t[1:])):
         raise ShipFileError(f"{where} [engine] telegraph_rpm: must increase, with stop (5th value) = 0")
+    if eng.reversing == "direct_air_start" and eng.firing_rpm_fraction >= eng.air_brake_rpm_fraction:
+        raise ShipFileError(
+            f"{where} [engine] firing_rpm_fraction: {eng.firing_rpm_fraction:g} must be below "
+            f"air_brake_rpm_fraction ({eng.air_brake_rpm_fraction:g})"
+        )
 
 
 def _outside(x: float, band: tuple[float, float]) -> bool:

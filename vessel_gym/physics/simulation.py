@@ -439,13 +439,14 @@ class Simulation:
 
     def engine(self, k: int = 0) -> dict[str, float]:
         """Engine readings of vessel k: fuel index, engine rpm, torque (N m), shaft power (kW)."""
-        from vessel_gym.physics.propulsion import governor
+        from vessel_gym.physics.propulsion import engine_drive
 
         P = self.Ps[self.ship_index[k]]
         if P[lo.P_PROP_ON] == 0.0:
             return {"fuel_index": 0.0, "engine_rpm": 0.0, "torque_Nm": 0.0, "power_kW": 0.0}
-        fuel, _di, s, n_e = governor(P, self.rev[k], self.state[k, lo.X_GOV], self.rev_order[k])
-        q = engine_torque(P, n_e, fuel) if s != 0.0 else 0.0
+        x = self.state[k]
+        order = self.rev_order[k]
+        _qd, _dc, _di, fuel, n_e, q, _ph = engine_drive(P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], order)
         return {
             "fuel_index": fuel,
             "engine_rpm": n_e * 60.0,
@@ -574,6 +575,7 @@ class _SteadyApproach:
         if ship.propeller is not None:
             self.n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
             self.x[lo.X_REV] = self.inp[lo.U_REV_C] = self.n_max
+            self.x[lo.X_CAM] = 1.0  # a direct-reversing engine's gear set for ahead running
 
     def start(self, F: np.ndarray) -> bool:
         """Check at full trial rpm with the forces F (3,) that the propeller can make the speed (raises

@@ -175,6 +175,12 @@ def pack(ship: Ship) -> np.ndarray:
         P[lo.P_GOV_KP], P[lo.P_GOV_KI] = eng.governor_Kp, eng.governor_Ki
         P[lo.P_ENG_ASTERN] = eng.astern_torque_ratio
         P[lo.P_CLUTCH_MIN] = tr.clutch_min_rpm * RPM
+        if eng.reversing == "direct_air_start":
+            P[lo.P_REV_KIND] = lo.REVERSING_DIRECT_AIR
+        P[lo.P_REV_TIME] = eng.reversal_time_s
+        P[lo.P_REV_AIR] = eng.air_brake_rpm_fraction * n_e
+        P[lo.P_REV_FIRE] = eng.firing_rpm_fraction * n_e
+        P[lo.P_REV_QAIR] = eng.starting_air_torque_fraction * Q_rated
     else:
         P[lo.P_GEAR] = P[lo.P_ETA_GEAR] = P[lo.P_I_SHAFT] = P[lo.P_ENG_NRATED] = 1.0
         P[lo.P_MAP_S : lo.P_MAP_S + lo.MAP_NS] = np.arange(lo.MAP_NS)
@@ -325,8 +331,11 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     delta_dot = steering_gear_rate(P, x[lo.X_DELTA], inp[lo.U_DELTA_C])
     ndot = 0.0
     gdot = 0.0
+    cdot = 0.0
     if P[lo.P_PROP_ON] > 0.0:
-        ndot, gdot, _fuel, _ne, _qe = shaft_acceleration(P, x[lo.X_REV], x[lo.X_GOV], inp[lo.U_REV_C], f[14])
+        ndot, cdot, gdot, _fuel, _ne, _qe = shaft_acceleration(
+            P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], inp[lo.U_REV_C], f[14]
+        )
     xdot[lo.X_U] = X / P[lo.P_M11]
     xdot[lo.X_V] = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
     xdot[lo.X_R] = P[lo.P_MI32] * Y + P[lo.P_MI33] * N
@@ -336,3 +345,4 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     xdot[lo.X_DELTA] = delta_dot
     xdot[lo.X_REV] = ndot
     xdot[lo.X_GOV] = gdot
+    xdot[lo.X_CAM] = cdot

@@ -35,6 +35,7 @@ DIM = (140, 145, 155)
 WIND = (80, 150, 255)
 CURRENT = (60, 200, 120)
 TARGET = (230, 140, 0)
+TRAFFIC = (150, 60, 170)
 
 
 def depth_colour(depth_m: float, draught_m: float, deep_m: float) -> tuple[int, int, int]:
@@ -201,8 +202,10 @@ class ChartRenderer:
         track: Sequence[tuple[float, float]],
         telegraph: int | None = None,
         overlay: dict | None = None,
+        targets: Sequence[Any] = (),
     ) -> np.ndarray | None:
-        """Draw vessel ``k`` of ``sim``; return an (H, W, 3) uint8 frame in rgb_array mode."""
+        """Draw vessel ``k`` of ``sim`` and the other ships ``targets`` (:class:`~vessel_gym.net.protocol.Target`,
+        outlines to scale, named); return an (H, W, 3) uint8 frame in rgb_array mode."""
         pg = self.pg
         overlay = overlay or {}
         north, east, psi = float(sim.north[k]), float(sim.east[k]), float(sim.heading[k])
@@ -224,6 +227,20 @@ class ChartRenderer:
             pg.draw.line(chart, DIM, a, b, 1)
         if len(track) > 1:
             pg.draw.lines(chart, TRACK, False, self._poly(track), 2)
+        for t in targets:
+            r = t.reading
+            if not (math.isfinite(r.x_m) and math.isfinite(r.y_m) and math.isfinite(r.hdg_deg)):
+                continue
+            h = math.radians(r.hdg_deg)
+            c, s = math.cos(h), math.sin(h)
+            outline = [
+                self.to_screen(r.x_m + c * x - s * y, r.y_m + s * x + c * y)
+                for x, y in hull_outline(t.length_m, t.beam_m)
+            ]
+            pg.draw.polygon(chart, TRAFFIC, outline)
+            label = self.small.render(str(t.name), True, TRAFFIC)
+            px, py = self.to_screen(r.x_m, r.y_m)
+            chart.blit(label, (px + 8, py + 6))
         if finite:
             if "target_heading_rad" in overlay:
                 t = overlay["target_heading_rad"]

@@ -1,0 +1,80 @@
+"""Grid study: Richardson extrapolation and GCI against Celik et al. (2008) and hand-computed values, and
+the `vessel-cfd study` command on the fake-foam double with a known second-order grid error."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+from cfd_fake_foam import C_R, TRUE_PRIME, FakeFoam, fake_environment
+from test_cfd_pipeline import DATA
+
+from cfd.gridstudy import grid_convergence, grid_size
+
+# Celik et al. (2008), ASME J. Fluids Eng. 130 078001, Table 1, first column (2-D grids, h = N^-1/2):
+# N = 18000, 8000, 4500; phi = 6.063, 5.972, 5.863 -> r21 = 1.5, r32 = 1.333, p = 1.53, phi_ext = 6.1685,
+# e_a = 1.5 %, e_ext = 1.7 %, GCI_fine = 2.2 % (the published values, rounded as printed)
+CELIK_H = tuple(grid_size(n, dimensions=2) for n in (18000, 8000, 4500))
+
+
+def test_celik_2008_worked_example():
+    g = grid_convergence((6.063, 5.972, 5.863), CELIK_H)
+    assert g.condition == "monotonic"
+    assert g.r21 == pytest.approx(1.5) and g.r32 == pytest.approx(1.333, abs=5e-4)
+    assert g.p == pytest.approx(1.53, abs=0.005)
+    assert g.phi_ext == pytest.approx(6.1685, abs=5e-5)
+    assert 100 * g.e_a == pytest.approx(1.5, abs=0.05) and 100 * g.e_ext == pytest.approx(1.7, abs=0.05)
+    assert 100 * g.gci_fine == pytest.approx(2.2, abs=0.05)
+
+
+def test_second_order_data_extrapolate_exactly():
+    # phi = 1 + 0.3 h^2 on h = 1, 2, 4: eps21 = 0.9, eps32 = 3.6, R = 0.25, p = 2, phi_ext = 1,
+    # e_a = 0.9 / 1.3, GCI = 1.25 e_a / (2^2 - 1)
+    g = grid_convergence((1.3, 2.2, 5.8), (1.0, 2.0, 4.0))
+    assert g.R == pytest.approx(0.25) and g.p == pytest.approx(2.0) and g.phi_ext == pytest.approx(1.0)
+    assert g.gci_fine == pytest.approx(1.25 * (0.9 / 1.3) / 3.0)
+    assert g.uncertainty == pytest.approx(g.gci_fine * 1.3)
+
+
+def test_oscillatory_and_divergent_data():
+    osc = grid_convergence((6.0, 5.9, 6.2), (1.0, 1.5, 2.25))  # R = -0.1 / 0.3 < 0
+    assert osc.condition == "oscillatory" and osc.R == pytest.approx(-1.0 / 3.0)
+    assert osc.uncertainty == pytest.approx(0.5 * (6.2 - 5.9))  # ITTC: half the range
+    assert osc.gci_fine is None
+    div = grid_convergence((5.0, 5.5, 5.7), (1.0, 1.5, 2.25))  # R = 0.5 / 0.2 > 1
+    assert div.condition == "divergent" and div.R == pytest.approx(2.5) and div.uncertainty is None
+    same = grid_convergence((2.0, 2.0, 2.0), (1.0, 2.0, 4.0))
+    assert same.condition == "converged" and same.uncertainty == 0.0
+    with pytest.raises(ValueError, match="grid sizes"):
+        grid_convergence((1.0, 2.0, 3.0), (2.0, 1.0, 4.0))
+
+
+def test_study_command_recovers_the_fake_hull_by_richardson_extrapolation(tmp_path, monkeypatch, capsys):
+    from cfd.cli import main
+
+    fake_environment(monkeypatch, FakeFoam(grid_error=5.0))
+    out = tmp_path / "grid"
+    args = ["study", "--gradings", "1,2,3", "--hull", "wigley", "--lpp", "1", "--bwl", "0.1"]
+    args += ["--tm", "0.0625"]
+    args += ["--tests", "tow,drift", "--speeds", "1.0", "--pmm-speed", "1.0", "--drift-deg", "3,6,9"]
+    args += ["--rho", "1000", "--nu", "1e-6", "--out", str(out), "--template", str(DATA / "small_ship.toml")]
+    args += ["--scale-to", "cfd", "--quiet"]
+    assert main(args) == 0
+    assert "R_T_N: monotonic, GCI" in capsys.readouterr().out
+    rep = json.loads((out / "grid_study.json").read_text())
+    assert rep["gradings"] == [3, 2, 1] and rep["h_relative"] == pytest.approx([1.0, 2.0, 4.0])
+    rt = rep["quantities"]["R_T_N"]
+    assert rt["p"] == pytest.approx(2.0) and rt["phi_ext"] == pytest.approx(C_R * 1.0**2)
+    for k in ("Y_v", "N_v", "Y_vvv"):
+        assert rep["quantities"][k]["phi_ext"] == pytest.approx(TRUE_PRIME[k], rel=1e-6), k
+    assert (out / "grid_study.md").read_text().count("| monotonic |") >= 4
+    assert (out / "grid_convergence.png").is_file() and (out / "grading_2" / "ship.toml").is_file()
+    assert not math.isnan(rt["gci_fine"])
+
+
+def test_study_command_needs_three_gradings(capsys):
+    from cfd.cli import main
+
+    assert main(["study", "--gradings", "1,2", "--hull", "wigley"]) == 2
+    assert "gradings: three different whole gradings" in capsys.readouterr().err
