@@ -72,8 +72,10 @@ def test_registry_declares_every_builtin_force_once():
     summed = {"X_H", "Y_H", "N_H", "X_P", "X_R", "Y_R", "N_R", "X_W", "Y_W", "N_W", "X_D", "Y_D", "N_D"}
     declared = {f for s in BUILTINS if s.name != "derivative_rudder" for f in s.forces if f}
     assert declared == summed
-    owned = [st for s in BUILTINS for st in s.states]
-    assert sorted(owned) == sorted(set(owned)) == ["delta", "governor", "n"]
+    owned = [
+        st for s in BUILTINS for st in s.states
+    ]  # every integrated state but the rigid body's has one owner
+    assert sorted(owned) == sorted(set(owned)) == ["delta", "governor", "n", "reversing_gear"]
 
 
 @pytest.mark.parametrize("ship", ["kvlcc2", "mariner", "dtc"])

@@ -33,7 +33,7 @@ ALIASES = {"wind": "windage", "waves": "wave_drift"}
 #: slots whose built-in a Python component cannot replace yet, and why
 NOT_REPLACEABLE = {
     "propeller": "its torque drives the shaft-speed state integrated by the compiled kernel",
-    "engine": "it drives the shaft-speed and governor states integrated by the compiled kernel",
+    "engine": "it drives the shaft-speed, governor and reversing-gear states integrated by the compiled kernel",
     "governor": "its integrator is a state of the compiled kernel",
     "transmission": "it couples the engine to the shaft-speed state integrated by the compiled kernel",
     "shaft": "its speed is a state of the compiled kernel",

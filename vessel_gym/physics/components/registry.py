@@ -18,7 +18,7 @@ from vessel_gym.physics.hull import hull_forces
 from vessel_gym.physics.kinematics import ground_velocity
 from vessel_gym.physics.propulsion import (
     clutch_direction,
-    engine_torque,
+    engine_drive,
     governor,
     propeller_thrust_torque,
     shaft_acceleration,
@@ -83,10 +83,11 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         "engine",
         "",
         sf.Engine,
-        (),
+        ("reversing_gear",),  # moves only on a direct-reversing engine ([engine] reversing)
         ("", "", ""),
-        engine_torque,
-        "torque map (engine speed x fuel index), bilinear; the seed report's engine subsystem",
+        engine_drive,
+        "torque map (engine speed x fuel index), bilinear, the seed report's engine subsystem; a direct-reversing "
+        "two-stroke's reversing sequence (propulsion.direct_reversing_drive)",
     ),
     ComponentSpec(
         "governor",
