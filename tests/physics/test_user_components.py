@@ -14,6 +14,8 @@ class PolynomialHull:
     """An Abkowitz hull written in numpy by a user, reading the ship file's named derivatives
     (here the DTC: the seed's linear eq. 11 terms plus the file's nonlinear terms, rho L^2 U^2 normalisation)."""
 
+    slot = "hull"
+
     def __init__(self, ship):
         s = load_ship(ship)
         assert s.hull.normalisation == "rho_L2_U2" and s.hull.U_ref_m_s == 0.0
@@ -21,6 +23,18 @@ class PolynomialHull:
         self.rho = s.particulars.rho_kg_m3
         self.terms = [(abkowitz_term(k), v) for k, v in s.hull.derivatives.items() if abkowitz_term(k)]
         self.R = s.hull.resistance_N / s.hull.resistance_speed_m_s**2
+        d = s.hull.derivatives
+        L, f = self.L, self.rho  # seed eq. 5-6: rho L^3 (forces per acceleration), rho L^4, rho L^5
+        self.M_A = -np.array(
+            [
+                [d.get("X_udot", 0.0) * f * L**3, 0.0, 0.0],
+                [0.0, d.get("Y_vdot", 0.0) * f * L**3, d.get("Y_rdot", 0.0) * f * L**4],
+                [0.0, d.get("N_vdot", 0.0) * f * L**4, d.get("N_rdot", 0.0) * f * L**5],
+            ]
+        )
+
+    def added_mass(self):
+        return self.M_A
 
     def forces(self, sim, x):
         u, v, r, d = x[:, lo.X_U], x[:, lo.X_V], x[:, lo.X_R], x[:, lo.X_DELTA]

@@ -58,6 +58,11 @@ def captive_forces(
     ``include`` selects the components measured: "hull" (bare hull incl. added mass), "rudder", "propeller".
     """
     s = load_ship(ship)
+    if s.components:  # a user's component is a force on a batch of states, not a measured captive force
+        raise ValueError(
+            f"{s.path or s.name}: captive tests of a ship with its own components are not supported yet "
+            f"({', '.join(e.model for e in s.components)})"
+        )
     P = pack(s)
     u, v, r, udot, vdot, rdot, delta, rev = np.broadcast_arrays(
         *(np.asarray(a, dtype=float) for a in (u, v, r, udot, vdot, rdot, delta, rev))

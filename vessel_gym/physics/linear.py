@@ -37,13 +37,25 @@ def sway_yaw_matrices(ship: str | Ship, speed_m_s: float | None = None) -> tuple
     """(A, b) of the linearised sway-yaw model at ``speed_m_s`` (default: the ship's test speed)."""
     s = load_ship(ship)
     U = s.test_speed_m_s if speed_m_s is None else speed_m_s
-    P = pack(s)
+    if s.components:  # a ship file's own components take part (composed as the simulation composes them)
+        from vessel_gym.physics.simulation import Simulation
+
+        sim = Simulation(s, dt=1.0)
+        P = sim.Ps[0]
+
+        def extra(x: np.ndarray) -> np.ndarray:
+            return sim._component_forces(x[None, :])[0]
+    else:
+        P = pack(s)
+
+        def extra(x: np.ndarray) -> np.ndarray:
+            return np.zeros(3)
 
     def f(v: float, r: float, d: float) -> np.ndarray:
         x = np.zeros(lo.NX)
         x[lo.X_U], x[lo.X_V], x[lo.X_R], x[lo.X_DELTA] = U, v, r, d
         xd = np.zeros(lo.NX)
-        derivatives(P, x, np.zeros(lo.NU), np.zeros(lo.NE), np.zeros(3), xd)
+        derivatives(P, x, np.zeros(lo.NU), np.zeros(lo.NE), extra(x), xd)
         return np.array([xd[lo.X_V], xd[lo.X_R]])
 
     hv = 1e-6 * U
@@ -81,7 +93,8 @@ def fastest_rate(ship: str | Ship, speed_m_s: float | None = None) -> float:
 
     def f(x: np.ndarray) -> np.ndarray:
         xd = np.zeros(lo.NX)
-        derivatives(P, x, inp, env, np.zeros(3), xd)
+        F = sim._ext(x[None, :])[0] if sim.components else np.zeros(3)  # a ship file's own components
+        derivatives(P, x, inp, env, F, xd)
         return xd
 
     J = np.zeros((lo.NX, lo.NX))

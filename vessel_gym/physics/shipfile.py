@@ -151,6 +151,39 @@ class MMGHull:
     U_min_m_s: float = param(0.05, unit="m/s", lo=1e-4, hi=2.0)
 
 
+@dataclass(frozen=True)
+class ComponentEntry:
+    """A user's component named in a ship file: ``[hull] model = "pkg.module:Class"`` or a
+    ``[[components]]`` entry. ``model`` is the import path, ``cls`` the class it names, ``params`` its table
+    (the class's ``Params`` dataclass when it declares one, else the table as a dict), ``replace`` whether it
+    takes the slot of the ship's built-in, ``where`` the file and key for messages."""
+
+    slot: str
+    model: str
+    cls: type
+    params: object
+    replace: bool
+    where: str
+
+    def build(self, ship: Ship) -> object:
+        """An instance for ``ship``: ``cls(ship, params)``; a failure is a one-line ShipFileError."""
+        try:
+            return self.cls(ship, self.params)
+        except Exception as exc:  # noqa: BLE001 - user code: report it on one line naming the file and key
+            raise ShipFileError(
+                f"{self.where}: {self.model} failed to build ({type(exc).__name__}: {exc})"
+            ) from None
+
+
+@dataclass(frozen=True, kw_only=True)
+class UserHull:
+    """A hull of the user's own, ``[hull] model = "pkg.module:Class"`` (docs/components.md)."""
+
+    model: str
+    r_prime_max: float = 2.0  # unused by the compiled kernel without a built-in hull; kept for pack
+    U_min_m_s: float = 0.05
+
+
 @dataclass(frozen=True, kw_only=True)
 class Propeller:
     D_m: float = param(unit="m", lo=0.01, hi=15.0, doc="propeller diameter D_P")
@@ -292,7 +325,7 @@ class Ship:
     name: str
     source: Source
     particulars: Particulars
-    hull: AbkowitzHull | MMGHull
+    hull: AbkowitzHull | MMGHull | UserHull
     rudder: Rudder
     steering_gear: SteeringGear
     propeller: Propeller | None = None
@@ -300,6 +333,7 @@ class Ship:
     transmission: Transmission | None = None
     windage: Windage | None = None
     wave_drift: WaveDrift | None = None
+    components: tuple[ComponentEntry, ...] = ()
     path: str = ""
 
     @property
@@ -316,8 +350,10 @@ class Ship:
     def test_speed_m_s(self) -> float:
         return self.particulars.test_speed_kn * 1852.0 / 3600.0
 
-    def with_hull(self, hull: AbkowitzHull | MMGHull) -> Ship:
-        return dataclasses.replace(self, hull=hull)
+    def with_hull(self, hull: AbkowitzHull | MMGHull | UserHull) -> Ship:
+        """This ship with another hull (a user's hull component named by the file leaves with the old one)."""
+        kept = tuple(e for e in self.components if e.slot != "hull")
+        return dataclasses.replace(self, hull=hull, components=kept)
 
 
 _SECTIONS = {
@@ -460,7 +496,7 @@ def _check_plausible(parts: dict, where: str) -> None:
 
 def parse_ship(data: dict, where: str, name: str = "") -> Ship:
     """Build a :class:`Ship` from a parsed TOML document; ``where`` names the file in messages."""
-    allowed = set(_SECTIONS) | {"hull", "name"}
+    allowed = set(_SECTIONS) | {"hull", "name", "components"}
     for key in data:
         if key not in allowed:
             raise ShipFileError(f"{where}: unknown key {key!r} (allowed: {', '.join(sorted(allowed))})")
@@ -473,13 +509,21 @@ def parse_ship(data: dict, where: str, name: str = "") -> Ship:
         if not isinstance(hull_table, dict):
             raise ShipFileError(f"{where} [hull]: expected a table")
         model = hull_table.get("model")
+        user: list[ComponentEntry] = []
         if model == "abkowitz":
             hull = build(AbkowitzHull, hull_table, f"{where} [hull]")
             _check_abkowitz(hull, where)
         elif model == "mmg":
             hull = build(MMGHull, hull_table, f"{where} [hull]")
+        elif isinstance(model, str) and ":" in model:
+            hull = UserHull(model=model)
+            params = {k: v for k, v in hull_table.items() if k != "model"}
+            user = [_component_entry("hull", model, params, True, f"{where} [hull]")]
         else:
-            raise ShipFileError(f"{where} [hull] model: {model!r} is not one of 'abkowitz', 'mmg'")
+            raise ShipFileError(
+                f"{where} [hull] model: {model!r} is not one of 'abkowitz', 'mmg' or an import path 'pkg.module:Class'"
+            )
+        user += _component_list(data.get("components", []), where)
     except SpecError as exc:
         raise ShipFileError(str(exc)) from None
     p: Particulars = parts["particulars"]
@@ -506,9 +550,53 @@ def parse_ship(data: dict, where: str, name: str = "") -> Ship:
     return Ship(
         name=data.get("name", name),
         hull=hull,
+        components=tuple(user),
         path=where,
         **parts,
     )
+
+
+def _component_entry(slot: str, model: object, table: object, replace: bool, where: str) -> ComponentEntry:
+    """Resolve a user's component: import ``model``, check ``table`` against the class's ``Params``."""
+    from vessel_gym.physics.components import import_model
+
+    try:
+        cls = import_model(model, f"{where} model")
+    except ValueError as exc:
+        raise ShipFileError(str(exc)) from None
+    if not isinstance(table, dict):
+        raise ShipFileError(f"{where} params: expected a table")
+    declared = getattr(cls, "Params", None)
+    params = build(declared, table, f"{where} params") if declared is not None else dict(table)
+    return ComponentEntry(slot, str(model), cls, params, replace, where)
+
+
+def _component_list(entries: object, where: str) -> list[ComponentEntry]:
+    """The ``[[components]]`` array: each entry has ``slot``, ``model`` and optional ``params``, ``replace``."""
+    from vessel_gym.physics.components import SLOTS
+
+    if not isinstance(entries, list):
+        raise ShipFileError(f"{where} components: expected an array of tables [[components]]")
+    out = []
+    for i, entry in enumerate(entries):
+        w = f"{where} [[components]][{i}]"
+        if not isinstance(entry, dict):
+            raise ShipFileError(f"{w}: expected a table")
+        unknown = set(entry) - {"slot", "model", "params", "replace"}
+        if unknown:
+            raise ShipFileError(
+                f"{w}: unknown key {sorted(unknown)[0]!r} (allowed: model, params, replace, slot)"
+            )
+        if "model" not in entry:
+            raise ShipFileError(f"{w}: missing key 'model' (an import path 'pkg.module:Class')")
+        slot = entry.get("slot", "extra")
+        if slot not in SLOTS:
+            raise ShipFileError(f"{w} slot: {slot!r} is not one of {', '.join(SLOTS)}")
+        replace = entry.get("replace", False)
+        if not isinstance(replace, bool):
+            raise ShipFileError(f"{w} replace: expected true or false")
+        out.append(_component_entry(slot, entry["model"], entry.get("params", {}), replace, w))
+    return out
 
 
 def builtin_ships() -> list[str]:

@@ -19,6 +19,8 @@ from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import BridgeReading
+from vessel_gym.physics.components import ForceRecord, name_of
+from vessel_gym.physics.components.compose import compose, named_forces
 from vessel_gym.physics.environment import CALM, Environment, wrap_deg
 from vessel_gym.physics.geodesy import local_to_latlon
 from vessel_gym.physics.integrate import (
@@ -132,8 +134,10 @@ class Simulation:
         environment: one :class:`Environment` for all vessels (``set_environment`` changes one vessel).
         components: user :class:`ForceComponent` objects (evaluated in Python for the whole batch at every
             RK stage, :func:`~vessel_gym.physics.integrate.run_with_components`).
-        replace: names of built-in force components switched off because a user component replaces them:
-            any of "hull", "rudder", "wind", "waves".
+        replace: slots whose built-in component a user component replaces: "hull" (with its added mass; the
+            replacing hull gives ``added_mass()``), "rudder" (with a derivative rudder's hull delta terms),
+            "windage", "wave_drift" ("wind", "waves" too). A component in a slot a built-in fills without
+            ``replace``, or two in one slot, raise ValueError (docs/components.md).
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
     """
 
@@ -171,16 +175,19 @@ class Simulation:
         self.dt = float(dt)
         self.method = RK4 if method == "rk4" else EULER
         self.Ps = np.stack([pack(s) for s in self.ships])
-        switches = {
-            "hull": (lo.P_HULL_KIND, lo.HULL_NONE),
-            "rudder": (lo.P_RUD_KIND, lo.RUDDER_DERIVATIVES),
-            "wind": (lo.P_WIND_ON, 0.0),
-            "waves": (lo.P_WAVE_ON, 0.0),
-        }
-        for name in replace:
-            if name not in switches:
-                raise ValueError(f"replace: {name!r} is not one of {', '.join(switches)}")
-            self.Ps[:, switches[name][0]] = switches[name][1]
+        # the user's components act on every vessel, a ship file's on that ship's vessels; each slot is filled
+        # once and a replaced built-in contributes nothing (components.compose)
+        self.components = list(components)
+        self._masks: list[np.ndarray | None] = [None] * len(self.components)
+        for si, s in enumerate(self.ships):
+            own = [e.build(s) for e in s.components]
+            slots = [*replace, *(e.slot for e in s.components if e.replace)]
+            where = f"Simulation of {s.path or s.name}"
+            self.Ps[si] = compose(s, self.Ps[si], [*components, *own], slots, where)
+            mask = self.ship_index == si
+            if mask.any():
+                self.components += own
+                self._masks += [None if mask.all() else mask] * len(own)
         self.n = n
         self.state = np.zeros((n, lo.NX))
         self.inputs = np.zeros((n, lo.NU))
@@ -191,7 +198,6 @@ class Simulation:
         # reset ships one at a time, mostly to the same approach
         self._steady_cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.t = 0.0
-        self.components = list(components)
         self.reference_latlon_deg = reference_latlon_deg
         self.environments: list[Environment] = [environment] * n
         self.set_environment(environment)
@@ -483,9 +489,25 @@ class Simulation:
     def _component_forces(self, x: np.ndarray) -> np.ndarray:
         """Sum of the user components' forces (N, 3) on the batch of states ``x`` (N, NX)."""
         F = np.zeros((self.n, 3))
-        for c in self.components:
-            F += np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
+        for c, mask in zip(self.components, self._masks):
+            f = np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
+            F += f if mask is None else np.where(mask[:, None], f, 0.0)
         return F
+
+    def component_forces(self, x: np.ndarray | None = None) -> list[tuple[str, np.ndarray]]:
+        """(name, forces (N, 3)) of each Python component at the states ``x`` (default: the current state),
+        zero on vessels of other ships for a ship file's component."""
+        x = self.state if x is None else x
+        out = []
+        for c, mask in zip(self.components, self._masks):
+            f = np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
+            out.append((name_of(c), f if mask is None else np.where(mask[:, None], f, 0.0)))
+        return out
+
+    def named_forces(self) -> dict[str, ForceRecord]:
+        """Forces of every component at the current state by component name, each a record of X (N), Y (N),
+        N (N m) per vessel (components.compose.named_forces)."""
+        return named_forces(self)
 
     def _ext(self, x: np.ndarray) -> np.ndarray:
         """All external forces (N, 3) at the states ``x``: ``F_ext`` plus the user components'."""

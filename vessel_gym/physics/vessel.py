@@ -34,7 +34,7 @@ from vessel_gym.physics.kinematics import (
 )
 from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
 from vessel_gym.physics.seastate import drift_coefficient_table, wave_drift_forces
-from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, abkowitz_term
+from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull, abkowitz_term
 from vessel_gym.physics.steering import mmg_rudder_forces_beta, steering_gear_rate
 from vessel_gym.physics.units import DEG, RPM
 
@@ -47,6 +47,8 @@ def mass_matrix(ship: Ship) -> np.ndarray:
     L = ship.particulars.L_m
     rho = ship.particulars.rho_kg_m3
     h = ship.hull
+    if isinstance(h, UserHull):  # the user's hull adds its own (components.compose)
+        return np.array([[m, 0.0, 0.0], [0.0, m, xG * m], [0.0, xG * m, Iz]])
     if isinstance(h, MMGHull):
         d = ship.particulars.T_m
         mx = h.m_x * 0.5 * rho * L * L * d
@@ -131,6 +133,10 @@ def pack(ship: Ship) -> np.ndarray:
             "N_rrr",
         ):
             P[getattr(lo, "P_MMG_" + key.replace("_", "").upper())] = getattr(h, key)
+    elif isinstance(h, UserHull):
+        # no built-in hull: the rigid body's Coriolis terms stay (components.compose.remove_hull)
+        P[lo.P_HULL_KIND] = lo.HULL_NONE
+        P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m, m * pt.x_G_m, m, m * pt.x_G_m
     else:
         assert isinstance(h, AbkowitzHull)
         P[lo.P_HULL_KIND] = lo.HULL_ABKOWITZ

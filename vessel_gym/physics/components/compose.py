@@ -1,0 +1,207 @@
+"""Composing a vessel from built-in and user components: checked replacement, one component per slot, and the
+forces named by component.
+
+The built-ins live in the parameter row ``P`` of the compiled kernel (:func:`vessel_gym.physics.vessel.pack`);
+replacing a slot switches off everything its built-in contributes there:
+
+* ``hull``: the hull forces and its added mass (the mass matrix falls back to the rigid body's, plus the
+  replacing hull's ``added_mass()``), and the added-mass Coriolis terms (only the rigid body's, Fossen 2011
+  eq. 6.43 with the origin at midship, remain; the replacing hull's forces carry its own). On a ship whose
+  rudder is in the hull's delta terms, the rudder leaves with the hull.
+* ``rudder``: the MMG rudder, and the hull's delta terms (Y_d, N_d, Y_vvd, ...) of a derivative rudder.
+* ``windage``, ``wave_drift``: their loads.
+
+The engine, governor, shaft, transmission and steering gear are not replaceable yet: their states (shaft speed,
+governor integrator, rudder angle) are integrated by the compiled kernel, which a Python component cannot
+take over; ``current`` is kinematics, not a force. Asking for them raises a one-line ValueError.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from typing import Any
+
+import numpy as np
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.components import EXTRA, SLOTS, ForceRecord, name_of, slot_of
+from vessel_gym.physics.components.registry import BUILTINS, builtin
+from vessel_gym.physics.shipfile import Ship
+
+#: replace= names kept from before the slots were named
+ALIASES = {"wind": "windage", "waves": "wave_drift"}
+#: slots whose built-in a Python component cannot replace yet, and why
+NOT_REPLACEABLE = {
+    "propeller": "its torque drives the shaft-speed state integrated by the compiled kernel",
+    "engine": "it drives the shaft-speed, governor and reversing-gear states integrated by the compiled kernel",
+    "governor": "its integrator is a state of the compiled kernel",
+    "transmission": "it couples the engine to the shaft-speed state integrated by the compiled kernel",
+    "shaft": "its speed is a state of the compiled kernel",
+    "steering_gear": "the rudder angle is a state of the compiled kernel, stepped exactly",
+    "current": "the current is kinematics (velocities through the water), not a force",
+}
+REPLACEABLE = ("hull", "rudder", "windage", "wave_drift")
+
+
+def delta_monomials(P: np.ndarray) -> np.ndarray:
+    """Indices of the Abkowitz monomials of row ``P`` that contain the rudder angle (e_d > 0)."""
+    rows = P[lo.P_ABK_M : lo.P_ABK_M + lo.ABK_STRIDE * lo.MAX_MONOMIALS].reshape(
+        lo.MAX_MONOMIALS, lo.ABK_STRIDE
+    )
+    used = np.arange(lo.MAX_MONOMIALS) < int(P[lo.P_ABK_NM])
+    return np.flatnonzero(used & (rows[:, 3] > 0) & np.any(rows[:, 4:] != 0.0, axis=1))
+
+
+def builtin_slots(P: np.ndarray) -> dict[str, str]:
+    """The slots the built-ins of row ``P`` fill: slot -> name of the built-in (registry.BUILTINS)."""
+    filled = {"steering_gear": "steering_gear", "current": "current"}
+    kind = int(P[lo.P_HULL_KIND])
+    if kind == lo.HULL_ABKOWITZ:
+        filled["hull"] = "abkowitz_hull"
+    elif kind == lo.HULL_MMG:
+        filled["hull"] = "mmg_hull"
+    if P[lo.P_RUD_KIND] == lo.RUDDER_MMG:
+        filled["rudder"] = "mmg_rudder"
+    elif kind == lo.HULL_ABKOWITZ and len(delta_monomials(P)):
+        filled["rudder"] = "derivative_rudder"
+    if P[lo.P_PROP_ON] > 0.0:
+        for slot in ("propeller", "engine", "governor", "transmission", "shaft"):
+            filled[slot] = slot
+    if P[lo.P_WIND_ON] > 0.0:
+        filled["windage"] = "windage"
+    if P[lo.P_WAVE_ON] > 0.0:
+        filled["wave_drift"] = "wave_drift"
+    return filled
+
+
+def slot_name(name: str) -> str:
+    """A ``replace=`` name as a slot (``wind``, ``waves`` are kept as aliases); ValueError if not replaceable."""
+    slot = ALIASES.get(name, name)
+    if slot in NOT_REPLACEABLE:
+        raise ValueError(f"replace: {name!r} is not yet supported: {NOT_REPLACEABLE[slot]}")
+    if slot not in REPLACEABLE:
+        raise ValueError(f"replace: {name!r} is not one of {', '.join(REPLACEABLE + tuple(ALIASES))}")
+    return slot
+
+
+def rigid_body_matrix(ship: Ship) -> np.ndarray:
+    """M_RB about midship (kg, kg m, kg m^2), 3 DOF, centre of gravity x_G forward of midship."""
+    m, xG = ship.mass_kg, ship.particulars.x_G_m
+    Iz = ship.I_zG_kgm2 + m * xG * xG  # about the origin (parallel axes), as vessel.mass_matrix
+    return np.array([[m, 0.0, 0.0], [0.0, m, m * xG], [0.0, m * xG, Iz]])
+
+
+def set_mass(P: np.ndarray, M: np.ndarray) -> None:
+    """Store the mass matrix M (3x3) in row ``P`` as the kernel reads it (M11 and the inverse sway-yaw block)."""
+    P[lo.P_M11] = M[0, 0]
+    Minv = np.linalg.inv(M[1:, 1:])
+    P[lo.P_MI22], P[lo.P_MI23], P[lo.P_MI32], P[lo.P_MI33] = Minv[0, 0], Minv[0, 1], Minv[1, 0], Minv[1, 1]
+
+
+def remove_hull(P: np.ndarray, ship: Ship) -> None:
+    """Switch off the built-in hull of row ``P``: its forces, added mass and added-mass Coriolis terms."""
+    m, xG = ship.mass_kg, ship.particulars.x_G_m
+    P[lo.P_HULL_KIND] = lo.HULL_NONE
+    set_mass(P, rigid_body_matrix(ship))
+    # -C_RB(nu) nu about midship: X + m (v r + x_G r^2), Y - m u r, N - m x_G u r
+    P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m, m * xG, m, m * xG
+
+
+def remove_rudder(P: np.ndarray) -> None:
+    """Switch off the built-in rudder of row ``P``: the MMG rudder and the hull's delta terms."""
+    P[lo.P_RUD_KIND] = lo.RUDDER_DERIVATIVES
+    for k in delta_monomials(P):
+        start = lo.P_ABK_M + lo.ABK_STRIDE * k
+        P[start + 4 : start + 7] = 0.0  # c_X, c_Y, c_N of the monomial; its exponents stay (a zero term)
+
+
+def _added_mass(component: Any, where: str) -> np.ndarray:
+    fn = getattr(component, "added_mass", None)
+    if not callable(fn):
+        raise ValueError(
+            f"{where}: hull component {name_of(component)} has no added_mass(); a hull brings its added mass "
+            "(the built-in hull's goes with it): return M_A, 3x3 in kg, kg m, kg m^2 about midship (zeros if none)"
+        )
+    M_A = np.asarray(fn(), dtype=float)
+    if M_A.shape != (3, 3) or not np.all(np.isfinite(M_A)):
+        raise ValueError(f"{where}: {name_of(component)}.added_mass() must return a finite 3x3 array")
+    return M_A
+
+
+def compose(
+    ship: Ship, P: np.ndarray, components: Sequence[Any], replace: Iterable[str], where: str = "Simulation"
+) -> np.ndarray:
+    """Row ``P`` of ``ship`` with the built-ins of the ``replace`` slots switched off, after checking that each
+    slot is filled once: raises ValueError (one line naming ``where``) for an unknown or unsupported slot, a
+    component in a slot a built-in still fills, two components in one slot, or a hull without added mass."""
+    P = P.copy()
+    slots = [slot_name(name) for name in replace]
+    if "hull" in slots:
+        remove_hull(P, ship)
+    if "rudder" in slots:
+        remove_rudder(P)
+    if "windage" in slots:
+        P[lo.P_WIND_ON] = 0.0
+    if "wave_drift" in slots:
+        P[lo.P_WAVE_ON] = 0.0
+    filled = builtin_slots(P)
+    taken: dict[str, str] = {}
+    for c in components:
+        slot = slot_of(c)
+        if slot not in SLOTS:
+            raise ValueError(
+                f"{where}: component {name_of(c)} has slot {slot!r}, not one of {', '.join(SLOTS)}"
+            )
+        if slot == EXTRA:
+            continue
+        if slot in NOT_REPLACEABLE:
+            raise ValueError(
+                f"{where}: a component in slot {slot!r} is not yet supported: {NOT_REPLACEABLE[slot]}"
+            )
+        if slot in taken:
+            raise ValueError(f"{where}: slot {slot!r} is filled twice ({taken[slot]} and {name_of(c)})")
+        if slot in filled:
+            raise ValueError(
+                f"{where}: {name_of(c)} fills slot {slot!r}, which the ship's {filled[slot]} fills; "
+                f"replace it (replace=[{slot!r}]; in a ship file's [[components]] replace = true) or use slot 'extra'"
+            )
+        taken[slot] = name_of(c)
+        if slot == "hull":
+            M = rigid_body_matrix(ship) + _added_mass(c, where)
+            set_mass(P, M)
+    if "hull" in slots and "hull" not in taken:
+        raise ValueError(
+            f"{where}: replace=['hull'] needs a component with slot = 'hull' and added_mass() (the built-in "
+            "hull's added mass leaves with it)"
+        )
+    return P
+
+
+def named_forces(sim: Any, x: np.ndarray | None = None) -> dict[str, ForceRecord]:
+    """The forces of every component on every vessel of ``sim`` at the states ``x`` (default: its state),
+    by component name: the built-ins present (registry names, from the kernel's force terms) and the user
+    components (their names). Their sum plus the rigid body's Coriolis terms is the right-hand side of
+    M nu' = tau."""
+    from vessel_gym.physics.integrate import forces_batch
+    from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT
+
+    x = sim.state if x is None else x
+    out = np.zeros((sim.n, N_OUT))
+    forces_batch(sim.Ps, sim.ship_index, x, sim.inputs, sim.env, out)
+    column = {name: i for i, name in enumerate(FORCE_NAMES)}
+    present = [builtin_slots(P) for P in sim.Ps]
+    record: dict[str, ForceRecord] = {}
+    for spec in BUILTINS:
+        if spec.name == "derivative_rudder" or not any(spec.forces):
+            continue  # the delta terms are part of X_H, Y_H, N_H; no force of its own
+        on = np.array([spec.name in present[si].values() for si in sim.ship_index])
+        if not on.any():
+            continue
+        cols = [out[:, column[f]] if f else np.zeros(sim.n) for f in spec.forces]
+        record[spec.name] = ForceRecord(*(np.where(on, c, 0.0) for c in cols))
+    for name, F in sim.component_forces(x):
+        record[name] = ForceRecord(F[:, 0], F[:, 1], F[:, 2])
+    return record
+
+
+__all__ = ["builtin", "compose", "named_forces", "builtin_slots", "slot_name"]
