@@ -72,8 +72,8 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust):
     The normal force is evaluated as F_N = 1/2 rho A_R f_alpha U_R (u_R sin(delta) - v_R cos(delta)),
     U_R = sqrt(u_R^2 + v_R^2): the same equation (expand sin(delta - atan2(v_R, u_R))) without the atan2,
     physical when the inflow reverses (ship moving astern: the lift reverses with u_R) and 0 at U_R = 0.
-    v_R is written U gamma_R beta - gamma_R l'_R r L (= U gamma_R beta_R), with no division by U, so that a
-    ship turning on the spot still sees the cross flow at its rudder.
+    Below U_min, v_R is evaluated as gamma_R (U beta - l'_R r L) (= U gamma_R beta_R), with no division by U,
+    so that a ship turning on the spot still sees the cross flow at its rudder.
 
     Sternway (u < 0; the ahead form at u >= 0 is unchanged). Flow straightening by the hull (gamma_R, l'_R),
     the rudder wake (1 - w_R = eps (1 - w_P)) and the hull-rudder interaction (t_R, a_H) are properties of
@@ -108,10 +108,13 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust):
         if jet:
             u_R += eps * math.sqrt(eta) * P[lo.P_KAPPA] * math.sqrt(8.0 * thrust / (rho * math.pi * D * D))
     l_R = P[lo.P_LRP] + s_a * (P[lo.P_XRP] - P[lo.P_LRP])
-    w_R = U * beta - l_R * r * L  # U beta_R, m/s
-    gamma = P[lo.P_GRM] if w_R < 0.0 else P[lo.P_GRP]
+    if U >= P[lo.P_U_MIN]:  # the published form, in the published order of operations
+        beta_R = beta - l_R * (r * L / U)
+    else:  # here beta_R stands for U beta_R (m/s), without the division: a ship turning on the spot
+        beta_R = U * beta - l_R * r * L
+    gamma = P[lo.P_GRM] if beta_R < 0.0 else P[lo.P_GRP]
     gamma += s_a * (1.0 - gamma)
-    v_R = gamma * w_R
+    v_R = U * gamma * beta_R if U >= P[lo.P_U_MIN] else gamma * beta_R
     U_R = math.sqrt(u_R * u_R + v_R * v_R)
     sd = math.sin(delta)
     cd = math.cos(delta)
