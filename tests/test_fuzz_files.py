@@ -111,7 +111,7 @@ def _fake_imo_report(ship, **_kw):
     """Stands in for the IMO manoeuvres: the loading and packing a real report starts with."""
     s = load_ship(ship)
     pack(s)
-    return SimpleNamespace(to_dict=lambda: {"ship": s.name}, table=lambda: s.name)
+    return SimpleNamespace(to_dict=lambda: {"ship": s.name}, table=lambda: s.name, diverged=False)
 
 
 def _fake_play(scenario, **_kw):

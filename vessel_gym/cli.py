@@ -436,7 +436,7 @@ def _cmd_imo(args) -> int:
     if written and not args.json:
         print("wrote: " + ", ".join(str(f) for f in written), file=sys.stderr)
     _emit(report.to_dict(), args.json, report.table())
-    return 0
+    return 1 if report.diverged else 0  # a run that ran away is a failure of the simulation, not a verdict
 
 
 def _cmd_manoeuvre(args) -> int:
@@ -452,16 +452,23 @@ def _cmd_manoeuvre(args) -> int:
         target, is_dir = output_target(args.plot, (".png", ".svg", ".pdf"), "--plot")
         plot_file = target / f"{safe_name(ship.name)}_{kind}.png" if is_dir else target
         check_free([plot_file], args.force, "--plot")
-    if kind == "turning-circle":
-        res = trials.turning_circle(ship, args.rudder, args.speed)
-    elif kind == "zigzag":
-        res = trials.zigzag(ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots)
-    elif kind == "initial-turning":
-        res = trials.initial_turning(ship, args.rudder, args.speed)
-    elif kind == "stopping":
-        res = trials.stopping(ship, args.speed)
-    else:
-        res = trials.pull_out(ship, args.rudder, args.speed)
+    try:
+        if kind == "turning-circle":
+            res = trials.turning_circle(ship, args.rudder, args.speed)
+        elif kind == "zigzag":
+            res = trials.zigzag(ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots)
+        elif kind == "initial-turning":
+            res = trials.initial_turning(ship, args.rudder, args.speed)
+        elif kind == "stopping":
+            res = trials.stopping(ship, args.speed)
+        else:
+            res = trials.pull_out(ship, args.rudder, args.speed)
+    except trials.ManoeuvreDiverged as exc:
+        if not args.json:
+            raise  # one line on stderr, exit code 1
+        d = {"ship": ship.name, "manoeuvre": kind, "verdict": "diverged", "reason": str(exc), "t_s": exc.t_s}
+        _emit(d, True, "")
+        return 1
     if plot_file is not None:
         from vessel_gym.manoeuvres.plots import plot_track
 

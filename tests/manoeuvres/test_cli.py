@@ -121,3 +121,42 @@ def test_console_script_runs():
         [sys.executable, "-m", "vessel_gym.cli", "ships"], capture_output=True, text=True, check=True
     )
     assert "kvlcc2" in res.stdout.split()
+
+
+def _broken_ship(tmp_path):
+    """Mariner with X_vv of the wrong sign and 100 x its size: any turn accelerates the ship without bound
+    while every number stays finite (a runaway only the physical bounds catch)."""
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[2] / "vessel_gym" / "physics" / "data" / "ships" / "mariner.toml"
+    text = src.read_text()
+    assert "X_vv = -8.990000e-03" in text
+    p = tmp_path / "broken_mariner.toml"
+    p.write_text(text.replace("X_vv = -8.990000e-03", "X_vv = 8.990000e-01"))
+    return str(p)
+
+
+def test_manoeuvre_that_runs_away_is_not_scored(capsys, tmp_path):
+    ship = _broken_ship(tmp_path)
+    code, out, _ = run(capsys, "manoeuvre", "turning-circle", "--ship", ship, "--json")
+    assert code == 1
+    d = json.loads(out)
+    assert d["verdict"] == "diverged"
+    assert "speed through the water" in d["reason"] and "exceeds" in d["reason"]
+    assert "advance_L" not in d
+    code, out, err = run(capsys, "manoeuvre", "turning-circle", "--ship", ship)
+    assert code == 1 and out == ""
+    assert err.count("\n") == 1 and "diverged" in err
+
+
+@pytest.mark.slow
+def test_imo_report_with_a_runaway_is_not_pass(capsys, tmp_path):
+    code, out, _ = run(capsys, "imo", _broken_ship(tmp_path), "--json")
+    assert code == 1
+    d = json.loads(out)
+    assert d["pass"] is False and d["verdict"] == "DIVERGED"
+    turning = [c for c in d["criteria"] if c["name"] == "advance"]
+    assert turning and all(c["verdict"] == "diverged" and c["value"] is None for c in turning)
+    assert all("exceeds" in c["note"] for c in turning)
+    code, out, _ = run(capsys, "imo", _broken_ship(tmp_path))
+    assert code == 1 and "overall: DIVERGED" in out

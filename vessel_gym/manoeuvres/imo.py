@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 from vessel_gym.manoeuvres.trials import (
     InitialTurning,
+    ManoeuvreDiverged,
     ManoeuvreIncomplete,
     Stopping,
     TurningCircle,
@@ -57,10 +58,17 @@ class Criterion:
     limit: float
     unit: str
     note: str = ""
+    # the run ran away (non-finite or physically impossible state): never scored, ``note`` says why
+    diverged: bool = False
 
     @property
     def passed(self) -> bool:
-        return bool(self.value is not None and self.value <= self.limit)
+        return bool(not self.diverged and self.value is not None and self.value <= self.limit)
+
+    @property
+    def verdict(self) -> str:
+        """One of "diverged", "pass" or "fail"."""
+        return "diverged" if self.diverged else ("pass" if self.passed else "fail")
 
     def to_dict(self) -> dict:
         d = {
@@ -70,6 +78,7 @@ class Criterion:
             "limit": self.limit,
             "unit": self.unit,
             "pass": self.passed,
+            "verdict": self.verdict,
         }
         if self.note:
             d["note"] = self.note
@@ -93,6 +102,15 @@ class ImoReport:
     def passed(self) -> bool:
         return all(c.passed for c in self.criteria)
 
+    @property
+    def diverged(self) -> bool:
+        """Some trial ran away, so the report cannot pass (the command exits with 1)."""
+        return any(c.diverged for c in self.criteria)
+
+    @property
+    def verdict(self) -> str:
+        return "DIVERGED" if self.diverged else ("PASS" if self.passed else "FAIL")
+
     def criteria_named(self, name: str) -> list[Criterion]:
         return [c for c in self.criteria if c.name == name]
 
@@ -104,6 +122,7 @@ class ImoReport:
             "L_over_V_s": self.L_over_V_s,
             "criteria": [c.to_dict() for c in self.criteria],
             "pass": self.passed,
+            "verdict": self.verdict,
         }
         if "pull_out" in self.trials:
             d["pull_out"] = self.trials["pull_out"].to_dict()
@@ -122,10 +141,10 @@ class ImoReport:
             val = "   n/a" if c.value is None else f"{c.value:9.2f}"
             lines.append(
                 f"{c.name:<28}{c.side:<11}{val:>9}{c.limit:9.2f}  {c.unit:<5}"
-                f"{'PASS' if c.passed else 'FAIL':>7}" + (f"  ({c.note})" if c.note else "")
+                f"{c.verdict.upper():>7}" + (f"  ({c.note})" if c.note else "")
             )
         lines.append("-" * 71)
-        lines.append(f"overall: {'PASS' if self.passed else 'FAIL'}")
+        lines.append(f"overall: {self.verdict}")
         return "\n".join(lines)
 
 
@@ -202,6 +221,11 @@ def criteria_for(result, ship: str | Ship) -> list[Criterion]:
     return []
 
 
+def _missing(name: str, side: str, limit: float, unit: str, exc: ManoeuvreIncomplete) -> Criterion:
+    """The criterion of a trial that gave no value; a run that diverged says so and is never scored."""
+    return Criterion(name, side, None, limit, unit, str(exc), isinstance(exc, ManoeuvreDiverged))
+
+
 def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
     """Run every MSC.137(76) trial to both sides at the ship's test speed and evaluate the criteria;
     ``with_pull_out`` adds the pull-out test (no IMO limit) to the report's trials."""
@@ -220,15 +244,15 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
             trials[f"turning_{side}"] = tc
             crit += turning_criteria(tc)
         except ManoeuvreIncomplete as exc:
-            crit.append(Criterion("advance", side, None, ADVANCE_LIMIT_L, "L", str(exc)))
-            crit.append(Criterion("tactical_diameter", side, None, TACTICAL_DIAMETER_LIMIT_L, "L", str(exc)))
+            crit.append(_missing("advance", side, ADVANCE_LIMIT_L, "L", exc))
+            crit.append(_missing("tactical_diameter", side, TACTICAL_DIAMETER_LIMIT_L, "L", exc))
     for side, sg in sides:
         try:
             it = initial_turning(s, sg * 10.0)
             trials[f"initial_turning_{side}"] = it
             crit += initial_turning_criteria(it)
         except ManoeuvreIncomplete as exc:
-            crit.append(Criterion("initial_turning", side, None, INITIAL_TURNING_LIMIT_L, "L", str(exc)))
+            crit.append(_missing("initial_turning", side, INITIAL_TURNING_LIMIT_L, "L", exc))
     for angle in (10.0, 20.0):
         limits = zigzag_limits(angle, LV)
         for side, sg in sides:
@@ -239,13 +263,13 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
             except ManoeuvreIncomplete as exc:
                 names = [f"zigzag_{angle:.0f}_first_overshoot", f"zigzag_{angle:.0f}_second_overshoot"]
                 for nm, lim in zip(names, limits):
-                    crit.append(Criterion(nm, side, None, lim, "deg", str(exc)))
+                    crit.append(_missing(nm, side, lim, "deg", exc))
     try:
         st = stopping(s)
         trials["stopping"] = st
         crit += stopping_criteria(st)
     except ManoeuvreIncomplete as exc:
-        crit.append(Criterion("stopping_track_reach", "ahead", None, STOPPING_LIMIT_L, "L", str(exc)))
+        crit.append(_missing("stopping_track_reach", "ahead", STOPPING_LIMIT_L, "L", exc))
     if with_pull_out:
         try:
             trials["pull_out"] = pull_out(s)

@@ -24,6 +24,7 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 th { background: #f0f0f0; }
 .PASS { color: #fff; background: #1a7f37; font-weight: bold; text-align: center; }
 .FAIL { color: #fff; background: #c62828; font-weight: bold; text-align: center; }
+.DIVERGED { color: #fff; background: #6a1b9a; font-weight: bold; text-align: center; }
 .overall { font-size: 1.1em; padding: 0.3em 0.8em; display: inline-block; }
 .note { color: #555; font-size: 0.9em; }
 figure { margin: 1em 0; page-break-inside: avoid; }
@@ -99,7 +100,7 @@ def report_html(report: ImoReport, pngs: dict[str, bytes] | None = None) -> str:
     """The report as one self-contained HTML document (plots embedded as base64 PNG; ``pngs``: the plots
     already rendered by :func:`~vessel_gym.manoeuvres.plots.report_pngs`)."""
     s = report.spec
-    verdict = "PASS" if report.passed else "FAIL"
+    verdict = report.verdict
     parts = [
         "<!DOCTYPE html>",
         '<html lang="en"><head><meta charset="utf-8">',
@@ -127,7 +128,7 @@ def report_html(report: ImoReport, pngs: dict[str, bytes] | None = None) -> str:
     ]
     for c in report.criteria:
         val = "n/a" if c.value is None else f"{c.value:.2f}"
-        res = "PASS" if c.passed else "FAIL"
+        res = c.verdict.upper()
         parts.append(
             f"<tr><td>{_e(_CRITERION_TEXT.get(c.name, c.name))}</td><td>{_e(c.side)}</td>"
             f'<td class="num">{val}</td><td class="num">&le; {c.limit:.2f}</td><td>{_e(c.unit)}</td>'

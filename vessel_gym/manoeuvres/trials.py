@@ -35,6 +35,16 @@ class ManoeuvreIncomplete(RuntimeError):
     """The manoeuvre's defining event was not reached (e.g. the ship never turned 180 deg)."""
 
 
+class ManoeuvreDiverged(ManoeuvreIncomplete):
+    """The simulation ran away (non-finite or physically impossible state, :meth:`Simulation.divergence`):
+    the run is not scored. ``reason`` is that sentence, ``t_s`` the time it was detected."""
+
+    def __init__(self, reason: str, t_s: float) -> None:
+        super().__init__(f"the simulation diverged at t = {t_s:.1f} s: {reason}")
+        self.reason = reason
+        self.t_s = t_s
+
+
 class Track:
     """Time histories of a trial (SI, radians; heading unwrapped, relative to the original course).
 
@@ -133,7 +143,7 @@ def _run(
         if helm is not None:
             sim.set_helm(rudder_order_rad=helm(float(sim.heading[0])))
         if sim.step(1) == 0:
-            raise ManoeuvreIncomplete(f"the simulation diverged at t = {sim.t:.1f} s")
+            raise ManoeuvreDiverged(sim.divergence(0) or "the state became non-finite", sim.t)
         track.append(sim)
         if done():
             return True

@@ -26,9 +26,13 @@ def _clip(x, lo_, hi):
 
 @njit(cache=True)
 def drift_angle(u, v, U):
-    """Hull drift angle beta = atan2(-v, u), rad, in the MMG sign convention (Yasukawa & Yoshimura 2015);
+    """Drift angle of the flow past the hull, beta = atan2(-v, |u|), rad, in the MMG sign convention
+    (Yasukawa & Yoshimura 2015): the published beta = atan2(-v, u) ahead (u >= 0), and in sternway the angle
+    between the flow and the ship's fore-aft line, so that beta stays in [-pi/2, pi/2] and the small-drift
+    formulas of wake and rudder that read it (eq. 15-16, 26-27) are never evaluated at beta ~ +-180 deg,
+    where atan2 jumps by 2 pi between v = -0 and v = +0. Continuous through u = 0, v = 0 and +-90 deg drift;
     0 at rest (U = sqrt(u^2 + v^2) <= 1e-9 m/s), where it is undefined. Wake and rudder share it."""
-    return math.atan2(-v, u) if U > 1e-9 else 0.0
+    return math.atan2(-v, abs(u)) if U > 1e-9 else 0.0
 
 
 @njit(cache=True)
@@ -45,7 +49,11 @@ def abkowitz_forces(P, u, v, r, delta):
     L = P[lo.P_L]
     U = math.sqrt(u * u + v * v)
     Ue = max(U, P[lo.P_U_MIN])
-    up = (u - P[lo.P_HULL_UREF]) / Ue
+    # the surge perturbation u' = (u - U_ref)/U is a small quantity in the fitted range (PMM tests near the
+    # approach speed); unbounded it grows as U_ref/U_min at rest, where it turned the bias terms Y_0uu, N_0uu
+    # into a finite force and drove a stopped Mariner to 100 kn astern. |u'| <= 1 (the speed halved or doubled)
+    # keeps every term O(U^2), so the hull forces vanish at rest; inside that range the model is as published.
+    up = _clip((u - P[lo.P_HULL_UREF]) / Ue, -1.0, 1.0)
     vp = v / Ue
     rp = _clip(r * L / Ue, -P[lo.P_RP_MAX], P[lo.P_RP_MAX])
     pu = (1.0, up, up * up, up * up * up, up * up * up * up)

@@ -103,6 +103,61 @@ class _DriverChoice:
             k = (hi_c / lo_c - 1.0) / DRIVER_TRIAL_COST
             self.every = int(min(max(k, DRIVER_TRIAL_EVERY[0]), DRIVER_TRIAL_EVERY[1]))
 
+# Runaway detection: a state a ship cannot physically reach means the model left its valid range, even when
+# every number is finite. The IMO test speed is at least 90 % of the speed at 85 % MCR (MSC.137(76) §4.2.1),
+# so by the cube law of power the speed at full power is U_full = U_test / 0.9 / 0.85^(1/3) = 1.172 U_test.
+FULL_POWER_SPEED_FACTOR = 1.0 / (0.9 * 0.85 ** (1.0 / 3.0))  # U_full / U_test, -
+RUNAWAY_SPEED_FACTOR = 3.0  # speed through the water / U_full, -
+# rate of turn as r' = r L / U_full: a steady turn has r' = 2 L / D, about 0.7 for the KVLCC2 at 35 deg rudder
+# (steady diameter about 3 L) and less at the reduced speed in the turn, so |r'| = 2 at full-power speed is
+# beyond a ship under its own power or pushed by tugs
+RUNAWAY_RATE_PRIME = 2.0  # -
+# the governor holds rated speed, and the overspeed trip acts at no more than 1.2 x rated (IACS UR M3)
+RUNAWAY_SHAFT_FACTOR = 1.5  # |shaft speed| / rated shaft speed, -
+RUNAWAY_OK, RUNAWAY_NONFINITE, RUNAWAY_SPEED, RUNAWAY_RATE, RUNAWAY_SHAFT = 0, 1, 2, 3, 4
+
+
+@njit(cache=True)
+def flag_runaway(X, ship_index, limits, alive, why):
+    """Mark dead every alive vessel whose speed through the water, rate of turn or shaft speed is beyond its
+    ship's bounds ``limits[ship] = (U_max m/s, r_max rad/s, n_max rev/s)``, with the reason in ``why``
+    (RUNAWAY_*); a vessel the integrator stopped on a non-finite state gets RUNAWAY_NONFINITE. The state is
+    kept as it was when flagged. Returns the number of vessels alive."""
+    count = 0
+    for b in range(X.shape[0]):
+        if not alive[b]:
+            if why[b] == RUNAWAY_OK:
+                why[b] = RUNAWAY_NONFINITE
+            continue
+        lim = limits[ship_index[b]]
+        u = X[b, lo.X_U]
+        v = X[b, lo.X_V]
+        code = RUNAWAY_OK
+        if u * u + v * v > lim[0] * lim[0]:
+            code = RUNAWAY_SPEED
+        elif abs(X[b, lo.X_R]) > lim[1]:
+            code = RUNAWAY_RATE
+        elif abs(X[b, lo.X_REV]) > lim[2]:
+            code = RUNAWAY_SHAFT
+        why[b] = code
+        if code == RUNAWAY_OK:
+            count += 1
+        else:
+            alive[b] = False
+    return count
+
+
+def runaway_limits(ship: Ship) -> tuple[float, float, float]:
+    """(U_max m/s, r_max rad/s, n_max rev/s) beyond which a vessel of ``ship`` is flagged as run away."""
+    U_full = FULL_POWER_SPEED_FACTOR * ship.test_speed_m_s
+    U_max = RUNAWAY_SPEED_FACTOR * U_full
+    r_max = RUNAWAY_RATE_PRIME * U_full / ship.particulars.L_m
+    n_max = math.inf
+    if ship.engine is not None:
+        gear = ship.transmission.gear_ratio if ship.transmission is not None else 1.0
+        n_max = RUNAWAY_SHAFT_FACTOR * ship.engine.rated_rpm / gear / 60.0
+    return U_max, r_max, n_max
+
 
 class ForceComponent(Protocol):
     """A user component written in plain Python: extra forces on every vessel of the batch.
@@ -194,6 +249,9 @@ class Simulation:
         self.env = np.zeros((n, lo.NE))
         self.F_ext = np.zeros((n, 3))
         self.alive = np.ones(n, dtype=np.bool_)
+        # why each vessel stopped (RUNAWAY_*, 0 while alive) and the bounds it is held to, by ship
+        self.why_dead = np.zeros(n, dtype=np.int64)
+        self._runaway_limits = np.array([runaway_limits(s) for s in self.ships], dtype=float)
         # steady approaches solved so far, by (parameter row, speed, heading, environment row): environments
         # reset ships one at a time, mostly to the same approach
         self._steady_cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
@@ -252,6 +310,7 @@ class Simulation:
         self.state[idx, lo.X_N] = self._at(x_m, idx)
         self.state[idx, lo.X_E] = self._at(y_m, idx)
         self.alive[idx] = True
+        self.why_dead[idx] = RUNAWAY_OK
         if k is None:
             self.t = 0.0
 
@@ -278,6 +337,7 @@ class Simulation:
         self.state[k, lo.X_N] = self._one(x_m, k)
         self.state[k, lo.X_E] = self._one(y_m, k)
         self.alive[k] = True
+        self.why_dead[k] = RUNAWAY_OK
 
     def _reset_steady(self, idx: np.ndarray, speed_m_s, heading_deg) -> None:
         """Steady approaches of the vessels ``idx`` without user components, one solve per distinct approach
@@ -445,7 +505,7 @@ class Simulation:
         if self.components:
             # a diverging vessel overflows in the components' numpy; it is flagged, not warned about
             with np.errstate(all="ignore"):
-                alive = run_with_components(
+                run_with_components(
                     self.Ps,
                     self.ship_index,
                     self.state,
@@ -465,7 +525,7 @@ class Simulation:
                 t0 = time.perf_counter()
             else:
                 driver = -1
-            alive = (run_parallel if driver == 1 else run_serial)(
+            (run_parallel if driver == 1 else run_serial)(
                 self.Ps,
                 self.ship_index,
                 self.state,
@@ -480,7 +540,32 @@ class Simulation:
             if driver >= 0:
                 self._driver.record(driver, time.perf_counter() - t0, work)
         self.t += nsteps * self.dt
-        return int(alive)
+        return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))
+
+    def divergence(self, k: int = 0) -> str | None:
+        """Why vessel k stopped integrating, as one sentence with the value and its bound, or None while it
+        runs: a non-finite state, or a physically impossible speed, rate of turn or shaft speed."""
+        code = int(self.why_dead[k])
+        if self.alive[k] and code == RUNAWAY_OK:
+            return None
+        U_max, r_max, n_max = self._runaway_limits[self.ship_index[k]]
+        x = self.state[k]
+        if code == RUNAWAY_SPEED:
+            return (
+                f"speed through the water {math.hypot(x[lo.X_U], x[lo.X_V]) / KNOT_M_S:.4g} kn exceeds "
+                f"{U_max / KNOT_M_S:.4g} kn ({RUNAWAY_SPEED_FACTOR:g} x the speed at full power)"
+            )
+        if code == RUNAWAY_RATE:
+            return (
+                f"rate of turn {abs(x[lo.X_R]) / DEG:.4g} deg/s exceeds {r_max / DEG:.4g} deg/s "
+                f"(r' = {RUNAWAY_RATE_PRIME:g} at the speed at full power)"
+            )
+        if code == RUNAWAY_SHAFT:
+            return (
+                f"shaft speed {abs(x[lo.X_REV]) * 60.0:.4g} rpm exceeds {n_max * 60.0:.4g} rpm "
+                f"({RUNAWAY_SHAFT_FACTOR:g} x rated)"
+            )
+        return "the state became non-finite"
 
     def advance(self, duration_s: float) -> int:
         """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""

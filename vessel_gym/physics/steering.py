@@ -60,7 +60,8 @@ def mmg_rudder_forces(P, u, v, r, delta, w_P, thrust):
 @njit(cache=True)
 def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust):
     """Rudder forces, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship), at surge speed u,
-    speed U = sqrt(u^2 + v^2) and drift angle beta (:func:`hull.drift_angle`), which the vessel computes once.
+    speed U = sqrt(u^2 + v^2) and flow drift angle beta (:func:`hull.drift_angle`, in [-pi/2, pi/2]), which
+    the vessel computes once.
 
     F_N = 1/2 rho A_R U_R^2 f_alpha sin(alpha_R), alpha_R = delta - atan2(v_R, u_R),
     v_R = U gamma_R beta_R, beta_R = beta - l'_R r'.
@@ -70,30 +71,57 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust):
     harbour work). Astern thrust gives no slipstream over the rudder (u_R = eps u_P).
     The normal force is evaluated as F_N = 1/2 rho A_R f_alpha U_R (u_R sin(delta) - v_R cos(delta)),
     U_R = sqrt(u_R^2 + v_R^2): the same equation (expand sin(delta - atan2(v_R, u_R))) without the atan2,
-    physical when the inflow reverses (ship moving astern) and 0 at U_R = 0.
+    physical when the inflow reverses (ship moving astern: the lift reverses with u_R) and 0 at U_R = 0.
+    Below U_min, v_R is evaluated as gamma_R (U beta - l'_R r L) (= U gamma_R beta_R), with no division by U,
+    so that a ship turning on the spot still sees the cross flow at its rudder.
+
+    Sternway (u < 0; the ahead form at u >= 0 is unchanged). Flow straightening by the hull (gamma_R, l'_R),
+    the rudder wake (1 - w_R = eps (1 - w_P)) and the hull-rudder interaction (t_R, a_H) are properties of
+    ahead motion, where the rudder works in the hull's wake (Yasukawa & Yoshimura 2015 §2.4). Going astern
+    the rudder is the leading appendage and sees the undisturbed flow: u_R = u, gamma_R = 1, the lateral
+    inflow at its geometric position x_R, no interaction. This follows the four-quadrant rudder of Kose et al. (1982) and
+    Yoshimura, Nakao & Ishibashi (2009), where flow straightening and interaction act only with the rudder
+    downstream of the hull; the blending below is our choice (docs/physics.md). These ahead-only terms fade with the
+    astern share of the motion, s_a = max(-u, 0) / U (0 at 90 deg drift, 1 straight astern), so the forces are
+    continuous through u = 0 and +-90 deg drift. An ahead-turning propeller (T > 0) while moving astern adds
+    its jet at bollard strength, eps sqrt(eta) kappa sqrt(8 T / (rho pi D^2)), continuous with the ahead
+    form at u = 0; an astern-turning one adds nothing (its race goes forward, away from the rudder).
     """
     L = P[lo.P_L]
     rho = P[lo.P_RHO]
-    Ue = max(U, P[lo.P_U_MIN])
     u_P = u * (1.0 - w_P)
     D = P[lo.P_DP]
     eta = P[lo.P_ETA]
     eps = P[lo.P_EPS]
-    if thrust > 0.0 and u_P >= 0.0 and P[lo.P_PROP_ON] > 0.0:
-        slip = math.sqrt(u_P * u_P + 8.0 * thrust / (rho * math.pi * D * D))
-        a = u_P + P[lo.P_KAPPA] * (slip - u_P)
-        u_R = eps * math.sqrt(eta * a * a + (1.0 - eta) * u_P * u_P)
+    s_a = 0.0
+    jet = thrust > 0.0 and P[lo.P_PROP_ON] > 0.0
+    if u >= 0.0:
+        if jet:
+            slip = math.sqrt(u_P * u_P + 8.0 * thrust / (rho * math.pi * D * D))
+            a = u_P + P[lo.P_KAPPA] * (slip - u_P)
+            u_R = eps * math.sqrt(eta * a * a + (1.0 - eta) * u_P * u_P)
+        else:
+            u_R = eps * u_P
     else:
-        u_R = eps * u_P
-    rp = r * L / Ue
-    beta_R = beta - P[lo.P_LRP] * rp
+        s_a = -u / U
+        u_R = u
+        if jet:
+            u_R += eps * math.sqrt(eta) * P[lo.P_KAPPA] * math.sqrt(8.0 * thrust / (rho * math.pi * D * D))
+    l_R = P[lo.P_LRP] + s_a * (P[lo.P_XRP] - P[lo.P_LRP])
+    if U >= P[lo.P_U_MIN]:  # the published form, in the published order of operations
+        beta_R = beta - l_R * (r * L / U)
+    else:  # here beta_R stands for U beta_R (m/s), without the division: a ship turning on the spot
+        beta_R = U * beta - l_R * r * L
     gamma = P[lo.P_GRM] if beta_R < 0.0 else P[lo.P_GRP]
-    v_R = Ue * gamma * beta_R if U >= P[lo.P_U_MIN] else U * gamma * beta_R
+    gamma += s_a * (1.0 - gamma)
+    v_R = U * gamma * beta_R if U >= P[lo.P_U_MIN] else gamma * beta_R
     U_R = math.sqrt(u_R * u_R + v_R * v_R)
     sd = math.sin(delta)
     cd = math.cos(delta)
     F_N = 0.5 * rho * P[lo.P_AR] * P[lo.P_FALPHA] * U_R * (u_R * sd - v_R * cd)
-    X_R = -(1.0 - P[lo.P_TR]) * F_N * sd
-    Y_R = -(1.0 + P[lo.P_AH]) * F_N * cd
-    N_R = -(P[lo.P_XRP] + P[lo.P_AH] * P[lo.P_XHP]) * L * F_N * cd
+    ahead = 1.0 - s_a
+    a_H = ahead * P[lo.P_AH]
+    X_R = -(1.0 - ahead * P[lo.P_TR]) * F_N * sd
+    Y_R = -(1.0 + a_H) * F_N * cd
+    N_R = -(P[lo.P_XRP] + a_H * P[lo.P_XHP]) * L * F_N * cd
     return X_R, Y_R, N_R
