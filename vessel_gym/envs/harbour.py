@@ -168,10 +168,10 @@ class HarbourApproachTask(Task):
         )
         return flag == kn.OK
 
-    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+    def start_pose(self, rng: np.random.Generator) -> tuple[float, float, float, float]:
+        """(north, east, heading deg, speed) of a start: uniform in the scenario's ``[start]`` region."""
         sc = self.scenario
         st = sc.start
-        opts = dict(options or {})
         pts = np.array([(p[0], p[1]) for p in st.points])
         lo_, hi_ = pts.min(axis=0), pts.max(axis=0)
         for _ in range(1000):
@@ -184,8 +184,12 @@ class HarbourApproachTask(Task):
                 break
         else:  # pragma: no cover - validated scenarios have room
             raise RuntimeError(f"{sc.path or sc.name}: no clear start pose found in [start] points")
-        speed = _uniform(rng, st.speed_m_s)
-        w = sc.weather
+        return n0, e0, heading, _uniform(rng, st.speed_m_s)
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        opts = dict(options or {})
+        n0, e0, heading, speed = self.start_pose(rng)
+        w = self.scenario.weather
         env = Environment(
             wind_speed_m_s=_uniform(rng, w.wind_speed_m_s),
             wind_from_deg=_uniform(rng, w.wind_from_deg),
