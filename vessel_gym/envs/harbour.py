@@ -445,8 +445,9 @@ class HarbourApproachVectorEnv(ShipVectorEnv):
 #: full-scale kvlcc2): about 1/6 of the time the ship needs to sail its own length, short enough for the rudder
 #: (15.8 deg/s on the model) to be re-ordered well within a turn, long enough that an episode is ~400 decisions
 CONTROL_FRACTION = 1.0 / 6.0
-#: default episode time limit in ship time scales L / U_T (404 s for kvlcc2_l7, the v0 400 s)
-TIME_LIMIT_TIME_SCALES = 68.0
+#: default episode time limit in ship time scales L / U_T (590 s for kvlcc2_l7): the harbour pilot
+#: (envs.policies.HarbourPilot) needs 45-65 of them on the built-in and generated layouts
+TIME_LIMIT_TIME_SCALES = 100.0
 #: difficulty levels: where episodes start (level 3 is the scenario's own [start] region)
 DIFFICULTIES = ("basin", "entrance", "approach", "open")
 #: levels 0-2: fraction of the track length (start region centroid -> route_m -> goal point) still to go
@@ -478,7 +479,7 @@ class HarbourApproachV1Config(HarbourApproachConfig):
         doc="time between actions (default: L / U_T / 6 of the ship, rounded to 2 digits: 0.99 s for kvlcc2_l7)",
     )
     time_limit_s: float | None = param(
-        None, unit="s", lo=1.0, hi=1e6, doc="episode time limit (default: 68 L / U_T, 404 s for kvlcc2_l7)"
+        None, unit="s", lo=1.0, hi=1e6, doc="episode time limit (default: 100 L / U_T, 590 s for kvlcc2_l7)"
     )
     difficulty: int = param(
         3,

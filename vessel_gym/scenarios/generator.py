@@ -160,10 +160,11 @@ def harbour_table(seed: int, ship: str = "kvlcc2_l7") -> dict[str, Any]:
             "heading_tolerance_deg": 30.0,
             "max_speed_m_s": r(0.1 * U),
         },
-        # Froude-scaled from full scale (x sqrt(L / 320 m), the KVLCC2): 0-20 m/s wind, 0-0.7 m/s current
+        # Froude-scaled from full scale (x sqrt(L / 320 m), the KVLCC2): wind 0-10 m/s (Beaufort 5; a loaded
+        # VLCC creeping at the goal speed cannot hold her heading unassisted in much more), current 0-0.5 m/s
         "weather": {
-            "wind_speed_m_s": [0.0, r(20.0 * (L / 320.0) ** 0.5)],
-            "current_speed_m_s": [0.0, r(0.7 * (L / 320.0) ** 0.5)],
+            "wind_speed_m_s": [0.0, r(10.0 * (L / 320.0) ** 0.5)],
+            "current_speed_m_s": [0.0, r(0.5 * (L / 320.0) ** 0.5)],
         },
     }
     for poly in land + bw + quay + depth:
