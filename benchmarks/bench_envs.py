@@ -25,6 +25,7 @@ IDS = (
     "vessel_gym/ZigZag-v1",
     "vessel_gym/TurningCircle-v0",
     "vessel_gym/HarbourApproach-v0",
+    "vessel_gym/HarbourApproach-v1",
 )
 BASE = "CartPole-v1"
 
