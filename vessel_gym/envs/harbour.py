@@ -588,14 +588,46 @@ class HarbourApproachV1Task(HarbourApproachTask):
 
 
 class HarbourApproachV1Env(HarbourApproachEnv):
-    """HarbourApproach-v1: :class:`HarbourApproachEnv` with a control interval and time limit from the ship's
-    time scale, difficulty levels with a curriculum hook, windage on the harbour ship, several scenarios and
-    procedural layouts, and a reward that makes arrival worth more than loitering (docs/envs.md).
+    """Bring a ship from outside a harbour through the entrance to a stop in the goal area (v1).
 
-    ``gymnasium.make("vessel_gym/HarbourApproach-v1", difficulty=3, layout="scenario", scenario="harbour",
-    layout_split="train", layout_index=0, control_interval_s=None, time_limit_s=None, **overrides)``;
-    ``env.unwrapped.set_difficulty(k)`` changes the start region from the next reset on. Truncation after
-    ``time_limit_s`` (this environment counts its own steps; no step-count TimeLimit is registered).
+    ## Description
+
+    The task, actions, observations, success and ``info`` of :class:`HarbourApproachEnv` (v0, deprecated),
+    with the changes below. Built-in scenarios ``harbour``, ``harbour_east``, ``harbour_channel``; or a
+    generated harbour (``layout="procedural"``, :mod:`vessel_gym.scenarios.generator`), whose ``eval`` split
+    is held out for evaluation. Wind acts on the ship (``kvlcc2_l7`` has a Froude-scaled windage table).
+
+    Control interval L / U_T / 6 of the ship (0.99 s for ``kvlcc2_l7``; 4 RK4 steps of 0.2475 s).
+
+    ## Rewards
+
+    As v0, except ``time`` (weight 0.5): -control interval x U_T / L per step (time in ship time scales),
+    and ``success`` weight 50.
+
+    ## Starting State
+
+    ``difficulty`` 3 (``open``, default): the scenario's ``[start]`` region, as v0. 0 ``basin``, 1
+    ``entrance``, 2 ``approach``: on the scenario's track with 25 %, 45 % or 70 % of its length to go, spread
+    +-5 % along and +-0.5 L across it, heading along it +-10 deg, at 50-90 % of the allowed speed there.
+    Wind, current and waves uniform in the scenario's ``[weather]``, drawn by the reset seed.
+
+    ## Episode End
+
+    As v0; truncation after ``time_limit_s`` (default 100 L / U_T: 590 s, 596 steps, for ``kvlcc2_l7``),
+    counted by this environment (no step-count TimeLimit is registered).
+
+    ## Arguments
+
+    ``gymnasium.make("vessel_gym/HarbourApproach-v1", difficulty=3, scenario="harbour", layout="scenario",
+    layout_split="train", layout_index=0, control_interval_s=None, time_limit_s=None, **overrides)`` (v0
+    keys otherwise). Curriculum hook: ``env.unwrapped.set_difficulty(k)`` (index or name), effective from
+    the next reset; vector env: ``venv.set_difficulty(k)`` or ``venv.call("set_difficulty", k)``.
+
+    ## Version History
+
+    * v1: control interval and time limit from the ship's time scale, time charged per ship time scale,
+      success 50, difficulty levels, wind with force, three built-in harbours and procedural layouts.
+    * v0: initial version (deprecated).
     """
 
     Task = HarbourApproachV1Task
