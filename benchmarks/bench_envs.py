@@ -30,6 +30,7 @@ IDS = (
     "vessel_gym/ZigZag-v1",
     "vessel_gym/TurningCircle-v0",
     "vessel_gym/HarbourApproach-v0",
+    "vessel_gym/HarbourApproach-v1",
 )
 BASE = "CartPole-v1"
 # goals as multiples of CartPole's throughput in the same run: (single env, vector env, vector env under load)

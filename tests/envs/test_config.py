@@ -65,7 +65,12 @@ def test_docs_list_every_config_key():
     import dataclasses
     from pathlib import Path
 
-    from vessel_gym.envs.harbour import HarbourApproachConfig, HarbourApproachReward
+    from vessel_gym.envs.harbour import (
+        HarbourApproachConfig,
+        HarbourApproachReward,
+        HarbourApproachV1Config,
+        HarbourApproachV1Reward,
+    )
     from vessel_gym.envs.turning import TurningCircleConfig, TurningCircleReward
     from vessel_gym.envs.zigzag import ZigZagReward, ZigZagV1Config, ZigZagV1Reward
 
@@ -79,6 +84,8 @@ def test_docs_list_every_config_key():
         TurningCircleReward,
         HarbourApproachConfig,
         HarbourApproachReward,
+        HarbourApproachV1Config,
+        HarbourApproachV1Reward,
     ):
         for f in dataclasses.fields(cls):
             assert f"`{f.name}`" in doc, (cls.__name__, f.name)

@@ -1,5 +1,5 @@
 """Gymnasium environments: ZigZag (``-v1``; ``-v0`` deprecated), ZigZagRandom (``-v1``), TurningCircle and
-HarbourApproach (``-v0``), all as ``vessel_gym/<Name>-v<N>``.
+HarbourApproach (``-v1``; ``-v0`` deprecated), all as ``vessel_gym/<Name>-v<N>``.
 
 Importing this package registers the ids (cheaply: entry points are strings); the environment classes,
 configs and policies load on first attribute access.
@@ -35,6 +35,10 @@ _LAZY = {
     "HarbourApproachVectorEnv": "harbour",
     "HarbourApproachConfig": "harbour",
     "HarbourApproachReward": "harbour",
+    "HarbourApproachV1Env": "harbour",
+    "HarbourApproachV1VectorEnv": "harbour",
+    "HarbourApproachV1Config": "harbour",
+    "HarbourApproachV1Reward": "harbour",
     "ShipEnvConfig": "config",
     "ObservationLayout": "core",
     "Feature": "core",

@@ -203,7 +203,15 @@ class HarbourPilot(PIDHeadingAutopilot):
         last = len(self.route) - 1
         for _ in range(last):  # advance past waypoints already reached
             tgt = self.route[wp]
-            near = waypoint_reached.py_func(n, e, tgt[..., 0], tgt[..., 1], self.accept) & (wp < last)
+            # reached, or passed: ahead of the line through the waypoint square to the next leg (a ship
+            # starting inside the harbour does not turn back for the outer waypoints)
+            nxt = self.route[np.minimum(wp + 1, last)]
+            passed = (n - tgt[..., 0]) * (nxt[..., 0] - tgt[..., 0]) + (e - tgt[..., 1]) * (
+                nxt[..., 1] - tgt[..., 1]
+            ) > 0.0
+            near = (waypoint_reached.py_func(n, e, tgt[..., 0], tgt[..., 1], self.accept) | passed) & (
+                wp < last
+            )
             if not np.any(near):
                 break
             wp = np.where(near, wp + 1, wp)

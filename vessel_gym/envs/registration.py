@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-#: id -> (single entry point, vector entry point, max_episode_steps)
-ENVIRONMENTS: dict[str, tuple[str, str, int]] = {
+#: id -> (single entry point, vector entry point, max_episode_steps or None: the environment truncates)
+ENVIRONMENTS: dict[str, tuple[str, str, int | None]] = {
     "vessel_gym/ZigZag-v0": (
         "vessel_gym.envs.zigzag:ZigZagEnv",
         "vessel_gym.envs.zigzag:ZigZagVectorEnv",
@@ -28,6 +28,12 @@ ENVIRONMENTS: dict[str, tuple[str, str, int]] = {
         "vessel_gym.envs.harbour:HarbourApproachEnv",
         "vessel_gym.envs.harbour:HarbourApproachVectorEnv",
         1600,
+    ),
+    # time limit in seconds, applied by the environment itself (HarbourApproachV1Config.time_limit_s)
+    "vessel_gym/HarbourApproach-v1": (
+        "vessel_gym.envs.harbour:HarbourApproachV1Env",
+        "vessel_gym.envs.harbour:HarbourApproachV1VectorEnv",
+        None,
     ),
 }
 
