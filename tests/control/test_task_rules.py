@@ -6,9 +6,8 @@ Two kinds of check on the same short fixed-action rollouts (tests/control/rollou
 * replay: the overshoot and turning-circle figures in ``info`` equal those computed by the control rules from
   the simulation's own heading, yaw rate and position at every control step (exact: same rule, same samples);
 * regression pin: reward sums, final observations and info of the rollouts as computed by the code before the
-  rules moved to vessel_gym.control, re-pinned once when kvlcc2_l7 got its windage table (the air resistance
-  of the above-water hull moves them by under 0.1 % in the reward sums). These numbers are our own output,
-  kept only to catch a change of v0's behaviour; tolerance 1e-9 relative (the runs are deterministic; the margin covers libm differences).
+  rules moved to vessel_gym.control. These numbers are our own output, kept only to catch a change of v0's
+  behaviour; tolerance 1e-9 relative (the runs are deterministic; the margin covers libm differences).
 """
 
 from __future__ import annotations
@@ -100,42 +99,42 @@ def test_turning_info_is_the_shared_rule(reverse_run):
 def test_zigzag_v0_regression_pin(zigzag_run):
     tot, obs, info, motion, _infos = zigzag_run
     assert len(motion) - 1 == 480
-    assert tot == PIN(-208.77765204547862, rel=1e-9)
+    assert tot == PIN(-208.9928407908321, rel=1e-9)
     assert np.asarray(obs, float) == PIN(
-        [0.43455442786216736, 0.07294663041830063, 0.047931451350450516, 1.0, 1.0, 0.15505793690681458,
-         -0.09950238466262817, 0.0555555559694767], rel=1e-6, abs=1e-7)
+        [0.434635728597641, 0.07362264394760132, 0.04718291759490967, 1.0, 1.0, 0.15461014211177826,
+         -0.09905458986759186, 0.0555555559694767], rel=1e-6, abs=1e-7)
     assert info["executes"] == 5 and info["overshoot_count"] == 4
     assert info["target_heading_deg"] == PIN(10.0, rel=1e-9)
-    assert info["heading_error_deg"] == PIN(27.910429653304593, rel=1e-9)
-    assert info["overshoot_1_deg"] == PIN(30.109677927226997, rel=1e-9)
-    assert info["overshoot_2_deg"] == PIN(2.2814958314218194, rel=1e-9)
-    assert info["last_overshoot_deg"] == PIN(9.058637277250748, rel=1e-9)
+    assert info["heading_error_deg"] == PIN(27.829826774679994, rel=1e-9)
+    assert info["overshoot_1_deg"] == PIN(30.006833509151246, rel=1e-9)
+    assert info["overshoot_2_deg"] == PIN(2.137455462942732, rel=1e-9)
+    assert info["last_overshoot_deg"] == PIN(8.948693450956567, rel=1e-9)
     assert info["reward_terms"] == PIN(
-        {"heading_error": -0.15505794251835886, "overshoot": 0.0, "rudder_activity": 0.0,
-         "speed_loss": -0.17357436985597366}, rel=1e-9, abs=1e-12)
+        {"heading_error": -0.15461014874822218, "overshoot": 0.0, "rudder_activity": 0.0,
+         "speed_loss": -0.17350399967815938}, rel=1e-9, abs=1e-12)
 
 
 def test_turning_reverse_regression_pin(reverse_run):
     tot, obs, info, motion, _infos = reverse_run
-    assert len(motion) - 1 == 205
-    assert tot == PIN(-8.865924357104149, rel=1e-9)
+    assert len(motion) - 1 == 206
+    assert tot == PIN(-8.935581142221798, rel=1e-9)
     assert np.asarray(obs, float) == PIN(
-        [0.28103986382484436, -0.2824878990650177, 0.17307773232460022, 1.0, 1.0, 0.5004599690437317,
-         0.22129470109939575, 0.3115743100643158], rel=1e-6, abs=1e-7)
-    assert info["heading_change_deg"] == PIN(180.16558561995845, rel=1e-9)
-    assert info["advance_m"] == PIN(21.50787634787544, rel=1e-9)
-    assert info["transfer_m"] == PIN(9.308537508705934, rel=1e-9)
-    assert info["tactical_diameter_m"] == PIN(21.801835426388795, rel=1e-9)
+        [0.28035134077072144, -0.28180715441703796, 0.17249032855033875, 1.0, 1.0, 0.5016593933105469,
+         0.22084200382232666, 0.3124781847000122], rel=1e-6, abs=1e-7)
+    assert info["heading_change_deg"] == PIN(180.59738544930974, rel=1e-9)
+    assert info["advance_m"] == PIN(21.551646933592, rel=1e-9)
+    assert info["transfer_m"] == PIN(9.328799692449918, rel=1e-9)
+    assert info["tactical_diameter_m"] == PIN(21.843933828795965, rel=1e-9)
     assert info["reward_terms"] == PIN(
-        {"tracking_error": 0.0, "progress": 0.018605575873305885, "footprint": -0.006029750244489865,
-         "rudder_activity": 0.0, "speed_loss": -0.05554074769084593, "time": -0.004210727777777778},
+        {"tracking_error": 0.0, "progress": 0.006532370234148475, "footprint": -0.005881228135645448,
+         "rudder_activity": 0.0, "speed_loss": -0.05564948979713248, "time": -0.004210727777777778},
         rel=1e-9, abs=1e-12)
 
 
 def test_turning_rate_regression_pin():
     tot, _obs, info, motion, _infos = rollout("vessel_gym/TurningCircle-v0", turning_action, seed=7)
     assert len(motion) - 1 == 480
-    assert tot == PIN(-501.3116837860136, rel=1e-9)
+    assert tot == PIN(-501.3346427693072, rel=1e-9)
     assert info["commanded_rate_deg_s"] == PIN(-2.647104335542724, rel=1e-9)
-    assert info["heading_change_deg"] == PIN(372.6838278200384, rel=1e-9)
-    assert info["tactical_diameter_m"] == PIN(21.801835426388795, rel=1e-9)
+    assert info["heading_change_deg"] == PIN(371.6621512688302, rel=1e-9)
+    assert info["tactical_diameter_m"] == PIN(21.843933828795965, rel=1e-9)

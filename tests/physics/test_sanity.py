@@ -192,12 +192,12 @@ def test_uniform_current_only_shifts_the_ground_track():
     """A uniform current changes nothing through the water and adds V_c t to the track (Fossen 2011,
     Property 10.1, irrotational constant current).
 
-    kvlcc2_l7 turns with 20 deg rudder for 60 s in 0.3 m/s towards 060 and in still water. The air moves
-    with the water (0.3 m/s from 240), as a current alone would change the apparent wind on the windage. The states through the
+    kvlcc2_l7 (no windage: in air, a current changes the ship's speed over ground and so its apparent wind)
+    turns with 20 deg rudder for 60 s in 0.3 m/s towards 060 and in still water. The states through the
     water must be bitwise equal (no force reads the position or the current); the track may differ from
     still-water track + V_c t only by the rounding of 600 RK4 position sums, bound 1e-9 m.
     """
-    cur = Environment(current_speed_m_s=0.3, current_to_deg=60.0, wind_speed_m_s=0.3, wind_from_deg=240.0)
+    cur = Environment(current_speed_m_s=0.3, current_to_deg=60.0)
     still, moving = Simulation("kvlcc2_l7"), Simulation("kvlcc2_l7", environment=cur)
     for s in (still, moving):
         s.reset(heading_deg=20.0)

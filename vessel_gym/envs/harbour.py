@@ -471,6 +471,11 @@ class HarbourApproachV1Reward(HarbourApproachReward):
 class HarbourApproachV1Config(HarbourApproachConfig):
     """HarbourApproach-v1 configuration (see :class:`HarbourApproachV1Env`)."""
 
+    ship: str | None = param(
+        "kvlcc2_l7_windage",
+        doc="ship name or file (default: the L7 model with its estimated windage, so that wind acts; "
+        "None: the scenario's ship)",
+    )
     control_interval_s: float | None = param(  # type: ignore[assignment]
         None,
         unit="s",
@@ -595,7 +600,8 @@ class HarbourApproachV1Env(HarbourApproachEnv):
     The task, actions, observations, success and ``info`` of :class:`HarbourApproachEnv` (v0, deprecated),
     with the changes below. Built-in scenarios ``harbour``, ``harbour_east``, ``harbour_channel``; or a
     generated harbour (``layout="procedural"``, :mod:`vessel_gym.scenarios.generator`), whose ``eval`` split
-    is held out for evaluation. Wind acts on the ship (``kvlcc2_l7`` has a Froude-scaled windage table).
+    is held out for evaluation. Wind acts on the ship: the default ship ``kvlcc2_l7_windage`` is the L7 model
+    with a Froude-scaled windage table (an estimate); ``kvlcc2_l7`` itself, as tested in the tank, has none.
 
     Control interval L / U_T / 6 of the ship (0.99 s for ``kvlcc2_l7``; 4 RK4 steps of 0.2475 s).
 
