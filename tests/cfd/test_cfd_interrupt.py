@@ -21,9 +21,13 @@ from cfd.runner import Progress, Stopped, run_app, stop_all
 
 @pytest.fixture(autouse=True)
 def _clear_stop():
+    # Ctrl-C is Python's default SIGINT handler (KeyboardInterrupt in the main thread), as in a terminal; a
+    # library loaded by an earlier test in this process (Ray installs its own) may have replaced it
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     runner.STOP.clear()
     yield
     runner.STOP.clear()
+    signal.signal(signal.SIGINT, previous)
 
 
 def _alive(pid: int, within_s: float = 3.0) -> bool:

@@ -320,6 +320,12 @@ def _run(
     start = time.monotonic()
     episode = 1
     try:
+        # Compile (or load) every kernel the loop calls before saying "Ctrl-C to stop": a Ctrl-C that lands
+        # inside a first compilation cannot be caught cleanly. The episode then starts afresh.
+        obs, _info = wrapped.reset(seed=seed)
+        policy(obs)
+        if wrapped.traffic is not None:
+            wrapped.traffic.step(1)
         _banner(wrapped, sc, agent, time_factor, out)
         start = time.monotonic()
         obs, _info = wrapped.reset(seed=seed)
