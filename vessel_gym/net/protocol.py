@@ -383,12 +383,21 @@ def encode_state(
     items = [_dumps(f) for f in fields]
     tail_room = len('],"part":99,"parts":99}')
     room = max_bytes - len(prefix.encode()) - tail_room
-    chunks: list[list[str]] = [[]]
-    size = 0
     for item in items:
         n = len(item.encode()) + 1
         if n > room:
             raise ValueError(f"target entry of {n} bytes does not fit a {max_bytes}-byte state datagram")
+    return _in_parts(prefix, items, room)
+
+
+def _in_parts(prefix: str, items: Sequence[str], room: int) -> list[bytes]:
+    """The datagrams ``prefix`` + comma-separated items + ``],"part":i,"parts":n}``, filled in order with as
+    many items as fit ``room`` bytes each (an item larger than ``room`` travels alone: the caller refuses or
+    splits those)."""
+    chunks: list[list[str]] = [[]]
+    size = 0
+    for item in items:
+        n = len(item.encode()) + 1
         if size + n > room and chunks[-1]:
             chunks.append([])
             size = 0
@@ -696,19 +705,7 @@ def encode_scenario(
         per_point = max(len(_dumps(p)) + 1 for p in pts)
         n = max(1, (room - len(base.encode()) - 1) // per_point)
         items += [_dumps({**f, "points": pts[j : j + n]}) for j in range(0, len(pts), n)]
-    chunks: list[list[str]] = [[]]
-    size = 0
-    for item in items:
-        n = len(item.encode()) + 1
-        if size + n > room and chunks[-1]:
-            chunks.append([])
-            size = 0
-        chunks[-1].append(item)
-        size += n
-    parts = len(chunks)
-    return [
-        f'{prefix}{",".join(chunk)}],"part":{i},"parts":{parts}}}'.encode() for i, chunk in enumerate(chunks)
-    ]
+    return _in_parts(prefix, items, room)
 
 
 def encode_event(seq: int, event: str, t_s: float, episode: int, **fields: object) -> bytes:
