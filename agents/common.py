@@ -664,8 +664,6 @@ def train(
 def run_record(agent: str | Path) -> dict[str, Any]:
     """The run record ``<stem>.yml`` written next to a trained model, else the JSON sidecar of a shipped
     agent (``agents/shipped.py``), else empty."""
-    import json
-
     import yaml
 
     if str(agent) in BASELINES:
@@ -677,11 +675,18 @@ def run_record(agent: str | Path) -> dict[str, Any]:
     path = sidecar(agent, ".json")
     if not path.is_file():
         return {}
+    data = load_json_sidecar(path)
+    return data if isinstance(data, dict) else {}
+
+
+def load_json_sidecar(path: Path) -> Any:
+    """The content of the JSON sidecar ``path``; an unreadable or malformed one is a :class:`UsageError`."""
+    import json
+
     try:
-        data = json.loads(path.read_text())
+        return json.loads(path.read_text())
     except (OSError, json.JSONDecodeError) as exc:
         raise UsageError(f"{path}: not a readable JSON sidecar ({exc})") from None
-    return data if isinstance(data, dict) else {}
 
 
 class _NormalizedObs:

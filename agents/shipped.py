@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from agents import seeds
-from agents.common import UsageError, check_algo, env_short_name, json_safe, sidecar
+from agents.common import UsageError, check_algo, env_short_name, json_safe, load_json_sidecar, sidecar
 
 TRAINED_DIR = Path(__file__).resolve().parent / "trained"
 #: ``<algo>_<Env>-v<N>_seed<S>``
@@ -126,10 +126,7 @@ def read_sidecar(model_path: str | Path) -> dict[str, Any]:
     path = sidecar(model_path, ".json")
     if not path.is_file():
         return {}
-    try:
-        data = json.loads(path.read_text())
-    except (OSError, json.JSONDecodeError) as exc:
-        raise UsageError(f"{path}: not a readable JSON sidecar ({exc})") from None
+    data = load_json_sidecar(path)
     if not isinstance(data, dict):
         raise UsageError(f"{path}: expected a JSON object")
     return data

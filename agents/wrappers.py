@@ -21,6 +21,15 @@ import gymnasium as gym
 import numpy as np
 
 
+def _effort_setup(env: gym.Env | gym.vector.VectorEnv, weight: float) -> tuple[float, Any, float]:
+    """(weight, observation layout, rudder limit in the observation's units) of a rudder-effort term;
+    ``ValueError`` for a negative or non-finite weight."""
+    if not np.isfinite(weight) or weight < 0.0:
+        raise ValueError(f"RudderEffortPenalty weight must be >= 0, got {weight}")
+    layout = env.unwrapped.observation_layout
+    return float(weight), layout, float(layout.scale[layout.index("rudder_order")])
+
+
 class RudderEffortPenalty(gym.Wrapper):
     """Adds the reward term ``rudder_effort = -weight * |rudder order| / rudder limit`` per step.
 
@@ -32,12 +41,7 @@ class RudderEffortPenalty(gym.Wrapper):
 
     def __init__(self, env: gym.Env, weight: float = 0.1) -> None:
         super().__init__(env)
-        if not np.isfinite(weight) or weight < 0.0:
-            raise ValueError(f"RudderEffortPenalty weight must be >= 0, got {weight}")
-        self.weight = float(weight)
-        layout = env.unwrapped.observation_layout
-        self._layout = layout
-        self._limit = float(layout.scale[layout.index("rudder_order")])
+        self.weight, self._layout, self._limit = _effort_setup(env, weight)
 
     def step(self, action: Any) -> tuple[Any, float, bool, bool, dict[str, Any]]:
         obs, reward, terminated, truncated, info = self.env.step(action)
@@ -55,12 +59,7 @@ class RudderEffortPenaltyVector(gym.vector.VectorWrapper):
 
     def __init__(self, env: gym.vector.VectorEnv, weight: float = 0.1) -> None:
         super().__init__(env)
-        if not np.isfinite(weight) or weight < 0.0:
-            raise ValueError(f"RudderEffortPenalty weight must be >= 0, got {weight}")
-        self.weight = float(weight)
-        layout = env.unwrapped.observation_layout
-        self._layout = layout
-        self._limit = float(layout.scale[layout.index("rudder_order")])
+        self.weight, self._layout, self._limit = _effort_setup(env, weight)
 
     def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
         obs, reward, terminated, truncated, info = self.env.step(actions)

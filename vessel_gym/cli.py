@@ -85,6 +85,15 @@ def _add_ship(sp: argparse.ArgumentParser) -> None:
     sp.add_argument("--ship", dest="ship_option", metavar="SHIP", default=None, help="the same, as an option")
 
 
+#: the link's JSON channel when none is given: where ``serve`` binds it and the clients look for it
+JSON_CHANNEL = "127.0.0.1:10120"
+
+
+def _add_server(sp: argparse.ArgumentParser) -> None:
+    """The ``--server`` option of the link's clients (helm, view, view3d)."""
+    sp.add_argument("--server", metavar="HOST:PORT", default=JSON_CHANNEL, help="the link's JSON channel")
+
+
 def _json_default(o):
     try:
         return float(o)
@@ -201,9 +210,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="NMEA 0183 destination (repeatable; default 127.0.0.1:10110; 'off' for none)",
     )
-    sv.add_argument(
-        "--json", metavar="HOST:PORT", default="127.0.0.1:10120", help="JSON channel bind address"
-    )
+    sv.add_argument("--json", metavar="HOST:PORT", default=JSON_CHANNEL, help="JSON channel bind address")
     sv.add_argument(
         "--view",
         metavar="HOST:PORT",
@@ -238,14 +245,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
 
     hm = sub.add_parser("helm", help="pygame helm panel for a running 'vessel-gym serve'")
-    hm.add_argument(
-        "--server", metavar="HOST:PORT", default="127.0.0.1:10120", help="the link's JSON channel"
-    )
+    _add_server(hm)
     hm.add_argument("--name", default="helm", help="name shown to the server and other clients")
     vw = sub.add_parser("view", help="passive pygame viewer of a running 'vessel-gym serve'")
-    vw.add_argument(
-        "--server", metavar="HOST:PORT", default="127.0.0.1:10120", help="the link's JSON channel"
-    )
+    _add_server(vw)
     vw.add_argument(
         "--listen",
         metavar="HOST:PORT",
@@ -262,9 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
     v3 = sub.add_parser(
         "view3d", help="3D view in the browser of a running 'vessel-gym serve' (extra 'view3d')"
     )
-    v3.add_argument(
-        "--server", metavar="HOST:PORT", default="127.0.0.1:10120", help="the link's JSON channel"
-    )
+    _add_server(v3)
     v3.add_argument(
         "--http", metavar="HOST:PORT", default="127.0.0.1:8080", help="where the page is served (loopback)"
     )

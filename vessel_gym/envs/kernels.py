@@ -207,6 +207,27 @@ def _finish_overshoot(s):
     s[Z_OS_LAST] = s[Z_OS_MAX]
 
 
+@njit(cache=True, inline="always")
+def _zigzag_close_row(k, s, i_prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done):
+    """End of a zig-zag step of vessel k, both versions: done, reward, rudder memory, features, observation.
+
+    Both task states keep the original course and the target in the same columns (Z_PSI0 == ZV_PSI0,
+    Z_TARGET == ZV_TARGET); ``i_prev_order`` is where the version keeps the previous rudder order.
+    """
+    uk, vk, rk, psik, _n, _e, dk, dck, revk, _revc = motion(x, inp, k)
+    done[k] = not alive[k]
+    if done[k]:
+        clear_row(terms, k)
+    _finish(terms, k, w, reward)
+    s[i_prev_order] = dck
+    f = feat[k]
+    motion_features(f, uk, vk, rk, dk, dck, revk)
+    f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psik)
+    f[ZF_HEAD_DEV] = wrap_pi(psik - s[Z_PSI0])
+    f[ZF_TARGET_DEV] = wrap_pi(s[Z_TARGET] - s[Z_PSI0])
+    encode_row(feat, k, enc, obs)
+
+
 # The task kernels loop over vessels taking row views (ts[k], feat[k]); compiled without reference counting
 # (vessel.NO_REFCOUNT, which explains why) they allocate nothing: scratch comes from their caller.
 @njit(cache=True, **NO_REFCOUNT)
@@ -271,25 +292,15 @@ def zigzag_update(
                     terms[k, ZT_OVERSHOOT] = -min(exc / psiz, 1.0)
             terms[k, ZT_RUDDER] = rudder_activity(dck, s[Z_PREV_ORDER], dmax)
             terms[k, ZT_SPEED] = speed_loss(math.sqrt(uk * uk + vk * vk), s[Z_U0])
-        done[k] = not alive[k]
-        if done[k]:
-            clear_row(terms, k)
-        _finish(terms, k, w, reward)
-        s[Z_PREV_ORDER] = dck
-        f = feat[k]
-        motion_features(f, uk, vk, rk, dk, dck, revk)
-        f[ZF_HEAD_ERR] = wrap_pi(s[Z_TARGET] - psik)
-        f[ZF_HEAD_DEV] = wrap_pi(psik - s[Z_PSI0])
-        f[ZF_TARGET_DEV] = wrap_pi(s[Z_TARGET] - s[Z_PSI0])
-        encode_row(feat, k, enc, obs)
+        _zigzag_close_row(k, s, Z_PREV_ORDER, x, inp, alive, w, enc, feat, obs, terms, reward, done)
 
 
 # --- ZigZag-v1 ----------------------------------------------------------------------------------------------
 # One schedule for both target kinds: a course change starts when its start time comes (the first after the
 # seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
 # schedule, at the execute (the target reached). Overshoots are measured with the OVERSHOOT_V1 tracker.
-ZV_PSI0 = 0  # original course, rad
-ZV_TARGET = 1  # target heading of the current course change, rad (unwrapped, same branch as the heading)
+ZV_PSI0 = Z_PSI0  # original course, rad (the column _zigzag_close_row reads in both versions)
+ZV_TARGET = Z_TARGET  # target of the current course change, rad (unwrapped, same branch as the heading)
 ZV_SIGN = 2  # direction in which the current target is reached, +1 starboard / -1 port; 0 before the first
 ZV_SIDE = 3  # IMO schedule: side of the current target (the first change flips it: set -first side)
 ZV_REACHED = 4  # current target reached
@@ -412,17 +423,7 @@ def zigzag_v1_update(
             terms[k, ZVT_HEADING] = -abs(wrap_pi(s[ZV_TARGET] - psik)) / PI
             terms[k, ZVT_RUDDER] = rudder_activity(dck, s[ZV_PREV_ORDER], p[ZVP_DMAX])
             terms[k, ZVT_SPEED] = speed_loss(math.sqrt(uk * uk + vk * vk), s[ZV_U0])
-        done[k] = not alive[k]
-        if done[k]:
-            clear_row(terms, k)
-        _finish(terms, k, w, reward)
-        s[ZV_PREV_ORDER] = dck
-        f = feat[k]
-        motion_features(f, uk, vk, rk, dk, dck, revk)
-        f[ZF_HEAD_ERR] = wrap_pi(s[ZV_TARGET] - psik)
-        f[ZF_HEAD_DEV] = wrap_pi(psik - s[ZV_PSI0])
-        f[ZF_TARGET_DEV] = wrap_pi(s[ZV_TARGET] - s[ZV_PSI0])
-        encode_row(feat, k, enc, obs)
+        _zigzag_close_row(k, s, ZV_PREV_ORDER, x, inp, alive, w, enc, feat, obs, terms, reward, done)
 
 
 # --- TurningCircle ------------------------------------------------------------------------------------------

@@ -45,6 +45,29 @@ class ZigZagConfig(OpenWaterConfig):
     reward: ZigZagReward = param(ZigZagReward(), doc="reward weights")
 
 
+def _reset_options(
+    c: ZigZagConfig | ZigZagV1Config, options: Mapping | None, rng: np.random.Generator, U_T: float
+) -> tuple[float, float]:
+    """(heading, deg; approach speed, m/s) of a ZigZag reset: the options, else drawn / the config's."""
+    opts = dict(options or {})
+    heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
+    speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or U_T))
+    if opts:
+        raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
+    return heading, speed
+
+
+def _first_side(first_side: str, rng: np.random.Generator) -> float:
+    """IMO schedule: side of the first target, +1 starboard / -1 port ("random": drawn)."""
+    side = {"starboard": 1.0, "port": -1.0}.get(first_side)
+    return (1.0 if rng.random() < 0.5 else -1.0) if side is None else side
+
+
+def _course_change(c: ZigZagConfig | ZigZagV1Config, rng: np.random.Generator) -> float:
+    """Random schedule: a signed course change of ``course_change_deg``, either side, rad."""
+    return _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
+
+
 class ZigZagTask(Task):
     Config = ZigZagConfig
     kernel = staticmethod(kn.zigzag_update)
@@ -58,12 +81,14 @@ class ZigZagTask(Task):
         self.ts = np.zeros((n, kn.ZN))
         p = np.zeros(kn.ZPN)
         p[kn.ZP_PSIZ] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
-        p[kn.ZP_DMAX] = (
-            self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
-        )
+        p[kn.ZP_DMAX] = self.rudder_scale()
         p[kn.ZP_IMO] = 1.0 if self.imo else 0.0
         p[kn.ZP_DT] = config.control_interval_s
         self.p = p
+
+    def rudder_scale(self) -> float:
+        """Scale of the rudder_activity term: the helm's rudder limit, rad."""
+        return self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
 
     def observation_features(self) -> list[Feature]:
         f = self.motion_observation(rev=self.config.engine_control)
@@ -78,11 +103,7 @@ class ZigZagTask(Task):
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
-        opts = dict(options or {})
-        heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
-        speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or self.U_T))
-        if opts:
-            raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
+        heading, speed = _reset_options(c, options, rng, self.U_T)
         self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
         s = self.ts[k]
         s[:] = 0.0
@@ -91,9 +112,7 @@ class ZigZagTask(Task):
         s[kn.Z_U0] = speed
         s[kn.Z_PREV_ORDER] = float(self.sim.rudder_order[k])
         if self.imo:
-            side = {"starboard": 1.0, "port": -1.0}.get(c.first_side)
-            if side is None:
-                side = 1.0 if rng.random() < 0.5 else -1.0
+            side = _first_side(c.first_side, rng)
             s[kn.Z_SIDE] = side
             s[kn.Z_TARGET] = psi0 + side * self.psi_z
             s[kn.Z_EXEC] = 1.0  # the first execute is the rudder order at t = 0
@@ -104,8 +123,7 @@ class ZigZagTask(Task):
     def _new_leg(self, k: int, rng: np.random.Generator) -> None:
         c = self.config
         s = self.ts[k]
-        change = _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
-        s[kn.Z_TARGET] += change
+        s[kn.Z_TARGET] += _course_change(c, rng)
         s[kn.Z_LEG_SIGN] = 1.0 if s[kn.Z_TARGET] >= self.sim.heading[k] else -1.0
         s[kn.Z_REACHED] = 0.0
         s[kn.Z_EXEC] += 1.0
@@ -400,24 +418,19 @@ class ZigZagV1Task(Task):
         p = np.zeros(kn.ZVPN)
         p[kn.ZVP_PSIZ] = self.psi_z
         p[kn.ZVP_OS_REF] = self.overshoot_ref
-        p[kn.ZVP_DMAX] = (
-            self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
-        )
+        p[kn.ZVP_DMAX] = self.rudder_scale()
         p[kn.ZVP_IMO] = 1.0 if self.imo else 0.0
         p[kn.ZVP_DT] = config.control_interval_s
         p[kn.ZVP_LEG_LIMIT] = self.leg_time_limit
         p[kn.ZVP_REACH] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
         self.p = p
 
+    rudder_scale = ZigZagTask.rudder_scale
     observation_features = ZigZagTask.observation_features
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
-        opts = dict(options or {})
-        heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
-        speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or self.U_T))
-        if opts:
-            raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
+        heading, speed = _reset_options(c, options, rng, self.U_T)
         self.disturbances.apply(self.sim, k, rng, heading)
         self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
         s = self.ts[k]
@@ -429,9 +442,7 @@ class ZigZagV1Task(Task):
         s[kn.ZV_PREV_ORDER] = float(self.sim.rudder_order[k])
         s[kn.ZV_NEXT] = _uniform(rng, c.first_change_s)
         if self.imo:
-            side = {"starboard": 1.0, "port": -1.0}.get(c.first_side)
-            if side is None:
-                side = 1.0 if rng.random() < 0.5 else -1.0
+            side = _first_side(c.first_side, rng)
             s[kn.ZV_SIDE] = -side  # the first change flips it to the first side
         else:
             self._draw_change(k, rng)
@@ -440,9 +451,7 @@ class ZigZagV1Task(Task):
         """Draw vessel k's next random course change and the duration of the leg it starts."""
         c = self.config
         s = self.ts[k]
-        s[kn.ZV_PEND_CHANGE] = (
-            _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
-        )
+        s[kn.ZV_PEND_CHANGE] = _course_change(c, rng)
         s[kn.ZV_PEND_LEG] = _uniform(rng, c.leg_time_s)
         s[kn.ZV_DRAW] = 0.0
 
@@ -513,12 +522,7 @@ class ZigZagV1Task(Task):
             "diverged": ~self.sim.alive,
         }
 
-    def overlay(self, k: int) -> dict[str, Any]:
-        return {
-            "target_heading_rad": float(self.ts[k, kn.ZV_TARGET]),
-            "original_course_rad": float(self.ts[k, kn.ZV_PSI0]),
-            "title": "ZigZag",
-        }
+    overlay = ZigZagTask.overlay  # both task states keep the original course and target in the same columns
 
 
 class ZigZagRandomTask(ZigZagV1Task):

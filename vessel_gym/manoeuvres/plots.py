@@ -106,6 +106,18 @@ def _verdict_box(ax, criteria: Sequence[Criterion], loc: str = "upper right", ex
     )
 
 
+def _limit_hline(ax, y: float, label: str, lw: float, ls: str = "-.", fontsize: float = 8) -> None:
+    """A criterion's limit drawn across the axes at ``y``, labelled above the line at x = 0."""
+    ax.axhline(y, color=LIMIT_COLOUR, lw=lw, ls=ls)
+    ax.text(0.0, y, label, color=LIMIT_COLOUR, fontsize=fontsize, ha="center", va="bottom")
+
+
+def _limit_vline(ax, x: float, y: float, label: str, lw: float, va: str) -> None:
+    """A criterion's limit drawn up the axes at ``x``, labelled along its left side from ``y``."""
+    ax.axvline(x, color=LIMIT_COLOUR, lw=lw, ls="-.")
+    ax.text(x, y, label, color=LIMIT_COLOUR, fontsize=8, rotation=90, ha="right", va=va)
+
+
 def _side(rudder_deg: float) -> str:
     return "starboard" if rudder_deg > 0 else "port"
 
@@ -153,30 +165,11 @@ def figure_turning(trials: Sequence[TurningCircle], criteria: Sequence[Criterion
         lim_a = next((c.limit for c in criteria if c.name == "advance"), None)
         lim_td = next((c.limit for c in criteria if c.name == "tactical_diameter"), None)
         if lim_a is not None:
-            ax.axhline(lim_a, color=LIMIT_COLOUR, lw=1.0, ls="-.")
-            ax.text(
-                0.0,
-                lim_a,
-                f"advance limit {lim_a:g} L",
-                color=LIMIT_COLOUR,
-                fontsize=8,
-                ha="center",
-                va="bottom",
-            )
+            _limit_hline(ax, lim_a, f"advance limit {lim_a:g} L", lw=1.0)
             ext = max(ext, lim_a)
         if lim_td is not None:
-            for sg in (1.0, -1.0):
-                ax.axvline(sg * lim_td, color=LIMIT_COLOUR, lw=1.0, ls="-.")
-            ax.text(
-                lim_td,
-                -0.5,
-                f"TD limit {lim_td:g} L",
-                color=LIMIT_COLOUR,
-                fontsize=8,
-                rotation=90,
-                ha="right",
-                va="bottom",
-            )
+            ax.axvline(-lim_td, color=LIMIT_COLOUR, lw=1.0, ls="-.")  # the port turn's limit, unlabelled
+            _limit_vline(ax, lim_td, -0.5, f"TD limit {lim_td:g} L", lw=1.0, va="bottom")
             ext = max(ext, lim_td)
     ext = float(np.ceil(ext + 0.5))
     ax.set_xlim(-ext, ext)
@@ -295,10 +288,7 @@ def figure_initial_turning(trials: Sequence[InitialTurning], criteria: Sequence[
     xmax = max([it.distance_m / it.L_m for it in trials] + [1.0])
     lim = next((c.limit for c in criteria), None)
     if lim is not None:
-        a1.axvline(lim, color=LIMIT_COLOUR, lw=1.1, ls="-.")
-        a1.text(
-            lim, 13.5, f"limit {lim:g} L ", color=LIMIT_COLOUR, fontsize=8, rotation=90, ha="right", va="top"
-        )
+        _limit_vline(a1, lim, 13.5, f"limit {lim:g} L ", lw=1.1, va="top")
         xmax = max(xmax, lim)
     a1.set_xlim(0.0, 1.15 * xmax)
     a1.set_ylim(0.0, 14.0)
@@ -340,25 +330,9 @@ def figure_stopping(st: Stopping, criteria: Sequence[Criterion], title: str):
     )
     top = max(hr, reach) + 1.0
     if criteria:
-        a1.axhline(STOPPING_LIMIT_L, color=LIMIT_COLOUR, lw=1.1, ls="-.")
-        a1.text(
-            0.0,
-            STOPPING_LIMIT_L,
-            f"limit {STOPPING_LIMIT_L:g} L",
-            color=LIMIT_COLOUR,
-            fontsize=8,
-            ha="center",
-            va="bottom",
-        )
-        a1.axhline(STOPPING_LARGE_SHIP_LIMIT_L, color=LIMIT_COLOUR, lw=0.8, ls=":")
-        a1.text(
-            0.0,
-            STOPPING_LARGE_SHIP_LIMIT_L,
-            f"{STOPPING_LARGE_SHIP_LIMIT_L:g} L (large ships)",
-            color=LIMIT_COLOUR,
-            fontsize=7,
-            ha="center",
-            va="bottom",
+        _limit_hline(a1, STOPPING_LIMIT_L, f"limit {STOPPING_LIMIT_L:g} L", lw=1.1)
+        _limit_hline(
+            a1, STOPPING_LARGE_SHIP_LIMIT_L, f"{STOPPING_LARGE_SHIP_LIMIT_L:g} L (large ships)", 0.8, ":", 7
         )
         top = max(top, STOPPING_LARGE_SHIP_LIMIT_L + 1.5)
     # a straight stop has almost no lateral extent: keep the across axis at least +-1 L wide so that

@@ -26,6 +26,7 @@ from vessel_gym.physics.bridge import BridgeReading
 
 PROTOCOL_VERSION = 1
 MAX_DATAGRAM_BYTES = 2048  # larger client datagrams are rejected unread
+MAX_SERVER_DATAGRAM_BYTES = 65536  # larger server datagrams are rejected unread by the clients' parsers
 MAX_STATE_DATAGRAM_BYTES = 1400  # server datagrams stay below a LAN MTU (no IP fragmentation)
 MIN_RATE_HZ = 1.0
 MAX_RATE_HZ = 50.0
@@ -203,19 +204,13 @@ def _get_seq(obj: Mapping, required: bool) -> int | None:
     return seq
 
 
-def parse_datagram(
-    data: bytes, limits: Limits = DEFAULT_LIMITS, default_rate_hz: float = 20.0
-) -> ClientMessage:
-    """Validate one client datagram and return its typed message, or raise :class:`ProtocolError`.
-
-    Rejected: more than 2048 bytes, more than 32 ``[``/``{`` in total (``too_complex``), bad UTF-8, bad JSON (including nesting too deep to parse), NaN/Infinity or
-    numbers that overflow a double, anything but an object, ``v`` other than 1, an unknown ``type``, and missing
-    or ill-typed fields (booleans are not numbers). Clamped: ``rate_hz`` to 1-50, ``rudder_order_deg`` and
-    ``rpm_order`` to ``limits``, ``telegraph`` to -4..4. Unknown keys are ignored (forward compatibility).
-    """
-    if len(data) > MAX_DATAGRAM_BYTES:
+def _decode_object(data: bytes, max_bytes: int, max_containers: int | None = None) -> dict:
+    """The JSON object a datagram carries, or :class:`ProtocolError`: the size, nesting (``max_containers``
+    ``[``/``{`` in total, when given), UTF-8, JSON and finiteness checks every parser makes before it looks at
+    the version, the type and the fields."""
+    if len(data) > max_bytes:
         raise ProtocolError("oversize", f"{len(data)} bytes")
-    if data.count(b"[") + data.count(b"{") > MAX_CONTAINERS:
+    if max_containers is not None and data.count(b"[") + data.count(b"{") > max_containers:
         raise ProtocolError("too_complex")
     try:
         text = data.decode("utf-8")
@@ -229,6 +224,20 @@ def parse_datagram(
         raise ProtocolError("bad_json") from None
     if not isinstance(obj, dict):
         raise ProtocolError("not_object")
+    return obj
+
+
+def parse_datagram(
+    data: bytes, limits: Limits = DEFAULT_LIMITS, default_rate_hz: float = 20.0
+) -> ClientMessage:
+    """Validate one client datagram and return its typed message, or raise :class:`ProtocolError`.
+
+    Rejected: more than 2048 bytes, more than 32 ``[``/``{`` in total (``too_complex``), bad UTF-8, bad JSON (including nesting too deep to parse), NaN/Infinity or
+    numbers that overflow a double, anything but an object, ``v`` other than 1, an unknown ``type``, and missing
+    or ill-typed fields (booleans are not numbers). Clamped: ``rate_hz`` to 1-50, ``rudder_order_deg`` and
+    ``rpm_order`` to ``limits``, ``telegraph`` to -4..4. Unknown keys are ignored (forward compatibility).
+    """
+    obj = _decode_object(data, MAX_DATAGRAM_BYTES, MAX_CONTAINERS)
     version = obj.get("v")
     if isinstance(version, bool) or version != PROTOCOL_VERSION:
         raise ProtocolError("bad_version")
@@ -374,12 +383,21 @@ def encode_state(
     items = [_dumps(f) for f in fields]
     tail_room = len('],"part":99,"parts":99}')
     room = max_bytes - len(prefix.encode()) - tail_room
-    chunks: list[list[str]] = [[]]
-    size = 0
     for item in items:
         n = len(item.encode()) + 1
         if n > room:
             raise ValueError(f"target entry of {n} bytes does not fit a {max_bytes}-byte state datagram")
+    return _in_parts(prefix, items, room)
+
+
+def _in_parts(prefix: str, items: Sequence[str], room: int) -> list[bytes]:
+    """The datagrams ``prefix`` + comma-separated items + ``],"part":i,"parts":n}``, filled in order with as
+    many items as fit ``room`` bytes each (an item larger than ``room`` travels alone: the caller refuses or
+    splits those)."""
+    chunks: list[list[str]] = [[]]
+    size = 0
+    for item in items:
+        n = len(item.encode()) + 1
         if size + n > room and chunks[-1]:
             chunks.append([])
             size = 0
@@ -531,18 +549,7 @@ def parse_server_datagram(data: bytes) -> dict:
     The same size, UTF-8, JSON, finiteness, version and type checks as :func:`parse_datagram` (``state``
     datagrams may be up to 64 KiB); the fields themselves are returned as sent (``null`` = not available).
     """
-    if len(data) > 65536:
-        raise ProtocolError("oversize", f"{len(data)} bytes")
-    try:
-        obj = _DECODER.decode(data.decode("utf-8"))
-    except UnicodeDecodeError:
-        raise ProtocolError("bad_utf8") from None
-    except _NonFinite:
-        raise ProtocolError("non_finite") from None
-    except (ValueError, RecursionError):
-        raise ProtocolError("bad_json") from None
-    if not isinstance(obj, dict):
-        raise ProtocolError("not_object")
+    obj = _decode_object(data, MAX_SERVER_DATAGRAM_BYTES)
     if obj.get("v") != PROTOCOL_VERSION or isinstance(obj.get("v"), bool):
         raise ProtocolError("bad_version")
     if obj.get("type") not in SERVER_TYPES:
@@ -698,19 +705,7 @@ def encode_scenario(
         per_point = max(len(_dumps(p)) + 1 for p in pts)
         n = max(1, (room - len(base.encode()) - 1) // per_point)
         items += [_dumps({**f, "points": pts[j : j + n]}) for j in range(0, len(pts), n)]
-    chunks: list[list[str]] = [[]]
-    size = 0
-    for item in items:
-        n = len(item.encode()) + 1
-        if size + n > room and chunks[-1]:
-            chunks.append([])
-            size = 0
-        chunks[-1].append(item)
-        size += n
-    parts = len(chunks)
-    return [
-        f'{prefix}{",".join(chunk)}],"part":{i},"parts":{parts}}}'.encode() for i, chunk in enumerate(chunks)
-    ]
+    return _in_parts(prefix, items, room)
 
 
 def encode_event(seq: int, event: str, t_s: float, episode: int, **fields: object) -> bytes:
@@ -759,18 +754,7 @@ def parse_server_datagram_v2(data: bytes) -> dict:
     """Decode any server datagram a v2 client receives: the v1 types with ``"v": 1`` and the v2 types with
     ``"v": 2``. Same checks as :func:`parse_server_datagram`; a ``scenario`` part must carry a ``features``
     list and integer ``part`` < ``parts``, a ``particulars`` an ``outline_m`` list of [x, y] pairs."""
-    if len(data) > 65536:
-        raise ProtocolError("oversize", f"{len(data)} bytes")
-    try:
-        obj = _DECODER.decode(data.decode("utf-8"))
-    except UnicodeDecodeError:
-        raise ProtocolError("bad_utf8") from None
-    except _NonFinite:
-        raise ProtocolError("non_finite") from None
-    except (ValueError, RecursionError):
-        raise ProtocolError("bad_json") from None
-    if not isinstance(obj, dict):
-        raise ProtocolError("not_object")
+    obj = _decode_object(data, MAX_SERVER_DATAGRAM_BYTES)
     version, kind = obj.get("v"), obj.get("type")
     if isinstance(version, bool) or version not in (PROTOCOL_VERSION, PROTOCOL_V2):
         raise ProtocolError("bad_version")
