@@ -387,11 +387,12 @@ def _cmd_ships(args) -> int:
     if args.json:
         print(json.dumps(rows, allow_nan=False))
         return 0
-    head = f"{'ship':<12}{'hull':<10}{'L m':>8}{'B m':>8}{'T m':>7}{'displ. t':>12}{'test kn':>9}"
+    w = max([10, *(len(r["ship"]) for r in rows)]) + 2  # the name column fits the longest name
+    head = f"{'ship':<{w}}{'hull':<10}{'L m':>8}{'B m':>8}{'T m':>7}{'displ. t':>12}{'test kn':>9}"
     lines = [head]
     for r in rows:
         lines.append(
-            f"{r['ship']:<12}{r['hull_model']:<10}{r['L_m']:8.2f}{r['B_m']:8.2f}{r['T_m']:7.2f}"
+            f"{r['ship']:<{w}}{r['hull_model']:<10}{r['L_m']:8.2f}{r['B_m']:8.2f}{r['T_m']:7.2f}"
             f"{r['displacement_t']:12,.1f}{r['test_speed_kn']:9.2f}"
         )
         lines.append(f"    source: {r['source']}")
