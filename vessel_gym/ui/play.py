@@ -126,8 +126,8 @@ def play(
     """
     import pygame
 
-    from vessel_gym.net.traffic import Traffic
-    from vessel_gym.render import ChartRenderer
+    from vessel_gym.scenarios.traffic import Traffic
+    from vessel_gym.ui.chart import ChartRenderer
 
     env = HarbourApproachEnv(
         scenario=scenario,
@@ -267,7 +267,7 @@ def write_track_png(
     file is not replaced unless ``force``)."""
     import pygame
 
-    from vessel_gym.render import ChartRenderer
+    from vessel_gym.ui.chart import ChartRenderer
 
     task = env.task
     chart = ChartRenderer("rgb_array", ship=task.ship, scenario=task.scenario, size=size)
