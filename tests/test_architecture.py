@@ -316,7 +316,7 @@ def test_net_imports_nothing_from_ui():
 
 
 def test_ui_and_traffic_live_in_their_homes():
-    """What a person sees is in ui/, the scenarios' traffic beside the scenarios."""
+    """What a person sees is in ui/, the scenarios' traffic beside the scenarios; the old homes only re-export."""
     g = graph()
     assert {
         "vessel_gym.ui.chart",
@@ -328,6 +328,17 @@ def test_ui_and_traffic_live_in_their_homes():
         _within(m, UI) for m in g["vessel_gym.net.clients"].internal | g["vessel_gym.net.clients"].external
     )
     assert "pygame" not in g["vessel_gym.net.clients"].external
+    shims = {
+        "vessel_gym.render": "vessel_gym.ui.chart",
+        "vessel_gym.render.chart": "vessel_gym.ui.chart",
+        "vessel_gym.play": "vessel_gym.ui.play",
+        "vessel_gym.net.traffic": "vessel_gym.scenarios.traffic",
+    }
+    for shim, home in shims.items():
+        tree = ast.parse(g[shim].path.read_text())
+        body = [n for n in tree.body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
+        assert len(body) == 1 and isinstance(body[0], ast.ImportFrom), f"{shim} does more than re-export"
+        assert g[shim].internal == {home}, f"{shim} imports {g[shim].internal}, not only {home}"
 
 
 def _line_counts() -> dict[str, int]:
@@ -344,3 +355,18 @@ def test_no_module_over_700_lines_outside_the_list_to_split():
     assert not long, f"modules over {MAX_MODULE_LINES} lines (split them by job): {long}"
     done = sorted(n for n in LONG_MODULES_TO_SPLIT if counts.get(n, 0) <= SPLIT_TARGET_LINES)
     assert not done, f"gone or down to {SPLIT_TARGET_LINES} lines, remove from LONG_MODULES_TO_SPLIT: {done}"
+
+
+def test_old_import_paths_give_the_objects_of_the_new_homes():
+    """Users' imports from the old homes keep working and get the very same objects."""
+    from vessel_gym import play as old_play
+    from vessel_gym import render
+    from vessel_gym.net import traffic as old_traffic
+    from vessel_gym.render import chart as old_chart
+    from vessel_gym.scenarios import traffic
+    from vessel_gym.ui import chart, play
+
+    assert render.ChartRenderer is old_chart.ChartRenderer is chart.ChartRenderer
+    assert old_chart.depth_colour is chart.depth_colour and old_chart.TRAFFIC == chart.TRAFFIC
+    assert old_play.play is play.play and old_play.score is play.score and old_play.Debrief is play.Debrief
+    assert old_traffic.Traffic is traffic.Traffic and old_traffic.LazyTargets is traffic.LazyTargets
