@@ -125,10 +125,10 @@ def immediate_exits(monkeypatch, tmp_path):
     """Replace the long runs by immediate exits that still do the input checks before them."""
     from cfd import pipeline
     from cfd.errors import CfdError
-    from vessel_gym import play
-    from vessel_gym.net import clients, serve
+    from vessel_gym.net import serve
     from vessel_gym.physics.shipfile import load_ship
     from vessel_gym.scenarios import load_scenario
+    from vessel_gym.ui import panels, play
 
     def ship_only(args):
         load_ship(args.ship)
@@ -150,8 +150,8 @@ def immediate_exits(monkeypatch, tmp_path):
     monkeypatch.setattr(cli, "_cmd_manoeuvre", ship_only)
     monkeypatch.setattr(play, "play", lambda scenario, **kw: _Stopped())
     monkeypatch.setattr(serve, "serve", serve_stub)
-    monkeypatch.setattr(clients, "run_helm", lambda server, **kw: None)
-    monkeypatch.setattr(clients, "run_viewer", lambda server, **kw: None)
+    monkeypatch.setattr(panels, "run_helm", lambda server, **kw: None)
+    monkeypatch.setattr(panels, "run_viewer", lambda server, **kw: None)
     monkeypatch.setattr(pipeline, "Pipeline", PipelineStub)
     monkeypatch.setattr("builtins.input", lambda prompt="": (_ for _ in ()).throw(EOFError()))
 

@@ -136,12 +136,12 @@ def _run(argv: list[str], path: Path) -> None:
 def workdir(tmp_path_factory):
     """One directory for the module (a function-scoped tmp_path would be shared by every example)."""
     import vessel_gym.manoeuvres.imo
-    import vessel_gym.play
+    import vessel_gym.ui.play
 
     d = tmp_path_factory.mktemp("fuzz")
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(vessel_gym.manoeuvres.imo, "imo_report", _fake_imo_report)
-        mp.setattr(vessel_gym.play, "play", _fake_play)
+        mp.setattr(vessel_gym.ui.play, "play", _fake_play)
         yield d
 
 

@@ -528,8 +528,8 @@ def _main(argv: Sequence[str] | None) -> int:
             print("\n".join(builtin_scenarios()))
             return 0
         if args.command == "play":
-            from vessel_gym.play import play
             from vessel_gym.scenarios import load_scenario
+            from vessel_gym.ui.play import play
 
             load_scenario(args.scenario)  # bad names fail here, before a window opens
             debrief = play(
@@ -564,17 +564,17 @@ def _main(argv: Sequence[str] | None) -> int:
                 token=token_arg(args),
             )
         if args.command in ("helm", "view"):
-            from vessel_gym.net import clients
+            from vessel_gym.ui import panels
 
             server = resolve_address(host_port(args.server, "--server"), "--server")
             token = token_arg(args)
             if args.command == "helm":
-                clients.run_helm(server, name=args.name, token=token, duration_s=args.duration)
+                panels.run_helm(server, name=args.name, token=token, duration_s=args.duration)
             else:
                 listen = host_port(args.listen, "--listen") if args.listen else None
                 if listen is not None:
                     check_bindable(listen, "--listen")
-                clients.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
+                panels.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
             return 0
         if args.command == "view3d":
             try:

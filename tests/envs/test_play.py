@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vessel_gym.play import play, score
+from vessel_gym.ui.play import play, score
 
 
 def test_scripted_play_writes_a_debrief(tmp_path):

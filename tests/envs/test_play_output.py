@@ -6,7 +6,7 @@ import pytest
 
 from vessel_gym.cli import main
 from vessel_gym.outputs import OutputExistsError
-from vessel_gym.play import play
+from vessel_gym.ui.play import play
 
 
 def test_play_refuses_to_replace_a_debrief(tmp_path, capsys):

@@ -15,7 +15,7 @@ from .helpers import Peer, make_reading, moved
 
 pytest.importorskip("pygame")
 
-from vessel_gym.net import clients  # noqa: E402  (after the pygame check)
+from vessel_gym.ui import panels  # noqa: E402  (after the pygame check)
 
 
 class ServedLink:
@@ -66,7 +66,7 @@ def _non_blank(frame: np.ndarray) -> bool:
 
 
 def test_helm_panel_keys_and_limits():
-    panel = clients.HelmPanel(max_rudder_deg=35.0)
+    panel = panels.HelmPanel(max_rudder_deg=35.0)
     panel.handle_key("right")  # a watcher's keys change nothing
     assert (panel.active, panel.rudder_order_deg) == (False, 0.0)
     panel.handle_key("t")
@@ -93,7 +93,7 @@ def test_helm_panel_keys_and_limits():
 
 
 def test_panel_syncs_once_from_state_for_a_bumpless_takeover():
-    panel = clients.HelmPanel()
+    panel = panels.HelmPanel()
     panel.sync({"rudder_order_deg": -15.0, "telegraph": 3})
     assert panel.ready and (panel.rudder_order_deg, panel.telegraph) == (-15.0, 3)
     panel.sync({"rudder_order_deg": 5.0, "telegraph": 0})
@@ -105,10 +105,10 @@ def test_render_frame_array_draws_state_and_waiting_screen():
         1, make_reading(), True, [P.Target(1, "TUG", make_reading(x_m=1500.0), 30.0, 10.0)]
     )
     state = P.parse_server_datagram(data)
-    frame = clients.render_frame_array(state, track=[(1000.0, -900.0), (1234.5, -789.0)], size=(640, 400))
+    frame = panels.render_frame_array(state, track=[(1000.0, -900.0), (1234.5, -789.0)], size=(640, 400))
     assert frame.shape == (400, 640, 3) and frame.dtype == np.uint8
     assert _non_blank(frame)
-    waiting = clients.render_frame_array(None, size=(640, 400))
+    waiting = panels.render_frame_array(None, size=(640, 400))
     assert waiting.shape == (400, 640, 3)
     assert not np.array_equal(frame, waiting)
 
@@ -121,9 +121,9 @@ def test_render_survives_nulls_and_junk_values():
         "targets": [None, {"x_m": 1.0}],
         "telegraph": 99,
     }
-    assert clients.render_frame_array(state, size=(320, 200)).shape == (200, 320, 3)
+    assert panels.render_frame_array(state, size=(320, 200)).shape == (200, 320, 3)
     state = {"x_m": 0.0, "y_m": 0.0, "hdg_deg": None, "targets": [{"x_m": 1.0, "y_m": 2.0, "hdg_deg": 3.0}]}
-    assert clients.render_frame_array(state, size=(320, 200)).shape == (200, 320, 3)
+    assert panels.render_frame_array(state, size=(320, 200)).shape == (200, 320, 3)
 
 
 # -- headless runs against a live link ------------------------------------------------------------------------
@@ -144,7 +144,7 @@ def test_helm_panel_takes_the_helm_and_steers():
             pressed.append(frame)
 
     with ServedLink() as served:
-        result = clients.run_helm(
+        result = panels.run_helm(
             served.link.json_address,
             name="test-helm",
             max_frames=45,
@@ -171,7 +171,7 @@ def test_helm_panel_takes_the_helm_and_steers():
 
 def test_viewer_runs_for_a_duration():
     with ServedLink() as served:
-        result = clients.run_viewer(
+        result = panels.run_viewer(
             served.link.json_address, duration_s=0.6, fps=30.0, headless=True, size=(480, 320), capture=True
         )
         time.sleep(0.1)  # let the link read the bye
@@ -188,7 +188,7 @@ def test_listen_only_viewer_fed_by_static_destination():
     address = listener.address
     listener.close()
     with ServedLink(json_static_destinations=[address], static_rate_hz=20.0) as served:
-        result = clients.run_viewer(
+        result = panels.run_viewer(
             served.link.json_address, listen=address, max_frames=20, fps=40.0, headless=True, size=(320, 240)
         )
         stats = served.link.stats()

@@ -269,6 +269,7 @@ def test_wrapper_publishes_contact_before_the_outcome(peers):
 def test_panels_draw_the_chart_from_the_scenario_message(peers):
     pytest.importorskip("pygame")
     from vessel_gym.net import clients
+    from vessel_gym.ui import panels
 
     link = UdpLink(LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=()))
     conn = clients.ServerConnection(link.json_address, "viewer", 10.0)
@@ -285,14 +286,14 @@ def test_panels_draw_the_chart_from_the_scenario_message(peers):
                 break
         assert conn.state is not None and conn.scene is not None and conn.particulars[0]["draught_m"] == 0.46
         assert len(conn.scene["features"]) == len(P.scenario_features(sc))
-        land = np.array(clients._CHART["land"])
-        shoal = np.array(clients._SHOAL)
+        land = np.array(panels._CHART["land"])
+        shoal = np.array(panels._SHOAL)
 
         def count(frame, colour):
             return int(np.all(frame == colour, axis=-1).sum())
 
-        plain = clients.render_frame_array(conn.state)
-        charted = clients.render_frame_array(conn.state, scene=conn.scene, own_draught_m=0.46)
+        plain = panels.render_frame_array(conn.state)
+        charted = panels.render_frame_array(conn.state, scene=conn.scene, own_draught_m=0.46)
         assert count(plain, land) == 0 and count(charted, land) > 1000
         assert count(charted, shoal) > 100  # the outer bank (0.35 m) is shallower than the draught
         # the chart is north up and centred on the ship at (-100, 0): the west shore is left of centre

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from vessel_gym.net.protocol import Target
-from vessel_gym.net.traffic import Traffic
 from vessel_gym.physics.units import KNOT_M_S
 from vessel_gym.scenarios import ScenarioError, load_scenario
 from vessel_gym.scenarios.scenario import SCENARIO_DIR, TrafficShip
+from vessel_gym.scenarios.traffic import Traffic
 
 HARBOUR = (SCENARIO_DIR / "harbour.toml").read_text()
 

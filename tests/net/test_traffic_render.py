@@ -12,7 +12,7 @@ pytest.importorskip("pygame")
 
 
 def _traffic_pixels(frame: np.ndarray) -> int:
-    from vessel_gym.render.chart import TRAFFIC
+    from vessel_gym.ui.chart import TRAFFIC
 
     return int(np.all(frame == np.array(TRAFFIC), axis=-1).sum())
 

@@ -11,7 +11,7 @@ and pursuit of a point steers along the line of sight from the ship to it, chi_d
 (north, east) in m.
 
 Compiled with numba; ``f.py_func`` is the same body un-jitted and takes numpy arrays (batches of vessels).
-Used by the scenarios' traffic (:mod:`vessel_gym.net.traffic`) and the harbour baseline
+Used by the scenarios' traffic (:mod:`vessel_gym.scenarios.traffic`) and the harbour baseline
 (:class:`vessel_gym.envs.policies.HarbourPilot`).
 """
 

@@ -387,7 +387,7 @@ class Task(abc.ABC):
 
     def renderer(self, mode: str) -> Any:
         """A chart renderer of this task's ship and chart (pygame is imported only here)."""
-        from vessel_gym.render import ChartRenderer
+        from vessel_gym.ui.chart import ChartRenderer
 
         return ChartRenderer(
             mode,
@@ -505,7 +505,7 @@ class ShipEnv(gym.Env):
         if scenario is None or not scenario.traffic:
             return ()
         if self._traffic is None:
-            from vessel_gym.net.traffic import Traffic
+            from vessel_gym.scenarios.traffic import Traffic
 
             self._traffic = Traffic.from_scenario(scenario, self.task.dt, self.config.control_interval_s)
         steps = max(len(self._track) - 1, 0)  # one track point per step since the reset

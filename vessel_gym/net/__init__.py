@@ -1,6 +1,7 @@
 """Networking: the UDP link (NMEA 0183 + AIS out, JSON state out, helm commands in), pacing and clients.
 
-The pygame clients live in :mod:`vessel_gym.net.clients` and import pygame only when they draw.
+The network client of the panels is :class:`vessel_gym.net.clients.ServerConnection`; the pygame helm and
+viewer panels that draw with it live in :mod:`vessel_gym.ui.panels` (nothing here imports from ``ui``).
 """
 
 from vessel_gym.net.link import HelmState, LinkConfig, UdpLink

@@ -37,8 +37,8 @@ from vessel_gym.net.protocol import (
     encode_helm,
     parse_server_datagram_v2,
 )
-from vessel_gym.render.chart import depth_colour
 from vessel_gym.scenarios.geometry import hull_outline, signed_area
+from vessel_gym.ui.chart import depth_colour
 
 Address = tuple[str, int]
 

@@ -25,9 +25,9 @@ import numpy as np
 
 from vessel_gym.net.link import HelmState, LinkConfig, UdpLink
 from vessel_gym.net.protocol import Limits, ShipParticulars
-from vessel_gym.net.traffic import Traffic
 from vessel_gym.physics.bridge import BridgeReading
 from vessel_gym.physics.units import DEG, RPM
+from vessel_gym.scenarios.traffic import Traffic
 
 TAKEOVER_MODES = ("helm", "never")
 STEERED_BY = ("agent", "human", "failsafe")
@@ -57,7 +57,7 @@ class UdpLinkWrapper(gym.Wrapper):
             (``hold`` or ``midships_stop``) apply for this long (link-clock seconds), then the agent steers
             again. None: the failsafe orders stay in force until a panel commands again.
         traffic: ``"auto"`` (the scenario's ``[[traffic]]`` ships for HarbourApproach, else none), a
-            :class:`~vessel_gym.net.traffic.Traffic` with the environment's control interval, or None.
+            :class:`~vessel_gym.scenarios.traffic.Traffic` with the environment's control interval, or None.
         clock: link time: ``"wall"`` (default, ``time.monotonic``), ``"sim"`` (simulation time; rates and the
             watchdog then run in simulated seconds), or a function returning seconds (tests).
         min_service_interval_s: the link is serviced at most once per this many link-clock seconds (and at

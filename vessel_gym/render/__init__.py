@@ -1,5 +1,3 @@
-"""pygame chart viewer (top-down, north up). Reads simulation state only; pygame is imported lazily."""
+"""Former home of the pygame chart viewer, kept for existing imports: it lives in :mod:`vessel_gym.ui.chart`."""
 
-from vessel_gym.render.chart import ChartRenderer
-
-__all__ = ["ChartRenderer"]
+from vessel_gym.ui.chart import ChartRenderer  # noqa: F401

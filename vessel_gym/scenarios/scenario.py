@@ -92,7 +92,7 @@ class Weather:
 
 @dataclass(frozen=True, kw_only=True)
 class TrafficShip:
-    """Another ship following a route (``vessel_gym.net.traffic``); contact with it is not modelled."""
+    """Another ship following a route (``vessel_gym.scenarios.traffic``); contact with it is not modelled."""
 
     name: str = param(doc="ship name (AIS: 20 characters, upper-cased)")
     ship: str = param("kvlcc2_l7", doc="built-in ship name or ship file path (relative to this file)")
