@@ -28,6 +28,10 @@ Helm rules:
 
 Time is whatever clock the caller passes as ``now_s`` (wall clock in live mode, simulation time otherwise); all
 rates, the watchdog and the timeouts are measured in it.
+
+This module is the link's loop (receive, dispatch, send on schedule). Admission (cookies, token, rate limits,
+client registry) is :mod:`~vessel_gym.net.access`, helm ownership :mod:`~vessel_gym.net.helm_owner`, the
+configuration :mod:`~vessel_gym.net.link_config` and the NMEA/AIS sentences :mod:`~vessel_gym.net.nmea_feed`.
 """
 
 from __future__ import annotations
@@ -37,9 +41,9 @@ import math
 import select
 import socket
 from collections.abc import Callable, Sequence
-from datetime import datetime, timedelta, timezone
+from datetime import datetime
 
-from vessel_gym.net import ais, nmea
+from vessel_gym.net import nmea
 from vessel_gym.net.access import COOKIE_LIFETIME_S, MAX_RATE_SOURCES, Access, Address, Client, new_session
 from vessel_gym.net.helm_owner import (
     FAILSAFE_POLICIES,
@@ -50,6 +54,7 @@ from vessel_gym.net.helm_owner import (
     HelmState,
 )
 from vessel_gym.net.link_config import LinkConfig
+from vessel_gym.net.nmea_feed import NmeaFeed
 from vessel_gym.net.protocol import (
     MAX_DATAGRAM_BYTES,
     REASONS,
@@ -185,11 +190,7 @@ class UdpLink:
         self._static_slack = _SLACK / config.static_rate_hz
         self._static_due = -math.inf
         self._stats_due = math.inf
-        self._epoch: datetime | None = config.utc_epoch
-        self._ais_pos_due: dict[int, float] = {}
-        self._ais_static_due: dict[int, float] = {}
-        self._ais_seq_id = 0
-        self._ais_channel = "A"
+        self._nmea_feed = NmeaFeed(config, self._encode_failed)
         self._scene_source: tuple = (None, (), None)  # what set_scene was given
         self._scene: list[bytes] | None = []  # its v2 datagrams, encoded on first need (None: not yet)
         self.last_error: str | None = None  # text of the last counted encoding/socket error
@@ -475,9 +476,7 @@ class UdpLink:
         self._nmea_due += delta
         self._static_due += delta
         self._stats_due += delta
-        for table in (self._ais_pos_due, self._ais_static_due):
-            for key in table:
-                table[key] += delta
+        self._nmea_feed.rebase(delta)
 
     # -- send -------------------------------------------------------------------------------------------------
 
@@ -490,6 +489,10 @@ class UdpLink:
             return False
         self._counters[counter] += 1
         return True
+
+    def _encode_failed(self, text: str) -> None:
+        self._counters["encode_error"] += 1
+        self.last_error = text
 
     def _next_seq(self) -> int:
         self._msg_seq += 1
@@ -563,31 +566,11 @@ class UdpLink:
             self.last_error = f"state: {exc}"
             return []
 
-    def _utc(self, own: BridgeReading, utc: datetime | None) -> datetime:
-        if utc is not None:
-            return utc
-        t = own.t_s if math.isfinite(own.t_s) and abs(own.t_s) < 1e9 else 0.0
-        if self._epoch is None:
-            self._epoch = datetime.now(timezone.utc) - timedelta(seconds=t)
-        return self._epoch + timedelta(seconds=t)
-
     def _send_nmea(
         self, now_s: float, own: BridgeReading, targets: Sequence[Target], utc: datetime | None
     ) -> None:
-        cfg = self.config
-        self._nmea_due = _advance(self._nmea_due, 1.0 / cfg.nmea_rate_hz, now_s)
-        stamp = self._utc(own, utc)
-        try:
-            sentences = nmea.own_ship_sentences(
-                own, stamp, cfg.talkers, gll_sentence=cfg.nmea_gll, zda_sentence=cfg.nmea_zda
-            )
-        except (ValueError, TypeError, OverflowError) as exc:  # e.g. an absurd value overflowing 82 chars
-            self._counters["encode_error"] += 1
-            self.last_error = f"nmea: {exc}"
-            sentences = []
-        n_own = len(sentences)
-        if targets:
-            sentences += self._ais_sentences(now_s, targets, stamp)
+        self._nmea_due = _advance(self._nmea_due, 1.0 / self.config.nmea_rate_hz, now_s)
+        sentences, n_own = self._nmea_feed.cycle(now_s, own, targets, utc)
         if not sentences:
             return
         datagrams = nmea.pack_datagrams(sentences, NMEA_MAX_DATAGRAM_BYTES)
@@ -598,63 +581,6 @@ class UdpLink:
         if sent_any:
             self._counters["tx_nmea_sentences"] += n_own
             self._counters["tx_ais_sentences"] += len(sentences) - n_own
-
-    def _ais_sentences(self, now_s: float, targets: Sequence[Target], stamp: datetime) -> list[str]:
-        cfg = self.config
-        out: list[str] = []
-        live = set()
-        for t in targets:
-            if t.mmsi is None:
-                continue
-            live.add(t.id)
-            try:
-                if now_s >= self._ais_static_due.get(t.id, -math.inf):
-                    # Position reference at midships on the centreline, in whole metres.
-                    bow, port = round(t.length_m / 2.0), round(t.beam_m / 2.0)
-                    out += ais.static_voyage(
-                        t.mmsi,
-                        imo=t.imo,
-                        call_sign=t.call_sign,
-                        name=t.name,
-                        ship_type=t.ship_type,
-                        to_bow_m=bow,
-                        to_stern_m=round(t.length_m) - bow,
-                        to_port_m=port,
-                        to_starboard_m=round(t.beam_m) - port,
-                        draught_m=t.draught_m,
-                        destination=t.destination,
-                        seq_id=self._ais_seq_id,
-                        channel=self._next_channel(),
-                    )
-                    self._ais_seq_id = (self._ais_seq_id + 1) % 10
-                    self._ais_static_due[t.id] = now_s + cfg.ais_static_interval_s
-                if now_s >= self._ais_pos_due.get(t.id, -math.inf):
-                    r = t.reading
-                    out += ais.position_report(
-                        t.mmsi,
-                        r.lat_deg,
-                        r.lon_deg,
-                        r.sog_kn,
-                        r.cog_deg,
-                        r.hdg_deg,
-                        r.rot_dpm,
-                        stamp.second,
-                        nav_status=t.nav_status,
-                        channel=self._next_channel(),
-                    )
-                    self._ais_pos_due[t.id] = now_s + cfg.ais_position_interval_s
-            except (ValueError, TypeError, OverflowError) as exc:
-                self._counters["encode_error"] += 1
-                self.last_error = f"ais target {t.id}: {exc}"
-        if len(self._ais_pos_due) > len(live):  # forget ships that left the scene
-            for table in (self._ais_pos_due, self._ais_static_due):
-                for key in [k for k in table if k not in live]:
-                    del table[key]
-        return out
-
-    def _next_channel(self) -> str:
-        self._ais_channel = "B" if self._ais_channel == "A" else "A"
-        return self._ais_channel
 
     # -- lifecycle --------------------------------------------------------------------------------------------
 
