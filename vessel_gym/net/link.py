@@ -31,7 +31,8 @@ rates, the watchdog and the timeouts are measured in it.
 
 This module is the link's loop (receive, dispatch, send on schedule). Admission (cookies, token, rate limits,
 client registry) is :mod:`~vessel_gym.net.access`, helm ownership :mod:`~vessel_gym.net.helm_owner`, the
-configuration :mod:`~vessel_gym.net.link_config` and the NMEA/AIS sentences :mod:`~vessel_gym.net.nmea_feed`.
+configuration :mod:`~vessel_gym.net.link_config` and the NMEA/AIS sentences :mod:`~vessel_gym.net.nmea_feed`;
+the public names of the first three stay importable from here.
 """
 
 from __future__ import annotations
@@ -44,8 +45,15 @@ from collections.abc import Callable, Sequence
 from datetime import datetime
 
 from vessel_gym.net import nmea
-from vessel_gym.net.access import COOKIE_LIFETIME_S, MAX_RATE_SOURCES, Access, Address, Client, new_session
-from vessel_gym.net.helm_owner import (
+from vessel_gym.net.access import (  # noqa: F401
+    COOKIE_LIFETIME_S,
+    MAX_RATE_SOURCES,
+    Access,
+    Address,
+    Client,
+    new_session,
+)
+from vessel_gym.net.helm_owner import (  # noqa: F401
     FAILSAFE_POLICIES,
     HELM_CHANGE_REASONS,
     NO_HELM,
@@ -53,7 +61,7 @@ from vessel_gym.net.helm_owner import (
     HelmOwner,
     HelmState,
 )
-from vessel_gym.net.link_config import LinkConfig
+from vessel_gym.net.link_config import LinkConfig  # noqa: F401
 from vessel_gym.net.nmea_feed import NmeaFeed
 from vessel_gym.net.protocol import (
     MAX_DATAGRAM_BYTES,
@@ -76,22 +84,6 @@ from vessel_gym.net.protocol import (
     parse_datagram,
 )
 from vessel_gym.physics.bridge import BridgeReading
-
-# The configuration, the admission rules and the helm ownership live in their own modules; their public names
-# stay importable from here.
-__all__ = [
-    "COOKIE_LIFETIME_S",
-    "FAILSAFE_POLICIES",
-    "HELM_CHANGE_REASONS",
-    "LINK_DROP_REASONS",
-    "MAX_RATE_SOURCES",
-    "NO_HELM",
-    "Address",
-    "HelmChange",
-    "HelmState",
-    "LinkConfig",
-    "UdpLink",
-]
 
 LINK_DROP_REASONS = (
     "unregistered",
