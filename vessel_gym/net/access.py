@@ -1,5 +1,5 @@
-"""Who may talk to the UDP link: the registry of clients, the stateless hello cookie, the shared token and the
-per-source rate limit.
+"""Who may talk to the UDP link: the registry of clients, the stateless hello cookie, the shared token, the
+per-source rate limit, and whether the link's address is open to the network.
 
 :class:`Access` decides admission only; the link (:mod:`vessel_gym.net.link`) counts the outcome and answers.
 The rules are those of ``docs/protocol.md``:
@@ -16,9 +16,11 @@ from __future__ import annotations
 import base64
 import hashlib
 import hmac
+import ipaddress
 import math
 import os
 import secrets
+import socket
 import time
 from dataclasses import dataclass
 
@@ -35,6 +37,19 @@ MAX_RATE_SOURCES = 4096
 def token_bytes(text: str) -> bytes:
     """UTF-8 bytes of any str, lone surrogates included (JSON may carry them as escapes), for compare_digest."""
     return text.encode("utf-8", "surrogatepass")
+
+
+def resolve_host(host: str) -> str:
+    """IPv4 address of a host name ("" = every interface), resolved once when a link opens."""
+    return socket.gethostbyname(host) if host else "0.0.0.0"
+
+
+def is_loopback(ip: str) -> bool:
+    """True for a loopback address: only a link bound there is closed to the network without ``allow_remote``."""
+    try:
+        return ipaddress.ip_address(ip).is_loopback
+    except ValueError:
+        return False
 
 
 def new_session() -> str:

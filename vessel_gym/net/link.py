@@ -37,7 +37,6 @@ the public names of the first three stay importable from here.
 
 from __future__ import annotations
 
-import ipaddress
 import math
 import select
 import socket
@@ -51,7 +50,9 @@ from vessel_gym.net.access import (  # noqa: F401
     Access,
     Address,
     Client,
+    is_loopback,
     new_session,
+    resolve_host,
 )
 from vessel_gym.net.helm_owner import (  # noqa: F401
     FAILSAFE_POLICIES,
@@ -109,17 +110,6 @@ _SLACK = 1e-3
 # The link
 
 
-def _resolve(host: str) -> str:
-    return socket.gethostbyname(host) if host else "0.0.0.0"
-
-
-def _is_loopback(ip: str) -> bool:
-    try:
-        return ipaddress.ip_address(ip).is_loopback
-    except ValueError:
-        return False
-
-
 class UdpLink:
     """Non-blocking UDP link of one own ship (see the module docstring for the rules).
 
@@ -134,14 +124,14 @@ class UdpLink:
         self._nmea_sock: socket.socket | None = None
         self._closed = False
 
-        bind_host = _resolve(config.json_bind[0])
-        if not _is_loopback(bind_host) and not config.allow_remote:
+        bind_host = resolve_host(config.json_bind[0])
+        if not is_loopback(bind_host) and not config.allow_remote:
             raise ValueError(
                 f"binding the JSON channel to {bind_host} accepts helm commands from the network: "
                 "set allow_remote to do so"
             )
-        self._nmea_dest = [(_resolve(h), p) for h, p in config.nmea_destinations]
-        self._static_dest = [(_resolve(h), p) for h, p in config.json_static_destinations]
+        self._nmea_dest = [(resolve_host(h), p) for h, p in config.nmea_destinations]
+        self._static_dest = [(resolve_host(h), p) for h, p in config.json_static_destinations]
 
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
