@@ -28,35 +28,48 @@ Helm rules:
 
 Time is whatever clock the caller passes as ``now_s`` (wall clock in live mode, simulation time otherwise); all
 rates, the watchdog and the timeouts are measured in it.
+
+This module is the link's loop (receive, dispatch, send on schedule). Admission (cookies, token, rate limits,
+client registry) is :mod:`~vessel_gym.net.access`, helm ownership :mod:`~vessel_gym.net.helm_owner`, the
+configuration :mod:`~vessel_gym.net.link_config` and the NMEA/AIS sentences :mod:`~vessel_gym.net.nmea_feed`;
+the public names of the first three stay importable from here.
 """
 
 from __future__ import annotations
 
-import base64
-import dataclasses
-import hashlib
-import hmac
-import ipaddress
 import math
-import os
-import secrets
 import select
 import socket
-import time
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
-from datetime import datetime, timedelta, timezone
+from collections.abc import Callable, Sequence
+from datetime import datetime
 
-from vessel_gym.net import ais, nmea
+from vessel_gym.net import nmea
+from vessel_gym.net.access import (  # noqa: F401
+    COOKIE_LIFETIME_S,
+    MAX_RATE_SOURCES,
+    Access,
+    Address,
+    Client,
+    is_loopback,
+    new_session,
+    resolve_host,
+)
+from vessel_gym.net.helm_owner import (  # noqa: F401
+    FAILSAFE_POLICIES,
+    HELM_CHANGE_REASONS,
+    NO_HELM,
+    HelmChange,
+    HelmOwner,
+    HelmState,
+)
+from vessel_gym.net.link_config import LinkConfig  # noqa: F401
+from vessel_gym.net.nmea_feed import NmeaFeed
 from vessel_gym.net.protocol import (
     MAX_DATAGRAM_BYTES,
-    MAX_RATE_HZ,
-    MIN_RATE_HZ,
     REASONS,
     Bye,
     Hello,
     HelmCommand,
-    Limits,
     ProtocolError,
     ShipParticulars,
     StatsRequest,
@@ -73,9 +86,6 @@ from vessel_gym.net.protocol import (
 )
 from vessel_gym.physics.bridge import BridgeReading
 
-Address = tuple[str, int]
-
-FAILSAFE_POLICIES = ("hold", "midships_stop")
 LINK_DROP_REASONS = (
     "unregistered",
     "not_helm",
@@ -87,13 +97,6 @@ LINK_DROP_REASONS = (
     "bad_session",
     "rate_limited",
 )
-HELM_CHANGE_REASONS = ("command", "watchdog", "timeout", "bye", "viewer", "new_session")
-# A cookie is valid this long after it was issued (s of the link's monotonic clock). Every full welcome carries a
-# fresh one, and clients renew their hello at least once a second, so a live client never holds an old cookie.
-COOKIE_LIFETIME_S = 10.0
-# Per-source rate limits are kept for at most this many source addresses; beyond it, unknown sources share one
-# bucket (a flood from many spoofed addresses then limits itself, not the registered clients).
-MAX_RATE_SOURCES = 4096
 STATS_REQUEST_INTERVAL_S = 1.0  # a client gets at most one stats reply on request per this many s
 NMEA_MAX_DATAGRAM_BYTES = 1400
 RECEIVE_BUFFER_BYTES = 1 << 20
@@ -104,211 +107,7 @@ _SLACK = 1e-3
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# Configuration
-
-
-def _check_number(name: str, value: object, low: float, high: float) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ValueError(f"LinkConfig.{name} must be a number, not {value!r}")
-    if not low <= value <= high:
-        raise ValueError(f"LinkConfig.{name} = {value} is outside [{low}, {high}]")
-    return float(value)
-
-
-def _check_address(name: str, value: object, port_zero_ok: bool) -> Address:
-    if (
-        not isinstance(value, (tuple, list))
-        or len(value) != 2
-        or not isinstance(value[0], str)
-        or isinstance(value[1], bool)
-        or not isinstance(value[1], int)
-    ):
-        raise ValueError(f"LinkConfig.{name} must be a (host, port) pair, not {value!r}")
-    host, port = value
-    if not (0 if port_zero_ok else 1) <= port <= 65535:
-        raise ValueError(f"LinkConfig.{name}: port {port} is out of range")
-    return (host, port)
-
-
-@dataclass(frozen=True)
-class LinkConfig:
-    """Strict, immutable configuration of a :class:`UdpLink`. Unknown keys and bad values raise ``ValueError``.
-
-    Build it with keyword arguments or from a mapping with :meth:`from_dict`. Addresses are ``(host, port)``;
-    hosts are IPv4 addresses or names resolved once when the link opens.
-    """
-
-    nmea_destinations: tuple[Address, ...] = (("127.0.0.1", 10110),)  # NMEA/AIS receivers; () = no NMEA
-    nmea_rate_hz: float = 2.0  # own-ship sentence cycles per second, 1-10
-    talkers: nmea.Talkers = nmea.DEFAULT_TALKERS
-    nmea_gll: bool = False  # add GLL to each cycle
-    nmea_zda: bool = False  # add ZDA to each cycle
-    ais_position_interval_s: float = 2.0  # type 1 reports of each target with an MMSI, s (0.1-180)
-    ais_static_interval_s: float = 180.0  # type 5 static/voyage data of each target, s (10-3600)
-    json_bind: Address = ("127.0.0.1", 10120)  # JSON channel socket; port 0 = any free port
-    json_static_destinations: tuple[Address, ...] = ()  # listen-only viewers that get state without hello
-    static_rate_hz: float = 20.0  # state rate to the static destinations, 1-50 Hz
-    default_rate_hz: float = 20.0  # state rate for a hello without rate_hz, 1-50 Hz
-    allow_remote: bool = False  # binding to a non-loopback address requires this
-    token: str | None = None  # if set, a hello must carry this token
-    max_rate_per_source_hz: float = 200.0  # datagrams/s from one source address (burst: 1 s of it), 10-1e5
-    failsafe: str = "hold"  # "hold" | "midships_stop"
-    watchdog_s: float = 1.0  # helm silence after which the owner loses the helm, s (0.1-10)
-    client_timeout_s: float = 3.0  # silence after which a client is dropped, s (0.5-60)
-    max_clients: int = 16
-    max_clients_per_host: int = 8  # client slots one IP address may hold
-    stats_interval_s: float = 5.0  # period of unsolicited stats messages to clients, s (0.5-3600)
-    max_datagrams_per_call: int = 256  # receive budget per service() call
-    limits: Limits = field(default_factory=Limits)
-    utc_epoch: datetime | None = None  # UTC at simulation time 0; None = wall clock at the first service()
-
-    def __post_init__(self) -> None:
-        def put(name: str, value: object) -> None:
-            object.__setattr__(self, name, value)
-
-        if not isinstance(self.nmea_destinations, (tuple, list)):
-            raise ValueError("LinkConfig.nmea_destinations must be a list of (host, port) pairs")
-        put(
-            "nmea_destinations",
-            tuple(_check_address("nmea_destinations", a, False) for a in self.nmea_destinations),
-        )
-        if not isinstance(self.json_static_destinations, (tuple, list)):
-            raise ValueError("LinkConfig.json_static_destinations must be a list of (host, port) pairs")
-        put(
-            "json_static_destinations",
-            tuple(
-                _check_address("json_static_destinations", a, False) for a in self.json_static_destinations
-            ),
-        )
-        put("json_bind", _check_address("json_bind", self.json_bind, True))
-        put("nmea_rate_hz", _check_number("nmea_rate_hz", self.nmea_rate_hz, 1.0, 10.0))
-        put(
-            "ais_position_interval_s",
-            _check_number("ais_position_interval_s", self.ais_position_interval_s, 0.1, 180.0),
-        )
-        put(
-            "ais_static_interval_s",
-            _check_number("ais_static_interval_s", self.ais_static_interval_s, 10.0, 3600.0),
-        )
-        put("static_rate_hz", _check_number("static_rate_hz", self.static_rate_hz, MIN_RATE_HZ, MAX_RATE_HZ))
-        put(
-            "default_rate_hz",
-            _check_number("default_rate_hz", self.default_rate_hz, MIN_RATE_HZ, MAX_RATE_HZ),
-        )
-        put("watchdog_s", _check_number("watchdog_s", self.watchdog_s, 0.1, 10.0))
-        put("client_timeout_s", _check_number("client_timeout_s", self.client_timeout_s, 0.5, 60.0))
-        put("stats_interval_s", _check_number("stats_interval_s", self.stats_interval_s, 0.5, 3600.0))
-        put(
-            "max_rate_per_source_hz",
-            _check_number("max_rate_per_source_hz", self.max_rate_per_source_hz, 10.0, 100000.0),
-        )
-        for name, low, high in (
-            ("max_clients", 1, 1024),
-            ("max_clients_per_host", 1, 1024),
-            ("max_datagrams_per_call", 1, 100000),
-        ):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-                raise ValueError(f"LinkConfig.{name} must be an integer in [{low}, {high}], not {value!r}")
-        for name in ("nmea_gll", "nmea_zda", "allow_remote"):
-            if not isinstance(getattr(self, name), bool):
-                raise ValueError(f"LinkConfig.{name} must be true or false")
-        if self.failsafe not in FAILSAFE_POLICIES:
-            raise ValueError(f"LinkConfig.failsafe must be one of {FAILSAFE_POLICIES}, not {self.failsafe!r}")
-        if self.token is not None and (not isinstance(self.token, str) or not 1 <= len(self.token) <= 128):
-            raise ValueError("LinkConfig.token must be a string of 1-128 characters or None")
-        if isinstance(self.talkers, Mapping):
-            put("talkers", nmea.Talkers(**self.talkers))
-        if not isinstance(self.talkers, nmea.Talkers):
-            raise ValueError("LinkConfig.talkers must be a Talkers")
-        if isinstance(self.limits, Mapping):
-            put("limits", Limits(**self.limits))
-        if not isinstance(self.limits, Limits):
-            raise ValueError("LinkConfig.limits must be a Limits")
-        if self.utc_epoch is not None and not isinstance(self.utc_epoch, datetime):
-            raise ValueError("LinkConfig.utc_epoch must be a datetime or None")
-
-    @classmethod
-    def from_dict(cls, data: Mapping[str, object]) -> LinkConfig:
-        """Build from a mapping (e.g. a TOML table); an unknown key raises ``ValueError`` naming it."""
-        known = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(data) - known)
-        if unknown:
-            raise ValueError(f"unknown LinkConfig key(s): {', '.join(unknown)}")
-        return cls(**data)
-
-
-# ---------------------------------------------------------------------------------------------------------------
-# Helm state
-
-
-@dataclass(frozen=True)
-class HelmState:
-    """The helm orders in force and who gives them.
-
-    ``rudder_order_deg`` (deg, + = starboard) and one of ``telegraph`` (-4..4) / ``rpm_order`` (rev/min) are None
-    until a helm panel has commanded; the caller's own control applies then. ``helm_ok`` is true while the owner's
-    commands are fresh; ``failsafe`` is true when the orders come from the failsafe policy after the owner was
-    lost (they stay in force until a panel commands again). ``seq`` is the seq of the command in force.
-    """
-
-    rudder_order_deg: float | None = None
-    telegraph: int | None = None
-    rpm_order: float | None = None
-    owner: Address | None = None
-    helm_ok: bool = False
-    failsafe: bool = False
-    seq: int | None = None
-
-    @property
-    def has_orders(self) -> bool:
-        """True once a helm panel has commanded (orders are set, fresh or failsafe)."""
-        return self.rudder_order_deg is not None
-
-
-NO_HELM = HelmState()
-
-
-@dataclass(frozen=True)
-class HelmChange:
-    """The helm changed hands at link time ``t_s``: ``owner`` took it (``reason`` "command") or ``previous``
-    lost it (``reason`` one of "watchdog", "timeout", "bye", "viewer", "new_session"; ``owner`` is then None).
-    Names are the clients' hello names."""
-
-    t_s: float
-    reason: str
-    owner: Address | None = None
-    owner_name: str = ""
-    previous: Address | None = None
-    previous_name: str = ""
-
-
-@dataclass
-class _Client:
-    role: str
-    rate_hz: float
-    name: str
-    last_seen: float
-    next_due: float
-    session: str = ""
-    last_seq: int = -1
-    last_stats: float = -math.inf  # link time of the last stats reply on request
-    proto: int = 1  # 2: also gets the v2 scene, event and helm_owner messages
-
-
-# ---------------------------------------------------------------------------------------------------------------
 # The link
-
-
-def _resolve(host: str) -> str:
-    return socket.gethostbyname(host) if host else "0.0.0.0"
-
-
-def _is_loopback(ip: str) -> bool:
-    try:
-        return ipaddress.ip_address(ip).is_loopback
-    except ValueError:
-        return False
 
 
 class UdpLink:
@@ -325,14 +124,14 @@ class UdpLink:
         self._nmea_sock: socket.socket | None = None
         self._closed = False
 
-        bind_host = _resolve(config.json_bind[0])
-        if not _is_loopback(bind_host) and not config.allow_remote:
+        bind_host = resolve_host(config.json_bind[0])
+        if not is_loopback(bind_host) and not config.allow_remote:
             raise ValueError(
                 f"binding the JSON channel to {bind_host} accepts helm commands from the network: "
                 "set allow_remote to do so"
             )
-        self._nmea_dest = [(_resolve(h), p) for h, p in config.nmea_destinations]
-        self._static_dest = [(_resolve(h), p) for h, p in config.json_static_destinations]
+        self._nmea_dest = [(resolve_host(h), p) for h, p in config.nmea_destinations]
+        self._static_dest = [(resolve_host(h), p) for h, p in config.json_static_destinations]
 
         sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         try:
@@ -360,20 +159,11 @@ class UdpLink:
                 nsock.setsockopt(socket.SOL_SOCKET, socket.SO_BROADCAST, 1)
             self._nmea_sock = nsock
 
-        self._clients: dict[Address, _Client] = {}
-        self._secret = os.urandom(32)  # cookie key; a new link invalidates every cookie of an old one
-        self._cookie_clock = time.monotonic  # cookies age in real time whatever clock service() gets
-        self._token = None if config.token is None else _token_bytes(config.token)
-        self._buckets: dict[Address | None, list[float]] = {}  # source -> [datagrams allowed, last time]
-        self._helm_changes: list[HelmChange] = []
-        self._owner: Address | None = None
-        self._owner_name = ""
-        self._last_owner: Address | None = None  # the owner before the current one (for HelmChange)
-        self._last_name = ""
-        self._owner_cmd_time = 0.0
-        self._orders: HelmCommand | None = None
-        self._failsafe = False
-        self._helm = NO_HELM
+        self._access = Access(
+            config.token, config.max_rate_per_source_hz, config.max_clients, config.max_clients_per_host
+        )
+        self._clients = self._access.clients  # the registry, shared: Access admits, the link serves
+        self._helm = HelmOwner(config.failsafe)
         self._state_seq = 0
         self._msg_seq = 0
         self._last_now: float | None = None
@@ -382,11 +172,7 @@ class UdpLink:
         self._static_slack = _SLACK / config.static_rate_hz
         self._static_due = -math.inf
         self._stats_due = math.inf
-        self._epoch: datetime | None = config.utc_epoch
-        self._ais_pos_due: dict[int, float] = {}
-        self._ais_static_due: dict[int, float] = {}
-        self._ais_seq_id = 0
-        self._ais_channel = "A"
+        self._nmea_feed = NmeaFeed(config, self._encode_failed)
         self._scene_source: tuple = (None, (), None)  # what set_scene was given
         self._scene: list[bytes] | None = []  # its v2 datagrams, encoded on first need (None: not yet)
         self.last_error: str | None = None  # text of the last counted encoding/socket error
@@ -410,7 +196,7 @@ class UdpLink:
     @property
     def helm(self) -> HelmState:
         """The helm state as of the last :meth:`service` call."""
-        return self._helm
+        return self._helm.state
 
     @property
     def clients(self) -> list[dict[str, object]]:
@@ -422,15 +208,14 @@ class UdpLink:
                 "rate_hz": c.rate_hz,
                 "name": c.name,
                 "last_seen_s": c.last_seen,
-                "owner": addr == self._owner,
+                "owner": addr == self._helm.owner,
             }
             for addr, c in self._clients.items()
         ]
 
     def pop_helm_changes(self) -> list[HelmChange]:
         """The helm ownership changes since the last call, oldest first (kept until popped, at most 1000)."""
-        out, self._helm_changes = self._helm_changes, []
-        return out
+        return self._helm.pop_changes()
 
     def stats(self) -> dict[str, int]:
         """Copy of the counters (the key set is fixed).
@@ -459,14 +244,15 @@ class UdpLink:
         peer input or socket errors (they are counted). After :meth:`close` it only returns the last state.
         """
         if self._closed:
-            return self._helm
+            return self._helm.state
         last = self._last_now
         if last is not None and now_s < last:
             self._rebase(now_s - last)
         self._last_now = now_s
         if self._readable():
             self._receive(now_s)
-        if self._owner is not None and now_s - self._owner_cmd_time > self.config.watchdog_s:
+        helm = self._helm
+        if helm.owner is not None and now_s - helm.last_command_s > self.config.watchdog_s:
             self._release(now_s, "helm_watchdog", "watchdog")
         serve = bool(self._clients) or bool(
             self._static_dest and now_s + self._static_slack >= self._static_due
@@ -484,7 +270,7 @@ class UdpLink:
                 self._serve_clients(now_s, reading, targets)
             if nmea:
                 self._send_nmea(now_s, reading(), targets, utc)
-        return self._helm
+        return self._helm.state
 
     # -- receive ----------------------------------------------------------------------------------------------
 
@@ -506,7 +292,7 @@ class UdpLink:
                 self.last_error = f"recv: {exc}"
                 continue
             counters["rx_datagrams"] += 1
-            if not self._admit(addr, now_s):
+            if not self._access.admit(addr, now_s):
                 counters["drop_rate_limited"] += 1
                 continue
             try:
@@ -519,60 +305,15 @@ class UdpLink:
     def _drop(self, reason: str) -> None:
         self._counters["drop_" + reason] += 1
 
-    def _admit(self, addr: Address, now_s: float) -> bool:
-        """Token bucket per source address: ``max_rate_per_source_hz`` datagrams/s, bursts of 1 s of it."""
-        rate = self.config.max_rate_per_source_hz
-        buckets = self._buckets
-        key: Address | None = addr
-        bucket = buckets.get(addr)
-        if bucket is None:
-            if len(buckets) >= MAX_RATE_SOURCES:
-                # forget sources that have been quiet long enough to have a full bucket again
-                for k in [k for k, b in buckets.items() if k is not None and now_s - b[1] >= 1.0]:
-                    del buckets[k]
-            if len(buckets) >= MAX_RATE_SOURCES:
-                key = None
-                bucket = buckets.get(None)
-            if bucket is None:
-                bucket = buckets[key] = [rate, now_s]
-        allowed = min(rate, bucket[0] + max(now_s - bucket[1], 0.0) * rate)
-        bucket[1] = now_s
-        if allowed < 1.0:
-            bucket[0] = allowed
-            return False
-        bucket[0] = allowed - 1.0
-        return True
-
-    def _cookie(self, addr: Address, issued: int) -> str:
-        mac = hmac.new(self._secret, f"{addr[0]}|{addr[1]}|{issued}".encode(), hashlib.sha256).digest()
-        return f"{issued:x}." + base64.urlsafe_b64encode(mac[:16]).rstrip(b"=").decode("ascii")
-
-    def _new_cookie(self, addr: Address) -> str:
-        return self._cookie(addr, int(self._cookie_clock()))
-
-    def _cookie_ok(self, addr: Address, cookie: str | None) -> bool:
-        """True if ``cookie`` was issued by this link to ``addr`` less than COOKIE_LIFETIME_S ago."""
-        if cookie is None:
-            return False
-        head, dot, _ = cookie.partition(".")
-        if not dot or not 0 < len(head) <= 12 or not all(c in "0123456789abcdef" for c in head):
-            return False
-        issued = int(head, 16)
-        if not 0.0 <= self._cookie_clock() - issued <= COOKIE_LIFETIME_S + 1.0:  # +1: whole-second stamps
-            return False
-        return hmac.compare_digest(self._cookie(addr, issued).encode("ascii"), _token_bytes(cookie))
-
     def _handle(self, now_s: float, addr: Address, msg: object, size: int) -> None:
         client = self._clients.get(addr)
         if isinstance(msg, Hello):
-            token = self._token
-            if token is not None and (
-                msg.token is None or not hmac.compare_digest(_token_bytes(msg.token), token)
-            ):
+            access = self._access
+            if not access.token_ok(msg.token):
                 self._drop("bad_token")
                 return
-            if not self._cookie_ok(addr, msg.cookie):
-                data = encode_challenge(self._msg_seq + 1, self._new_cookie(addr))
+            if not access.cookie_ok(addr, msg.cookie):
+                data = encode_challenge(self._msg_seq + 1, access.new_cookie(addr))
                 if len(data) > size:  # never more bytes than came in to an address not shown to receive
                     self._drop("short_hello")
                     return
@@ -581,22 +322,19 @@ class UdpLink:
                 self._send(addr, data, "tx_challenge")
                 return
             if client is None:
-                host = addr[0]
-                if len(self._clients) >= self.config.max_clients or (
-                    sum(1 for a in self._clients if a[0] == host) >= self.config.max_clients_per_host
-                ):
+                if not access.has_room(addr[0]):
                     self._drop("too_many_clients")
                     return
-                client = _Client(msg.role, msg.rate_hz, msg.name, now_s, now_s, session=secrets.token_hex(8))
+                client = Client(msg.role, msg.rate_hz, msg.name, now_s, now_s, session=new_session())
                 self._clients[addr] = client
                 self._counters["clients_joined"] += 1
             else:
                 if msg.session != client.session:  # a restarted client: its commands count from a new seq
-                    if addr == self._owner:
+                    if addr == self._helm.owner:
                         self._release(now_s, "helm_released", "new_session")
-                    client.session = secrets.token_hex(8)
+                    client.session = new_session()
                     client.last_seq = -1
-                if client.role == "helm" and msg.role != "helm" and addr == self._owner:
+                if client.role == "helm" and msg.role != "helm" and addr == self._helm.owner:
                     self._release(now_s, "helm_released", "viewer")
                 if msg.rate_hz != client.rate_hz:
                     client.next_due = min(client.next_due, now_s + 1.0 / msg.rate_hz)
@@ -625,7 +363,7 @@ class UdpLink:
             return
         self._counters["rx_accepted"] += 1
         if isinstance(msg, Bye):
-            if addr == self._owner:
+            if addr == self._helm.owner:
                 self._release(now_s, "helm_released", "bye")
             del self._clients[addr]
             self._counters["clients_left"] += 1
@@ -633,7 +371,7 @@ class UdpLink:
             client.last_stats = now_s
             self._send(addr, self._stats_message(now_s), "tx_stats")
 
-    def _command(self, now_s: float, addr: Address, client: _Client, cmd: HelmCommand) -> None:
+    def _command(self, now_s: float, addr: Address, client: Client, cmd: HelmCommand) -> None:
         if client.role != "helm":
             self._drop("not_helm")
             return
@@ -641,45 +379,20 @@ class UdpLink:
             self._drop("stale_seq")
             return
         client.last_seq = cmd.seq
-        if self._owner is None:
-            self._owner = addr
-            self._owner_name = client.name
-            self._counters["helm_takeovers"] += 1
-            self._helm_change(
-                HelmChange(now_s, "command", addr, client.name, self._last_owner, self._last_name)
-            )
-            self._owner_changed("takeover")
-        elif self._owner != addr:
+        outcome = self._helm.command(now_s, addr, client.name, cmd)
+        if outcome == "not_owner":
             self._drop("not_owner")
             return
+        if outcome == "takeover":
+            self._counters["helm_takeovers"] += 1
+            self._owner_changed("takeover")
         self._counters["rx_accepted"] += 1
-        self._owner_cmd_time = now_s
-        self._orders = cmd
-        self._failsafe = False
-        self._update_helm()
-
-    def _helm_change(self, change: HelmChange) -> None:
-        if len(self._helm_changes) < 1000:  # bounded if nobody pops them
-            self._helm_changes.append(change)
 
     def _release(self, now_s: float, counter: str, reason: str) -> None:
-        """Owner lost (watchdog, bye, role change or timeout): apply the failsafe policy, free the helm."""
+        """Owner lost (watchdog, bye, role change or timeout): free the helm (failsafe orders), tell v2 clients."""
         self._counters[counter] += 1
-        self._helm_change(HelmChange(now_s, reason, previous=self._owner, previous_name=self._owner_name))
-        self._last_owner, self._last_name = self._owner, self._owner_name
-        self._owner = None
+        self._helm.release(now_s, reason)
         self._owner_changed("watchdog" if counter == "helm_watchdog" else "released")
-        orders = self._orders
-        if orders is not None:
-            self._failsafe = True
-            if self.config.failsafe == "midships_stop":
-                self._orders = HelmCommand(
-                    seq=orders.seq,
-                    rudder_order_deg=0.0,
-                    telegraph=None if orders.telegraph is None else 0,
-                    rpm_order=None if orders.rpm_order is None else 0.0,
-                )
-        self._update_helm()
 
     # -- protocol v2 ------------------------------------------------------------------------------------------
 
@@ -728,7 +441,7 @@ class UdpLink:
                 self._send(addr, data, "tx_v2")
 
     def _owner_changed(self, reason: str) -> None:
-        owner = self._owner
+        owner = self._helm.owner
         name = None
         if owner is not None:
             client = self._clients.get(owner)
@@ -738,31 +451,14 @@ class UdpLink:
             if c.proto >= 2:
                 self._send(addr, encode_helm_owner(seq, name, addr == owner, reason), "tx_v2")
 
-    def _update_helm(self) -> None:
-        o = self._orders
-        self._helm = HelmState(
-            rudder_order_deg=None if o is None else o.rudder_order_deg,
-            telegraph=None if o is None else o.telegraph,
-            rpm_order=None if o is None else o.rpm_order,
-            owner=self._owner,
-            helm_ok=self._owner is not None and o is not None and not self._failsafe,
-            failsafe=self._failsafe,
-            seq=None if o is None else o.seq,
-        )
-
     def _rebase(self, delta: float) -> None:
         """The caller's clock jumped back by -delta: shift every stored time so intervals are kept."""
-        self._owner_cmd_time += delta
+        self._helm.rebase(delta)
+        self._access.rebase(delta)
         self._nmea_due += delta
         self._static_due += delta
         self._stats_due += delta
-        for c in self._clients.values():
-            c.last_seen += delta
-            c.last_stats += delta
-            c.next_due += delta
-        for table in (self._ais_pos_due, self._ais_static_due):
-            for key in table:
-                table[key] += delta
+        self._nmea_feed.rebase(delta)
 
     # -- send -------------------------------------------------------------------------------------------------
 
@@ -776,22 +472,26 @@ class UdpLink:
         self._counters[counter] += 1
         return True
 
+    def _encode_failed(self, text: str) -> None:
+        self._counters["encode_error"] += 1
+        self.last_error = text
+
     def _next_seq(self) -> int:
         self._msg_seq += 1
         return self._msg_seq
 
-    def _send_welcome(self, addr: Address, client: _Client) -> None:
+    def _send_welcome(self, addr: Address, client: Client) -> None:
         cfg = self.config
         data = encode_welcome(
             self._next_seq(),
             client.role,
             client.rate_hz,
-            addr == self._owner,
+            addr == self._helm.owner,
             cfg.limits,
             cfg.watchdog_s,
             cfg.client_timeout_s,
             cfg.failsafe,
-            cookie=self._new_cookie(addr),
+            cookie=self._access.new_cookie(addr),
             session=client.session,
         )
         self._send(addr, data, "tx_welcome")
@@ -819,7 +519,7 @@ class UdpLink:
         for addr in expired:
             del self._clients[addr]
             self._counters["clients_timed_out"] += 1
-            if addr == self._owner:
+            if addr == self._helm.owner:
                 self._release(now_s, "helm_watchdog", "timeout")
         if self._static_dest and now_s + self._static_slack >= self._static_due:
             if parts is None:
@@ -842,37 +542,17 @@ class UdpLink:
     def _encode_state(self, own: BridgeReading, targets: Sequence[Target]) -> list[bytes]:
         self._state_seq += 1
         try:
-            return encode_state(self._state_seq, own, self._helm.helm_ok, targets)
+            return encode_state(self._state_seq, own, self._helm.state.helm_ok, targets)
         except (ValueError, TypeError, OverflowError) as exc:
             self._counters["encode_error"] += 1
             self.last_error = f"state: {exc}"
             return []
 
-    def _utc(self, own: BridgeReading, utc: datetime | None) -> datetime:
-        if utc is not None:
-            return utc
-        t = own.t_s if math.isfinite(own.t_s) and abs(own.t_s) < 1e9 else 0.0
-        if self._epoch is None:
-            self._epoch = datetime.now(timezone.utc) - timedelta(seconds=t)
-        return self._epoch + timedelta(seconds=t)
-
     def _send_nmea(
         self, now_s: float, own: BridgeReading, targets: Sequence[Target], utc: datetime | None
     ) -> None:
-        cfg = self.config
-        self._nmea_due = _advance(self._nmea_due, 1.0 / cfg.nmea_rate_hz, now_s)
-        stamp = self._utc(own, utc)
-        try:
-            sentences = nmea.own_ship_sentences(
-                own, stamp, cfg.talkers, gll_sentence=cfg.nmea_gll, zda_sentence=cfg.nmea_zda
-            )
-        except (ValueError, TypeError, OverflowError) as exc:  # e.g. an absurd value overflowing 82 chars
-            self._counters["encode_error"] += 1
-            self.last_error = f"nmea: {exc}"
-            sentences = []
-        n_own = len(sentences)
-        if targets:
-            sentences += self._ais_sentences(now_s, targets, stamp)
+        self._nmea_due = _advance(self._nmea_due, 1.0 / self.config.nmea_rate_hz, now_s)
+        sentences, n_own = self._nmea_feed.cycle(now_s, own, targets, utc)
         if not sentences:
             return
         datagrams = nmea.pack_datagrams(sentences, NMEA_MAX_DATAGRAM_BYTES)
@@ -883,63 +563,6 @@ class UdpLink:
         if sent_any:
             self._counters["tx_nmea_sentences"] += n_own
             self._counters["tx_ais_sentences"] += len(sentences) - n_own
-
-    def _ais_sentences(self, now_s: float, targets: Sequence[Target], stamp: datetime) -> list[str]:
-        cfg = self.config
-        out: list[str] = []
-        live = set()
-        for t in targets:
-            if t.mmsi is None:
-                continue
-            live.add(t.id)
-            try:
-                if now_s >= self._ais_static_due.get(t.id, -math.inf):
-                    # Position reference at midships on the centreline, in whole metres.
-                    bow, port = round(t.length_m / 2.0), round(t.beam_m / 2.0)
-                    out += ais.static_voyage(
-                        t.mmsi,
-                        imo=t.imo,
-                        call_sign=t.call_sign,
-                        name=t.name,
-                        ship_type=t.ship_type,
-                        to_bow_m=bow,
-                        to_stern_m=round(t.length_m) - bow,
-                        to_port_m=port,
-                        to_starboard_m=round(t.beam_m) - port,
-                        draught_m=t.draught_m,
-                        destination=t.destination,
-                        seq_id=self._ais_seq_id,
-                        channel=self._next_channel(),
-                    )
-                    self._ais_seq_id = (self._ais_seq_id + 1) % 10
-                    self._ais_static_due[t.id] = now_s + cfg.ais_static_interval_s
-                if now_s >= self._ais_pos_due.get(t.id, -math.inf):
-                    r = t.reading
-                    out += ais.position_report(
-                        t.mmsi,
-                        r.lat_deg,
-                        r.lon_deg,
-                        r.sog_kn,
-                        r.cog_deg,
-                        r.hdg_deg,
-                        r.rot_dpm,
-                        stamp.second,
-                        nav_status=t.nav_status,
-                        channel=self._next_channel(),
-                    )
-                    self._ais_pos_due[t.id] = now_s + cfg.ais_position_interval_s
-            except (ValueError, TypeError, OverflowError) as exc:
-                self._counters["encode_error"] += 1
-                self.last_error = f"ais target {t.id}: {exc}"
-        if len(self._ais_pos_due) > len(live):  # forget ships that left the scene
-            for table in (self._ais_pos_due, self._ais_static_due):
-                for key in [k for k in table if k not in live]:
-                    del table[key]
-        return out
-
-    def _next_channel(self) -> str:
-        self._ais_channel = "B" if self._ais_channel == "A" else "A"
-        return self._ais_channel
 
     # -- lifecycle --------------------------------------------------------------------------------------------
 
@@ -961,11 +584,6 @@ class UdpLink:
     def __del__(self) -> None:
         if not getattr(self, "_closed", True):
             self.close()
-
-
-def _token_bytes(text: str) -> bytes:
-    """UTF-8 bytes of any str, lone surrogates included (JSON may carry them as escapes), for compare_digest."""
-    return text.encode("utf-8", "surrogatepass")
 
 
 def _advance(due: float, period: float, now_s: float) -> float:
