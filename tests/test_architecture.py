@@ -86,9 +86,6 @@ LONG_MODULES_TO_SPLIT: frozenset[str] = frozenset(
         "vessel_gym.physics.simulation",  # the batched simulation, its state and its integrator driver
         "vessel_gym.physics.shipfile",  # ship-file reading and validation of every table
         "vessel_gym.net.view3d",  # browser 3D viewer: scene building, HUD, helm input
-        "vessel_gym.net.link",  # UDP link: sockets, clients, NMEA/AIS/JSON senders, helm input
-        "vessel_gym.net.protocol",  # JSON protocol: messages, validation, part splitting, scenario encoding
-        "agents.common",  # agents' env factories, evaluation metrics, sidecars
     }
 )
 
