@@ -301,15 +301,24 @@ class HarbourApproachTask(Task):
         }
 
 
-def _make_task(cls: type, config: Any, overrides: Mapping[str, Any], n: int) -> HarbourApproachTask:
+def _make_task(
+    cls: type,
+    config: Any,
+    overrides: Mapping[str, Any],
+    n: int,
+    task_cls: type | None = None,
+) -> HarbourApproachTask:
+    """The task of ``cls`` (v0's unless ``task_cls`` says otherwise) from a config and keyword overrides; a
+    ``Scenario`` object given as ``scenario`` is used as it is (the config records its path or name)."""
+    task_cls = HarbourApproachTask if task_cls is None else task_cls
     over = dict(overrides)
     scenario = over.get("scenario")
     if isinstance(scenario, Scenario):
         over["scenario"] = scenario.path or scenario.name
     else:
         scenario = None
-    cfg = make_config(HarbourApproachConfig, config, where=f"{cls.env_name} config", **over)
-    return HarbourApproachTask(cfg, n, scenario=scenario)
+    cfg = make_config(task_cls.Config, config, where=f"{cls.env_name} config", **over)
+    return task_cls(cfg, n, scenario=scenario)
 
 
 class HarbourApproachEnv(ShipEnv):
@@ -645,14 +654,7 @@ class HarbourApproachV1Env(HarbourApproachEnv):
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
-        over = dict(overrides)
-        scenario = over.get("scenario")
-        if isinstance(scenario, Scenario):
-            over["scenario"] = scenario.path or scenario.name
-        else:
-            scenario = None
-        cfg = make_config(HarbourApproachV1Config, config, where=f"{cls.env_name} config", **over)
-        return HarbourApproachV1Task(cfg, n, scenario=scenario)
+        return _make_task(cls, config, overrides, n, HarbourApproachV1Task)
 
     @property
     def difficulty(self) -> int:

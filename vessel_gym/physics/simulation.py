@@ -502,22 +502,23 @@ class Simulation:
         """Advance all vessels ``nsteps`` physics steps with the helm held. Returns the number alive."""
         if nsteps < 0:
             raise ValueError("nsteps must be >= 0")
+        # the drivers' common arguments, in their order
+        args = (
+            self.Ps,
+            self.ship_index,
+            self.state,
+            self.inputs,
+            self.env,
+            self.F_ext,
+            self.dt,
+            nsteps,
+            self.method,
+            self.alive,
+        )
         if self.components:
             # a diverging vessel overflows in the components' numpy; it is flagged, not warned about
             with np.errstate(all="ignore"):
-                run_with_components(
-                    self.Ps,
-                    self.ship_index,
-                    self.state,
-                    self.inputs,
-                    self.env,
-                    self.F_ext,
-                    self.dt,
-                    nsteps,
-                    self.method,
-                    self.alive,
-                    self._component_forces,
-                )
+                run_with_components(*args, self._component_forces)
         else:
             work = self.n * nsteps
             if self.n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK:
@@ -525,18 +526,7 @@ class Simulation:
                 t0 = time.perf_counter()
             else:
                 driver = -1
-            (run_parallel if driver == 1 else run_serial)(
-                self.Ps,
-                self.ship_index,
-                self.state,
-                self.inputs,
-                self.env,
-                self.F_ext,
-                self.dt,
-                nsteps,
-                self.method,
-                self.alive,
-            )
+            (run_parallel if driver == 1 else run_serial)(*args)
             if driver >= 0:
                 self._driver.record(driver, time.perf_counter() - t0, work)
         self.t += nsteps * self.dt
