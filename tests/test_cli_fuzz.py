@@ -3,8 +3,9 @@ never raise a traceback, always end with exit code 0, 1 or 2, and return within 
 
 Every argument check runs for real (argparse types, ship and scenario loading, address parsing, name
 resolution of IP literals and ``localhost``, binding of listen addresses, the CFD study validation). What
-would then start a long run, a server or a window is replaced by an immediate exit: the manoeuvre simulations,
-``play``, ``serve``, the helm and viewer clients, and the CFD pipeline. Host names that would need a DNS
+would then start a long run, a server or a window is replaced by an immediate exit once the checks have run:
+the manoeuvre simulations (after the output files are checked), ``play``, ``serve``, the helm, viewer and 3D
+viewer clients, the CFD pipeline and grid study. Host names that would need a DNS
 server are left out (``tests/test_command_line.py`` checks one that does not resolve); so are ``/dev/zero``
 and ``/dev/stdin`` as files (reading them is bounded by the ship- and scenario-file checks, tested with
 those).
@@ -46,7 +47,7 @@ VALUE = st.one_of(NUMBER, TEXT, PATHISH)
 
 # option -> strategy of its value (None: a flag)
 VESSEL_GYM = {
-    "imo": {"--ship": SHIP, "--json": None, "--plot": PATHISH},
+    "imo": {"--ship": SHIP, "--json": None, "--plot": PATHISH, "--report": PATHISH, "--force": None},
     "manoeuvre turning-circle": {"--ship": SHIP, "--rudder": NUMBER, "--speed": NUMBER, "--json": None},
     "manoeuvre zigzag": {
         "--ship": SHIP,
@@ -61,7 +62,7 @@ VESSEL_GYM = {
     "manoeuvre pull-out": {"--ship": SHIP, "--rudder": NUMBER, "--speed": NUMBER},
     "ships": {"--json": None},
     "scenarios": {},
-    "play": {"--seed": NUMBER, "--speedup": NUMBER, "--max-steps": NUMBER, "--out": PATHISH},
+    "play": {"--seed": NUMBER, "--speedup": NUMBER, "--max-steps": NUMBER, "--out": PATHISH, "--force": None},
     "serve": {
         "--nmea": ADDRESS,
         "--json": ADDRESS,
@@ -76,11 +77,34 @@ VESSEL_GYM = {
     },
     "helm": {"--server": ADDRESS, "--name": TEXT, "--duration": NUMBER, "--token": TEXT},
     "view": {"--server": ADDRESS, "--listen": ADDRESS, "--duration": NUMBER, "--token": TEXT},
+    "view3d": {
+        "--server": ADDRESS,
+        "--http": ADDRESS,
+        "--camera": st.one_of(st.sampled_from(["chase", "top-down"]), TEXT),
+        "--rate": NUMBER,
+        "--duration": NUMBER,
+        "--token": TEXT,
+    },
 }
+for _manoeuvre in [k for k in VESSEL_GYM if k.startswith("manoeuvre ")]:  # every manoeuvre writes a plot
+    VESSEL_GYM[_manoeuvre].update({"--plot": PATHISH, "--force": None})
 POSITIONAL = {"imo": SHIP, "play": SCENARIO, "serve": SCENARIO, **{k: SHIP for k in VESSEL_GYM if " " in k}}
 
 VESSEL_CFD = {
     "run": {**{f"--{opt}": VALUE for opt, _ in cfd_cli.RUN_OPTIONS}, "--study": PATHISH, "--quiet": None},
+    "study": {
+        **{f"--{opt}": VALUE for opt, _ in cfd_cli.RUN_OPTIONS if opt != "grading"},
+        "--gradings": st.one_of(st.sampled_from(["1,2,3", "3,2,1", "1,2", "0,1,2", "1,1,2"]), TEXT),
+        "--study": PATHISH,
+    },
+    "slurm": {
+        "--cases": PATHISH,
+        "--nodes": NUMBER,
+        "--tasks-per-node": NUMBER,
+        "--time": st.one_of(st.sampled_from(["04:00:00", "1-00:00:00", "25:61:00"]), TEXT),
+        "--partition": TEXT,
+        "--account": TEXT,
+    },
     "wigley": {"--lpp": NUMBER, "--bwl": NUMBER, "--tm": NUMBER, "--out": PATHISH},
     "clarke": {
         "--lpp": NUMBER,
@@ -123,16 +147,15 @@ class _Stopped:
 @pytest.fixture
 def immediate_exits(monkeypatch, tmp_path):
     """Replace the long runs by immediate exits that still do the input checks before them."""
-    from cfd import pipeline
+    from cfd import gridstudy, pipeline
     from cfd.errors import CfdError
-    from vessel_gym.net import serve
-    from vessel_gym.physics.shipfile import load_ship
+    from vessel_gym.manoeuvres import imo, trials
+    from vessel_gym.net import serve, view3d
     from vessel_gym.scenarios import load_scenario
     from vessel_gym.ui import panels, play
 
-    def ship_only(args):
-        load_ship(args.ship)
-        return 0
+    def no_trials(*args, **kwargs):  # reached only after every input and output check has passed
+        raise cli.UsageError("fuzz: trials replaced")
 
     def serve_stub(scenario, **kwargs):
         load_scenario(scenario)
@@ -145,9 +168,15 @@ def immediate_exits(monkeypatch, tmp_path):
         def run(self):
             raise CfdError("fuzz", "pipeline replaced in the fuzz test")
 
+    def no_grid_study(study, gradings, progress):
+        raise CfdError("fuzz", "grid study replaced in the fuzz test")
+
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(cli, "_cmd_imo", ship_only)
-    monkeypatch.setattr(cli, "_cmd_manoeuvre", ship_only)
+    monkeypatch.setattr(imo, "imo_report", no_trials)
+    for name in ("turning_circle", "zigzag", "initial_turning", "stopping", "pull_out"):
+        monkeypatch.setattr(trials, name, no_trials)
+    monkeypatch.setattr(view3d, "view3d", lambda *a, **kw: 0)
+    monkeypatch.setattr(gridstudy, "run_grid_study", no_grid_study)
     monkeypatch.setattr(play, "play", lambda scenario, **kw: _Stopped())
     monkeypatch.setattr(serve, "serve", serve_stub)
     monkeypatch.setattr(panels, "run_helm", lambda server, **kw: None)

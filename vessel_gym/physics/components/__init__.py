@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import importlib
 import re
+from abc import ABC, abstractmethod
 from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
@@ -47,7 +48,7 @@ class ForceRecord(NamedTuple):
     N: np.ndarray
 
 
-class Component:
+class Component(ABC):
     """Base class of a user's component written in plain Python (duck typing works too: any object with
     ``forces(sim, x)``; its slot is then ``getattr(obj, "slot", "extra")``).
 
@@ -78,8 +79,9 @@ class Component:
     def name(self) -> str:
         return type(self).__name__
 
+    @abstractmethod
     def forces(self, sim: Any, x: np.ndarray) -> np.ndarray:
-        raise NotImplementedError(f"{type(self).__name__}.forces(sim, x) is not defined")
+        """(N, 3) forces X (N), Y (N), N (N m) at midship, body axes, for the stage states ``x`` (N, NX)."""
 
 
 def slot_of(component: Any) -> str:
