@@ -244,7 +244,9 @@ def figure_zigzag(trials: Sequence[ZigZag], criteria: Sequence[Criterion], title
         ax.grid(True, alpha=0.3)
         ax.legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=2, fontsize=7.5, frameon=False)
         ax.set_title(f"{abs(z.rudder_deg):g}/{h:g} zig-zag, first execute to {side}", fontsize=9, loc="left")
-        _verdict_box(ax, mine, "upper right")
+        # the second overshoot (the later, right-hand extreme) lies above on a port-first panel: the box
+        # then goes to the upper left, which the heading trace leaves empty when it first swings to port
+        _verdict_box(ax, mine, "upper right" if sg > 0 else "upper left")
     axes[-1, 0].set_xlabel("time (s)")
     fig.suptitle(title)
     return fig
