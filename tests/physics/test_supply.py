@@ -14,6 +14,7 @@ import pytest
 
 from vessel_gym.cli import main
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
 
@@ -113,3 +114,25 @@ def test_imo_runs_without_divergence(capsys):
     for c in d["criteria"]:
         assert c["verdict"] in ("pass", "fail"), c
         assert math.isfinite(c["value"]), c
+
+
+def test_dead_ship_in_beam_wind_drifts_to_leeward():
+    """Engine stopped, rudder amidships, 15 m/s wind on the port beam (from the west, ship heading north): the
+    Blendermann windage drives the ship to leeward (east). The lateral wind force 1/2 rho_a CD_t A_L V^2 (62 kN)
+    against the published sway damping gives about 0.24 m/s; the centre of the lateral area lies forward
+    (accommodation forward), so the bow falls off to leeward and the wind, coming from abaft the beam, adds a
+    little headway along the new heading; the motion over ground stays downwind."""
+    sim = Simulation("supply", dt=0.1, environment=Environment(wind_speed_m_s=15.0, wind_from_deg=270.0))
+    sim.reset(speed_m_s=0.0)
+    sim.set_helm(rudder_order_rad=0.0, rev_order=0.0)
+    sim.advance(600.0)
+    assert sim.alive[0]
+    c, s = math.cos(sim.heading[0]), math.sin(sim.heading[0])
+    north = sim.u[0] * c - sim.v[0] * s  # m/s over ground (no current)
+    east = sim.u[0] * s + sim.v[0] * c
+    assert sim.east[0] > 50.0  # m, to leeward
+    assert 0.1 < east < 0.4  # m/s
+    assert abs(north) < 0.3 * east  # downwind, within 17 deg
+    assert (
+        0.0 < math.degrees(sim.heading[0]) < 90.0
+    )  # the bow has fallen off to leeward, not through the wind
