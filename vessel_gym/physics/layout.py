@@ -50,7 +50,10 @@ E_CUR_N = 9  # current velocity, north, m/s (seastate.current_earth)
 E_CUR_E = 10  # current velocity, east, m/s
 E_WIND_N = 11  # air velocity, north, m/s (atmosphere.air_velocity_earth: it blows towards wind_from + pi)
 E_WIND_E = 12  # air velocity, east, m/s
-NE = 13
+# draught-to-depth ratio T/h of the water under the ship, -: 0 in deep water (infinite depth), the default, so
+# that a row of zeros is deep water (shallow_water.py, environment.Environment.depth_m)
+E_T_OVER_H = 13
+NE = 14
 
 # --- parameter row P[k, :] -------------------------------------------------------------------------------------
 # Filled by vessel.pack(); names follow the literature. Grouped by component.
