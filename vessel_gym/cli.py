@@ -135,22 +135,22 @@ def _add_depth(sp: argparse.ArgumentParser) -> None:
     )
 
 
-def _environment(args, ship):
-    """The trials' environment: calm, at the ``--depth`` given (deep water without it). A depth the
-    corrections do not cover (h/T below their range, a hull they are not for) is refused here, before any
-    trial runs: one line, exit code 2."""
-    from vessel_gym.physics.environment import CALM, Environment
+def _environment(args, ship) -> dict:
+    """The trials' keyword arguments for ``--depth``: ``environment``, calm water of that depth (none
+    without it: the trials' calm deep water). A depth the corrections do not cover (h/T below their range,
+    a hull they are not for) is refused here, before any trial runs: one line, exit code 2."""
+    from vessel_gym.physics.environment import Environment
     from vessel_gym.physics.shallow_water import check_hull
 
     if args.depth is None:
-        return CALM
+        return {}
     env = Environment(depth_m=args.depth)
     try:
         check_hull(ship, env.depth_m)
         env.row(ship.particulars.L_m, ship.particulars.T_m)
     except ValueError as exc:
         raise UsageError(f"vessel-gym {args.command}: --depth: {exc}") from None
-    return env
+    return {"environment": env}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -458,7 +458,7 @@ def _cmd_imo(args) -> int:
         check_free([report_file], args.force, "--report")
         if plot_out is not None and not plot_is_dir and plot_out.resolve() == report_file.resolve():
             raise UsageError(f"vessel-gym imo: --plot and --report both name {str(report_file)!r}")
-    report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None, environment=env)
+    report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None, **env)
     written = []
     if plot_out is not None or report_file is not None:
         from vessel_gym.manoeuvres.plots import plot_report, report_pngs
@@ -492,17 +492,15 @@ def _cmd_manoeuvre(args) -> int:
         check_free([plot_file], args.force, "--plot")
     try:
         if kind == "turning-circle":
-            res = trials.turning_circle(ship, args.rudder, args.speed, environment=env)
+            res = trials.turning_circle(ship, args.rudder, args.speed, **env)
         elif kind == "zigzag":
-            res = trials.zigzag(
-                ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots, environment=env
-            )
+            res = trials.zigzag(ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots, **env)
         elif kind == "initial-turning":
-            res = trials.initial_turning(ship, args.rudder, args.speed, environment=env)
+            res = trials.initial_turning(ship, args.rudder, args.speed, **env)
         elif kind == "stopping":
-            res = trials.stopping(ship, args.speed, environment=env)
+            res = trials.stopping(ship, args.speed, **env)
         else:
-            res = trials.pull_out(ship, args.rudder, args.speed, environment=env)
+            res = trials.pull_out(ship, args.rudder, args.speed, **env)
     except trials.ManoeuvreDiverged as exc:
         if not args.json:
             raise  # one line on stderr, exit code 1

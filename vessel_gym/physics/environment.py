@@ -16,7 +16,7 @@ import numpy as np
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.atmosphere import air_density, air_velocity_earth
 from vessel_gym.physics.schema import SpecError, check_fields, param
-from vessel_gym.physics.seastate import current_earth, effective_zeta2
+from vessel_gym.physics.seastate import current_earth, effective_omega_zeta2, effective_zeta2
 from vessel_gym.physics.shallow_water import depth_ratio
 from vessel_gym.physics.units import DEG, P_ISA_PA, T_ISA_K
 
@@ -66,6 +66,7 @@ class Environment:
         e[lo.E_TP] = self.Tp_s
         e[lo.E_WAVE_FROM] = self.wave_from_deg * DEG
         e[lo.E_ZETA2] = effective_zeta2(self.Hs_m, self.Tp_s, L_m, T_m) if self.Hs_m > 0 else 0.0
+        e[lo.E_OMEGA_ZETA2] = effective_omega_zeta2(self.Hs_m, self.Tp_s, L_m, T_m) if self.Hs_m > 0 else 0.0
         e[lo.E_CUR_N], e[lo.E_CUR_E] = current_earth(e[lo.E_CUR_SPEED], e[lo.E_CUR_TO])
         e[lo.E_WIND_N], e[lo.E_WIND_E] = air_velocity_earth(e[lo.E_WIND_SPEED], e[lo.E_WIND_FROM])
         try:

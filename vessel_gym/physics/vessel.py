@@ -33,7 +33,7 @@ from vessel_gym.physics.kinematics import (
     relative_wind,
 )
 from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
-from vessel_gym.physics.seastate import drift_coefficient_table, wave_drift_forces
+from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
 from vessel_gym.physics.shallow_water import thrust_deduction
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull, abkowitz_term
 from vessel_gym.physics.steering import mmg_rudder_forces_beta, steering_gear_rate
@@ -215,6 +215,8 @@ def pack(ship: Ship) -> np.ndarray:
         P[lo.P_WAVE_ON] = 1.0
         tab = drift_coefficient_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
         P[lo.P_WAVE_TAB : lo.P_WAVE_TAB + 3 * lo.WAVE_NA] = tab.ravel()
+        tab_u = drift_speed_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
+        P[lo.P_WAVE_TAB_U : lo.P_WAVE_TAB_U + 3 * lo.WAVE_NA] = tab_u.ravel()
     return P
 
 
@@ -264,7 +266,9 @@ def force_terms(P, x, env):
     u_g, v_g = ground_velocity_body(u, v, c, s, cn, ce)
     Vrw, gam, cos_gam, sin_gam = relative_wind(u_g, v_g, c, s, env[lo.E_WIND_N], env[lo.E_WIND_E])
     XW, YW, NW = blendermann_wind_loads(P, Vrw, gam, cos_gam, sin_gam, env[lo.E_RHO_AIR])
-    XD, YD, ND = wave_drift_forces(P, env[lo.E_ZETA2], env[lo.E_WAVE_FROM], psi)
+    XD, YD, ND = wave_drift_forces_at_speed(
+        P, env[lo.E_ZETA2], env[lo.E_OMEGA_ZETA2], env[lo.E_WAVE_FROM], psi, u
+    )
     XP = (1.0 - thrust_deduction(P, H)) * T
     return (XH, YH, NH, XP, XR, YR, NR, XW, YW, NW, XD, YD, ND, T, Qp, wP, Vrw, gam, cn, ce, c, s)
 
