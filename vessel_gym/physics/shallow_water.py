@@ -182,6 +182,6 @@ def check_hull(ship, depth_m: float) -> None:
         return
     raise ValueError(
         f"{ship.name}: depth_m = {depth_m:g} m, but the shallow-water corrections (Taimuri et al. 2020) are "
-        f"defined for the MMG hull model and this ship's hull is {type(ship.hull).__name__}; "
+        f"defined for the MMG hull model and this ship's [hull] model is {ship.hull.model!r}; "
         "use depth_m = inf (deep water)"
     )
