@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from vessel_gym.manoeuvres.imo import imo_report
-from vessel_gym.manoeuvres.trials import turning_circle
+from vessel_gym.manoeuvres.trials import turning_circle, zigzag
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.schema import SpecError
@@ -168,3 +168,13 @@ def test_cli_depth_refused_for_a_hull_without_corrections() -> None:
     cmd = [sys.executable, "-m", "vessel_gym.cli", "imo", "mariner", "--depth", "40"]
     res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert res.returncode == 2 and "MMG hull model" in res.stderr and len(res.stderr.strip().splitlines()) == 1
+
+
+def test_very_shallow_water_steadies_the_course() -> None:
+    """Course-keeping improves in very shallow water: the Nippon Foundation's 1997 report on VLCC
+    manoeuvrability (§3.1, from the Esso Osaka trials of Crane 1979) notes the course is more stable and easier
+    to hold in shallow water. The KVLCC2's 10/10 zig-zag overshoots at h/T = 1.2 are smaller than in deep water
+    (qualitative: the trials report no zig-zag figures to compare with)."""
+    deep = zigzag("kvlcc2", 10.0, 10.0, n_overshoots=2).overshoot_deg
+    shallow = zigzag("kvlcc2", 10.0, 10.0, environment=Environment(depth_m=1.2 * T), n_overshoots=2).overshoot_deg
+    assert shallow[0] < deep[0] and shallow[1] < deep[1]
