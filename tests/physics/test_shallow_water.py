@@ -172,7 +172,7 @@ def test_cli_depth_refused_for_a_hull_without_corrections() -> None:
 
 def test_very_shallow_water_steadies_the_course() -> None:
     """Course-keeping improves in very shallow water: the Nippon Foundation's 1997 report on VLCC
-    manoeuvrability (§3.1, from the Esso Osaka trials of Crane 1979) notes the course is more stable and easier
+    manoeuvrability (§3.1, its summary of shallow-water behaviour) notes the course is more stable and easier
     to hold in shallow water. The KVLCC2's 10/10 zig-zag overshoots at h/T = 1.2 are smaller than in deep water
     (qualitative: the trials report no zig-zag figures to compare with)."""
     deep = zigzag("kvlcc2", 10.0, 10.0, n_overshoots=2).overshoot_deg
