@@ -121,6 +121,38 @@ def _fmt(d: dict) -> str:
     return "\n".join(rows)
 
 
+#: deepest water on earth (Challenger Deep, ~10 935 m): a larger --depth is a typo, not a sea
+MAX_DEPTH_M = 11000.0
+
+
+def _add_depth(sp: argparse.ArgumentParser) -> None:
+    sp.add_argument(
+        "--depth",
+        metavar="METRES",
+        type=_finite("--depth", 0.01, MAX_DEPTH_M),
+        default=None,
+        help="water depth, m (default: deep water); shallow-water corrections for h/T >= 1.2, MMG ships",
+    )
+
+
+def _environment(args, ship) -> dict:
+    """The trials' keyword arguments for ``--depth``: ``environment``, calm water of that depth (none
+    without it: the trials' calm deep water). A depth the corrections do not cover (h/T below their range,
+    a hull they are not for) is refused here, before any trial runs: one line, exit code 2."""
+    from vessel_gym.physics.environment import Environment
+    from vessel_gym.physics.shallow_water import check_hull
+
+    if args.depth is None:
+        return {}
+    env = Environment(depth_m=args.depth)
+    try:
+        check_hull(ship, env.depth_m)
+        env.row(ship.particulars.L_m, ship.particulars.T_m)
+    except ValueError as exc:
+        raise UsageError(f"vessel-gym {args.command}: --depth: {exc}") from None
+    return {"environment": env}
+
+
 def build_parser() -> argparse.ArgumentParser:
     from vessel_gym import __version__
 
@@ -143,6 +175,7 @@ def build_parser() -> argparse.ArgumentParser:
         "imo_<ship>.html in DIR, or the named HTML or PDF file",
     )
     imo.add_argument("--force", action="store_true", help="replace existing plot and report files")
+    _add_depth(imo)
 
     man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
     msub = man.add_subparsers(dest="manoeuvre", parser_class=_Parser)
@@ -181,6 +214,7 @@ def build_parser() -> argparse.ArgumentParser:
             help="write the manoeuvre's plot to FILE (.png, .svg or .pdf) or as <ship>_<manoeuvre>.png into DIR",
         )
         sp.add_argument("--force", action="store_true", help="replace an existing plot file")
+        _add_depth(sp)
 
     ships = sub.add_parser("ships", help="list the built-in ships with their particulars and sources")
     ships.add_argument("--json", action="store_true", help="machine-readable output")
@@ -406,6 +440,7 @@ def _cmd_imo(args) -> int:
     from vessel_gym.physics.shipfile import load_ship
 
     ship = load_ship(args.ship)
+    env = _environment(args, ship)
     plot_out = report_file = None
     plot_is_dir = False
     # every output is checked before the trials run, so a refusal costs nothing
@@ -423,7 +458,7 @@ def _cmd_imo(args) -> int:
         check_free([report_file], args.force, "--report")
         if plot_out is not None and not plot_is_dir and plot_out.resolve() == report_file.resolve():
             raise UsageError(f"vessel-gym imo: --plot and --report both name {str(report_file)!r}")
-    report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None)
+    report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None, **env)
     written = []
     if plot_out is not None or report_file is not None:
         from vessel_gym.manoeuvres.plots import plot_report, report_pngs
@@ -447,6 +482,7 @@ def _cmd_manoeuvre(args) -> int:
 
     kind = args.manoeuvre
     ship = load_ship(args.ship)
+    env = _environment(args, ship)
     plot_file = None
     if args.plot:
         from vessel_gym.outputs import check_free, output_target, safe_name
@@ -456,15 +492,15 @@ def _cmd_manoeuvre(args) -> int:
         check_free([plot_file], args.force, "--plot")
     try:
         if kind == "turning-circle":
-            res = trials.turning_circle(ship, args.rudder, args.speed)
+            res = trials.turning_circle(ship, args.rudder, args.speed, **env)
         elif kind == "zigzag":
-            res = trials.zigzag(ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots)
+            res = trials.zigzag(ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots, **env)
         elif kind == "initial-turning":
-            res = trials.initial_turning(ship, args.rudder, args.speed)
+            res = trials.initial_turning(ship, args.rudder, args.speed, **env)
         elif kind == "stopping":
-            res = trials.stopping(ship, args.speed)
+            res = trials.stopping(ship, args.speed, **env)
         else:
-            res = trials.pull_out(ship, args.rudder, args.speed)
+            res = trials.pull_out(ship, args.rudder, args.speed, **env)
     except trials.ManoeuvreDiverged as exc:
         if not args.json:
             raise  # one line on stderr, exit code 1
@@ -478,6 +514,8 @@ def _cmd_manoeuvre(args) -> int:
         if not args.json:
             print(f"wrote: {path}", file=sys.stderr)
     d = res.to_dict()
+    if args.depth is not None:
+        d["depth_m"] = args.depth
     _emit(d, args.json, _fmt(d))
     return 0
 

@@ -14,6 +14,7 @@ evidence of course stability.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from vessel_gym.manoeuvres.trials import (
@@ -29,6 +30,7 @@ from vessel_gym.manoeuvres.trials import (
     turning_circle,
     zigzag,
 )
+from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import KNOT_M_S
 
@@ -42,6 +44,11 @@ def zigzag10_limits(L_over_V_s: float) -> tuple[float, float]:
     return 5.0 + 0.5 * L_over_V_s, 17.5 + 0.75 * L_over_V_s
 
 
+#: said with every report run in shallow water: the standards' limits are for deep, unrestricted water
+SHALLOW_NOTE = (
+    "MSC.137(76) criteria apply to deep unrestricted water (MSC/Circ.1053: trials in depths above 4 T); "
+    "shallow-water results are shown against them for comparison only"
+)
 ADVANCE_LIMIT_L = 4.5  # MSC.137(76) §5.3.1
 TACTICAL_DIAMETER_LIMIT_L = 5.0  # MSC.137(76) §5.3.1
 INITIAL_TURNING_LIMIT_L = 2.5  # MSC.137(76) §5.3.2
@@ -93,6 +100,7 @@ class ImoReport:
     criteria: list[Criterion]
     trials: dict = field(default_factory=dict, repr=False)
     spec: Ship | None = field(default=None, repr=False)
+    depth_m: float = math.inf  # water depth of the trials, m (inf: deep water)
 
     @property
     def L_over_V_s(self) -> float:
@@ -126,6 +134,9 @@ class ImoReport:
         }
         if "pull_out" in self.trials:
             d["pull_out"] = self.trials["pull_out"].to_dict()
+        if math.isfinite(self.depth_m):
+            d["depth_m"] = self.depth_m
+            d["depth_note"] = SHALLOW_NOTE
         return d
 
     def table(self) -> str:
@@ -133,6 +144,7 @@ class ImoReport:
         lines = [
             f"IMO MSC.137(76) manoeuvring criteria - {self.ship}",
             f"L = {self.L_m:.2f} m, test speed V = {self.V_kn:.2f} kn, L/V = {self.L_over_V_s:.2f} s",
+            *([f"water depth {self.depth_m:g} m: {SHALLOW_NOTE}"] if math.isfinite(self.depth_m) else []),
             "",
             f"{'criterion':<28}{'side':<11}{'value':>9}{'limit':>9}  {'unit':<5}{'result':>7}",
             "-" * 71,
@@ -226,10 +238,12 @@ def _missing(name: str, side: str, limit: float, unit: str, exc: ManoeuvreIncomp
     return Criterion(name, side, None, limit, unit, str(exc), isinstance(exc, ManoeuvreDiverged))
 
 
-def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
+def imo_report(ship: str | Ship, with_pull_out: bool = False, environment: Environment = CALM) -> ImoReport:
     """Run every MSC.137(76) trial to both sides at the ship's test speed and evaluate the criteria;
-    ``with_pull_out`` adds the pull-out test (no IMO limit) to the report's trials."""
+    ``with_pull_out`` adds the pull-out test (no IMO limit) to the report's trials. Every trial runs in
+    ``environment`` (default calm deep water); a finite ``depth_m`` there runs them in shallow water."""
     s = load_ship(ship)
+    env = environment
     L = s.particulars.L_m
     V = s.particulars.test_speed_kn
     LV = L / (V * KNOT_M_S)
@@ -240,7 +254,7 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
 
     for side, sg in sides:
         try:
-            tc = turning_circle(s, sg * turn_rudder, until_deg=360.0)
+            tc = turning_circle(s, sg * turn_rudder, until_deg=360.0, environment=env)
             trials[f"turning_{side}"] = tc
             crit += turning_criteria(tc)
         except ManoeuvreIncomplete as exc:
@@ -248,7 +262,7 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
             crit.append(_missing("tactical_diameter", side, TACTICAL_DIAMETER_LIMIT_L, "L", exc))
     for side, sg in sides:
         try:
-            it = initial_turning(s, sg * 10.0)
+            it = initial_turning(s, sg * 10.0, environment=env)
             trials[f"initial_turning_{side}"] = it
             crit += initial_turning_criteria(it)
         except ManoeuvreIncomplete as exc:
@@ -257,7 +271,7 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
         limits = zigzag_limits(angle, LV)
         for side, sg in sides:
             try:
-                z = zigzag(s, sg * angle, angle, n_overshoots=len(limits))
+                z = zigzag(s, sg * angle, angle, n_overshoots=len(limits), environment=env)
                 trials[f"zigzag_{angle:.0f}_{side}"] = z
                 crit += zigzag_criteria(z, LV)
             except ManoeuvreIncomplete as exc:
@@ -265,14 +279,14 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False) -> ImoReport:
                 for nm, lim in zip(names, limits):
                     crit.append(_missing(nm, side, lim, "deg", exc))
     try:
-        st = stopping(s)
+        st = stopping(s, environment=env)
         trials["stopping"] = st
         crit += stopping_criteria(st)
     except ManoeuvreIncomplete as exc:
         crit.append(_missing("stopping_track_reach", "ahead", STOPPING_LIMIT_L, "L", exc))
     if with_pull_out:
         try:
-            trials["pull_out"] = pull_out(s)
+            trials["pull_out"] = pull_out(s, environment=env)
         except ManoeuvreIncomplete:
             pass  # no criterion depends on it; the report says the trial is missing
-    return ImoReport(s.name, L, V, crit, trials, s)
+    return ImoReport(s.name, L, V, crit, trials, s, environment.depth_m)

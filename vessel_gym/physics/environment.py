@@ -2,6 +2,8 @@
 
 Directions at the edge are in degrees: wind *from* (meteorological), current *towards* (oceanographic),
 waves *from*. Inside they become the environment row of the kernel (layout.E_*), in SI and radians.
+The water depth (default infinite: deep water, no correction) enters the row as the draught-to-depth ratio
+T/h that the shallow-water corrections read (:mod:`vessel_gym.physics.shallow_water`).
 """
 
 from __future__ import annotations
@@ -13,8 +15,9 @@ import numpy as np
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.atmosphere import air_density, air_velocity_earth
-from vessel_gym.physics.schema import check_fields, param
-from vessel_gym.physics.seastate import current_earth, effective_zeta2
+from vessel_gym.physics.schema import SpecError, check_fields, param
+from vessel_gym.physics.seastate import current_earth, effective_omega_zeta2, effective_zeta2
+from vessel_gym.physics.shallow_water import depth_ratio
 from vessel_gym.physics.units import DEG, P_ISA_PA, T_ISA_K
 
 
@@ -31,10 +34,21 @@ class Environment:
     Hs_m: float = param(0.0, unit="m", lo=0.0, hi=16.0, doc="significant wave height")
     Tp_s: float = param(8.0, unit="s", lo=1.0, hi=25.0, doc="spectral peak period")
     wave_from_deg: float = param(0.0, unit="deg", lo=-360.0, hi=360.0, doc="mean wave direction, from")
+    # no range in the metadata: infinity (deep water) is the default; checked in __post_init__ and, against
+    # the ship's draught, in row()
+    depth_m: float = param(math.inf, unit="m", doc="water depth under the ship (inf: deep water)")
 
     def __post_init__(self) -> None:
         # at construction, so a bad value is named here and not met later as a kernel or engine failure
         check_fields(self, "Environment")
+        if (
+            isinstance(self.depth_m, bool)
+            or not isinstance(self.depth_m, (int, float))
+            or not self.depth_m > 0
+        ):
+            raise SpecError(
+                f"Environment depth_m: expected a depth > 0 m or inf (deep water), got {self.depth_m!r}"
+            )
 
     @property
     def rho_air_kg_m3(self) -> float:
@@ -52,8 +66,13 @@ class Environment:
         e[lo.E_TP] = self.Tp_s
         e[lo.E_WAVE_FROM] = self.wave_from_deg * DEG
         e[lo.E_ZETA2] = effective_zeta2(self.Hs_m, self.Tp_s, L_m, T_m) if self.Hs_m > 0 else 0.0
+        e[lo.E_OMEGA_ZETA2] = effective_omega_zeta2(self.Hs_m, self.Tp_s, L_m, T_m) if self.Hs_m > 0 else 0.0
         e[lo.E_CUR_N], e[lo.E_CUR_E] = current_earth(e[lo.E_CUR_SPEED], e[lo.E_CUR_TO])
         e[lo.E_WIND_N], e[lo.E_WIND_E] = air_velocity_earth(e[lo.E_WIND_SPEED], e[lo.E_WIND_FROM])
+        try:
+            e[lo.E_T_OVER_H] = depth_ratio(float(self.depth_m), T_m)
+        except ValueError as exc:
+            raise SpecError(f"Environment {exc}") from None
         return e
 
 

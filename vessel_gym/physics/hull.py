@@ -17,6 +17,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.shallow_water import hull_factors
 
 
 @njit(cache=True, fastmath=False)
@@ -109,12 +110,15 @@ def cross_flow_drag(P, v, r):
 
 
 @njit(cache=True)
-def mmg_hull_forces(P, u, v, r):
-    """MMG standard hull forces, Yasukawa & Yoshimura (2015) eq. 8-10 (midship origin).
+def mmg_hull_forces(P, u, v, r, H):
+    """MMG standard hull forces, Yasukawa & Yoshimura (2015) eq. 8-10 (midship origin), at draught-to-depth
+    ratio H = T/h (0: deep water).
 
     X_H = 1/2 rho L d U^2 X'_H(v', r'), Y_H likewise, N_H = 1/2 rho L^2 d U^2 N'_H(v', r').
     The resistance term -R'_0 changes sign with u (smoothly over |u| < U_min) so that the hull resists
-    motion astern too; at speed ahead it is exactly the published -R'_0.
+    motion astern too; at speed ahead it is exactly the published -R'_0. In shallow water each coefficient
+    is multiplied by its factor of :func:`~vessel_gym.physics.shallow_water.hull_factors` (all 1 at H = 0,
+    where the result is bitwise the deep-water one).
     Returns (X, Y, N) in N, N, N m.
     """
     L = P[lo.P_L]
@@ -125,39 +129,48 @@ def mmg_hull_forces(P, u, v, r):
     vp = v / Ue
     rp = _clip(r * L / Ue, -P[lo.P_RP_MAX], P[lo.P_RP_MAX])
     su = u / math.sqrt(u * u + Umin * Umin)
+    f = hull_factors(P, H)
     Xp = (
-        -P[lo.P_MMG_R0] * su
-        + P[lo.P_MMG_XVV] * vp * vp
-        + P[lo.P_MMG_XVR] * vp * rp
-        + P[lo.P_MMG_XRR] * rp * rp
-        + P[lo.P_MMG_XVVVV] * vp * vp * vp * vp
+        -P[lo.P_MMG_R0] * f[0] * su
+        + P[lo.P_MMG_XVV] * f[1] * vp * vp
+        + P[lo.P_MMG_XVR] * f[2] * vp * rp
+        + P[lo.P_MMG_XRR] * f[3] * rp * rp
+        + P[lo.P_MMG_XVVVV] * f[4] * vp * vp * vp * vp
     )
     Yp = (
-        P[lo.P_MMG_YV] * vp
-        + P[lo.P_MMG_YR] * rp
-        + P[lo.P_MMG_YVVV] * vp * vp * vp
-        + P[lo.P_MMG_YVVR] * vp * vp * rp
-        + P[lo.P_MMG_YVRR] * vp * rp * rp
-        + P[lo.P_MMG_YRRR] * rp * rp * rp
+        P[lo.P_MMG_YV] * f[5] * vp
+        + P[lo.P_MMG_YR] * f[6] * rp
+        + P[lo.P_MMG_YVVV] * f[7] * vp * vp * vp
+        + P[lo.P_MMG_YVVR] * f[8] * vp * vp * rp
+        + P[lo.P_MMG_YVRR] * f[9] * vp * rp * rp
+        + P[lo.P_MMG_YRRR] * f[10] * rp * rp * rp
     )
     Np = (
-        P[lo.P_MMG_NV] * vp
-        + P[lo.P_MMG_NR] * rp
-        + P[lo.P_MMG_NVVV] * vp * vp * vp
-        + P[lo.P_MMG_NVVR] * vp * vp * rp
-        + P[lo.P_MMG_NVRR] * vp * rp * rp
-        + P[lo.P_MMG_NRRR] * rp * rp * rp
+        P[lo.P_MMG_NV] * f[11] * vp
+        + P[lo.P_MMG_NR] * f[12] * rp
+        + P[lo.P_MMG_NVVV] * f[13] * vp * vp * vp
+        + P[lo.P_MMG_NVVR] * f[14] * vp * vp * rp
+        + P[lo.P_MMG_NVRR] * f[15] * vp * rp * rp
+        + P[lo.P_MMG_NRRR] * f[16] * rp * rp * rp
     )
     q = 0.5 * P[lo.P_RHO] * L * d * Ue * Ue
     return q * Xp, q * Yp, q * L * Np
 
 
 @njit(cache=True)
-def hull_forces(P, u, v, r, delta):
-    """Dispatch on the ship's hull model. Returns (X, Y, N) in N, N, N m."""
+def hull_forces_at_depth(P, u, v, r, delta, H):
+    """Dispatch on the ship's hull model, at draught-to-depth ratio H = T/h (0: deep water; only the MMG
+    hull has shallow-water corrections, see :mod:`~vessel_gym.physics.shallow_water`).
+    Returns (X, Y, N) in N, N, N m."""
     kind = int(P[lo.P_HULL_KIND])
     if kind == lo.HULL_ABKOWITZ:
         return abkowitz_forces(P, u, v, r, delta)
     if kind == lo.HULL_MMG:
-        return mmg_hull_forces(P, u, v, r)
+        return mmg_hull_forces(P, u, v, r, H)
     return 0.0, 0.0, 0.0
+
+
+@njit(cache=True)
+def hull_forces(P, u, v, r, delta):
+    """Hull forces in deep water (:func:`hull_forces_at_depth` at H = 0). Returns (X, Y, N) in N, N, N m."""
+    return hull_forces_at_depth(P, u, v, r, delta, 0.0)

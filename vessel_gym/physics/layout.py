@@ -50,7 +50,11 @@ E_CUR_N = 9  # current velocity, north, m/s (seastate.current_earth)
 E_CUR_E = 10  # current velocity, east, m/s
 E_WIND_N = 11  # air velocity, north, m/s (atmosphere.air_velocity_earth: it blows towards wind_from + pi)
 E_WIND_E = 12  # air velocity, east, m/s
-NE = 13
+# draught-to-depth ratio T/h of the water under the ship, -: 0 in deep water (infinite depth), the default, so
+# that a row of zeros is deep water (shallow_water.py, environment.Environment.depth_m)
+E_T_OVER_H = 13
+E_OMEGA_ZETA2 = 14  # effective omega_0 zeta_a^2 of the sea for the forward-speed drift term, m^2 rad/s
+NE = 15
 
 # --- parameter row P[k, :] -------------------------------------------------------------------------------------
 # Filled by vessel.pack(); names follow the literature. Grouped by component.
@@ -195,6 +199,8 @@ P_BKAPPA = _field("blendermann_kappa")
 WAVE_NA = 73  # 0..360 deg in 5 deg steps
 P_WAVE_ON = _field("has_wave_drift")
 P_WAVE_TAB = _field("wave_drift_table", 3 * WAVE_NA)
+# the forward-speed term of the same formula, per unit 2 omega_0 U / g (seastate.drift_speed_table)
+P_WAVE_TAB_U = _field("wave_drift_speed_table", 3 * WAVE_NA)
 
 # engine reversing (propulsion.py): a clutch/gearbox (or ideal) drive, or a direct-reversing two-stroke diesel
 # started and braked on starting air

@@ -22,6 +22,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.shallow_water import wake_fraction
 
 
 @njit(cache=True)
@@ -71,14 +72,16 @@ def propeller_thrust_torque(P, u_a, n):
 
 
 @njit(cache=True)
-def effective_wake(P, U, beta, r):
+def effective_wake(P, U, beta, r, H):
     """Wake fraction at the propeller in a manoeuvre, Yasukawa & Yoshimura (2015) eq. 15-16.
 
     (1 - w_P)/(1 - w_P0) = 1 + (1 - exp(-C_1 |beta_P|)) (C_2 - 1),  beta_P = beta - x'_P r',
     at the ship's speed U = sqrt(u^2 + v^2) (m/s) and drift angle beta (rad, :func:`hull.drift_angle`).
-    C_1 = 0 gives the straight-running wake w_P0 for all motions. Returns w_P (-).
+    C_1 = 0 gives the straight-running wake w_P0 for all motions. In shallow water (draught-to-depth
+    ratio H = T/h > 0) w_P0 is the shallow-water wake of :func:`shallow_water.wake_fraction`.
+    Returns w_P (-).
     """
-    w0 = P[lo.P_WP0]
+    w0 = wake_fraction(P, H)
     C1 = P[lo.P_C1]
     if C1 == 0.0:
         return w0

@@ -55,16 +55,9 @@ def waterline(L: float, B: float, C_wp: float, n: int = 200) -> tuple[np.ndarray
     return xs, ys
 
 
-def drift_coefficient_table(L: float, B: float, C_wp: float) -> np.ndarray:
-    """Mean drift coefficients C_X, C_Y, C_N (shape 3 x WAVE_NA) over the encounter angle chi.
-
-    Faltinsen et al. (1980) short-wave asymptotic formula for a wall-sided hull (Faltinsen 1990, Sea Loads
-    on Ships and Offshore Structures, eq. 5.40):  F_i = 1/2 rho g zeta_a^2 int_L1 sin^2(theta + beta) n_i dl,
-    integrated over the illuminated part L1 of the waterline. sin^2(theta + beta) = (k . n)^2 for the
-    waterline element with outward normal n and wave propagation direction k; the force pushes the element
-    inwards. Coefficients are F / (1/2 rho g zeta_a^2 L) for X, Y and F / (1/2 rho g zeta_a^2 L^2) for N.
-    chi is the direction the waves come *from*, relative to the bow, positive from starboard.
-    """
+def _waterline_elements(L: float, B: float, C_wp: float):
+    """Midpoints (x, y), outward unit normals (n_x, n_y), unit tangents (t_x, t_y) and lengths dl of the
+    segments of :func:`waterline` (body axes: x forward, y starboard)."""
     xs, ys = waterline(L, B, C_wp)
     # polygon runs bow -> stern along starboard, back along port: outward normal = (dy, -dx) rotated check
     dx = np.diff(xs)
@@ -76,18 +69,75 @@ def drift_coefficient_table(L: float, B: float, C_wp: float) -> np.ndarray:
     flip = (nx * xm + ny * ym) < 0.0  # make normals point away from the centre
     nx[flip] *= -1.0
     ny[flip] *= -1.0
+    return xm, ym, nx, ny, dx / dl, dy / dl, dl
+
+
+def _drift_tables(L: float, B: float, C_wp: float) -> tuple[np.ndarray, np.ndarray]:
+    """The zero-speed and forward-speed drift coefficient tables (each 3 x WAVE_NA) of Faltinsen et al.
+    (1980): the waterline integrals of the two terms of the integrand (see :func:`drift_coefficient_table`
+    and :func:`drift_speed_table`)."""
+    xm, ym, nx, ny, tx, ty, dl = _waterline_elements(L, B, C_wp)
     chis = np.linspace(0.0, 2.0 * math.pi, lo.WAVE_NA)
     tab = np.zeros((3, lo.WAVE_NA))
+    tab_u = np.zeros((3, lo.WAVE_NA))
     for j, chi in enumerate(chis):
         kx, ky = -math.cos(chi), -math.sin(chi)  # waves travel towards the opposite of where they come from
         kn = kx * nx + ky * ny
         lit = kn < 0.0
-        w = (kn**2) * dl * lit
-        fx = -(w * nx).sum()
-        fy = -(w * ny).sum()
-        mz = -(w * (xm * ny - ym * nx)).sum()
-        tab[:, j] = fx / L, fy / L, mz / L**2
-    return tab
+        for out, w in (
+            (tab, (kn**2) * dl * lit),
+            # speed term per unit 2 omega_0 U / g: cos(theta) cos(theta + beta) - cos(beta) in the angles of
+            # Faltinsen et al. (1980), written with the element's tangent t and the propagation direction k
+            (tab_u, (tx * (tx * kx + ty * ky) - kx) * dl * lit),
+        ):
+            fx = -(w * nx).sum()
+            fy = -(w * ny).sum()
+            mz = -(w * (xm * ny - ym * nx)).sum()
+            out[:, j] = fx / L, fy / L, mz / L**2
+    return tab, tab_u
+
+
+def drift_coefficient_table(L: float, B: float, C_wp: float) -> np.ndarray:
+    """Mean drift coefficients C_X, C_Y, C_N (shape 3 x WAVE_NA) over the encounter angle chi, at zero speed.
+
+    Faltinsen et al. (1980) short-wave asymptotic formula for a wall-sided hull (Faltinsen 1990, Sea Loads
+    on Ships and Offshore Structures, eq. 5.40):  F_i = 1/2 rho g zeta_a^2 int_L1 sin^2(theta + beta) n_i dl,
+    integrated over the illuminated part L1 of the waterline. sin^2(theta + beta) = (k . n)^2 for the
+    waterline element with outward normal n and wave propagation direction k; the force pushes the element
+    inwards. Coefficients are F / (1/2 rho g zeta_a^2 L) for X, Y and F / (1/2 rho g zeta_a^2 L^2) for N.
+    chi is the direction the waves come *from*, relative to the bow, positive from starboard.
+    """
+    return _drift_tables(L, B, C_wp)[0]
+
+
+def drift_speed_table(L: float, B: float, C_wp: float) -> np.ndarray:
+    """Forward-speed drift coefficients C^U_X, C^U_Y, C^U_N (shape 3 x WAVE_NA) over chi, per unit
+    2 omega_0 U / g: the second term of Faltinsen et al. (1980),
+    F_i = 1/2 rho g zeta_a^2 int_L1 [sin^2(theta + beta) + 2 omega_0 U / g (cos theta cos(theta + beta) - cos beta)] n_i dl,
+    with the same normalisation as :func:`drift_coefficient_table` (omega_0 the wave frequency, U the ship's
+    forward speed). For a vertical transverse bow in head waves the bracket is 1 + 2 omega_0 U / g; for a side
+    parallel to the ship's axis in beam waves the speed term vanishes."""
+    return _drift_tables(L, B, C_wp)[1]
+
+
+def _drift_spectrum(Hs: float, Tp: float, L: float, T: float, gamma: float) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies omega (rad/s) and 2 S(omega) alpha_T(omega) (m^2 s/rad) of :func:`effective_zeta2`."""
+    w = np.linspace(0.2, 4.0, 600) * (2.0 * math.pi / Tp)
+    S = jonswap(w, Hs, Tp, gamma)
+    lam = 2.0 * math.pi * G_M_S2 / w**2
+    alpha = np.where(lam / L <= 2.5, 1.0 - np.exp(-4.0 * math.pi * (T / lam - T / (2.5 * L))), 0.0)
+    alpha = np.clip(alpha, 0.0, 1.0)
+    return w, 2.0 * S * alpha
+
+
+def effective_omega_zeta2(Hs: float, Tp: float, L: float, T: float, gamma: float = 3.3) -> float:
+    """Effective omega_0 zeta_a^2 (m^2 rad/s) of an irregular sea for the forward-speed term of the drift
+    formula (:func:`drift_speed_table`): the integral of omega 2 S(omega) alpha_T(omega) d omega, with the
+    draught factor of :func:`effective_zeta2`."""
+    if Hs <= 0.0:
+        return 0.0
+    w, f = _drift_spectrum(Hs, Tp, L, T, gamma)
+    return float(np.trapezoid(w * f, w))
 
 
 def effective_zeta2(Hs: float, Tp: float, L: float, T: float, gamma: float = 3.3) -> float:
@@ -100,19 +150,26 @@ def effective_zeta2(Hs: float, Tp: float, L: float, T: float, gamma: float = 3.3
     """
     if Hs <= 0.0:
         return 0.0
-    w = np.linspace(0.2, 4.0, 600) * (2.0 * math.pi / Tp)
-    S = jonswap(w, Hs, Tp, gamma)
-    lam = 2.0 * math.pi * G_M_S2 / w**2
-    alpha = np.where(lam / L <= 2.5, 1.0 - np.exp(-4.0 * math.pi * (T / lam - T / (2.5 * L))), 0.0)
-    alpha = np.clip(alpha, 0.0, 1.0)
-    return float(np.trapezoid(2.0 * S * alpha, w))
+    w, f = _drift_spectrum(Hs, Tp, L, T, gamma)
+    return float(np.trapezoid(f, w))
 
 
 @njit(cache=True)
 def wave_drift_forces(P, zeta2, wave_from, psi):
-    """Mean second-order wave drift loads (X, Y, N) in N, N, N m, from the ship's coefficient table.
+    """Mean second-order wave drift loads (X, Y, N) in N, N, N m of a ship at rest in the water
+    (:func:`wave_drift_forces_at_speed` at u = 0)."""
+    return wave_drift_forces_at_speed(P, zeta2, 0.0, wave_from, psi, 0.0)
 
-    zeta2 is :func:`effective_zeta2` of the sea state; the table is :func:`drift_coefficient_table`.
+
+@njit(cache=True)
+def wave_drift_forces_at_speed(P, zeta2, omega_zeta2, wave_from, psi, u):
+    """Mean second-order wave drift loads (X, Y, N) in N, N, N m, from the ship's coefficient tables, at
+    surge speed u (m/s) through the water.
+
+    zeta2 is :func:`effective_zeta2` of the sea state, omega_zeta2 :func:`effective_omega_zeta2`; the tables
+    are :func:`drift_coefficient_table` and :func:`drift_speed_table`:
+    F = 1/2 rho g L (zeta2 C(chi) + 2 U omega_zeta2 / g C^U(chi)), U = max(u, 0): Faltinsen et al. (1980)
+    derive the speed term for a ship moving ahead; going astern the zero-speed loads are used.
     """
     if P[lo.P_WAVE_ON] == 0.0 or zeta2 <= 0.0:
         return 0.0, 0.0, 0.0
@@ -127,4 +184,13 @@ def wave_drift_forces(P, zeta2, wave_from, psi):
     cn = (1 - t) * P[b + 2 * na + j] + t * P[b + 2 * na + j + 1]
     q = 0.5 * P[lo.P_RHO] * G_M_S2 * zeta2
     L = P[lo.P_L]
-    return q * L * cx, q * L * cy, q * L * L * cn
+    X = q * L * cx
+    Y = q * L * cy
+    N = q * L * L * cn
+    if u > 0.0 and omega_zeta2 > 0.0:
+        bu = lo.P_WAVE_TAB_U
+        qu = 0.5 * P[lo.P_RHO] * G_M_S2 * (2.0 * u * omega_zeta2 / G_M_S2)
+        X += qu * L * ((1 - t) * P[bu + j] + t * P[bu + j + 1])
+        Y += qu * L * ((1 - t) * P[bu + na + j] + t * P[bu + na + j + 1])
+        N += qu * L * L * ((1 - t) * P[bu + 2 * na + j] + t * P[bu + 2 * na + j + 1])
+    return X, Y, N

@@ -33,6 +33,7 @@ from vessel_gym.physics.integrate import (
 )
 from vessel_gym.physics.kinematics import ground_velocity, speed_over_ground
 from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold
+from vessel_gym.physics.shallow_water import check_hull
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import DEG, KNOT_M_S
 from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, pack
@@ -271,6 +272,8 @@ class Simulation:
 
     def set_environment(self, environment: Environment, k: int | None = None) -> None:
         """Set the environment of vessel k (all vessels when k is None)."""
+        for s in self.ships if k is None else [self.ship(k)]:
+            check_hull(s, environment.depth_m)  # a finite depth needs a hull the corrections are for
         if k is None:  # one row per ship, spread over the vessels in one numpy operation
             rows = np.stack([environment.row(s.particulars.L_m, s.particulars.T_m) for s in self.ships])
             self.env[:] = rows[self.ship_index]

@@ -8,6 +8,7 @@ from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.hull import drift_angle
+from vessel_gym.physics.shallow_water import flow_straightening_factor
 
 
 @njit(cache=True)
@@ -51,17 +52,19 @@ def steering_gear_angle(P, delta0, delta_c, t):
 
 @njit(cache=True)
 def mmg_rudder_forces(P, u, v, r, delta, w_P, thrust):
-    """Rudder forces, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship): see
+    """Rudder forces in deep water, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship): see
     :func:`mmg_rudder_forces_beta`, which this calls with the ship's speed and drift angle."""
     U = math.sqrt(u * u + v * v)
-    return mmg_rudder_forces_beta(P, u, U, drift_angle(u, v, U), r, delta, w_P, thrust)
+    return mmg_rudder_forces_beta(P, u, U, drift_angle(u, v, U), r, delta, w_P, thrust, 0.0)
 
 
 @njit(cache=True)
-def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust):
+def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust, H):
     """Rudder forces, Yasukawa & Yoshimura (2015) eq. 20-36 (X_R, Y_R, N_R at midship), at surge speed u,
     speed U = sqrt(u^2 + v^2) and flow drift angle beta (:func:`hull.drift_angle`, in [-pi/2, pi/2]), which
-    the vessel computes once.
+    the vessel computes once, and draught-to-depth ratio H = T/h (0: deep water). In shallow water the
+    hull straightens the flow to the rudder more: gamma_R^+- times
+    :func:`shallow_water.flow_straightening_factor` (Taimuri et al. 2020); the wake w_P comes in corrected.
 
     F_N = 1/2 rho A_R U_R^2 f_alpha sin(alpha_R), alpha_R = delta - atan2(v_R, u_R),
     v_R = U gamma_R beta_R, beta_R = beta - l'_R r'.
@@ -113,6 +116,8 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust):
     else:  # here beta_R stands for U beta_R (m/s), without the division: a ship turning on the spot
         beta_R = U * beta - l_R * r * L
     gamma = P[lo.P_GRM] if beta_R < 0.0 else P[lo.P_GRP]
+    if H > 0.0:
+        gamma *= flow_straightening_factor(P, H)
     gamma += s_a * (1.0 - gamma)
     v_R = U * gamma * beta_R if U >= P[lo.P_U_MIN] else gamma * beta_R
     U_R = math.sqrt(u_R * u_R + v_R * v_R)

@@ -25,7 +25,7 @@ from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.atmosphere import blendermann_wind_loads
-from vessel_gym.physics.hull import drift_angle, hull_forces
+from vessel_gym.physics.hull import drift_angle, hull_forces_at_depth
 from vessel_gym.physics.kinematics import (
     add_coriolis_forces,
     ground_velocity,
@@ -33,7 +33,8 @@ from vessel_gym.physics.kinematics import (
     relative_wind,
 )
 from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
-from vessel_gym.physics.seastate import drift_coefficient_table, wave_drift_forces
+from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
+from vessel_gym.physics.shallow_water import thrust_deduction
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull, abkowitz_term
 from vessel_gym.physics.steering import mmg_rudder_forces_beta, steering_gear_rate
 from vessel_gym.physics.units import DEG, RPM
@@ -214,6 +215,8 @@ def pack(ship: Ship) -> np.ndarray:
         P[lo.P_WAVE_ON] = 1.0
         tab = drift_coefficient_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
         P[lo.P_WAVE_TAB : lo.P_WAVE_TAB + 3 * lo.WAVE_NA] = tab.ravel()
+        tab_u = drift_speed_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
+        P[lo.P_WAVE_TAB_U : lo.P_WAVE_TAB_U + 3 * lo.WAVE_NA] = tab_u.ravel()
     return P
 
 
@@ -240,7 +243,8 @@ def force_terms(P, x, env):
     psi = x[lo.X_PSI]
     delta = x[lo.X_DELTA]
     n = x[lo.X_REV]
-    XH, YH, NH = hull_forces(P, u, v, r, delta)
+    H = env[lo.E_T_OVER_H]  # draught-to-depth ratio T/h, 0 in deep water
+    XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H)
     has_prop = P[lo.P_PROP_ON] > 0.0
     mmg_rudder = P[lo.P_RUD_KIND] == lo.RUDDER_MMG
     # one speed and drift angle for wake and rudder; the atan2 only where a model reads beta
@@ -250,11 +254,11 @@ def force_terms(P, x, env):
     Qp = 0.0
     wP = P[lo.P_WP0]
     if has_prop:
-        wP = effective_wake(P, U, beta, r)
+        wP = effective_wake(P, U, beta, r, H)
         T, Qp = propeller_thrust_torque(P, u * (1.0 - wP), n)
     XR = YR = NR = 0.0
     if mmg_rudder:
-        XR, YR, NR = mmg_rudder_forces_beta(P, u, U, beta, r, delta, wP, T)
+        XR, YR, NR = mmg_rudder_forces_beta(P, u, U, beta, r, delta, wP, T, H)
     cn = env[lo.E_CUR_N]
     ce = env[lo.E_CUR_E]
     c = math.cos(psi)
@@ -262,8 +266,10 @@ def force_terms(P, x, env):
     u_g, v_g = ground_velocity_body(u, v, c, s, cn, ce)
     Vrw, gam, cos_gam, sin_gam = relative_wind(u_g, v_g, c, s, env[lo.E_WIND_N], env[lo.E_WIND_E])
     XW, YW, NW = blendermann_wind_loads(P, Vrw, gam, cos_gam, sin_gam, env[lo.E_RHO_AIR])
-    XD, YD, ND = wave_drift_forces(P, env[lo.E_ZETA2], env[lo.E_WAVE_FROM], psi)
-    XP = (1.0 - P[lo.P_TP]) * T
+    XD, YD, ND = wave_drift_forces_at_speed(
+        P, env[lo.E_ZETA2], env[lo.E_OMEGA_ZETA2], env[lo.E_WAVE_FROM], psi, u
+    )
+    XP = (1.0 - thrust_deduction(P, H)) * T
     return (XH, YH, NH, XP, XR, YR, NR, XW, YW, NW, XD, YD, ND, T, Qp, wP, Vrw, gam, cn, ce, c, s)
 
 

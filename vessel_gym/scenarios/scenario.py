@@ -171,6 +171,14 @@ class Scenario:
                 out.append((kind, a.name, _pts(a.points)))
         return out
 
+    def depth_at(self, north_m: float, east_m: float) -> float:
+        """Charted depth (m) at the point [north, east] (m): the shallowest depth area containing it (where
+        areas overlap, the chart's safe reading), else ``water_depth_m``. The physics takes it as the
+        :class:`~vessel_gym.physics.environment.Environment`'s ``depth_m`` under the ship's midship point."""
+        p = (float(north_m), float(east_m))
+        inside = [d.depth_m for d in self.depth_area if geo.point_in_polygon(p, _pts(d.points))]
+        return min(inside, default=self.water_depth_m)
+
     def shoals(self, draught_m: float) -> list[tuple[str, list[tuple[float, float]]]]:
         """(name, points) of depth areas shallower than ``draught_m`` (grounding areas)."""
         return [(d.name, _pts(d.points)) for d in self.depth_area if d.depth_m < draught_m]
