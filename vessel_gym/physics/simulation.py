@@ -5,6 +5,10 @@ Vessel (:mod:`~vessel_gym.physics.vessel`), Motion Constraints (free 3-DOF here;
 :mod:`~vessel_gym.physics.constraints`), Sea-State and Environment & Atmosphere
 (:class:`~vessel_gym.physics.environment.Environment`). State is batched over N vessels; N = 1 and
 N = 16384 run the same compiled code.
+
+Its jobs live beside it: the steady approach a reset starts from (:mod:`~vessel_gym.physics.steady`), runaway
+detection (:mod:`~vessel_gym.physics.runaway`), the choice of batch driver (:mod:`~vessel_gym.physics.drivers`)
+and the evaluation of a user's Python components (:mod:`~vessel_gym.physics.components.batch`).
 """
 
 from __future__ import annotations
@@ -15,12 +19,20 @@ from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
-from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import BridgeReading
 from vessel_gym.physics.components import ForceRecord, name_of
 from vessel_gym.physics.components.compose import compose, named_forces
+from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old home)
+    DRIVER_SMOOTHING,
+    DRIVER_SPIKE,
+    DRIVER_TRIAL_COST,
+    DRIVER_TRIAL_EVERY,
+    PARALLEL_MIN_BATCH,
+    PARALLEL_MIN_WORK,
+    _DriverChoice,
+)
 from vessel_gym.physics.environment import CALM, Environment, wrap_deg
 from vessel_gym.physics.geodesy import local_to_latlon
 from vessel_gym.physics.integrate import (
@@ -32,131 +44,33 @@ from vessel_gym.physics.integrate import (
     run_with_components,
 )
 from vessel_gym.physics.kinematics import ground_velocity, speed_over_ground
-from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold
+from vessel_gym.physics.runaway import (  # noqa: F401  (RUNAWAY_* and the factors: their old home)
+    FULL_POWER_SPEED_FACTOR,
+    RUNAWAY_NONFINITE,
+    RUNAWAY_OK,
+    RUNAWAY_RATE,
+    RUNAWAY_RATE_PRIME,
+    RUNAWAY_SHAFT,
+    RUNAWAY_SHAFT_FACTOR,
+    RUNAWAY_SPEED,
+    RUNAWAY_SPEED_FACTOR,
+    flag_runaway,
+    runaway_limits,
+)
 from vessel_gym.physics.shipfile import Ship, load_ship
+from vessel_gym.physics.steady import (  # noqa: F401  (SimulationError: its old home)
+    STEADY_MAX_ITERATIONS,
+    SimulationError,
+    _SteadyApproach,
+    steady_state,
+)
 from vessel_gym.physics.units import DEG, KNOT_M_S
-from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, pack
+from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, forces, pack
 
-# The threaded driver pays when a call carries enough work to cover waking the worker threads: tens of
-# microseconds on an idle machine, milliseconds when other processes hold the cores. Both bounds are
-# measured with benchmarks/bench_physics.py --drivers (docs/performance.md).
-STEADY_CACHE_SIZE = 1024  # entries (two rows of 9 and 2 floats each)
-# surge balances solved again at most this many times while user component forces still change with the rpm
-STEADY_MAX_ITERATIONS = 20
-PARALLEL_MIN_BATCH = 64  # vessels
-PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread work)
-# Above those bounds the driver is chosen per call by measured wall time per vessel-step (_DriverChoice): the
-# second core may be taken by another process at any time, and then the threaded driver waits for it.
-DRIVER_SMOOTHING = 0.2  # weight of the newest call in the running cost of a driver (exponential average)
-# the driver not in use is timed again every so many calls, so that a change of load is noticed; the interval
-# grows with its measured extra cost so that trying it costs at most DRIVER_TRIAL_COST of the run time
-DRIVER_TRIAL_COST = 0.02  # fraction of run time
-DRIVER_SPIKE = 4.0  # most a single call's time per vessel-step may exceed the running cost by (a factor)
-DRIVER_TRIAL_EVERY = (8, 512)  # calls, least and most between two trials
+# steady approaches cached per simulation (each two rows of NX and NU floats)
+STEADY_CACHE_SIZE = 1024  # entries
 # environment row entries with a direction: while all are zero no force depends on the heading
 _DIRECTIONAL_ENV = [lo.E_CUR_N, lo.E_CUR_E, lo.E_WIND_N, lo.E_WIND_E, lo.E_ZETA2]
-
-
-class _DriverChoice:
-    """Serial or threaded batch driver for a call, whichever has the lower running wall time per vessel-step.
-
-    Both drivers give bitwise identical results, so the choice changes timing only. Each driver is timed on
-    its first eligible calls; afterwards the slower one is tried once every k calls, k = (cost ratio - 1) /
-    DRIVER_TRIAL_COST within DRIVER_TRIAL_EVERY, so that a wrong choice costs at most ~2 % and a change of
-    the machine's load is followed within a few hundred calls.
-    """
-
-    __slots__ = ("cost", "warm", "calls", "every")
-
-    def __init__(self) -> None:
-        self.cost = [0.0, 0.0]  # s per vessel-step, serial and threaded; 0 until measured
-        self.warm = [False, False]  # a driver's first call loads its code and starts threads: not timed
-        self.calls = 0
-        self.every = DRIVER_TRIAL_EVERY[0]
-
-    def pick(self) -> int:
-        """0 for the serial driver, 1 for the threaded one."""
-        serial, threaded = self.cost
-        if threaded == 0.0:
-            return 1
-        if serial == 0.0:
-            return 0
-        best = 0 if serial <= threaded else 1
-        self.calls += 1
-        if self.calls >= self.every:
-            self.calls = 0
-            return 1 - best
-        return best
-
-    def record(self, driver: int, seconds: float, work: int) -> None:
-        if not self.warm[driver]:
-            self.warm[driver] = True
-            return
-        c = seconds / work
-        old = self.cost[driver]
-        # a call descheduled by another process counts as DRIVER_SPIKE x the running cost at most
-        if old > 0.0:
-            c = min(c, DRIVER_SPIKE * old)
-        self.cost[driver] = c if old == 0.0 else old + DRIVER_SMOOTHING * (c - old)
-        lo_c, hi_c = sorted(self.cost)
-        if lo_c > 0.0:
-            k = (hi_c / lo_c - 1.0) / DRIVER_TRIAL_COST
-            self.every = int(min(max(k, DRIVER_TRIAL_EVERY[0]), DRIVER_TRIAL_EVERY[1]))
-
-# Runaway detection: a state a ship cannot physically reach means the model left its valid range, even when
-# every number is finite. The IMO test speed is at least 90 % of the speed at 85 % MCR (MSC.137(76) §4.2.1),
-# so by the cube law of power the speed at full power is U_full = U_test / 0.9 / 0.85^(1/3) = 1.172 U_test.
-FULL_POWER_SPEED_FACTOR = 1.0 / (0.9 * 0.85 ** (1.0 / 3.0))  # U_full / U_test, -
-RUNAWAY_SPEED_FACTOR = 3.0  # speed through the water / U_full, -
-# rate of turn as r' = r L / U_full: a steady turn has r' = 2 L / D, about 0.7 for the KVLCC2 at 35 deg rudder
-# (steady diameter about 3 L) and less at the reduced speed in the turn, so |r'| = 2 at full-power speed is
-# beyond a ship under its own power or pushed by tugs
-RUNAWAY_RATE_PRIME = 2.0  # -
-# the governor holds rated speed, and the overspeed trip acts at no more than 1.2 x rated (IACS UR M3)
-RUNAWAY_SHAFT_FACTOR = 1.5  # |shaft speed| / rated shaft speed, -
-RUNAWAY_OK, RUNAWAY_NONFINITE, RUNAWAY_SPEED, RUNAWAY_RATE, RUNAWAY_SHAFT = 0, 1, 2, 3, 4
-
-
-@njit(cache=True)
-def flag_runaway(X, ship_index, limits, alive, why):
-    """Mark dead every alive vessel whose speed through the water, rate of turn or shaft speed is beyond its
-    ship's bounds ``limits[ship] = (U_max m/s, r_max rad/s, n_max rev/s)``, with the reason in ``why``
-    (RUNAWAY_*); a vessel the integrator stopped on a non-finite state gets RUNAWAY_NONFINITE. The state is
-    kept as it was when flagged. Returns the number of vessels alive."""
-    count = 0
-    for b in range(X.shape[0]):
-        if not alive[b]:
-            if why[b] == RUNAWAY_OK:
-                why[b] = RUNAWAY_NONFINITE
-            continue
-        lim = limits[ship_index[b]]
-        u = X[b, lo.X_U]
-        v = X[b, lo.X_V]
-        code = RUNAWAY_OK
-        if u * u + v * v > lim[0] * lim[0]:
-            code = RUNAWAY_SPEED
-        elif abs(X[b, lo.X_R]) > lim[1]:
-            code = RUNAWAY_RATE
-        elif abs(X[b, lo.X_REV]) > lim[2]:
-            code = RUNAWAY_SHAFT
-        why[b] = code
-        if code == RUNAWAY_OK:
-            count += 1
-        else:
-            alive[b] = False
-    return count
-
-
-def runaway_limits(ship: Ship) -> tuple[float, float, float]:
-    """(U_max m/s, r_max rad/s, n_max rev/s) beyond which a vessel of ``ship`` is flagged as run away."""
-    U_full = FULL_POWER_SPEED_FACTOR * ship.test_speed_m_s
-    U_max = RUNAWAY_SPEED_FACTOR * U_full
-    r_max = RUNAWAY_RATE_PRIME * U_full / ship.particulars.L_m
-    n_max = math.inf
-    if ship.engine is not None:
-        gear = ship.transmission.gear_ratio if ship.transmission is not None else 1.0
-        n_max = RUNAWAY_SHAFT_FACTOR * ship.engine.rated_rpm / gear / 60.0
-    return U_max, r_max, n_max
 
 
 class ForceComponent(Protocol):
@@ -171,10 +85,6 @@ class ForceComponent(Protocol):
     """
 
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
-
-
-class SimulationError(RuntimeError):
-    """A simulation cannot be set up or continued (e.g. a requested speed the engine cannot reach)."""
 
 
 class Simulation:
@@ -720,146 +630,3 @@ def steps_for(duration_s: float, dt: float) -> int:
     if k < 0 or abs(k * dt - duration_s) > 1e-9 * max(1.0, abs(duration_s)):
         raise ValueError(f"interval {duration_s:g} s is not a whole multiple of the physics step {dt:g} s")
     return int(k)
-
-
-@njit(cache=True)
-def _surge_balance_rev(P, x, inp, env, F, hi_n):
-    """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
-
-    Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
-    resets a ship every few steps, and each reset solves this.
-    """
-    xd = np.zeros(lo.NX)
-
-    def surge_accel(nrev):
-        x[lo.X_REV] = nrev
-        inp[lo.U_REV_C] = nrev
-        derivatives(P, x, inp, env, F, xd)
-        return xd[lo.X_U]
-
-    lo_n = 0.0
-    if surge_accel(0.0) > 0.0:
-        hi_n = 0.0
-    for _ in range(80):
-        mid = 0.5 * (lo_n + hi_n)
-        if surge_accel(mid) > 0.0:
-            if hi_n == mid:
-                break  # the bracket stopped shrinking: the remaining halvings would repeat this one
-            hi_n = mid
-        else:
-            if lo_n == mid:
-                break
-            lo_n = mid
-    nrev = 0.5 * (lo_n + hi_n)
-    x[lo.X_REV] = nrev
-    inp[lo.U_REV_C] = nrev
-    return nrev
-
-
-@njit(cache=True)
-def _fuel_index_for(P, n_e, Q_need):
-    """Governor fuel index in [0, 1] whose engine torque at ``n_e`` rev/s is ``Q_need`` N m (bisection)."""
-    a, b = 0.0, 1.0
-    for _ in range(60):
-        mid = 0.5 * (a + b)
-        if engine_torque(P, n_e, mid) < Q_need:
-            if a == mid:
-                break  # as in _surge_balance_rev
-            a = mid
-        else:
-            if b == mid:
-                break
-            b = mid
-    return 0.5 * (a + b)
-
-
-class _SteadyApproach:
-    """The steady straight run of one vessel, solved in steps so that user component forces (evaluated by the
-    caller, for one vessel or a whole batch at once) can take part: :meth:`start` with the forces at the trial
-    state :attr:`x`, :meth:`balance` with the forces at the last solution until they no longer change, then
-    :meth:`finish`."""
-
-    def __init__(self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float):
-        self.ship, self.P, self.speed, self.env = ship, P, speed_m_s, env
-        self.x = np.zeros(lo.NX)
-        self.inp = np.zeros(lo.NU)
-        self.x[lo.X_U] = speed_m_s
-        self.x[lo.X_PSI] = heading_rad
-        self.nrev = 0.0
-        self.n_max = 0.0
-        if ship.propeller is not None:
-            self.n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
-            self.x[lo.X_REV] = self.inp[lo.U_REV_C] = self.n_max
-            self.x[lo.X_CAM] = 1.0  # a direct-reversing engine's gear set for ahead running
-
-    def start(self, F: np.ndarray) -> bool:
-        """Check at full trial rpm with the forces F (3,) that the propeller can make the speed (raises
-        SimulationError if not). Returns whether a surge balance is to be solved (a ship with a propeller)."""
-        if self.ship.propeller is None:
-            return False
-        xd = np.zeros(lo.NX)
-        derivatives(self.P, self.x, self.inp, self.env, F, xd)
-        if xd[lo.X_U] < 0.0:
-            raise SimulationError(
-                f"{self.ship.name}: the propeller cannot make {self.speed / KNOT_M_S:.2f} kn below "
-                f"{self.n_max * 60:.0f} rpm"
-            )
-        self.balance(F)
-        return True
-
-    def balance(self, F: np.ndarray) -> None:
-        """Solve the shaft speed of zero surge acceleration with the forces F (3,) (updates :attr:`x`)."""
-        self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max)
-
-    def finish(self) -> tuple[np.ndarray, np.ndarray]:
-        """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
-        speed."""
-        x, P = self.x, self.P
-        if self.ship.propeller is None:
-            return x.copy(), self.inp.copy()
-        Q_prop = forces(P, x, self.inp, self.env, np.zeros(N_OUT))[FORCE_NAMES.index("Q_prop")]
-        nrev = self.nrev
-        Q_need = engine_torque_to_hold(P, nrev, Q_prop)
-        n_e = P[lo.P_GEAR] * nrev
-        if engine_torque(P, n_e, 1.0) < Q_need:
-            raise SimulationError(
-                f"{self.ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for "
-                f"{self.speed / KNOT_M_S:.2f} kn "
-                f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
-            )
-        x[lo.X_GOV] = _fuel_index_for(P, n_e, Q_need)
-        return x.copy(), self.inp.copy()
-
-
-def steady_state(
-    ship: Ship,
-    P: np.ndarray,
-    speed_m_s: float,
-    extra=None,
-    env: np.ndarray | None = None,
-    heading_rad: float = 0.0,
-) -> tuple[np.ndarray, np.ndarray]:
-    """(state row, input row) of a steady straight run at ``speed_m_s`` through the water on ``heading_rad``
-    at the origin, in the environment row ``env`` (default: calm water, still ISA air, whose drag on the
-    ship's own speed is part of the balance). Only the surge balance is solved: in wind, current or waves
-    the sway and yaw loads act from the first step.
-
-    ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance; they are evaluated at the
-    solved shaft speed and the balance is solved again until they no longer change (at once for forces
-    that do not depend on the shaft speed)."""
-    if env is None:
-        env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
-    s = _SteadyApproach(ship, P, speed_m_s, env, heading_rad)
-
-    def extra_forces() -> np.ndarray:
-        return np.zeros(3) if extra is None else np.asarray(extra(s.x.copy()), dtype=float)
-
-    F = extra_forces()
-    if s.start(F) and extra is not None:
-        for _ in range(STEADY_MAX_ITERATIONS - 1):
-            F_new = extra_forces()
-            if np.array_equal(F_new, F):
-                break
-            F = F_new
-            s.balance(F)
-    return s.finish()
