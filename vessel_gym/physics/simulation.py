@@ -22,7 +22,8 @@ import numpy as np
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import BridgeReading
-from vessel_gym.physics.components import ForceRecord, name_of
+from vessel_gym.physics.components import ForceRecord
+from vessel_gym.physics.components.batch import ComponentBatch
 from vessel_gym.physics.components.compose import compose, named_forces
 from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old home)
     DRIVER_SMOOTHING,
@@ -142,8 +143,9 @@ class Simulation:
         self.Ps = np.stack([pack(s) for s in self.ships])
         # the user's components act on every vessel, a ship file's on that ship's vessels; each slot is filled
         # once and a replaced built-in contributes nothing (components.compose)
-        self.components = list(components)
-        self._masks: list[np.ndarray | None] = [None] * len(self.components)
+        self._batch = ComponentBatch(n)
+        for c in components:
+            self._batch.add(c)
         for si, s in enumerate(self.ships):
             own = [e.build(s) for e in s.components]
             slots = [*replace, *(e.slot for e in s.components if e.replace)]
@@ -151,8 +153,12 @@ class Simulation:
             self.Ps[si] = compose(s, self.Ps[si], [*components, *own], slots, where)
             mask = self.ship_index == si
             if mask.any():
-                self.components += own
-                self._masks += [None if mask.all() else mask] * len(own)
+                for c in own:
+                    self._batch.add(c, None if mask.all() else mask)
+        self.components = self._batch.components
+        # the states the components own (N, NZ), columns named in component_state_names
+        self.component_states = self._batch.initial_states()
+        self.component_state_names = tuple(self._batch.state_names)
         self.n = n
         self.state = np.zeros((n, lo.NX))
         self.inputs = np.zeros((n, lo.NU))
@@ -331,8 +337,13 @@ class Simulation:
             for j in pending:
                 F[j] = F_new[j]
                 solvers[j].balance(F[j])
+        Q_hold = np.zeros(self.n)
         for j, s in solvers.items():
             self.state[j], self.inputs[j] = s.finish()
+            Q_hold[j] = s.Q_hold
+        if self._batch.nz:
+            with np.errstate(all="ignore"):
+                self._batch.steady_states(self, self.state, Q_hold, self.component_states, list(solvers))
 
     def _per_vessel(self, value: float | np.ndarray) -> np.ndarray:
         """``value`` as one float per vessel (a scalar is repeated without copying)."""
@@ -428,7 +439,7 @@ class Simulation:
         if self.components:
             # a diverging vessel overflows in the components' numpy; it is flagged, not warned about
             with np.errstate(all="ignore"):
-                run_with_components(*args, self._component_forces)
+                run_with_components(*args, self._evaluate_components, self.component_states)
         else:
             work = self.n * nsteps
             if self.n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK:
@@ -471,23 +482,26 @@ class Simulation:
         """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""
         return self.step(steps_for(duration_s, self.dt))
 
+    def _evaluate_components(self, x: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """What the Python components give the kernel (N, NF) and their own states' rates (N, NZ), at the
+        stage states ``x`` and own states ``z`` (components.batch.ComponentBatch.evaluate)."""
+        return self._batch.evaluate(self, x, z)
+
     def _component_forces(self, x: np.ndarray) -> np.ndarray:
         """Sum of the user components' forces (N, 3) on the batch of states ``x`` (N, NX)."""
-        F = np.zeros((self.n, 3))
-        for c, mask in zip(self.components, self._masks):
-            f = np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
-            F += f if mask is None else np.where(mask[:, None], f, 0.0)
-        return F
+        return self._batch.forces(self, x, self.component_states)
 
     def component_forces(self, x: np.ndarray | None = None) -> list[tuple[str, np.ndarray]]:
         """(name, forces (N, 3)) of each Python component at the states ``x`` (default: the current state),
         zero on vessels of other ships for a ship file's component."""
-        x = self.state if x is None else x
-        out = []
-        for c, mask in zip(self.components, self._masks):
-            f = np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
-            out.append((name_of(c), f if mask is None else np.where(mask[:, None], f, 0.0)))
-        return out
+        return self._batch.forces_each(self, self.state if x is None else x, self.component_states)
+
+    def component_state(self, name: str) -> np.ndarray:
+        """A state a Python component owns, per vessel (a view): ``name`` is "Component.state", one of
+        :attr:`component_state_names` (unit in the component's ``states``)."""
+        if name not in self.component_state_names:
+            raise KeyError(f"no component state {name!r} (one of {', '.join(self.component_state_names)})")
+        return self.component_states[:, self.component_state_names.index(name)]
 
     def named_forces(self) -> dict[str, ForceRecord]:
         """Forces of every component at the current state by component name, each a record of X (N), Y (N),
@@ -563,13 +577,22 @@ class Simulation:
         return {name: out[:, i] for i, name in enumerate(FORCE_NAMES)}
 
     def engine(self, k: int = 0) -> dict[str, float]:
-        """Engine readings of vessel k: fuel index, engine rpm, torque (N m), shaft power (kW)."""
+        """Engine readings of vessel k: fuel index, engine rpm, torque (N m), shaft power (kW). With a user's
+        engine: its torque at the propeller shaft and the power, fuel index and engine rpm NaN (its own)."""
         from vessel_gym.physics.propulsion import engine_drive
 
         P = self.Ps[self.ship_index[k]]
         if P[lo.P_PROP_ON] == 0.0:
             return {"fuel_index": 0.0, "engine_rpm": 0.0, "torque_Nm": 0.0, "power_kW": 0.0}
         x = self.state[k]
+        if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its torque at the propeller shaft; its fuel unknown here
+            q = float(self._batch.shaft_torque(self, self.state, self.component_states)[k])
+            return {
+                "fuel_index": math.nan,
+                "engine_rpm": math.nan,
+                "torque_Nm": q,
+                "power_kW": 2 * math.pi * x[lo.X_REV] * q / 1e3,
+            }
         order = self.rev_order[k]
         _qd, _dc, _di, fuel, n_e, q, _ph = engine_drive(P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], order)
         return {

@@ -8,7 +8,7 @@ from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import CALM
-from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold
+from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold, shaft_torque_to_hold
 from vessel_gym.physics.shipfile import Ship
 from vessel_gym.physics.units import KNOT_M_S
 from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces
@@ -86,6 +86,7 @@ class _SteadyApproach:
         self.x[lo.X_PSI] = heading_rad
         self.nrev = 0.0
         self.n_max = 0.0
+        self.Q_hold = 0.0
         if ship.propeller is not None:
             self.n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
             self.x[lo.X_REV] = self.inp[lo.U_REV_C] = self.n_max
@@ -112,12 +113,16 @@ class _SteadyApproach:
 
     def finish(self) -> tuple[np.ndarray, np.ndarray]:
         """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
-        speed."""
+        speed; :attr:`Q_hold` the drive torque at the propeller shaft that holds it, N m."""
         x, P = self.x, self.P
         if self.ship.propeller is None:
             return x.copy(), self.inp.copy()
         Q_prop = forces(P, x, self.inp, self.env, np.zeros(N_OUT))[FORCE_NAMES.index("Q_prop")]
         nrev = self.nrev
+        self.Q_hold = shaft_torque_to_hold(P, nrev, Q_prop)
+        if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)
+            x[lo.X_GOV] = x[lo.X_CAM] = 0.0
+            return x.copy(), self.inp.copy()
         Q_need = engine_torque_to_hold(P, nrev, Q_prop)
         n_e = P[lo.P_GEAR] * nrev
         if engine_torque(P, n_e, 1.0) < Q_need:

@@ -1,0 +1,200 @@
+"""Components that own states: a user's engine (with its governor) and a user's steering gear replace the
+built-ins, their states integrated with the vessel's; replacement stays checked (docs/components.md)."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.components import Engine, State, SteeringGear
+from vessel_gym.physics.components.compose import builtin_slots
+from vessel_gym.physics.propulsion import clutch_direction, engine_torque, governor
+from vessel_gym.physics.shipfile import load_ship
+from vessel_gym.physics.simulation import Simulation
+from vessel_gym.physics.steady import _fuel_index_for
+
+
+class BuiltinEngineInPython(Engine):
+    """The built-in clutch engine (torque map, PI governor with anti-windup) as a user's engine: its governor
+    integrator is the component's own state. The equations are the compiled ones, called per vessel."""
+
+    states = (State("governor", "-", 0.0, "PI integrator, fuel index"),)
+
+    def __init__(self, ship, P):
+        super().__init__(ship)
+        self.P = P
+        eng, tr = ship.engine, ship.transmission
+        self.I_e = tr.gear_ratio**2 * eng.inertia_kgm2
+
+    def shaft_inertia_kgm2(self):
+        return self.I_e
+
+    def _each(self, sim, x, s):
+        for b in range(x.shape[0]):
+            yield b, governor(self.P, x[b, lo.X_REV], s[b, 0], sim.rev_order[b])
+
+    def rates(self, sim, x, s):
+        return np.array([[di] for _, (_f, di, _s, _ne) in self._each(sim, x, s)])
+
+    def shaft_torque(self, sim, x, s):
+        P, Q = self.P, np.zeros(x.shape[0])
+        for b, (fuel, _di, sgn, n_e) in self._each(sim, x, s):
+            if sgn != 0.0:
+                Q[b] = sgn * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * engine_torque(P, n_e, fuel)
+                if sgn < 0.0:
+                    Q[b] *= P[lo.P_ENG_ASTERN]
+        return Q
+
+    def steady_states(self, sim, x, Q_hold):
+        P = self.P  # the fuel index whose engine torque holds the shaft, as the built-in reset solves it
+        Q_e = Q_hold / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
+        return np.array([[_fuel_index_for(P, P[lo.P_GEAR] * x[b, lo.X_REV], Q_e[b])] for b in range(len(x))])
+
+
+def test_user_engine_reimplementing_the_builtin_reproduces_its_crash_stop():
+    """Plumbing check: the built-in engine's own equations, run as a user's engine (governor state owned by the
+    component, drive torque into the shaft, inertia brought along), give the built-in's trajectory to
+    round-off through an ahead run and a crash stop (order reversed: governor saturation, clutch astern)."""
+    ship = load_ship("kvlcc2_l7")
+    ref = Simulation(ship, dt=0.05)
+    ref.reset()
+    comp = BuiltinEngineInPython(ship, ref.Ps[0])
+    sim = Simulation(ship, dt=0.05, components=[comp], replace=["engine"])
+    assert sim.Ps[0, lo.P_I_SHAFT] == ref.Ps[0, lo.P_I_SHAFT] and sim.Ps[0, lo.P_ENGINE_EXT] == 1.0
+    assert "engine" not in builtin_slots(sim.Ps[0]) and "governor" not in builtin_slots(sim.Ps[0])
+    sim.reset()
+    assert sim.component_state("BuiltinEngineInPython.governor")[0] == ref.state[0, lo.X_GOV]
+    for s in (ref, sim):
+        s.set_helm(rudder_order_rad=0.1)
+        s.advance(20.0)
+        s.set_helm(rev_order=-s.rev_order[0])
+        s.advance(40.0)
+    assert sim.state[0, lo.X_GOV] == 0.0  # the built-in governor left with the engine
+    np.testing.assert_allclose(sim.component_states[0, 0], ref.state[0, lo.X_GOV], rtol=1e-9, atol=1e-12)
+    cols = [lo.X_U, lo.X_V, lo.X_R, lo.X_N, lo.X_E, lo.X_PSI, lo.X_DELTA, lo.X_REV]
+    np.testing.assert_allclose(sim.state[0, cols], ref.state[0, cols], rtol=1e-9, atol=1e-9)
+    assert ref.rev[0] < 0.0  # the crash stop got the shaft turning astern
+    assert clutch_direction(ref.Ps[0], ref.rev_order[0]) == -1.0
+
+
+class RateGear(SteeringGear):
+    """A steering gear slewing at a constant rate towards the order (a hydraulic gear on its rate limit)."""
+
+    def __init__(self, rate_rad_s):
+        super().__init__()
+        self.rate = rate_rad_s
+
+    def rudder_rate(self, sim, x, s):
+        e = sim.rudder_order - x[:, lo.X_DELTA]
+        return np.clip(e / 0.05, -self.rate, self.rate)  # within 0.05 s of slewing from the order
+
+
+def test_user_steering_gear_drives_the_rudder_angle():
+    """SOLAS II-1/29.3.2: 35 deg to one side to 30 deg the other in 28 s is 65/28 = 2.32 deg/s. A gear slewing
+    at that rate from 0 reaches 20 deg after 20 / 2.32 = 8.62 s; RK4 integrates a constant rate exactly."""
+    rate = math.radians(65.0 / 28.0)
+    sim = Simulation("kvlcc2", dt=0.1, components=[RateGear(rate)], replace=["steering_gear"])
+    assert sim.Ps[0, lo.P_SG_EXT] == 1.0 and "steering_gear" not in builtin_slots(sim.Ps[0])
+    sim.reset()
+    sim.set_helm(rudder_order_rad=math.radians(20.0))
+    sim.advance(5.0)
+    assert sim.rudder[0] == pytest.approx(5.0 * rate, rel=1e-12)
+    sim.advance(5.0)
+    assert sim.rudder[0] == pytest.approx(math.radians(20.0), abs=1e-9)  # held at the order
+    assert sim.r[0] > 0.0  # the ship answers its rudder
+
+
+def test_user_steering_gear_first_order_matches_the_builtin_exact_solution():
+    """The built-in gear (rate-limited first order, solved exactly over a step) as a user's gear integrated by
+    RK4: the turn agrees to the integration error of RK4 at dt = 0.1 s on a 0.1 s lag (kvlcc2_l7)."""
+    ship = load_ship("kvlcc2_l7")
+    sg = ship.steering_gear
+
+    class FirstOrderGear(SteeringGear):
+        def rudder_rate(self, sim, x, s):
+            dmax = math.radians(sg.max_angle_deg)
+            rmax = math.radians(sg.max_rate_deg_s)
+            dc = np.clip(sim.rudder_order, -dmax, dmax)
+            return np.clip((dc - x[:, lo.X_DELTA]) / sg.time_constant_s, -rmax, rmax)
+
+    runs = []
+    for kw in ({}, {"components": [FirstOrderGear()], "replace": ["steering_gear"]}):
+        sim = Simulation(ship, dt=0.02, **kw)
+        sim.reset()
+        sim.set_helm(rudder_order_rad=math.radians(35.0))
+        sim.advance(30.0)
+        runs.append(sim.state[0].copy())
+    np.testing.assert_allclose(runs[1][lo.X_DELTA], runs[0][lo.X_DELTA], rtol=1e-6)
+    np.testing.assert_allclose(runs[1][lo.X_PSI], runs[0][lo.X_PSI], rtol=1e-4)
+
+
+class NoInertiaEngine(Engine):
+    def shaft_torque(self, sim, x, s):
+        return np.zeros(x.shape[0])
+
+    shaft_inertia_kgm2 = None  # not callable
+
+
+class Gear(SteeringGear):
+    def rudder_rate(self, sim, x, s):
+        return np.zeros(x.shape[0])
+
+
+class Eng(Engine):
+    def shaft_torque(self, sim, x, s):
+        return np.zeros(x.shape[0])
+
+    def shaft_inertia_kgm2(self):
+        return 0.0
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"components": [Eng()]}, r"Eng fills slot 'engine', which the ship's engine fills; replace it"),
+        ({"replace": ["engine"]}, r"replace=\['engine'\] needs an Engine component"),
+        ({"replace": ["steering_gear"]}, r"replace=\['steering_gear'\] needs a SteeringGear component"),
+        ({"components": [Gear()]}, r"fills slot 'steering_gear', which the ship's steering_gear fills"),
+        ({"components": [Gear(), Gear()], "replace": ["steering_gear"]}, r"slot 'steering_gear' is filled twice"),
+        ({"components": [NoInertiaEngine()], "replace": ["engine"]}, r"needs shaft_inertia_kgm2\(\)"),
+        ({"replace": ["governor"]}, r"'governor' is not yet supported: the governor is part of the engine"),
+    ],
+)
+def test_stateful_replacement_is_checked(kwargs, message):
+    with pytest.raises(ValueError, match=message) as err:
+        Simulation("kvlcc2", **kwargs)
+    assert "\n" not in str(err.value)
+
+
+def test_engine_on_a_ship_without_a_propeller_is_refused():
+    glider = dataclasses.replace(load_ship("mariner"), propeller=None)  # its rudder is in the hull's terms
+    with pytest.raises(ValueError, match="no propeller"):
+        Simulation(glider, components=[Eng()], replace=["engine"])
+    with pytest.raises(ValueError, match="no propeller shaft for an engine"):
+        Simulation(glider, components=[Eng()])
+
+
+def test_states_must_be_declared_as_state_entries():
+    class Bad(Eng):
+        states = ("governor",)
+
+    with pytest.raises(ValueError, match="states must be State"):
+        Simulation("kvlcc2", components=[Bad()], replace=["engine"])
+
+
+def test_non_finite_component_state_stops_the_vessel_only():
+    class Blows(Eng):
+        states = (State("x", "-", 1.0),)
+
+        def rates(self, sim, x, s):
+            return np.where(np.arange(x.shape[0])[:, None] == 1, np.inf, 0.0) * np.ones_like(s)
+
+    sim = Simulation("kvlcc2", n=3, components=[Blows()], replace=["engine"])
+    sim.reset()
+    assert sim.step(2) == 2
+    assert not sim.alive[1] and sim.divergence(1) == "the state became non-finite"
+    assert np.all(np.isfinite(sim.component_states))
