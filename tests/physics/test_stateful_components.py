@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -198,3 +199,70 @@ def test_non_finite_component_state_stops_the_vessel_only():
     assert sim.step(2) == 2
     assert not sim.alive[1] and sim.divergence(1) == "the state became non-finite"
     assert np.all(np.isfinite(sim.component_states))
+
+
+def test_stateful_components_are_called_once_per_stage_for_the_whole_batch():
+    """O(N): an engine's torque and states and a steering gear's rate, once per RK4 stage for all vessels."""
+    calls = {"shaft_torque": 0, "rates": 0, "rudder_rate": 0}
+
+    class CountedEngine(Eng):
+        states = (State("lag", "-", 0.0),)
+
+        def shaft_torque(self, sim, x, s):
+            calls["shaft_torque"] += 1
+            assert x.shape == (256, lo.NX) and s.shape == (256, 1)
+            return np.zeros(x.shape[0])
+
+        def rates(self, sim, x, s):
+            calls["rates"] += 1
+            return -s
+
+    class CountedGear(Gear):
+        def rudder_rate(self, sim, x, s):
+            calls["rudder_rate"] += 1
+            return np.zeros(x.shape[0])
+
+    sim = Simulation(
+        "kvlcc2", n=256, components=[CountedEngine(), CountedGear()], replace=["engine", "steering_gear"]
+    )
+    sim.reset()
+    calls.update({k: 0 for k in calls})
+    sim.step(3)
+    assert calls == {"shaft_torque": 12, "rates": 12, "rudder_rate": 12}
+
+
+def _docs_engine():
+    """The user's engine of docs/components.md ("Example: your own engine model"), as a module."""
+    import re
+    import types
+    from pathlib import Path
+
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "components.md").read_text()
+    src = re.search(r"<!-- file: my_engine.py -->\n```python\n(.*?)\n```", doc, re.S).group(1)
+    module = types.ModuleType("my_engine")
+    sys.modules["my_engine"] = module  # dataclasses look their module up while decorating
+    try:
+        exec(compile(src, "docs/components.md my_engine.py", "exec"), module.__dict__)
+    finally:
+        del sys.modules["my_engine"]
+    return module
+
+
+def test_docs_engine_holds_its_steady_approach_and_its_governor_removes_the_speed_error():
+    """Two properties of the model, not of its numbers: the reset's steady run stays steady (the states
+    steady_states solves are an equilibrium of the shaft and the governor), and a PI governor's integral action
+    leaves no steady speed error after an order change within the engine's torque."""
+    m = _docs_engine()
+    ship = load_ship("kvlcc2")
+    p = m.LaggedDieselParams(rated_power_kW=105000.0, rated_rpm=115.0, inertia_kgm2=1.0e6, tau_s=3.0)
+    sim = Simulation(ship, dt=0.2, components=[m.LaggedDiesel(ship, p)], replace=["engine"])
+    sim.reset()
+    start = sim.state.copy()
+    sim.advance(100.0)
+    np.testing.assert_allclose(sim.state[0, [lo.X_U, lo.X_REV]], start[0, [lo.X_U, lo.X_REV]], rtol=1e-9)
+    assert sim.component_state("LaggedDiesel.torque")[0] < 1.0  # the order is within the engine's torque
+    order = 1.03 * sim.rev_order[0]
+    sim.set_helm(rev_order=order)
+    sim.advance(600.0)
+    assert sim.rev[0] == pytest.approx(order, rel=1e-4)
+    assert sim.engine(0)["torque_Nm"] > 0.0 and math.isnan(sim.engine(0)["fuel_index"])
