@@ -5,7 +5,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import sys
+import types
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -231,14 +234,15 @@ def test_stateful_components_are_called_once_per_stage_for_the_whole_batch():
     assert calls == {"shaft_torque": 12, "rates": 12, "rudder_rate": 12}
 
 
-def _docs_engine():
-    """The user's engine of docs/components.md ("Example: your own engine model"), as a module."""
-    import re
-    import types
-    from pathlib import Path
-
+def _docs_engine_source() -> str:
+    """The source of the user's engine of docs/components.md ("Example: your own engine model")."""
     doc = (Path(__file__).resolve().parents[2] / "docs" / "components.md").read_text()
-    src = re.search(r"<!-- file: my_engine.py -->\n```python\n(.*?)\n```", doc, re.S).group(1)
+    return re.search(r"<!-- file: my_engine.py -->\n```python\n(.*?)\n```", doc, re.S).group(1) + "\n"
+
+
+def _docs_engine():
+    """The user's engine of docs/components.md, as a module."""
+    src = _docs_engine_source()
     module = types.ModuleType("my_engine")
     sys.modules["my_engine"] = module  # dataclasses look their module up while decorating
     try:
@@ -266,3 +270,28 @@ def test_docs_engine_holds_its_steady_approach_and_its_governor_removes_the_spee
     sim.advance(600.0)
     assert sim.rev[0] == pytest.approx(order, rel=1e-4)
     assert sim.engine(0)["torque_Nm"] > 0.0 and math.isnan(sim.engine(0)["fuel_index"])
+
+
+def test_cli_stopping_runs_a_ship_file_engine(ship_file, tmp_path, monkeypatch, capsys):
+    """`vessel-gym manoeuvre stopping` with the docs' engine named in a ship file: the crash stop reverses the
+    user's engine (the clutch by the order's sign), and the stop differs from the built-in engine's."""
+    import json
+
+    from vessel_gym.cli import main
+
+    src = _docs_engine_source()
+    (tmp_path / "my_engine.py").write_text(src)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    table = (
+        '\n[[components]]\nslot = "engine"\nmodel = "my_engine:LaggedDiesel"\nreplace = true\n'
+        "params = { rated_power_kW = 0.40, rated_rpm = 1200.0, inertia_kgm2 = 0.02, tau_s = 0.3 }\n"
+    )
+    results = []
+    try:
+        for path in (ship_file("kvlcc2_l7", filename="builtin.toml"), ship_file("kvlcc2_l7", lambda t: t + table)):
+            assert main(["manoeuvre", "stopping", str(path), "--json"]) == 0
+            results.append(json.loads(capsys.readouterr().out))
+    finally:
+        sys.modules.pop("my_engine", None)
+    assert results[0] != results[1]
+    assert all(math.isfinite(v) for v in results[1].values() if isinstance(v, float))
