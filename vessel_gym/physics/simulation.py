@@ -84,7 +84,10 @@ class ForceComponent(Protocol):
     body origin. It is called once per stage for the whole batch (and a few times per ``reset``, whatever the
     number of vessels reset), so a component written with numpy array operations costs O(N). Plug a whole
     replacement hull in by giving the ship file ``[hull] model`` of your own and returning its forces here
-    (see docs/components.md).
+    (see docs/components.md). A component that owns states (``states``, :class:`~vessel_gym.physics.components.
+    State` entries) gets them as a third argument ``s`` (N, k) and gives their rates with ``rates(sim, x, s)``;
+    an engine or a steering gear subclasses :class:`~vessel_gym.physics.components.Engine` or
+    :class:`~vessel_gym.physics.components.SteeringGear`.
     """
 
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
@@ -104,8 +107,10 @@ class Simulation(Helm):
             RK stage, :func:`~vessel_gym.physics.integrate.run_with_components`).
         replace: slots whose built-in component a user component replaces: "hull" (with its added mass; the
             replacing hull gives ``added_mass()``), "rudder" (with a derivative rudder's hull delta terms),
-            "windage", "wave_drift" ("wind", "waves" too). A component in a slot a built-in fills without
-            ``replace``, or two in one slot, raise ValueError (docs/components.md).
+            "windage", "wave_drift" ("wind", "waves" too), "engine" (with its governor, reversing gear and
+            inertia; the replacing ``Engine`` drives the shaft), "steering_gear" (the replacing ``SteeringGear``
+            gives the rudder rate). A component in a slot a built-in fills without ``replace``, or two in one
+            slot, raise ValueError (docs/components.md).
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
     """
 
