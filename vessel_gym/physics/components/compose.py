@@ -10,7 +10,6 @@ replacing a slot switches off everything its built-in contributes there:
   rudder is in the hull's delta terms, the rudder leaves with the hull.
 * ``rudder``: the MMG rudder, and the hull's delta terms (Y_d, N_d, Y_vvd, ...) of a derivative rudder.
 * ``windage``, ``wave_drift``: their loads.
-
 * ``engine``: the engine's torque map, its governor (the governor integrator state) and reversing gear, and its
   rotating inertia on the shaft; the replacing :class:`~vessel_gym.physics.components.Engine` drives the shaft
   with its own torque and brings its own inertia (``shaft_inertia_kgm2()``) and states.
