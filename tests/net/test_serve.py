@@ -28,7 +28,8 @@ ROOT = Path(__file__).resolve().parents[2]
 class _Server:
     """serve() on a thread, its output collected; ``address`` read from the banner."""
 
-    def __init__(self, **kw) -> None:
+    def __init__(self, scenario: str = "harbour", **kw) -> None:
+        self.scenario = scenario
         self.out = io.StringIO()
         self.err = io.StringIO()
         kw.setdefault("err", self.err)
@@ -40,7 +41,7 @@ class _Server:
 
     def _run(self, **kw) -> None:
         try:
-            self.result.append(serve("harbour", out=self.out, **kw))
+            self.result.append(serve(self.scenario, out=self.out, **kw))
         except BaseException as exc:  # pragma: no cover - reported by the test
             self.result.append(exc)
 
@@ -323,3 +324,49 @@ def test_ctrl_c_ends_cleanly_with_exit_code_0():
             proc.kill()
     assert proc.returncode == 0, err
     assert "stopped after" in out and "Traceback" not in err
+
+
+_DRIFTING_GEAR = '''
+import numpy as np
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.components import SteeringGear
+
+
+class DriftingGear(SteeringGear):
+    """A failed steering gear: ignores the helm and drives the rudder to starboard at 1 deg/s up to 35 deg."""
+
+    def rudder_rate(self, sim, x, s):
+        return np.clip((np.radians(35.0) - x[:, lo.X_DELTA]) / 0.05, 0.0, np.radians(1.0))
+'''
+
+
+def test_serve_runs_the_ship_files_component(peers, tmp_path, monkeypatch):
+    """A scenario whose ship file names a user's steering gear: the served rudder angle is the gear's (1 deg/s
+    to starboard from the reset, whatever the agent orders), not the helm's."""
+    (tmp_path / "served_gear.py").write_text(_DRIFTING_GEAR)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    ships = ROOT / "vessel_gym" / "physics" / "data" / "ships"
+    ship = tmp_path / "gear_failure.toml"
+    ship.write_text(
+        (ships / "kvlcc2_l7.toml").read_text()
+        + '\n[[components]]\nslot = "steering_gear"\nmodel = "served_gear:DriftingGear"\nreplace = true\n'
+    )
+    scenario = tmp_path / "harbour_gear.toml"
+    text = (ROOT / "vessel_gym" / "scenarios" / "harbour.toml").read_text()
+    scenario.write_text(re.sub(r'(?m)^ship = "kvlcc2_l7"$', f'ship = "{ship}"', text, count=1))
+    srv = _Server(str(scenario), time_factor=5.0, duration_s=8.0, seed=0)
+    server = srv.address(timeout_s=180.0)  # the component path compiles on first use
+    viewer = peers()
+    states: list[dict] = []
+    t0 = time.monotonic()
+    while srv.thread.is_alive() and time.monotonic() - t0 < 30.0:
+        viewer.hello(server, "viewer", 20.0, name="test viewer")
+        time.sleep(0.1)
+        states += viewer.messages("state")
+    assert srv.join() == 0
+    assert len(states) >= 3
+    for st in states:  # 1 deg/s from the reset (t = 0), to 0.01 deg (the message's resolution)
+        assert st["rudder_deg"] == pytest.approx(min(st["t_s"], 35.0), abs=0.011), st
+    assert states[-1]["rudder_deg"] > 2.0
+    assert any(st["rudder_order_deg"] != st["rudder_deg"] for st in states)  # the helm is not what moved it

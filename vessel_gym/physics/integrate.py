@@ -180,66 +180,101 @@ def stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt):
     (:func:`stage_state`).
 
     Stage 2 is called with ``Xt`` still holding stage 1's states and takes their rudder angles (both at
-    t + dt/2), as :func:`step_vessel` solves each stage time's angle once."""
+    t + dt/2), as :func:`step_vessel` solves each stage time's angle once. Where a user's steering gear
+    drives the rudder (``P_SG_EXT``), its angle is a stage state like any other, x + h k."""
     h = 0.5 * dt if stage < 3 else dt
+    D = lo.X_DELTA
     for b in range(X.shape[0]):
-        if stage == 2:
-            d = Xt[b, lo.X_DELTA]
+        P = Ps[ship_index[b]]
+        if P[lo.P_SG_EXT] > 0.0:
+            d = X[b, D] + h * K[b, stage - 1, D]
+        elif stage == 2:
+            d = Xt[b, D]
         else:
-            d = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], h)
+            d = steering_gear_angle(P, X[b, D], U[b, lo.U_DELTA_C], h)
         stage_state(X[b], K[b, stage - 1], h, d, Xt[b])
 
 
 @njit(cache=True)
 def stage_derivatives_batch(Ps, ship_index, X, U, E, F, K, stage):
-    """Right-hand side of every vessel of a batch at the stage states ``X`` with the forces ``F`` (N, 3),
-    into ``K[:, stage]``."""
+    """Right-hand side of every vessel of a batch at the stage states ``X`` with what the Python components
+    give, ``F`` (N, NF): forces, a user engine's shaft torque, a user steering gear's rudder rate (layout
+    F_*), into ``K[:, stage]``."""
     for b in range(X.shape[0]):
-        derivatives(Ps[ship_index[b]], X[b], U[b], E[b], F[b], K[b, stage])
+        P = Ps[ship_index[b]]
+        derivatives(P, X[b], U[b], E[b], F[b], K[b, stage])
+        if P[lo.P_SG_EXT] > 0.0:
+            K[b, stage, lo.X_DELTA] = F[b, lo.F_DELTA_RATE]
 
 
 @njit(cache=True)
 def finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt):
     """:func:`finish_step` of every alive vessel of a batch (``Xt`` holding the last stage's states); marks
-    diverged vessels dead. Returns the number alive."""
+    diverged vessels dead. Returns the number alive. A rudder angle driven by a user's steering gear is
+    combined from its stage rates by the method, as every other state."""
+    D = lo.X_DELTA
     count = 0
     for b in range(X.shape[0]):
         if alive[b]:
-            if method == EULER:
-                d_end = steering_gear_angle(Ps[ship_index[b]], X[b, lo.X_DELTA], U[b, lo.U_DELTA_C], dt)
-            else:  # stage 4's state, at t + dt
-                d_end = Xt[b, lo.X_DELTA]
             Kb = K[b]
+            if Ps[ship_index[b], lo.P_SG_EXT] > 0.0:
+                if method == EULER:
+                    d_end = X[b, D] + dt * Kb[0, D]
+                else:  # finish_step's combination
+                    d_end = X[b, D] + (dt / 6.0) * (Kb[0, D] + 2.0 * Kb[1, D] + 2.0 * Kb[2, D] + Kb[3, D])
+            elif method == EULER:
+                d_end = steering_gear_angle(Ps[ship_index[b]], X[b, D], U[b, lo.U_DELTA_C], dt)
+            else:  # stage 4's state, at t + dt
+                d_end = Xt[b, D]
             ok = finish_step(X[b], Kb[0], Kb[1], Kb[2], Kb[3], dt, method, d_end, Xt[b])
             alive[b] = ok
             count += ok
     return count
 
 
-def run_with_components(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, component_forces):
-    """Integrate a batch whose right-hand side includes forces computed in Python, with the same stages as
+def run_with_components(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, components, Z=None):
+    """Integrate a batch whose right-hand side includes Python components, with the same stages as
     :func:`run_serial` (:func:`stage_state`, :func:`finish_step`).
 
-    ``component_forces(Xs)`` returns the (N, 3) forces (X N, Y N, N N m) on every vessel at the batch of stage
-    states ``Xs`` (N, NX); it is called once per stage for the whole batch, so a vectorised component costs
-    O(N) per evaluation. ``F`` (N, 3) is added to it. Every vessel's right-hand side is evaluated (the
-    components see the whole batch); only alive vessels are advanced. Returns the number alive.
+    ``components(Xs, Zs)`` returns, for the batch of stage states ``Xs`` (N, NX) and the components' own
+    states ``Zs`` (N, NZ), what the components give the kernel, (N, NF) (forces X N, Y N, N N m, a user
+    engine's shaft torque N m, a user steering gear's rudder rate rad/s: layout F_*), and the rates of their
+    own states (N, NZ). It is called once per stage for the whole batch, so a vectorised component costs
+    O(N) per evaluation. ``F`` (N, 3) is added to the forces. ``Z`` (N, NZ; None: no own states) is
+    integrated in place with the same method and stages as the vessel's state. Every vessel's right-hand
+    side is evaluated (the components see the whole batch); only alive vessels are advanced, and a vessel
+    whose own states would become non-finite is stopped as on any divergence. Returns the number alive.
     """
     n = X.shape[0]
+    Z = np.zeros((n, 0)) if Z is None else Z
+    nz = Z.shape[1]
     K = np.zeros((n, 4, lo.NX))
+    KZ = np.zeros((n, 4, nz))
     Xt = np.empty((n, lo.NX))
-    Fs = np.empty((n, 3))
+    Fs = np.empty((n, lo.NF))
     count = int(alive.sum())
     for _ in range(nsteps):
         for stage in range(n_stages(method)):
             if stage == 0:
-                Xs = X
+                Xs, Zs = X, Z
             else:
                 stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt)
                 Xs = Xt
-            np.add(F, np.asarray(component_forces(Xs), dtype=float).reshape(n, 3), out=Fs)
+                Zs = Z + (0.5 * dt if stage < 3 else dt) * KZ[:, stage - 1]
+            Fc, Zdot = components(Xs, Zs)
+            Fs[:] = np.asarray(Fc, dtype=float).reshape(n, lo.NF)
+            np.add(Fs[:, : lo.F_N + 1], F, out=Fs[:, : lo.F_N + 1])
+            KZ[:, stage] = np.asarray(Zdot, dtype=float).reshape(n, nz)
             stage_derivatives_batch(Ps, ship_index, Xs, U, E, Fs, K, stage)
+        if nz:
+            if method == EULER:
+                Z_end = Z + dt * KZ[:, 0]
+            else:
+                Z_end = Z + (dt / 6.0) * (KZ[:, 0] + 2.0 * KZ[:, 1] + 2.0 * KZ[:, 2] + KZ[:, 3])
+            alive &= np.isfinite(Z_end).all(axis=1)
         count = finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt)
+        if nz:
+            Z[alive] = Z_end[alive]
     return count
 
 

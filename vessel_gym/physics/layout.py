@@ -56,6 +56,14 @@ E_T_OVER_H = 13
 E_OMEGA_ZETA2 = 14  # effective omega_0 zeta_a^2 of the sea for the forward-speed drift term, m^2 rad/s
 NE = 15
 
+# --- what a user's Python components give the kernel per vessel, F[k, :] -------------------------------------------
+F_X = 0  # surge force at midship, N (their sum; F_ext's first three entries)
+F_Y = 1  # sway force at midship, N
+F_N = 2  # yaw moment about midship, N m
+F_Q_SHAFT = 3  # drive torque at the propeller shaft of a user's engine, N m (read where P_ENGINE_EXT)
+F_DELTA_RATE = 4  # rudder rate of a user's steering gear, rad/s (read where P_SG_EXT)
+NF = 5
+
 # --- parameter row P[k, :] -------------------------------------------------------------------------------------
 # Filled by vessel.pack(); names follow the literature. Grouped by component.
 _names: list[str] = []
@@ -211,6 +219,11 @@ P_REV_TIME = _field("reversal_time")  # time to shift the reversing gear from on
 P_REV_AIR = _field("air_brake_rev")  # engine speed below which starting air may be applied, rev/s
 P_REV_FIRE = _field("firing_rev")  # engine speed in the ordered direction at which fuel is admitted, rev/s
 P_REV_QAIR = _field("Q_air")  # engine torque of the starting air, N m
+
+# slots taken over by a user's component written in Python (components.compose): the built-in's equations
+# stay in the kernel and read these flags (1: the component drives that part of the state)
+P_ENGINE_EXT = _field("engine_by_component")  # shaft drive torque from F_ext[3]; governor, reversing gear held
+P_SG_EXT = _field("steering_gear_by_component")  # rudder rate from the component, integrated by the method
 
 NP = len(_names)
 PARAM_NAMES = tuple(_names)

@@ -265,8 +265,15 @@ def shaft_acceleration(P, n, cam, gov_i, n_order, Q_prop):
     Returns (dn/dt, d cam/dt, dx_gov/dt, fuel index, engine speed rev/s, engine torque N m).
     """
     Q_drive, dcam, di, fuel, n_e, Q_e, _phase = engine_drive(P, n, cam, gov_i, n_order)
-    ndot = (Q_drive - Q_prop - shaft_friction_torque(P, n)) / (2.0 * math.pi * P[lo.P_I_SHAFT])
-    return ndot, dcam, di, fuel, n_e, Q_e
+    return shaft_rate(P, n, Q_drive, Q_prop), dcam, di, fuel, n_e, Q_e
+
+
+@njit(cache=True)
+def shaft_rate(P, n, Q_drive, Q_prop):
+    """dn/dt (rev/s^2) of the propeller shaft at n rev/s driven with Q_drive N m (at the propeller shaft,
+    after the gearbox) against the propeller's torque Q_prop N m: 2 pi I dn/dt = Q_drive - Q_P - Q_f(n),
+    I the shaft's inertia with the engine's referred to it (``P_I_SHAFT``)."""
+    return (Q_drive - Q_prop - shaft_friction_torque(P, n)) / (2.0 * math.pi * P[lo.P_I_SHAFT])
 
 
 @njit(cache=True)
@@ -281,4 +288,11 @@ def shaft_friction_torque(P, n):
 def engine_torque_to_hold(P, n, Q_prop):
     """Engine torque (N m) that holds the shaft at n rev/s ahead against the propeller torque Q_prop (N m):
     the shaft equation with dn/dt = 0 and the clutch ahead, Q_E = (Q_P + Q_f(n)) / (eta_G i)."""
-    return (Q_prop + shaft_friction_torque(P, n)) / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
+    return shaft_torque_to_hold(P, n, Q_prop) / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
+
+
+@njit(cache=True)
+def shaft_torque_to_hold(P, n, Q_prop):
+    """Drive torque at the propeller shaft (N m) that holds it at n rev/s against the propeller torque Q_prop
+    (N m): :func:`shaft_rate` = 0, Q_drive = Q_P + Q_f(n)."""
+    return Q_prop + shaft_friction_torque(P, n)

@@ -5,6 +5,11 @@ Vessel (:mod:`~vessel_gym.physics.vessel`), Motion Constraints (free 3-DOF here;
 :mod:`~vessel_gym.physics.constraints`), Sea-State and Environment & Atmosphere
 (:class:`~vessel_gym.physics.environment.Environment`). State is batched over N vessels; N = 1 and
 N = 16384 run the same compiled code.
+
+Its jobs live beside it: the steady approach a reset starts from (:mod:`~vessel_gym.physics.steady`), runaway
+detection (:mod:`~vessel_gym.physics.runaway`), the helm and its override (:mod:`~vessel_gym.physics.helm`),
+the choice of batch driver (:mod:`~vessel_gym.physics.drivers`) and the evaluation of a user's Python
+components (:mod:`~vessel_gym.physics.components.batch`).
 """
 
 from __future__ import annotations
@@ -15,14 +20,24 @@ from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
-from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.bridge import BridgeReading
-from vessel_gym.physics.components import ForceRecord, name_of
+from vessel_gym.physics.components import ForceRecord
+from vessel_gym.physics.components.batch import ComponentBatch
 from vessel_gym.physics.components.compose import compose, named_forces
+from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old home)
+    DRIVER_SMOOTHING,
+    DRIVER_SPIKE,
+    DRIVER_TRIAL_COST,
+    DRIVER_TRIAL_EVERY,
+    PARALLEL_MIN_BATCH,
+    PARALLEL_MIN_WORK,
+    _DriverChoice,
+)
 from vessel_gym.physics.environment import CALM, Environment, wrap_deg
 from vessel_gym.physics.geodesy import local_to_latlon
+from vessel_gym.physics.helm import Helm
 from vessel_gym.physics.integrate import (
     EULER,
     RK4,
@@ -32,132 +47,34 @@ from vessel_gym.physics.integrate import (
     run_with_components,
 )
 from vessel_gym.physics.kinematics import ground_velocity, speed_over_ground
-from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold
+from vessel_gym.physics.runaway import (  # noqa: F401  (RUNAWAY_* and the factors: their old home)
+    FULL_POWER_SPEED_FACTOR,
+    RUNAWAY_NONFINITE,
+    RUNAWAY_OK,
+    RUNAWAY_RATE,
+    RUNAWAY_RATE_PRIME,
+    RUNAWAY_SHAFT,
+    RUNAWAY_SHAFT_FACTOR,
+    RUNAWAY_SPEED,
+    RUNAWAY_SPEED_FACTOR,
+    flag_runaway,
+    runaway_limits,
+)
 from vessel_gym.physics.shallow_water import check_hull
 from vessel_gym.physics.shipfile import Ship, load_ship
+from vessel_gym.physics.steady import (  # noqa: F401  (SimulationError: its old home)
+    STEADY_MAX_ITERATIONS,
+    SimulationError,
+    _SteadyApproach,
+    steady_state,
+)
 from vessel_gym.physics.units import DEG, KNOT_M_S
-from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, pack
+from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, forces, pack
 
-# The threaded driver pays when a call carries enough work to cover waking the worker threads: tens of
-# microseconds on an idle machine, milliseconds when other processes hold the cores. Both bounds are
-# measured with benchmarks/bench_physics.py --drivers (docs/performance.md).
-STEADY_CACHE_SIZE = 1024  # entries (two rows of 9 and 2 floats each)
-# surge balances solved again at most this many times while user component forces still change with the rpm
-STEADY_MAX_ITERATIONS = 20
-PARALLEL_MIN_BATCH = 64  # vessels
-PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread work)
-# Above those bounds the driver is chosen per call by measured wall time per vessel-step (_DriverChoice): the
-# second core may be taken by another process at any time, and then the threaded driver waits for it.
-DRIVER_SMOOTHING = 0.2  # weight of the newest call in the running cost of a driver (exponential average)
-# the driver not in use is timed again every so many calls, so that a change of load is noticed; the interval
-# grows with its measured extra cost so that trying it costs at most DRIVER_TRIAL_COST of the run time
-DRIVER_TRIAL_COST = 0.02  # fraction of run time
-DRIVER_SPIKE = 4.0  # most a single call's time per vessel-step may exceed the running cost by (a factor)
-DRIVER_TRIAL_EVERY = (8, 512)  # calls, least and most between two trials
+# steady approaches cached per simulation (each two rows of NX and NU floats)
+STEADY_CACHE_SIZE = 1024  # entries
 # environment row entries with a direction: while all are zero no force depends on the heading
 _DIRECTIONAL_ENV = [lo.E_CUR_N, lo.E_CUR_E, lo.E_WIND_N, lo.E_WIND_E, lo.E_ZETA2]
-
-
-class _DriverChoice:
-    """Serial or threaded batch driver for a call, whichever has the lower running wall time per vessel-step.
-
-    Both drivers give bitwise identical results, so the choice changes timing only. Each driver is timed on
-    its first eligible calls; afterwards the slower one is tried once every k calls, k = (cost ratio - 1) /
-    DRIVER_TRIAL_COST within DRIVER_TRIAL_EVERY, so that a wrong choice costs at most ~2 % and a change of
-    the machine's load is followed within a few hundred calls.
-    """
-
-    __slots__ = ("cost", "warm", "calls", "every")
-
-    def __init__(self) -> None:
-        self.cost = [0.0, 0.0]  # s per vessel-step, serial and threaded; 0 until measured
-        self.warm = [False, False]  # a driver's first call loads its code and starts threads: not timed
-        self.calls = 0
-        self.every = DRIVER_TRIAL_EVERY[0]
-
-    def pick(self) -> int:
-        """0 for the serial driver, 1 for the threaded one."""
-        serial, threaded = self.cost
-        if threaded == 0.0:
-            return 1
-        if serial == 0.0:
-            return 0
-        best = 0 if serial <= threaded else 1
-        self.calls += 1
-        if self.calls >= self.every:
-            self.calls = 0
-            return 1 - best
-        return best
-
-    def record(self, driver: int, seconds: float, work: int) -> None:
-        if not self.warm[driver]:
-            self.warm[driver] = True
-            return
-        c = seconds / work
-        old = self.cost[driver]
-        # a call descheduled by another process counts as DRIVER_SPIKE x the running cost at most
-        if old > 0.0:
-            c = min(c, DRIVER_SPIKE * old)
-        self.cost[driver] = c if old == 0.0 else old + DRIVER_SMOOTHING * (c - old)
-        lo_c, hi_c = sorted(self.cost)
-        if lo_c > 0.0:
-            k = (hi_c / lo_c - 1.0) / DRIVER_TRIAL_COST
-            self.every = int(min(max(k, DRIVER_TRIAL_EVERY[0]), DRIVER_TRIAL_EVERY[1]))
-
-# Runaway detection: a state a ship cannot physically reach means the model left its valid range, even when
-# every number is finite. The IMO test speed is at least 90 % of the speed at 85 % MCR (MSC.137(76) §4.2.1),
-# so by the cube law of power the speed at full power is U_full = U_test / 0.9 / 0.85^(1/3) = 1.172 U_test.
-FULL_POWER_SPEED_FACTOR = 1.0 / (0.9 * 0.85 ** (1.0 / 3.0))  # U_full / U_test, -
-RUNAWAY_SPEED_FACTOR = 3.0  # speed through the water / U_full, -
-# rate of turn as r' = r L / U_full: a steady turn has r' = 2 L / D, about 0.7 for the KVLCC2 at 35 deg rudder
-# (steady diameter about 3 L) and less at the reduced speed in the turn, so |r'| = 2 at full-power speed is
-# beyond a ship under its own power or pushed by tugs
-RUNAWAY_RATE_PRIME = 2.0  # -
-# the governor holds rated speed, and the overspeed trip acts at no more than 1.2 x rated (IACS UR M3)
-RUNAWAY_SHAFT_FACTOR = 1.5  # |shaft speed| / rated shaft speed, -
-RUNAWAY_OK, RUNAWAY_NONFINITE, RUNAWAY_SPEED, RUNAWAY_RATE, RUNAWAY_SHAFT = 0, 1, 2, 3, 4
-
-
-@njit(cache=True)
-def flag_runaway(X, ship_index, limits, alive, why):
-    """Mark dead every alive vessel whose speed through the water, rate of turn or shaft speed is beyond its
-    ship's bounds ``limits[ship] = (U_max m/s, r_max rad/s, n_max rev/s)``, with the reason in ``why``
-    (RUNAWAY_*); a vessel the integrator stopped on a non-finite state gets RUNAWAY_NONFINITE. The state is
-    kept as it was when flagged. Returns the number of vessels alive."""
-    count = 0
-    for b in range(X.shape[0]):
-        if not alive[b]:
-            if why[b] == RUNAWAY_OK:
-                why[b] = RUNAWAY_NONFINITE
-            continue
-        lim = limits[ship_index[b]]
-        u = X[b, lo.X_U]
-        v = X[b, lo.X_V]
-        code = RUNAWAY_OK
-        if u * u + v * v > lim[0] * lim[0]:
-            code = RUNAWAY_SPEED
-        elif abs(X[b, lo.X_R]) > lim[1]:
-            code = RUNAWAY_RATE
-        elif abs(X[b, lo.X_REV]) > lim[2]:
-            code = RUNAWAY_SHAFT
-        why[b] = code
-        if code == RUNAWAY_OK:
-            count += 1
-        else:
-            alive[b] = False
-    return count
-
-
-def runaway_limits(ship: Ship) -> tuple[float, float, float]:
-    """(U_max m/s, r_max rad/s, n_max rev/s) beyond which a vessel of ``ship`` is flagged as run away."""
-    U_full = FULL_POWER_SPEED_FACTOR * ship.test_speed_m_s
-    U_max = RUNAWAY_SPEED_FACTOR * U_full
-    r_max = RUNAWAY_RATE_PRIME * U_full / ship.particulars.L_m
-    n_max = math.inf
-    if ship.engine is not None:
-        gear = ship.transmission.gear_ratio if ship.transmission is not None else 1.0
-        n_max = RUNAWAY_SHAFT_FACTOR * ship.engine.rated_rpm / gear / 60.0
-    return U_max, r_max, n_max
 
 
 class ForceComponent(Protocol):
@@ -168,17 +85,16 @@ class ForceComponent(Protocol):
     body origin. It is called once per stage for the whole batch (and a few times per ``reset``, whatever the
     number of vessels reset), so a component written with numpy array operations costs O(N). Plug a whole
     replacement hull in by giving the ship file ``[hull] model`` of your own and returning its forces here
-    (see docs/components.md).
+    (see docs/components.md). A component that owns states (``states``, :class:`~vessel_gym.physics.components.
+    State` entries) gets them as a third argument ``s`` (N, k) and gives their rates with ``rates(sim, x, s)``;
+    an engine or a steering gear subclasses :class:`~vessel_gym.physics.components.Engine` or
+    :class:`~vessel_gym.physics.components.SteeringGear`.
     """
 
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
 
 
-class SimulationError(RuntimeError):
-    """A simulation cannot be set up or continued (e.g. a requested speed the engine cannot reach)."""
-
-
-class Simulation:
+class Simulation(Helm):
     """N vessels integrated together with a fixed step.
 
     Args:
@@ -192,8 +108,10 @@ class Simulation:
             RK stage, :func:`~vessel_gym.physics.integrate.run_with_components`).
         replace: slots whose built-in component a user component replaces: "hull" (with its added mass; the
             replacing hull gives ``added_mass()``), "rudder" (with a derivative rudder's hull delta terms),
-            "windage", "wave_drift" ("wind", "waves" too). A component in a slot a built-in fills without
-            ``replace``, or two in one slot, raise ValueError (docs/components.md).
+            "windage", "wave_drift" ("wind", "waves" too), "engine" (with its governor, reversing gear and
+            inertia; the replacing ``Engine`` drives the shaft), "steering_gear" (the replacing ``SteeringGear``
+            gives the rudder rate). A component in a slot a built-in fills without ``replace``, or two in one
+            slot, raise ValueError (docs/components.md).
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
     """
 
@@ -233,8 +151,9 @@ class Simulation:
         self.Ps = np.stack([pack(s) for s in self.ships])
         # the user's components act on every vessel, a ship file's on that ship's vessels; each slot is filled
         # once and a replaced built-in contributes nothing (components.compose)
-        self.components = list(components)
-        self._masks: list[np.ndarray | None] = [None] * len(self.components)
+        self._batch = ComponentBatch(n)
+        for c in components:
+            self._batch.add(c)
         for si, s in enumerate(self.ships):
             own = [e.build(s) for e in s.components]
             slots = [*replace, *(e.slot for e in s.components if e.replace)]
@@ -242,8 +161,12 @@ class Simulation:
             self.Ps[si] = compose(s, self.Ps[si], [*components, *own], slots, where)
             mask = self.ship_index == si
             if mask.any():
-                self.components += own
-                self._masks += [None if mask.all() else mask] * len(own)
+                for c in own:
+                    self._batch.add(c, None if mask.all() else mask)
+        self.components = self._batch.components
+        # the states the components own (N, NZ), columns named in component_state_names
+        self.component_states = self._batch.initial_states()
+        self.component_state_names = tuple(self._batch.state_names)
         self.n = n
         self.state = np.zeros((n, lo.NX))
         self.inputs = np.zeros((n, lo.NU))
@@ -424,81 +347,19 @@ class Simulation:
             for j in pending:
                 F[j] = F_new[j]
                 solvers[j].balance(F[j])
+        Q_hold = np.zeros(self.n)
         for j, s in solvers.items():
             self.state[j], self.inputs[j] = s.finish()
+            Q_hold[j] = s.Q_hold
+        if self._batch.nz:
+            with np.errstate(all="ignore"):
+                self._batch.steady_states(self, self.state, Q_hold, self.component_states, list(solvers))
 
     def _per_vessel(self, value: float | np.ndarray) -> np.ndarray:
         """``value`` as one float per vessel (a scalar is repeated without copying)."""
         if isinstance(value, (float, int)):
             return _Repeat(float(value))
         return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))
-
-    # --- helm -----------------------------------------------------------------------------------------------
-    # Orders of vessels whose helm is overridden (override_helm), by vessel: (rudder rad, shaft rev/s), None for
-    # an order not overridden. None while no helm is overridden, so that set_helm then pays one test.
-    _helm_override: dict[int, tuple[float | None, float | None]] | None = None
-
-    def set_helm(
-        self,
-        rudder_order_rad: float | np.ndarray | None = None,
-        rev_order: float | np.ndarray | None = None,
-        k: int | slice | None = None,
-    ) -> None:
-        """Rudder order (rad, positive starboard) and propeller shaft-speed order (rev/s, negative astern).
-
-        An order of a vessel whose helm is overridden (:meth:`override_helm`) stays as the override set it.
-        """
-        sl = slice(None) if k is None else k
-        if rudder_order_rad is not None:
-            self.inputs[sl, lo.U_DELTA_C] = rudder_order_rad
-        if rev_order is not None:
-            self.inputs[sl, lo.U_REV_C] = rev_order
-        if self._helm_override is not None:
-            self._hold_override()
-
-    def override_helm(
-        self, k: int = 0, rudder_order_rad: float | None = None, rev_order: float | None = None
-    ) -> None:
-        """Give vessel k's helm to a helmsman outside the simulation's owner (a helm panel on the network).
-
-        The orders given, rudder (rad, positive starboard) and shaft speed (rev/s, negative astern), apply at
-        once and win over :meth:`set_helm` (an agent's or an autopilot's orders) until the next call for vessel
-        k; an order left None is not overridden. A call with neither order hands the helm back: the orders in
-        force stay until set_helm changes them, as on a ship when the helmsman lets go of the wheel.
-        """
-        if not 0 <= k < self.n:
-            raise ValueError(f"override_helm: vessel {k} is not in [0, {self.n - 1}]")
-        for name, value in (("rudder_order_rad", rudder_order_rad), ("rev_order", rev_order)):
-            if value is not None and not math.isfinite(value):
-                raise ValueError(f"override_helm: {name} must be a finite number, got {value!r}")
-        held = dict(self._helm_override or {})
-        if rudder_order_rad is None and rev_order is None:
-            held.pop(k, None)
-        else:
-            held[k] = (
-                None if rudder_order_rad is None else float(rudder_order_rad),
-                None if rev_order is None else float(rev_order),
-            )
-        self._helm_override = held or None
-        self._hold_override()
-
-    def _hold_override(self) -> None:
-        for j, (rudder, rev) in (self._helm_override or {}).items():
-            if rudder is not None:
-                self.inputs[j, lo.U_DELTA_C] = rudder
-            if rev is not None:
-                self.inputs[j, lo.U_REV_C] = rev
-
-    def telegraph_rev(self, telegraph: int | np.ndarray, k: int | None = None) -> np.ndarray:
-        """Propeller rev/s for a telegraph step (-4..4) from each ship's ``telegraph_rpm`` table."""
-        table = np.zeros((len(self.ships), 9))  # rev/s by ship and step; 0 for a ship without an engine
-        for i, s in enumerate(self.ships):
-            if s.engine is not None:
-                table[i] = np.asarray(s.engine.telegraph_rpm, dtype=float) / 60.0
-        tg = np.clip(np.asarray(telegraph, dtype=np.int64), -4, 4) + 4
-        if k is not None:
-            return table[self.ship_index[k], np.broadcast_to(tg, (self.n,))[k]]
-        return table[self.ship_index, np.broadcast_to(tg, (self.n,))]
 
     # --- integration ----------------------------------------------------------------------------------------
     def step(self, nsteps: int = 1) -> int:
@@ -521,7 +382,7 @@ class Simulation:
         if self.components:
             # a diverging vessel overflows in the components' numpy; it is flagged, not warned about
             with np.errstate(all="ignore"):
-                run_with_components(*args, self._component_forces)
+                run_with_components(*args, self._evaluate_components, self.component_states)
         else:
             work = self.n * nsteps
             if self.n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK:
@@ -564,23 +425,26 @@ class Simulation:
         """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""
         return self.step(steps_for(duration_s, self.dt))
 
+    def _evaluate_components(self, x: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """What the Python components give the kernel (N, NF) and their own states' rates (N, NZ), at the
+        stage states ``x`` and own states ``z`` (components.batch.ComponentBatch.evaluate)."""
+        return self._batch.evaluate(self, x, z)
+
     def _component_forces(self, x: np.ndarray) -> np.ndarray:
         """Sum of the user components' forces (N, 3) on the batch of states ``x`` (N, NX)."""
-        F = np.zeros((self.n, 3))
-        for c, mask in zip(self.components, self._masks):
-            f = np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
-            F += f if mask is None else np.where(mask[:, None], f, 0.0)
-        return F
+        return self._batch.forces(self, x, self.component_states)
 
     def component_forces(self, x: np.ndarray | None = None) -> list[tuple[str, np.ndarray]]:
         """(name, forces (N, 3)) of each Python component at the states ``x`` (default: the current state),
         zero on vessels of other ships for a ship file's component."""
-        x = self.state if x is None else x
-        out = []
-        for c, mask in zip(self.components, self._masks):
-            f = np.asarray(c.forces(self, x), dtype=float).reshape(self.n, 3)
-            out.append((name_of(c), f if mask is None else np.where(mask[:, None], f, 0.0)))
-        return out
+        return self._batch.forces_each(self, self.state if x is None else x, self.component_states)
+
+    def component_state(self, name: str) -> np.ndarray:
+        """A state a Python component owns, per vessel (a view): ``name`` is "Component.state", one of
+        :attr:`component_state_names` (unit in the component's ``states``)."""
+        if name not in self.component_state_names:
+            raise KeyError(f"no component state {name!r} (one of {', '.join(self.component_state_names)})")
+        return self.component_states[:, self.component_state_names.index(name)]
 
     def named_forces(self) -> dict[str, ForceRecord]:
         """Forces of every component at the current state by component name, each a record of X (N), Y (N),
@@ -656,13 +520,22 @@ class Simulation:
         return {name: out[:, i] for i, name in enumerate(FORCE_NAMES)}
 
     def engine(self, k: int = 0) -> dict[str, float]:
-        """Engine readings of vessel k: fuel index, engine rpm, torque (N m), shaft power (kW)."""
+        """Engine readings of vessel k: fuel index, engine rpm, torque (N m), shaft power (kW). With a user's
+        engine: its torque at the propeller shaft and the power, fuel index and engine rpm NaN (its own)."""
         from vessel_gym.physics.propulsion import engine_drive
 
         P = self.Ps[self.ship_index[k]]
         if P[lo.P_PROP_ON] == 0.0:
             return {"fuel_index": 0.0, "engine_rpm": 0.0, "torque_Nm": 0.0, "power_kW": 0.0}
         x = self.state[k]
+        if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its torque at the propeller shaft; its fuel unknown here
+            q = float(self._batch.shaft_torque(self, self.state, self.component_states)[k])
+            return {
+                "fuel_index": math.nan,
+                "engine_rpm": math.nan,
+                "torque_Nm": q,
+                "power_kW": 2 * math.pi * x[lo.X_REV] * q / 1e3,
+            }
         order = self.rev_order[k]
         _qd, _dc, _di, fuel, n_e, q, _ph = engine_drive(P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], order)
         return {
@@ -723,146 +596,3 @@ def steps_for(duration_s: float, dt: float) -> int:
     if k < 0 or abs(k * dt - duration_s) > 1e-9 * max(1.0, abs(duration_s)):
         raise ValueError(f"interval {duration_s:g} s is not a whole multiple of the physics step {dt:g} s")
     return int(k)
-
-
-@njit(cache=True)
-def _surge_balance_rev(P, x, inp, env, F, hi_n):
-    """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
-
-    Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
-    resets a ship every few steps, and each reset solves this.
-    """
-    xd = np.zeros(lo.NX)
-
-    def surge_accel(nrev):
-        x[lo.X_REV] = nrev
-        inp[lo.U_REV_C] = nrev
-        derivatives(P, x, inp, env, F, xd)
-        return xd[lo.X_U]
-
-    lo_n = 0.0
-    if surge_accel(0.0) > 0.0:
-        hi_n = 0.0
-    for _ in range(80):
-        mid = 0.5 * (lo_n + hi_n)
-        if surge_accel(mid) > 0.0:
-            if hi_n == mid:
-                break  # the bracket stopped shrinking: the remaining halvings would repeat this one
-            hi_n = mid
-        else:
-            if lo_n == mid:
-                break
-            lo_n = mid
-    nrev = 0.5 * (lo_n + hi_n)
-    x[lo.X_REV] = nrev
-    inp[lo.U_REV_C] = nrev
-    return nrev
-
-
-@njit(cache=True)
-def _fuel_index_for(P, n_e, Q_need):
-    """Governor fuel index in [0, 1] whose engine torque at ``n_e`` rev/s is ``Q_need`` N m (bisection)."""
-    a, b = 0.0, 1.0
-    for _ in range(60):
-        mid = 0.5 * (a + b)
-        if engine_torque(P, n_e, mid) < Q_need:
-            if a == mid:
-                break  # as in _surge_balance_rev
-            a = mid
-        else:
-            if b == mid:
-                break
-            b = mid
-    return 0.5 * (a + b)
-
-
-class _SteadyApproach:
-    """The steady straight run of one vessel, solved in steps so that user component forces (evaluated by the
-    caller, for one vessel or a whole batch at once) can take part: :meth:`start` with the forces at the trial
-    state :attr:`x`, :meth:`balance` with the forces at the last solution until they no longer change, then
-    :meth:`finish`."""
-
-    def __init__(self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float):
-        self.ship, self.P, self.speed, self.env = ship, P, speed_m_s, env
-        self.x = np.zeros(lo.NX)
-        self.inp = np.zeros(lo.NU)
-        self.x[lo.X_U] = speed_m_s
-        self.x[lo.X_PSI] = heading_rad
-        self.nrev = 0.0
-        self.n_max = 0.0
-        if ship.propeller is not None:
-            self.n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
-            self.x[lo.X_REV] = self.inp[lo.U_REV_C] = self.n_max
-            self.x[lo.X_CAM] = 1.0  # a direct-reversing engine's gear set for ahead running
-
-    def start(self, F: np.ndarray) -> bool:
-        """Check at full trial rpm with the forces F (3,) that the propeller can make the speed (raises
-        SimulationError if not). Returns whether a surge balance is to be solved (a ship with a propeller)."""
-        if self.ship.propeller is None:
-            return False
-        xd = np.zeros(lo.NX)
-        derivatives(self.P, self.x, self.inp, self.env, F, xd)
-        if xd[lo.X_U] < 0.0:
-            raise SimulationError(
-                f"{self.ship.name}: the propeller cannot make {self.speed / KNOT_M_S:.2f} kn below "
-                f"{self.n_max * 60:.0f} rpm"
-            )
-        self.balance(F)
-        return True
-
-    def balance(self, F: np.ndarray) -> None:
-        """Solve the shaft speed of zero surge acceleration with the forces F (3,) (updates :attr:`x`)."""
-        self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max)
-
-    def finish(self) -> tuple[np.ndarray, np.ndarray]:
-        """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
-        speed."""
-        x, P = self.x, self.P
-        if self.ship.propeller is None:
-            return x.copy(), self.inp.copy()
-        Q_prop = forces(P, x, self.inp, self.env, np.zeros(N_OUT))[FORCE_NAMES.index("Q_prop")]
-        nrev = self.nrev
-        Q_need = engine_torque_to_hold(P, nrev, Q_prop)
-        n_e = P[lo.P_GEAR] * nrev
-        if engine_torque(P, n_e, 1.0) < Q_need:
-            raise SimulationError(
-                f"{self.ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for "
-                f"{self.speed / KNOT_M_S:.2f} kn "
-                f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
-            )
-        x[lo.X_GOV] = _fuel_index_for(P, n_e, Q_need)
-        return x.copy(), self.inp.copy()
-
-
-def steady_state(
-    ship: Ship,
-    P: np.ndarray,
-    speed_m_s: float,
-    extra=None,
-    env: np.ndarray | None = None,
-    heading_rad: float = 0.0,
-) -> tuple[np.ndarray, np.ndarray]:
-    """(state row, input row) of a steady straight run at ``speed_m_s`` through the water on ``heading_rad``
-    at the origin, in the environment row ``env`` (default: calm water, still ISA air, whose drag on the
-    ship's own speed is part of the balance). Only the surge balance is solved: in wind, current or waves
-    the sway and yaw loads act from the first step.
-
-    ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance; they are evaluated at the
-    solved shaft speed and the balance is solved again until they no longer change (at once for forces
-    that do not depend on the shaft speed)."""
-    if env is None:
-        env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
-    s = _SteadyApproach(ship, P, speed_m_s, env, heading_rad)
-
-    def extra_forces() -> np.ndarray:
-        return np.zeros(3) if extra is None else np.asarray(extra(s.x.copy()), dtype=float)
-
-    F = extra_forces()
-    if s.start(F) and extra is not None:
-        for _ in range(STEADY_MAX_ITERATIONS - 1):
-            F_new = extra_forces()
-            if np.array_equal(F_new, F):
-                break
-            F = F_new
-            s.balance(F)
-    return s.finish()

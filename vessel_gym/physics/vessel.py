@@ -32,7 +32,12 @@ from vessel_gym.physics.kinematics import (
     ground_velocity_body,
     relative_wind,
 )
-from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
+from vessel_gym.physics.propulsion import (
+    effective_wake,
+    propeller_thrust_torque,
+    shaft_acceleration,
+    shaft_rate,
+)
 from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
 from vessel_gym.physics.shallow_water import thrust_deduction
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull, abkowitz_term
@@ -315,7 +320,9 @@ FORCE_NAMES = (
 def derivatives(P, x, inp, env, F_ext, xdot):
     """State derivative of one vessel: fills ``xdot`` (length NX).
 
-    F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions). The forces
+    F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions), and on a vessel
+    whose engine is a user's component (``P_ENGINE_EXT``) a fourth entry, its drive torque at the propeller
+    shaft (N m; 0 when F_ext has three entries, as in a force-only balance). The forces
     travel from :func:`force_terms` as a tuple, not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
     out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
@@ -339,9 +346,15 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     gdot = 0.0
     cdot = 0.0
     if P[lo.P_PROP_ON] > 0.0:
-        ndot, cdot, gdot, _fuel, _ne, _qe = shaft_acceleration(
-            P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], inp[lo.U_REV_C], f[14]
-        )
+        if P[lo.P_ENGINE_EXT] > 0.0:
+            # a user's engine (components.compose): its drive torque arrives as F_ext[3]; the built-in
+            # governor and reversing gear are not part of the vessel (their states hold still)
+            Q_drive = F_ext[lo.F_Q_SHAFT] if F_ext.shape[0] > lo.F_Q_SHAFT else 0.0
+            ndot = shaft_rate(P, x[lo.X_REV], Q_drive, f[14])
+        else:
+            ndot, cdot, gdot, _fuel, _ne, _qe = shaft_acceleration(
+                P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], inp[lo.U_REV_C], f[14]
+            )
     xdot[lo.X_U] = X / P[lo.P_M11]
     xdot[lo.X_V] = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
     xdot[lo.X_R] = P[lo.P_MI32] * Y + P[lo.P_MI33] * N

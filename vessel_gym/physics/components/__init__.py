@@ -48,6 +48,16 @@ class ForceRecord(NamedTuple):
     N: np.ndarray
 
 
+class State(NamedTuple):
+    """A state a component owns and the integrator integrates with the vessel's: its name, unit and the value
+    a reset starts from (a component may solve its steady value instead, ``Engine.steady_states``)."""
+
+    name: str
+    unit: str
+    initial: float = 0.0
+    doc: str = ""
+
+
 class Component(ABC):
     """Base class of a user's component written in plain Python (duck typing works too: any object with
     ``forces(sim, x)``; its slot is then ``getattr(obj, "slot", "extra")``).
@@ -58,19 +68,23 @@ class Component(ABC):
     * ``Params``: a frozen dataclass whose fields are made with :func:`vessel_gym.physics.schema.param`
       (unit, range, doc): the keys of the component's ship-file table, checked on loading like every built-in
       table; None takes the table as a plain dict,
-    * ``states``: names of state-row entries the component owns. User components own none yet: the state row
-      (:data:`vessel_gym.physics.layout.STATE_NAMES`) is integrated by the compiled kernel, so the engine,
-      governor, shaft and steering gear are not replaceable (``replace=`` says so).
+    * ``states``: the :class:`State` entries the component owns (name, unit, initial value). The integrator
+      integrates them with the vessel's state, stage by stage with the same method, from the rates the
+      component's ``rates(sim, x, s)`` returns ((N, k), in the order of ``states``). Every method of a
+      component that owns states receives them as a third argument ``s`` (N, k): ``forces(sim, x, s)``,
+      ``rates(sim, x, s)``, and an engine's ``shaft_torque`` or a steering gear's ``rudder_rate``.
 
     A component built from a ship file is constructed as ``cls(ship, params)``. ``forces(sim, x)`` returns
     (N, 3) X, Y, N for the batch of states ``x`` (N, NX), evaluated once per integration stage. A hull
     replacing the built-in one also gives ``added_mass()``: its 3x3 added-mass matrix M_A (kg, kg m,
-    kg m^2) about midship, added to the rigid body's (the built-in hull's added mass leaves with it).
+    kg m^2) about midship, added to the rigid body's (the built-in hull's added mass leaves with it). The
+    engine and the steering gear drive states of the vessel rather than forces: subclass :class:`Engine` or
+    :class:`SteeringGear`.
     """
 
     slot: ClassVar[str] = EXTRA
     Params: ClassVar[type | None] = None
-    states: ClassVar[tuple[str, ...]] = ()
+    states: ClassVar[tuple[State, ...]] = ()
 
     def __init__(self, ship: Any = None, params: Any = None) -> None:
         self.ship, self.params = ship, params
@@ -82,6 +96,85 @@ class Component(ABC):
     @abstractmethod
     def forces(self, sim: Any, x: np.ndarray) -> np.ndarray:
         """(N, 3) forces X (N), Y (N), N (N m) at midship, body axes, for the stage states ``x`` (N, NX)."""
+
+
+class Engine(Component):
+    """Base of a user's engine (slot ``engine``): the engine with its speed governor (and its own clutch,
+    gearbox or reversing gear if it has them) driving the ship's propeller shaft.
+
+    Connections: it reads the shaft speed ``x[:, X_REV]`` (rev/s, negative astern) and the shaft-speed order
+    ``sim.rev_order`` (rev/s) and returns the torque it drives the propeller shaft with, ``shaft_torque(sim,
+    x, s)`` (N,) in N m at the propeller shaft (after its gearbox, signed like the shaft speed for ahead
+    drive). The ship's shaft integrates the shaft speed, 2 pi I dn/dt = Q_drive - Q_P - Q_f
+    (:func:`vessel_gym.physics.propulsion.shaft_rate`), with I the ``[transmission]`` shaft inertia plus the
+    engine's own rotating inertia referred to the propeller shaft, ``shaft_inertia_kgm2()`` (kg m^2; i^2
+    I_engine for a gear ratio i). The built-in engine's torque map, governor (its integrator state) and
+    reversing gear leave with it, and its inertia too. The engine's states (a governor integrator, a
+    turbocharger lag, ...) are :class:`State` entries with their ``rates``.
+
+    At a reset to a steady approach, ``steady_states(sim, x, Q_hold)`` returns the states (N, k) that hold the
+    solved shaft speed ``x[:, X_REV]`` with the drive torque ``Q_hold`` (N,) N m (= Q_P + Q_f); by default
+    the states' initial values.
+    """
+
+    slot: ClassVar[str] = "engine"
+
+    @abstractmethod
+    def shaft_torque(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """(N,) drive torque at the propeller shaft, N m, at the stage states ``x`` and own states ``s``."""
+
+    @abstractmethod
+    def shaft_inertia_kgm2(self) -> float:
+        """The engine's rotating inertia referred to the propeller shaft, kg m^2."""
+
+    def rates(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """(N, k) time derivatives of the engine's own states (no states: an empty array)."""
+        return np.zeros((x.shape[0], len(self.states)))
+
+    def steady_states(self, sim: Any, x: np.ndarray, Q_hold: np.ndarray) -> np.ndarray:
+        """(N, k) own states of a steady run at the shaft speeds of ``x`` with drive torques ``Q_hold`` N m."""
+        return np.tile([st.initial for st in self.states], (x.shape[0], 1)).astype(float)
+
+    def forces(self, sim: Any, x: np.ndarray, s: np.ndarray | None = None) -> np.ndarray:
+        """An engine exerts no force on the hull (the propeller's thrust is the propeller's)."""
+        return np.zeros((x.shape[0], 3))
+
+
+class SteeringGear(Component):
+    """Base of a user's steering gear (slot ``steering_gear``): moves the rudder towards the helm's order.
+
+    Connections: it reads the rudder angle ``x[:, X_DELTA]`` (rad, positive to starboard) and the order
+    ``sim.rudder_order`` (rad) and returns the rudder rate ``rudder_rate(sim, x, s)`` (N,) in rad/s. The
+    integrator then integrates the rudder angle with the method (RK4 or Euler) like every other state; the
+    built-in gear's exact solution over a step leaves with the built-in. Its own states (a pump's lag, a
+    telemotor) are :class:`State` entries with their ``rates``; at a reset they take their initial values.
+    """
+
+    slot: ClassVar[str] = "steering_gear"
+
+    @abstractmethod
+    def rudder_rate(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """(N,) rudder rate, rad/s, at the stage states ``x`` and own states ``s``."""
+
+    def rates(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """(N, k) time derivatives of the steering gear's own states (no states: an empty array)."""
+        return np.zeros((x.shape[0], len(self.states)))
+
+    def forces(self, sim: Any, x: np.ndarray, s: np.ndarray | None = None) -> np.ndarray:
+        """A steering gear exerts no force on the hull (the rudder's forces are the rudder's)."""
+        return np.zeros((x.shape[0], 3))
+
+
+def states_of(component: Any) -> tuple[State, ...]:
+    """The states a component owns (checked: each a :class:`State` with a unique name)."""
+    states = tuple(getattr(component, "states", ()) or ())
+    names = [getattr(st, "name", None) for st in states]
+    if not all(isinstance(st, State) for st in states) or len(set(names)) != len(names):
+        raise ValueError(
+            f"component {name_of(component)}: states must be State(name, unit, initial) entries with distinct "
+            "names"
+        )
+    return states
 
 
 def slot_of(component: Any) -> str:

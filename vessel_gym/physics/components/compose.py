@@ -10,10 +10,15 @@ replacing a slot switches off everything its built-in contributes there:
   rudder is in the hull's delta terms, the rudder leaves with the hull.
 * ``rudder``: the MMG rudder, and the hull's delta terms (Y_d, N_d, Y_vvd, ...) of a derivative rudder.
 * ``windage``, ``wave_drift``: their loads.
+* ``engine``: the engine's torque map, its governor (the governor integrator state) and reversing gear, and its
+  rotating inertia on the shaft; the replacing :class:`~vessel_gym.physics.components.Engine` drives the shaft
+  with its own torque and brings its own inertia (``shaft_inertia_kgm2()``) and states.
+* ``steering_gear``: the built-in gear and its exact solution over a step; the replacing
+  :class:`~vessel_gym.physics.components.SteeringGear` gives the rudder rate, integrated by the method.
 
-The engine, governor, shaft, transmission and steering gear are not replaceable yet: their states (shaft speed,
-governor integrator, rudder angle) are integrated by the compiled kernel, which a Python component cannot
-take over; ``current`` is kinematics, not a force. Asking for them raises a one-line ValueError.
+The governor is part of the engine (its gains are ``[engine]`` keys): replace the engine. The propeller, shaft and
+transmission are not replaceable yet (the shaft's equation and the propeller's torque on it live in the compiled
+kernel); ``current`` is kinematics, not a force. Asking for them raises a one-line ValueError.
 """
 
 from __future__ import annotations
@@ -32,16 +37,17 @@ from vessel_gym.physics.shipfile import Ship
 ALIASES = {"wind": "windage", "waves": "wave_drift"}
 #: slots whose built-in a Python component cannot replace yet, and why
 NOT_REPLACEABLE = {
-    "propeller": "its torque drives the shaft-speed state integrated by the compiled kernel",
-    "engine": "it drives the shaft-speed, governor and reversing-gear states integrated by the compiled kernel",
-    "governor": "its integrator is a state of the compiled kernel",
-    "transmission": "it couples the engine to the shaft-speed state integrated by the compiled kernel",
-    "shaft": "its speed is a state of the compiled kernel",
-    "steering_gear": "the rudder angle is a state of the compiled kernel, stepped exactly",
+    "propeller": "its torque on the shaft and its thrust are one compiled model with the shaft-speed state",
+    "governor": "the governor is part of the engine (its gains are [engine] keys): replace 'engine' with an "
+    "Engine component that governs itself",
+    "transmission": "it couples the engine to the shaft-speed state integrated by the compiled kernel; an Engine "
+    "component delivers its torque at the propeller shaft, through its own gearbox",
+    "shaft": "its speed is a state of the compiled kernel, driven by the engine (replace 'engine')",
     "current": "the current is kinematics (velocities through the water), not a force",
 }
-REPLACEABLE = ("hull", "rudder", "windage", "wave_drift")
-
+REPLACEABLE = ("hull", "rudder", "windage", "wave_drift", "engine", "steering_gear")
+#: slots whose component drives a state of the vessel instead of (or besides) a force, and the method it gives
+STATE_DRIVERS = {"engine": "shaft_torque", "steering_gear": "rudder_rate"}
 
 def delta_monomials(P: np.ndarray) -> np.ndarray:
     """Indices of the Abkowitz monomials of row ``P`` that contain the rudder angle (e_d > 0)."""
@@ -54,7 +60,9 @@ def delta_monomials(P: np.ndarray) -> np.ndarray:
 
 def builtin_slots(P: np.ndarray) -> dict[str, str]:
     """The slots the built-ins of row ``P`` fill: slot -> name of the built-in (registry.BUILTINS)."""
-    filled = {"steering_gear": "steering_gear", "current": "current"}
+    filled = {"current": "current"}
+    if P[lo.P_SG_EXT] == 0.0:
+        filled["steering_gear"] = "steering_gear"
     kind = int(P[lo.P_HULL_KIND])
     if kind == lo.HULL_ABKOWITZ:
         filled["hull"] = "abkowitz_hull"
@@ -65,8 +73,10 @@ def builtin_slots(P: np.ndarray) -> dict[str, str]:
     elif kind == lo.HULL_ABKOWITZ and len(delta_monomials(P)):
         filled["rudder"] = "derivative_rudder"
     if P[lo.P_PROP_ON] > 0.0:
-        for slot in ("propeller", "engine", "governor", "transmission", "shaft"):
+        for slot in ("propeller", "transmission", "shaft"):
             filled[slot] = slot
+        if P[lo.P_ENGINE_EXT] == 0.0:
+            filled["engine"] = filled["governor"] = "engine"
     if P[lo.P_WIND_ON] > 0.0:
         filled["windage"] = "windage"
     if P[lo.P_WAVE_ON] > 0.0:
@@ -115,6 +125,33 @@ def remove_rudder(P: np.ndarray) -> None:
         P[start + 4 : start + 7] = 0.0  # c_X, c_Y, c_N of the monomial; its exponents stay (a zero term)
 
 
+def remove_engine(P: np.ndarray, ship: Ship) -> None:
+    """Switch off the built-in engine of row ``P``: its drive torque, governor and reversing gear (the kernel
+    takes the shaft's drive torque from the replacing engine) and its inertia on the shaft."""
+    P[lo.P_ENGINE_EXT] = 1.0
+    P[lo.P_I_SHAFT] = ship.transmission.shaft_inertia_kgm2
+
+
+def _shaft_inertia(component: Any, where: str) -> float:
+    fn = getattr(component, "shaft_inertia_kgm2", None)
+    I_e = fn() if callable(fn) else None
+    if not isinstance(I_e, (int, float)) or not np.isfinite(I_e) or I_e < 0.0:
+        raise ValueError(
+            f"{where}: engine component {name_of(component)} needs shaft_inertia_kgm2() returning its rotating "
+            "inertia referred to the propeller shaft, kg m^2 >= 0 (the built-in engine's leaves with it)"
+        )
+    return float(I_e)
+
+
+def _state_driver(component: Any, slot: str, where: str) -> None:
+    method = STATE_DRIVERS[slot]
+    if not callable(getattr(component, method, None)):
+        raise ValueError(
+            f"{where}: {name_of(component)} fills slot {slot!r} but has no {method}(sim, x, s) "
+            f"(subclass components.{'Engine' if slot == 'engine' else 'SteeringGear'})"
+        )
+
+
 def _added_mass(component: Any, where: str) -> np.ndarray:
     fn = getattr(component, "added_mass", None)
     if not callable(fn):
@@ -144,6 +181,12 @@ def compose(
         P[lo.P_WIND_ON] = 0.0
     if "wave_drift" in slots:
         P[lo.P_WAVE_ON] = 0.0
+    if "engine" in slots:
+        if P[lo.P_PROP_ON] == 0.0:
+            raise ValueError(f"{where}: replace=['engine']: the ship has no propeller and engine to replace")
+        remove_engine(P, ship)
+    if "steering_gear" in slots:
+        P[lo.P_SG_EXT] = 1.0
     filled = builtin_slots(P)
     taken: dict[str, str] = {}
     for c in components:
@@ -165,15 +208,24 @@ def compose(
                 f"{where}: {name_of(c)} fills slot {slot!r}, which the ship's {filled[slot]} fills; "
                 f"replace it (replace=[{slot!r}]; in a ship file's [[components]] replace = true) or use slot 'extra'"
             )
+        if slot == "engine" and P[lo.P_ENGINE_EXT] == 0.0:
+            raise ValueError(f"{where}: {name_of(c)}: the ship has no propeller shaft for an engine to drive")
         taken[slot] = name_of(c)
         if slot == "hull":
             M = rigid_body_matrix(ship) + _added_mass(c, where)
             set_mass(P, M)
-    if "hull" in slots and "hull" not in taken:
-        raise ValueError(
-            f"{where}: replace=['hull'] needs a component with slot = 'hull' and added_mass() (the built-in "
-            "hull's added mass leaves with it)"
-        )
+        if slot in STATE_DRIVERS:
+            _state_driver(c, slot, where)
+        if slot == "engine":
+            P[lo.P_I_SHAFT] += _shaft_inertia(c, where)
+    needs = {
+        "hull": "a component with slot = 'hull' and added_mass() (the built-in hull's added mass leaves with it)",
+        "engine": "an Engine component (the shaft would turn with no drive torque)",
+        "steering_gear": "a SteeringGear component (the rudder would not move)",
+    }
+    for slot, what in needs.items():
+        if slot in slots and slot not in taken:
+            raise ValueError(f"{where}: replace=[{slot!r}] needs {what}")
     return P
 
 

@@ -1,0 +1,575 @@
+"""``vessel-gym view3d``: a 3D bridge view in the browser, fed by the JSON link (protocol v2).
+
+The viewer joins a running link (``vessel-gym serve``) as a v2 client, builds the harbour from the ``scenario``
+message (land, breakwaters and quays extruded above the water, depth areas as steps of the sea bed, the goal),
+the ships from their ``particulars`` (hull outline to scale) and draws them, with the track, the sea surface,
+wind and current arrows and a HUD, in a web page served on loopback by `viser <https://viser.studio>`_ (its
+three.js client is bundled in the package: no internet access at run time).
+
+The page is a watcher until someone presses ``H`` (or the "Take the helm" button): it then says ``hello`` as a
+helm panel and sends full orders at 10 Hz, starting from the orders in force. Keys: left/right arrows rudder
+5 deg to port/starboard, ``M`` midships, up/down arrows telegraph one step ahead/astern, ``H`` take and ``R``
+release the helm, ``C`` next camera (chase, bridge, top-down, harbour, free).
+
+Scene frame: x east, y north, z up, m, origin at the scenario's reference point (the link's ``y_m``, ``x_m``).
+What is drawn but not in the protocol is stated where it is chosen (freeboard, superstructure, heights of
+land above the water).
+
+Its jobs beside it: the scene's geometry and the sea (:mod:`~vessel_gym.ui.view3d_scene`) and the link client
+(:mod:`~vessel_gym.ui.view3d_link`); this module is the page (viser scene, GUI, cameras, HUD) and its entry point.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+import sys
+import time
+from typing import Any, TextIO
+
+import numpy as np
+
+from vessel_gym.scenarios.geometry import hull_outline
+from vessel_gym.ui.chart import depth_colour
+from vessel_gym.ui.view3d_link import Address, LinkClient
+from vessel_gym.ui.view3d_scene import (
+    CAMERAS,
+    COLOURS,
+    FREEBOARD_T,
+    RELIEF_T,
+    SEA_CELLS,
+    TELEGRAPH_NAMES,
+    _ship_meshes,
+    chart_to_scene,
+    heading_wxyz,
+    prism,
+    sea_elevation,
+    triangulate,
+    wave_number,
+)
+
+RUDDER_STEP_DEG = 5.0
+TRACK_POINTS = 2000  # own-ship track kept, one point per TRACK_SPACING_S
+TRACK_SPACING_S = 1.0  # s of simulation time between track points
+FRAME_PERIOD_S = 1.0 / 30.0  # scene updates, s
+TRACK_REDRAW_S = 0.5  # the track is re-sent to the page at most this often, s (wall clock)
+SEA_PERIOD_S = 1.0 / 8.0  # sea-surface vertex updates, s
+HUD_PERIOD_S = 0.25
+
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# The page
+
+
+
+
+class Viewer3D:
+    """The viser scene and GUI for one :class:`LinkClient`."""
+
+    def __init__(self, link: LinkClient, http: Address, camera: str) -> None:
+        import viser
+
+        self.link = link
+        with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner; ours names the URL
+            self.server = viser.ViserServer(
+                host=http[0], port=http[1], label="vessel-gym view3d", verbose=False
+            )
+        self.server.scene.set_up_direction("+z")
+        self.server.gui.configure_theme(
+            control_layout="collapsible", show_share_button=False, dark_mode=False
+        )
+        sc = self.server.scene
+        # Daylight: sky and sea-bed tones from a hemisphere light, a sun from the south-west at 50 deg elevation.
+        self._fog = (1e4, 2e4)
+        sc.configure_environment_map(hdri=None)
+        self.server.on_client_connect(self._joined)
+        self.camera = camera
+        self._scene_version = -1
+        self._particulars_version = -1
+        self._ships: dict[int, Any] = {}
+        self._labels: dict[int, Any] = {}
+        self._track: list[tuple[float, float]] = []
+        self._track_t = -math.inf
+        self._track_drawn = 0.0
+        self._sea: Any = None
+        self._sea_xy: tuple[np.ndarray, np.ndarray] | None = None
+        self._sea_due = 0.0
+        self._hud_due = 0.0
+        self._arrow_handles: list[Any] = []
+        self._arrows_for = -1  # scene version the wind and current arrows were drawn for
+        self._L = 7.0
+        self._T = 0.5
+        self._extent = (-100.0, 100.0, -100.0, 100.0)  # scene x min, x max, y min, y max
+        self._depth = 10.0
+        self._build_gui()
+
+    def _joined(self, client: Any) -> None:
+        client.scene.configure_fog(*self._fog, color=(205, 218, 232))
+
+    # -- GUI ----------------------------------------------------------------------------------------------------
+
+    def _build_gui(self) -> None:
+        gui = self.server.gui
+        self.hud = gui.add_markdown("waiting for the link ...")
+        self.cam_box = gui.add_dropdown("Camera", CAMERAS, initial_value=self.camera)
+        self.cam_box.on_update(lambda _e: setattr(self, "camera", self.cam_box.value))
+        self.helm_button = gui.add_button("Take the helm (H)")
+        self.helm_button.on_click(lambda _e: self.toggle_helm())
+        gui.add_markdown(
+            "Keys: **H** take the helm, **R** release it; **←/→** rudder 5° port/starboard; **M** midships; "
+            "**↑/↓** telegraph ahead/astern; **C** next camera."
+        )
+        for label, key, action in (
+            ("Take the helm", "H", lambda: self.set_helm(True)),
+            ("Release the helm", "R", lambda: self.set_helm(False)),
+            ("Rudder 5 deg to port", "arrowleft", lambda: self.rudder(-RUDDER_STEP_DEG)),
+            ("Rudder 5 deg to starboard", "arrowright", lambda: self.rudder(RUDDER_STEP_DEG)),
+            ("Midships", "M", lambda: self.rudder(None)),
+            ("Telegraph one step ahead", "arrowup", lambda: self.telegraph(1)),
+            ("Telegraph one step astern", "arrowdown", lambda: self.telegraph(-1)),
+            ("Next camera", "C", self.next_camera),
+        ):
+            cmd = gui.add_command(label, hotkey=key)
+            cmd.on_trigger(lambda _e, f=action: f())
+
+    def toggle_helm(self) -> None:
+        self.set_helm(not self.link.helm)
+
+    def set_helm(self, take: bool) -> None:
+        """Take (True) or release the helm; separate keys, so that a repeated key press cannot undo itself."""
+        if take and not self.link.helm:
+            self.link.take_helm()
+        elif not take and self.link.helm:
+            self.link.release_helm()
+        self.helm_button.label = "Release the helm (R)" if self.link.helm else "Take the helm (H)"
+
+    def rudder(self, step: float | None) -> None:
+        if not self.link.helm:
+            return  # orders only after the helm was taken on purpose
+        limit, _ = self.link.limits()
+        value = 0.0 if step is None else self.link.rudder_order_deg + step
+        self.link.rudder_order_deg = max(-limit, min(limit, value))
+
+    def telegraph(self, step: int) -> None:
+        if self.link.helm:
+            self.link.telegraph = max(-4, min(4, self.link.telegraph + step))
+
+    def next_camera(self) -> None:
+        self.camera = CAMERAS[(CAMERAS.index(self.camera) + 1) % len(CAMERAS)]
+        self.cam_box.value = self.camera
+
+    # -- scene -------------------------------------------------------------------------------------------------
+
+    def _build_scene(self, scene: dict) -> None:
+        sc = self.server.scene
+        own = self.link.particulars.get(0)
+        if own is not None:
+            self._L, self._T = float(own["length_m"] or 7.0), float(own["draught_m"] or 0.5)
+        bounds = scene.get("bounds_m")
+        if isinstance(bounds, list) and len(bounds) == 4 and all(isinstance(b, (int, float)) for b in bounds):
+            n0, n1, e0, e1 = bounds
+            self._extent = (e0, e1, n0, n1)
+        else:
+            s = 40.0 * self._L
+            self._extent = (-s, s, -s, s)
+        self._depth = float(scene.get("water_depth_m") or 10.0 * self._T)
+        x0, x1, y0, y1 = self._extent
+        span = max(x1 - x0, y1 - y0)
+        self._fog = (2.0 * span, 6.0 * span)  # haze well beyond the harbour
+        for client in self.server.get_clients().values():
+            self._joined(client)
+        pad = 0.25 * max(x1 - x0, y1 - y0)
+        bed = prism(
+            [(x0 - pad, y0 - pad), (x1 + pad, y0 - pad), (x1 + pad, y1 + pad), (x0 - pad, y1 + pad)],
+            -self._depth - 0.05,
+            -self._depth,
+        )
+        deepest = max([self._depth] + [float(f.get("depth_m") or 0.0) for f in scene["features"]])
+        bed_colour = depth_colour(self._depth, self._T, deepest)
+        sc.add_mesh_simple("/chart/seabed", *bed, color=bed_colour, flat_shading=True, cast_shadow=False)
+        for f in scene["features"]:
+            pts = f.get("points") or []
+            if len(pts) < 3:
+                continue
+            xy = chart_to_scene(pts)
+            name = f"/chart/{f['kind']}_{f.get('id', 0)}"
+            kind = f["kind"]
+            if kind in RELIEF_T:
+                v, fc = prism(xy, -deepest - 0.1, RELIEF_T[kind] * self._T)
+                sc.add_mesh_simple(
+                    name, v, fc, color=COLOURS[kind], flat_shading=True, side="double", cast_shadow=False
+                )
+            elif kind == "depth":
+                # A slab of the sea bed at the charted depth, in the chart's depth shading (sand where it is
+                # shallower than the own ship's draught); deeper pockets show as steps of the open-water bed.
+                d = float(f.get("depth_m") or 0.0)
+                top = -min(d, self._depth) + 0.01 * self._T
+                v, fc = prism(xy, top - 0.02 * self._T, top)
+                colour = depth_colour(d, self._T, deepest)
+                sc.add_mesh_simple(
+                    name, v, fc, color=colour, flat_shading=True, side="double", cast_shadow=False
+                )
+            elif kind in ("goal", "start"):
+                ring = np.column_stack([xy, np.full(len(xy), 0.05 * self._T)])
+                segs = np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
+                sc.add_line_segments(name, segs, COLOURS[kind], thickness=0.04 * self._L)
+                if kind == "goal":
+                    v, fc = prism(xy, 0.0, 0.02 * self._T)
+                    sc.add_mesh_simple(name + "_area", v, fc, color=COLOURS["goal"], opacity=0.35)
+                    gp = f.get("point_m")
+                    hd = f.get("heading_deg")
+                    if isinstance(gp, list) and len(gp) == 2 and isinstance(hd, (int, float)):
+                        gx, gy = gp[1], gp[0]
+                        r = 0.6 * self._L
+                        tip = (gx + r * math.sin(math.radians(hd)), gy + r * math.cos(math.radians(hd)))
+                        sc.add_arrows(
+                            "/chart/goal_heading",
+                            np.array([[[gx, gy, 0.3 * self._T], [tip[0], tip[1], 0.3 * self._T]]]),
+                            COLOURS["goal"],
+                            shaft_radius=0.03 * self._L,
+                            head_radius=0.08 * self._L,
+                            head_length=0.15 * self._L,
+                        )
+        self._build_sea()
+
+    def _build_sea(self) -> None:
+        x0, x1, y0, y1 = self._extent
+        pad = 0.25 * max(x1 - x0, y1 - y0)
+        xs = np.linspace(x0 - pad, x1 + pad, SEA_CELLS + 1)
+        ys = np.linspace(y0 - pad, y1 + pad, SEA_CELLS + 1)
+        gx, gy = np.meshgrid(xs, ys)
+        self._sea_xy = (gx.ravel(), gy.ravel())
+        m = SEA_CELLS + 1
+        i, j = np.meshgrid(np.arange(SEA_CELLS), np.arange(SEA_CELLS))
+        a = (j * m + i).ravel()
+        faces = np.concatenate(
+            [np.column_stack([a, a + 1, a + m + 1]), np.column_stack([a, a + m + 1, a + m])]
+        )
+        verts = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(m * m)]).astype(np.float32)
+        self._sea = self.server.scene.add_mesh_simple(
+            "/sea",
+            verts,
+            faces.astype(np.uint32),
+            color=COLOURS["sea"],
+            opacity=0.55,
+            side="double",
+            cast_shadow=False,
+            receive_shadow=0.3,
+        )
+
+    def _build_ships(self) -> None:
+        sc = self.server.scene
+        for pid, p in self.link.particulars.items():
+            L, B, T = (float(p.get(k) or 0.0) for k in ("length_m", "beam_m", "draught_m"))
+            if not (L > 0.0 and B > 0.0):
+                continue
+            outline = p.get("outline_m") or hull_outline(L, B)
+            frame = sc.add_frame(f"/ship_{pid}", show_axes=False)
+            colour = COLOURS["own"] if pid == 0 else COLOURS["traffic"]
+            (hv, hf), (dv, df) = _ship_meshes(outline, L, B, T or 0.1 * L)
+            sc.add_mesh_simple(
+                f"/ship_{pid}/hull", hv, hf, color=colour, flat_shading=True, side="double", cast_shadow=False
+            )
+            sc.add_mesh_simple(
+                f"/ship_{pid}/house", dv, df, color=COLOURS["deckhouse"], flat_shading=True, cast_shadow=False
+            )
+            self._ships[pid] = frame
+            if pid != 0:
+                self._labels[pid] = sc.add_label(
+                    f"/ship_{pid}/label", str(p.get("name", "")), position=(0.0, 0.0, 2.0 * T + 0.2 * L)
+                )
+        if 0 in self.link.particulars:
+            own = self.link.particulars[0]
+            self._L, self._T = float(own["length_m"] or 7.0), float(own["draught_m"] or 0.5)
+
+    # -- per frame ----------------------------------------------------------------------------------------------
+
+    def update(self, now: float) -> None:
+        link = self.link
+        if link.particulars_version != self._particulars_version and link.particulars:
+            self._particulars_version = link.particulars_version
+            self._build_ships()
+        if link.scene_version != self._scene_version and link.scene is not None:
+            self._scene_version = link.scene_version
+            self._track.clear()
+            self._build_scene(link.scene)
+        st = link.state
+        if st is None:
+            return
+        with self.server.atomic():
+            self._place(0, st)
+            for t in st.get("targets") or []:
+                if isinstance(t, dict) and isinstance(t.get("id"), int):
+                    self._place(t["id"], t)
+            self._track_update(st)
+            self._arrows(st)
+        if now >= self._sea_due and self._sea is not None and link.scene is not None:
+            self._sea_due = now + SEA_PERIOD_S
+            sea = link.scene.get("sea") or {}
+            x, y = self._sea_xy
+            z = sea_elevation(
+                x,
+                y,
+                float(st.get("t_s") or 0.0),
+                float(sea.get("hs_m") or 0.0),
+                float(sea.get("tp_s") or 8.0),
+                float(sea.get("wave_from_deg") or 0.0),
+                self._depth,
+            )
+            self._sea.vertices = np.column_stack([x, y, z]).astype(np.float32)
+        self._cameras(st)
+        if now >= self._hud_due:
+            self._hud_due = now + HUD_PERIOD_S
+            self.hud.content = self._hud_text(st)
+
+    def _place(self, pid: int, s: dict) -> None:
+        frame = self._ships.get(pid)
+        x, y, h = s.get("y_m"), s.get("x_m"), s.get("hdg_deg")
+        if frame is None:
+            if (
+                pid != 0
+                and isinstance(s.get("length_m"), (int, float))
+                and isinstance(s.get("beam_m"), (int, float))
+            ):
+                L, B = float(s["length_m"]), float(s["beam_m"])
+                self.link.particulars.setdefault(
+                    pid,
+                    {
+                        "id": pid,
+                        "name": s.get("name", ""),
+                        "length_m": L,
+                        "beam_m": B,
+                        "draught_m": 0.06 * L,
+                        "outline_m": None,
+                    },
+                )
+                self.link.particulars_version += 1
+            return
+        if all(isinstance(v, (int, float)) for v in (x, y, h)):
+            frame.position = (x, y, 0.0)
+            frame.wxyz = heading_wxyz(h)
+
+    def _track_update(self, st: dict) -> None:
+        t, x, y = st.get("t_s"), st.get("y_m"), st.get("x_m")
+        if not all(isinstance(v, (int, float)) for v in (t, x, y)):
+            return
+        if t < self._track_t:  # a new episode (time went back)
+            self._track.clear()
+        if t - self._track_t >= TRACK_SPACING_S or t < self._track_t:
+            self._track_t = t
+            self._track.append((x, y))
+            del self._track[:-TRACK_POINTS]
+            if len(self._track) >= 2 and time.monotonic() - self._track_drawn >= TRACK_REDRAW_S:
+                self._track_drawn = time.monotonic()
+                p = np.array([(a, b, 0.03 * self._T) for a, b in self._track])
+                segs = np.stack([p[:-1], p[1:]], axis=1)
+                self.server.scene.add_line_segments(
+                    "/track", segs, COLOURS["track"], thickness=0.03 * self._L
+                )
+
+    def _arrows(self, st: dict) -> None:
+        sea = (self.link.scene or {}).get("sea") or {}
+        x, y = st.get("y_m"), st.get("x_m")
+        if not (isinstance(x, (int, float)) and isinstance(y, (int, float))):
+            return
+        L = self._L
+        z = FREEBOARD_T * self._T + 0.5 * L
+        if self._arrows_for == self._scene_version:  # same sea: move the arrows with the ship
+            for handle in self._arrow_handles:
+                handle.position = (x, y, 0.0)
+                handle.visible = self.camera != "bridge"  # they would stand in front of the bridge windows
+            return
+        self._arrows_for = self._scene_version
+        for handle in self._arrow_handles:
+            handle.remove()
+        self._arrow_handles = []
+        for key, speed_key, dir_key, towards, scale in (
+            ("wind", "wind_speed_kn", "wind_from_deg", False, 0.1),
+            ("current", "current_speed_kn", "current_to_deg", True, 1.0),
+        ):
+            speed, d = sea.get(speed_key), sea.get(dir_key)
+            if not (isinstance(speed, (int, float)) and isinstance(d, (int, float))) or speed <= 0.0:
+                continue
+            to = math.radians(d if towards else d + 180.0)
+            length = L * min(2.0, 0.4 + scale * speed)  # ship lengths, grows with speed (kn), capped
+            start = np.array([0.0, 0.0, z if key == "wind" else 0.1 * self._T])
+            end = start + length * np.array([math.sin(to), math.cos(to), 0.0])
+            handle = self.server.scene.add_arrows(
+                f"/{key}",
+                np.array([[start, end]]),
+                COLOURS[key],
+                shaft_radius=0.03 * L,
+                head_radius=0.09 * L,
+                head_length=0.2 * L,
+                position=(x, y, 0.0),
+            )
+            self._arrow_handles.append(handle)
+
+    def _cameras(self, st: dict) -> None:
+        x, y, h = st.get("y_m"), st.get("x_m"), st.get("hdg_deg")
+        if self.camera == "free" or not all(isinstance(v, (int, float)) for v in (x, y, h)):
+            return
+        L, T = self._L, self._T
+        fwd = np.array([math.sin(math.radians(h)), math.cos(math.radians(h)), 0.0])
+        ship = np.array([x, y, 0.0])
+        if self.camera == "chase":
+            pos, look, up = ship - 2.2 * L * fwd + np.array([0, 0, 0.9 * L]), ship + 0.8 * L * fwd, (0, 0, 1)
+        elif self.camera == "bridge":
+            eye = ship - 0.38 * L * fwd + np.array([0, 0, FREEBOARD_T * T + 0.1 * L])
+            pos, look, up = eye, eye + 3.0 * L * fwd - np.array([0, 0, 0.1 * L]), (0, 0, 1)
+        elif self.camera == "top-down":
+            pos, look, up = ship + np.array([0, 0, 8.0 * L]), ship, tuple(fwd)
+        else:  # harbour overview, north up
+            x0, x1, y0, y1 = self._extent
+            c = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.0])
+            span = max(x1 - x0, y1 - y0)
+            pos, look, up = c + np.array([0.0, -0.35 * span, 0.85 * span]), c, (0, 0, 1)
+        for client in self.server.get_clients().values():
+            cam = client.camera
+            try:
+                with client.atomic():
+                    cam.up_direction = up
+                    cam.position = pos
+                    cam.look_at = look
+            except (AssertionError, ValueError):  # camera not reported by the browser yet
+                continue
+
+    def _hud_text(self, st: dict) -> str:
+        def f(key: str, fmt: str) -> str:
+            v = st.get(key)
+            return format(v, fmt) if isinstance(v, (int, float)) else "–"
+
+        tg = st.get("telegraph")
+        link = self.link
+        owner = link.owner
+        if link.helm and (owner is None or owner.get("you")):
+            helm = f"**YOU** (order {link.rudder_order_deg:+.0f}°, {TELEGRAPH_NAMES[link.telegraph]})"
+        elif owner is not None and owner.get("owner"):
+            helm = f"{owner['owner']}"
+        else:
+            helm = "autopilot" if not st.get("helm_ok") else "a panel"
+        sea = (link.scene or {}).get("sea") or {}
+        lines = [
+            f"**{(link.scene or {}).get('name') or 'vessel-gym'}**  t = {f('t_s', '.1f')} s",
+            "",
+            "| | |",
+            "|---|---|",
+            f"| Heading | {f('hdg_deg', '05.1f')}° |",
+            f"| SOG | {f('sog_kn', '.2f')} kn |",
+            f"| ROT | {f('rot_dpm', '+.1f')} °/min |",
+            f"| Rudder order / actual | {f('rudder_order_deg', '+.1f')}° / {f('rudder_deg', '+.1f')}° |",
+            f"| Shaft | {f('rpm', '.0f')} rpm |",
+            f"| Telegraph | {TELEGRAPH_NAMES.get(tg, '–') if isinstance(tg, int) else '–'} |",
+            f"| Helm | {helm} |",
+        ]
+        if sea:
+            lines.append(
+                f"| Wind / current | {sea.get('wind_speed_kn', 0):.1f} kn from {sea.get('wind_from_deg', 0):03.0f}° / "
+                f"{sea.get('current_speed_kn', 0):.2f} kn to {sea.get('current_to_deg', 0):03.0f}° |"
+            )
+            lines.append(f"| Waves | Hs {sea.get('hs_m', 0):.2f} m, Tp {sea.get('tp_s', 0):.1f} s |")
+        if link.events:
+            e = link.events[-1]
+            what = e.get("outcome") or e.get("what") or ""
+            lines.append(f"| Episode {e.get('episode')} | {e.get('event')} {what} |")
+        return "\n".join(lines)
+
+    def close(self) -> None:
+        with contextlib.redirect_stdout(io.StringIO()):
+            self.server.stop()
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Entry point
+
+
+def view3d(
+    server: Address,
+    http: Address = ("127.0.0.1", 8080),
+    *,
+    camera: str = "chase",
+    rate_hz: float = 20.0,
+    name: str = "view3d",
+    token: str | None = None,
+    duration_s: float | None = None,
+    out: TextIO | None = None,
+) -> int:
+    """Serve the 3D page on ``http`` (loopback only) for the link at ``server`` until Ctrl-C or
+    ``duration_s``. Returns 0. Raises ``ValueError`` (one line) for a bad address or camera, ``ImportError``
+    without viser."""
+    out = out if out is not None else sys.stdout
+    if camera not in CAMERAS:
+        raise ValueError(f"camera must be one of {', '.join(CAMERAS)}, not {camera!r}")
+    if not http[0].startswith("127.") and http[0] != "localhost":
+        raise ValueError(f"--http {http[0]}: the page can take the helm, so it is served on loopback only")
+    import viser  # noqa: F401  (fail before binding anything)
+
+    try:
+        link = LinkClient(server, rate_hz, name, token)
+    except OSError as exc:
+        raise ValueError(f"cannot reach {server[0]}:{server[1]}: {exc.strerror or exc}") from None
+    viewer = None
+    try:
+        try:
+            viewer = Viewer3D(link, http, camera)
+        except OSError as exc:
+            raise ValueError(f"cannot serve the page on {http[0]}:{http[1]}: {exc.strerror or exc}") from None
+        url = f"http://{http[0]}:{viewer.server.get_port()}/"
+        print(
+            f"vessel-gym view3d: open {url} (link {server[0]}:{server[1]}); Ctrl-C to stop",
+            file=out,
+            flush=True,
+        )
+        start = time.monotonic()
+        warned_silent = warned_bad = False
+        try:
+            while duration_s is None or time.monotonic() - start < duration_s:
+                now = time.monotonic()
+                link.poll(now)
+                try:
+                    viewer.update(now)
+                except (ValueError, TypeError, KeyError, IndexError) as exc:  # a malformed scene or state
+                    if not warned_bad:
+                        print(
+                            f"vessel-gym view3d: ignoring a message it cannot draw: {exc}",
+                            file=out,
+                            flush=True,
+                        )
+                        warned_bad = True
+                if link.state is None and not warned_silent and now - start > 5.0:
+                    print(
+                        f"vessel-gym view3d: no state from {server[0]}:{server[1]} yet (is 'vessel-gym serve' "
+                        "running there?); still trying",
+                        file=out,
+                        flush=True,
+                    )
+                    warned_silent = True
+                time.sleep(max(0.0, FRAME_PERIOD_S - (time.monotonic() - now)))
+        except KeyboardInterrupt:
+            pass
+        print("vessel-gym view3d: stopped", file=out, flush=True)
+    finally:
+        link.close()
+        if viewer is not None:
+            viewer.close()
+    return 0
+
+
+__all__ = [
+    "CAMERAS",
+    "FRAME_PERIOD_S",
+    "HUD_PERIOD_S",
+    "LinkClient",
+    "RUDDER_STEP_DEG",
+    "SEA_PERIOD_S",
+    "TRACK_POINTS",
+    "TRACK_REDRAW_S",
+    "TRACK_SPACING_S",
+    "Viewer3D",
+    "sea_elevation",
+    "triangulate",
+    "view3d",
+    "wave_number",
+]

@@ -1,0 +1,169 @@
+"""The 3D viewer's scene: what it draws and how (geometry in the scene frame, the sea surface, colours).
+
+Scene frame: x east, y north, z up, m, origin at the scenario's reference point. What is drawn but not in the
+protocol is stated where it is chosen (freeboard, superstructure, heights of land above the water).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from vessel_gym.scenarios.geometry import signed_area
+
+CAMERAS = ("chase", "bridge", "top-down", "harbour", "free")
+TELEGRAPH_NAMES = {
+    -4: "FULL ASTERN",
+    -3: "HALF ASTERN",
+    -2: "SLOW ASTERN",
+    -1: "DEAD SLOW ASTERN",
+    0: "STOP",
+    1: "DEAD SLOW AHEAD",
+    2: "SLOW AHEAD",
+    3: "HALF AHEAD",
+    4: "FULL AHEAD",
+}
+G_M_S2 = 9.80665  # standard gravity, m/s^2
+SEA_CELLS = 48  # sea grid resolution per side
+# Drawing choices (not in the protocol): freeboard as a fraction of the draught (a laden tanker's is about half),
+# height of the deckhouse as a fraction of the beam, heights above the water of land, breakwaters and quays (m,
+# as multiples of the own ship's draught so that model-scale and full-scale scenes both look right).
+FREEBOARD_T = 0.5
+DECKHOUSE_B = 0.45
+RELIEF_T = {"land": 3.0, "breakwater": 2.0, "quay": 1.5}
+
+COLOURS = {
+    "land": (200, 186, 140),
+    "breakwater": (140, 140, 140),
+    "quay": (105, 105, 112),
+    "own": (200, 40, 30),
+    "deckhouse": (235, 235, 235),
+    "traffic": (230, 140, 0),
+    "goal": (40, 170, 60),
+    "start": (90, 90, 160),
+    "track": (30, 30, 120),
+    "sea": (40, 110, 170),
+    "wind": (80, 150, 255),
+    "current": (60, 200, 120),
+}
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# Geometry
+
+
+def triangulate(poly: Sequence[Sequence[float]]) -> list[tuple[int, int, int]]:
+    """Ear-clipping triangulation of a simple polygon (either orientation); indices into ``poly``."""
+    pts = [(float(p[0]), float(p[1])) for p in poly]
+    n = len(pts)
+    if n < 3:
+        return []
+    idx = list(range(n))
+    if signed_area(pts) < 0.0:
+        idx.reverse()  # counter-clockwise from here on
+
+    def cross(o: int, a: int, b: int) -> float:
+        return (pts[a][0] - pts[o][0]) * (pts[b][1] - pts[o][1]) - (pts[a][1] - pts[o][1]) * (
+            pts[b][0] - pts[o][0]
+        )
+
+    def inside(p: int, a: int, b: int, c: int) -> bool:
+        return cross(a, b, p) >= 0.0 and cross(b, c, p) >= 0.0 and cross(c, a, p) >= 0.0
+
+    out: list[tuple[int, int, int]] = []
+    guard = 0
+    while len(idx) > 3 and guard < 10 * n * n:
+        guard += 1
+        m = len(idx)
+        for i in range(m):
+            a, b, c = idx[i - 1], idx[i], idx[(i + 1) % m]
+            if cross(a, b, c) <= 0.0:
+                continue  # reflex corner
+            if any(inside(p, a, b, c) for p in idx if p not in (a, b, c)):
+                continue
+            out.append((a, b, c))
+            del idx[i]
+            break
+        else:  # degenerate (collinear) rest: fan it
+            break
+    out += [(idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1)]
+    return out
+
+
+def prism(poly_xy: Sequence[Sequence[float]], z0: float, z1: float) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices and faces of ``poly_xy`` (scene x, y) extruded from z0 to z1 (top, bottom and walls)."""
+    p = np.asarray(poly_xy, dtype=np.float64).reshape(-1, 2)
+    n = len(p)
+    verts = np.vstack([np.column_stack([p, np.full(n, z1)]), np.column_stack([p, np.full(n, z0)])])
+    faces = []
+    for a, b, c in triangulate(p):
+        faces.append((a, b, c))
+        faces.append((n + a, n + c, n + b))
+    for i in range(n):
+        j = (i + 1) % n
+        faces.append((i, n + i, n + j))
+        faces.append((i, n + j, j))
+    return verts.astype(np.float32), np.asarray(faces, dtype=np.uint32)
+
+
+def chart_to_scene(points: Sequence[Sequence[float]]) -> np.ndarray:
+    """Chart points [north, east] (m) to scene [x east, y north]."""
+    a = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    return a[:, ::-1].copy()
+
+
+def body_to_scene(outline: Sequence[Sequence[float]]) -> np.ndarray:
+    """Body outline [x forward, y starboard] to the ship node's frame [x starboard, y forward] (heading 0)."""
+    return chart_to_scene(outline)
+
+
+def heading_wxyz(hdg_deg: float) -> tuple[float, float, float, float]:
+    """Quaternion of a heading (clockwise from north) as a rotation about the scene's z (up) axis."""
+    half = -0.5 * math.radians(hdg_deg)
+    return (math.cos(half), 0.0, 0.0, math.sin(half))
+
+
+def wave_number(omega: float, depth_m: float) -> float:
+    """Wave number k (rad/m) of angular frequency omega (rad/s) in water of depth h: omega^2 = g k tanh(k h)
+    (linear wave theory), solved by Newton iteration from the deep-water value."""
+    k = omega * omega / G_M_S2
+    if not depth_m > 0.0:
+        return k
+    for _ in range(30):
+        th = math.tanh(k * depth_m)
+        f = G_M_S2 * k * th - omega * omega
+        df = G_M_S2 * (th + k * depth_m * (1.0 - th * th))
+        step = f / df
+        k -= step
+        if abs(step) < 1e-12 * k:
+            break
+    return k
+
+
+def sea_elevation(
+    x: np.ndarray, y: np.ndarray, t_s: float, hs_m: float, tp_s: float, from_deg: float, depth_m: float
+) -> np.ndarray:
+    """Surface elevation (m) drawn for a sea state: two long-crested regular components (periods Tp and
+    0.8 Tp, directions 20 deg apart) whose combined variance gives the significant wave height
+    Hs = 4 sigma. A picture of the sea state, not a spectrum: the physics takes its wave forces elsewhere."""
+    if not hs_m > 0.0:
+        return np.zeros_like(x)
+    a = 0.25 * hs_m  # two components of amplitude a: variance a^2 = (Hs / 4)^2
+    z = np.zeros_like(x)
+    for period, dtheta, phase in ((tp_s, 0.0, 0.0), (0.8 * tp_s, 20.0, 1.3)):
+        omega = 2.0 * math.pi / period
+        k = wave_number(omega, depth_m)
+        to = math.radians(from_deg + 180.0 + dtheta)  # waves travel away from where they come from
+        z += a * np.sin(k * (x * math.sin(to) + y * math.cos(to)) - omega * t_s + phase)
+    return z
+
+
+def _ship_meshes(outline: Sequence[Sequence[float]], L: float, B: float, T: float) -> list[tuple]:
+    """Hull prism (waterline outline from -T to the freeboard) and a deckhouse aft, in the ship frame."""
+    hull = prism(body_to_scene(outline), -T, FREEBOARD_T * T)
+    xs = np.array([-0.5 * L + 0.03 * L, -0.5 * L + 0.15 * L])
+    house_outline = [(xs[1], 0.4 * B), (xs[0], 0.4 * B), (xs[0], -0.4 * B), (xs[1], -0.4 * B)]
+    house = prism(body_to_scene(house_outline), FREEBOARD_T * T, FREEBOARD_T * T + DECKHOUSE_B * B)
+    return [hull, house]
