@@ -32,6 +32,7 @@ from vessel_gym.physics.kinematics import (
     ground_velocity_body,
     relative_wind,
 )
+from vessel_gym.physics.propeller4q import table_code
 from vessel_gym.physics.propulsion import effective_wake, propeller_thrust_torque, shaft_acceleration
 from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
 from vessel_gym.physics.shallow_water import thrust_deduction
@@ -163,6 +164,7 @@ def pack(ship: Ship) -> np.ndarray:
             pr.astern_kq_ratio,
             pr.astern_inflow_slope,
         )
+        P[lo.P_PROP_4Q] = table_code(pr.four_quadrant)
         eng, tr = ship.engine, ship.transmission
         P[lo.P_GEAR], P[lo.P_ETA_GEAR] = tr.gear_ratio, tr.efficiency
         P[lo.P_I_SHAFT] = tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2
