@@ -151,6 +151,7 @@ P_C2M = _field("C_2_minus")
 P_AST_KT = _field("astern_kt_ratio")  # astern bollard K_T / ahead bollard K_T, -
 P_AST_KQ = _field("astern_kq_ratio")  # astern bollard K_Q / ahead bollard K_Q, -
 P_AST_SLOPE = _field("astern_inflow_slope")  # d(C_T*)/d(u_a/|n|D) in quadrant 4 relative to k_0, -
+P_PROP_4Q = _field("four_quadrant")  # four-quadrant table code, propeller4q.TABLE_NAMES index + 1 (0: none)
 
 # rudder
 RUDDER_DERIVATIVES = 0  # rudder forces are in the hull derivatives (delta terms)

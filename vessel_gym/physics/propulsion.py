@@ -22,6 +22,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.propeller4q import BOLLARD_FACTOR, blended_coefficients
 from vessel_gym.physics.shallow_water import wake_fraction
 
 
@@ -36,7 +37,11 @@ def propeller_thrust_torque(P, u_a, n):
     (plus quadrant 3's locked-propeller drag, so that T and Q are continuous at n = 0);
     astern bollard coefficients ``astern_kt_ratio * k_0`` (and K_Q) in quadrants 3 and 4, with the
     magnitude growing linearly with ahead inflow in quadrant 4 (crash stop) at ``astern_inflow_slope``.
+    With ``[propeller] four_quadrant`` set, quadrants 2-4 are instead the published Wageningen B-series
+    curves joined to quadrant 1 by :func:`four_quadrant_thrust_torque`.
     """
+    if P[lo.P_PROP_4Q] > 0.0 and not (n >= 0.0 and u_a >= 0.0):
+        return four_quadrant_thrust_torque(P, u_a, n)
     D = P[lo.P_DP]
     rho = P[lo.P_RHO]
     k0 = P[lo.P_KT0]
@@ -69,6 +74,33 @@ def propeller_thrust_torque(P, u_a, n):
             T = -at * cT * k0 * (m * m + s * m * u_a) + cT * k2 * u_a * u_a
             Q = -aq * cQ * q0 * (m * m + s * m * u_a) + cQ * q2 * u_a * u_a
     return T, Q
+
+
+@njit(cache=True)
+def four_quadrant_thrust_torque(P, u_a, n):
+    """Thrust T (N) and torque Q (N m) outside quadrant 1 from the ship's four-quadrant table
+    (:mod:`propeller4q`): T = C_T ½ rho V_r^2 (pi/4) D^2, Q = C_Q ½ rho V_r^2 (pi/4) D^3 with
+    V_r^2 = u_a^2 + (0.7 pi n D)^2 and beta = atan2(u_a, 0.7 pi n D).
+
+    The ship's own quadratics fix C_T*, C_Q* at the quadrant-1 boundaries: bollard ahead (beta = 0)
+    C_T* = k_0 / BOLLARD_FACTOR, and the locked propeller (n = 0, beta = 90 deg) T = rho D^2 k_2 u_a^2, i.e.
+    C_T* = 8 k_2 / pi (torque likewise); :func:`propeller4q.blended_coefficients` joins the published curves
+    to them.
+    """
+    D = P[lo.P_DP]
+    rho = P[lo.P_RHO]
+    vt = 0.7 * math.pi * n * D
+    beta = math.atan2(u_a, vt)
+    ct, cq = blended_coefficients(
+        int(P[lo.P_PROP_4Q]),
+        beta,
+        P[lo.P_KT0] / BOLLARD_FACTOR,
+        P[lo.P_KQ0] / BOLLARD_FACTOR,
+        8.0 * P[lo.P_KT2] / math.pi,
+        8.0 * P[lo.P_KQ2] / math.pi,
+    )
+    qa = 0.125 * rho * (u_a * u_a + vt * vt) * math.pi * D * D  # 1/2 rho V_r^2 (pi/4) D^2, N
+    return ct * qa, cq * qa * D
 
 
 @njit(cache=True)

@@ -12,6 +12,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from vessel_gym.physics.propeller4q import TABLE_NAMES
 from vessel_gym.physics.schema import (
     SpecError,
     as_float,
@@ -207,6 +208,11 @@ class Propeller:
     )
     astern_inflow_slope: float = param(
         0.5, unit="-", lo=0.0, hi=3.0, doc="growth of astern thrust with ahead inflow (quadrant 4)"
+    )
+    four_quadrant: str = param(
+        "",
+        choices=("",) + TABLE_NAMES,
+        doc="published Wageningen four-quadrant curves outside quadrant 1 ('': the astern_* approximation)",
     )
 
 

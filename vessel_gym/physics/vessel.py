@@ -32,6 +32,7 @@ from vessel_gym.physics.kinematics import (
     ground_velocity_body,
     relative_wind,
 )
+from vessel_gym.physics.propeller4q import table_code
 from vessel_gym.physics.propulsion import (
     effective_wake,
     propeller_thrust_torque,
@@ -168,6 +169,7 @@ def pack(ship: Ship) -> np.ndarray:
             pr.astern_kq_ratio,
             pr.astern_inflow_slope,
         )
+        P[lo.P_PROP_4Q] = table_code(pr.four_quadrant)
         eng, tr = ship.engine, ship.transmission
         P[lo.P_GEAR], P[lo.P_ETA_GEAR] = tr.gear_ratio, tr.efficiency
         P[lo.P_I_SHAFT] = tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2
