@@ -205,7 +205,7 @@ class TaskSpec:
 
     def docs(self) -> str:
         """The reward and feature tables under a heading (the generated part of docs/envs.md)."""
-        return f"### {self.title}\n\nReward terms:\n\n{self.reward_table()}\n\nFeatures:\n\n{self.feature_table()}\n"
+        return f"#### {self.title}\n\nReward terms:\n\n{self.reward_table()}\n\nFeatures:\n\n{self.feature_table()}\n"
 
 
 def _md(text: str) -> str:
