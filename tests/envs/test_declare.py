@@ -205,3 +205,30 @@ def test_the_docs_example_task_runs_single_and_vector(monkeypatch):
     venv.reset(seed=3)
     rewards = [venv.step(np.full((3, 1), 0.3, dtype=np.float32))[1] for _ in range(10)]
     assert [x[1] for x in rewards] == singles  # vessel 1 seeded 3 + 1 is the single environment seeded 4
+
+
+def _docstring_table(doc: str, section: str) -> list[list[str]]:
+    """The rows (cells) of the first table under ``## section`` of a spec sheet, header and rule excluded."""
+    part = doc.split(f"## {section}", 1)[1].split("\n    ## ", 1)[0]
+    rows = [line.strip() for line in part.splitlines() if line.strip().startswith("|")]
+    return [[c.strip() for c in row.strip("|").split("|")] for row in rows[2:]]
+
+
+@pytest.mark.parametrize(
+    "env_name", ["ZigZagEnv", "ZigZagV1Env", "TurningCircleEnv", "HarbourApproachEnv"]
+)
+def test_spec_sheets_follow_the_declarations(env_name):
+    """Each environment's spec sheet (its class docstring) lists the declared reward terms in declaration order
+    with their default weights, and observes only declared features."""
+    import vessel_gym.envs as envs
+
+    cls = getattr(envs, env_name)
+    spec = cls.Task.spec
+    terms = _docstring_table(cls.__doc__, "Rewards")
+    assert [row[0] for row in terms] == list(spec.term_names)
+    assert [float(row[1]) for row in terms] == [t.weight for t in spec.terms]
+    if "| Num | Name |" in cls.__doc__:
+        names = [row[1] for row in _docstring_table(cls.__doc__, "Observation Space")]
+        for name in names:
+            base = name.split("_j")[0] if name.startswith("beam") else name
+            assert base in spec.feature_names or name.startswith(("wind_angle_sin", "current_x")), name

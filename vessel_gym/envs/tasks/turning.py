@@ -282,20 +282,23 @@ class TurningCircleTask(Task):
         r = np.abs(self.sim.r[k])
         return np.where(r > 1e-9, U / np.maximum(r, 1e-9), 0.0)
 
-    def _radius_k(self, k: int) -> float:
-        u, v, r = velocity_through_water.py_func(self.sim.state, k)
-        r = abs(float(r))
-        return math.hypot(float(u), float(v)) / r if r > 1e-9 else 0.0
+    @staticmethod
+    def _radius_k(u: float, v: float, r: float) -> float:
+        r = abs(r)
+        return math.hypot(u, v) / r if r > 1e-9 else 0.0
 
     def info(self, k: int) -> dict[str, Any]:
         s = self.ts[k].tolist()
         cmd = s[S.command]
+        # the motion as the physics names it (the un-jitted accessor: one call from Python costs no dispatch)
+        u, v, r = velocity_through_water.py_func(self.sim.state, k)
+        r = float(r)
         info = {
             "reward_terms": self.weighted_terms(k),
             "time_s": s[S.t],
             "heading_change_deg": math.degrees(self.feat[k, FEAT.heading_change]),
-            "rate_of_turn_deg_s": math.degrees(velocity_through_water.py_func(self.sim.state, k)[2]),
-            "turning_radius_m": self._radius_k(k),
+            "rate_of_turn_deg_s": math.degrees(r),
+            "turning_radius_m": self._radius_k(u, v, r),
             "commanded_rate_deg_s": float(math.degrees(cmd)) if self.mode == 0 else 0.0,
             "commanded_radius_m": float(1.0 / cmd) if self.mode == 1 else 0.0,
             "advance_m": s[S.advance],
