@@ -131,7 +131,9 @@ def test_terms_mean_what_their_names_say():
             -w.rudder_activity * abs(order - prev_order) / (2.0 * limit), rel=1e-6, abs=1e-12
         )
         U = math.hypot(layout.value(obs, "u"), layout.value(obs, "v"))
-        assert terms["speed_loss"] == pytest.approx(-w.speed_loss * max(0.0, U0 - U) / U0, rel=1e-5, abs=1e-7)  # float32 u, v
+        assert terms["speed_loss"] == pytest.approx(
+            -w.speed_loss * max(0.0, U0 - U) / U0, rel=1e-5, abs=1e-7
+        )  # float32 u, v
         prev_order = order
 
 
@@ -174,7 +176,9 @@ def test_tasks_ask_the_physics_by_name():
         for node in ast.walk(tree):
             if isinstance(node, ast.ImportFrom):
                 assert node.module != "vessel_gym.physics.layout", path.name
-                assert not (node.module == "vessel_gym.physics" and any(a.name == "layout" for a in node.names))
+                assert not (
+                    node.module == "vessel_gym.physics" and any(a.name == "layout" for a in node.names)
+                )
         assert not re.search(r"\blo\.[XUE]_", path.read_text()), path.name
 
 
@@ -214,9 +218,7 @@ def _docstring_table(doc: str, section: str) -> list[list[str]]:
     return [[c.strip() for c in row.strip("|").split("|")] for row in rows[2:]]
 
 
-@pytest.mark.parametrize(
-    "env_name", ["ZigZagEnv", "ZigZagV1Env", "TurningCircleEnv", "HarbourApproachEnv"]
-)
+@pytest.mark.parametrize("env_name", ["ZigZagEnv", "ZigZagV1Env", "TurningCircleEnv", "HarbourApproachEnv"])
 def test_spec_sheets_follow_the_declarations(env_name):
     """Each environment's spec sheet (its class docstring) lists the declared reward terms in declaration order
     with their default weights, and observes only declared features."""
@@ -232,3 +234,28 @@ def test_spec_sheets_follow_the_declarations(env_name):
         for name in names:
             base = name.split("_j")[0] if name.startswith("beam") else name
             assert base in spec.feature_names or name.startswith(("wind_angle_sin", "current_x")), name
+
+
+def test_old_import_paths_give_the_objects_of_the_new_homes():
+    """envs.core and envs.kernels, split into envs/{observation,helm,task,env}.py and envs/tasks/, re-export."""
+    from vessel_gym.envs import core, env, harbour, helm, kernels, observation, task
+    from vessel_gym.envs import zigzag as zigzag_env
+    from vessel_gym.envs.tasks import chart, turning, zigzag_v1
+    from vessel_gym.envs.tasks import harbour as harbour_task
+
+    assert core.Task is task.Task and core.ShipEnv is env.ShipEnv and core.ShipVectorEnv is env.ShipVectorEnv
+    assert (
+        core.ObservationLayout is observation.ObservationLayout and core.ContinuousHelm is helm.ContinuousHelm
+    )
+    assert core.Feature is observation.Feature and core.physics_step is task.physics_step
+    assert (
+        kernels.zigzag_update is zigzag.zigzag_update
+        and kernels.zigzag_v1_update is zigzag_v1.zigzag_v1_update
+    )
+    assert kernels.turning_update is turning.turning_update
+    assert kernels.harbour_update_parallel is harbour_task.harbour_update_parallel
+    assert kernels.chart_query is chart.chart_query and kernels.OUTCOMES == chart.OUTCOMES
+    assert (
+        zigzag_env.ZigZagReward is zigzag.ZigZagReward
+        and harbour.HarbourApproachTask is harbour_task.HarbourApproachTask
+    )

@@ -135,7 +135,9 @@ class TaskSpec:
         if base is not None:
             base_names = tuple(f.name for f in dataclasses.fields(base))
             if base_names != self.term_names:
-                raise ValueError(f"{name}: terms {self.term_names} differ from {base.__name__}'s {base_names}")
+                raise ValueError(
+                    f"{name}: terms {self.term_names} differ from {base.__name__}'s {base_names}"
+                )
         cls = dataclasses.make_dataclass(
             name,
             [(t.name, float, weight(t.weight, t.doc)) for t in self.terms],
@@ -172,7 +174,9 @@ class TaskSpec:
         for name in names:
             spec = self._feature.get(name)
             if spec is None:
-                raise KeyError(f"{self.title}: no declared feature {name!r} (have: {', '.join(self.feature_names)})")
+                raise KeyError(
+                    f"{self.title}: no declared feature {name!r} (have: {', '.join(self.feature_names)})"
+                )
             factor, sname = spec.scale
             value = factor * (1.0 if sname == "1" else scales[sname])
             col = getattr(self.FEAT, name)
@@ -211,4 +215,3 @@ class TaskSpec:
 def _md(text: str) -> str:
     """Text for a markdown table cell (a literal | escaped)."""
     return text.replace("|", "\\|")
-

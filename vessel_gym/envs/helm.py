@@ -185,4 +185,3 @@ class DiscreteHelm(Helm):
 
 def make_helm(config: ShipEnvConfig, sim: Simulation) -> Helm:
     return ContinuousHelm(config, sim) if config.action_type == "continuous" else DiscreteHelm(config, sim)
-

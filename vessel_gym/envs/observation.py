@@ -52,4 +52,3 @@ class ObservationLayout:
             f"| {i} | `{f.name}` | {f.unit} | {f.scale:.4g} | {f.doc} |" for i, f in enumerate(self.features)
         ]
         return "\n".join(rows)
-

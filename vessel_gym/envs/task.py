@@ -221,4 +221,3 @@ class Task(abc.ABC):
 def _uniform(rng: np.random.Generator, rng_range: Sequence[float]) -> float:
     lo, hi = float(rng_range[0]), float(rng_range[1])
     return lo if hi <= lo else float(rng.uniform(lo, hi))
-

@@ -11,7 +11,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-DOCS_BEGIN = "<!-- begin: generated from the task declarations (python -m vessel_gym.envs.tasks docs/envs.md) -->"
+DOCS_BEGIN = (
+    "<!-- begin: generated from the task declarations (python -m vessel_gym.envs.tasks docs/envs.md) -->"
+)
 DOCS_END = "<!-- end: generated from the task declarations -->"
 
 

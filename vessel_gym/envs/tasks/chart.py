@@ -13,7 +13,9 @@ from vessel_gym.envs.declare import columns
 from vessel_gym.physics.kinematics import body_point_to_earth, body_to_earth
 
 #: outcome of a HarbourApproach step (flags as integers in the kernels, names in ``info["outcome"]``)
-OUTCOME = columns("running", "success", "contact", "grounding", "out_of_bounds", "diverged", typename="Outcome")
+OUTCOME = columns(
+    "running", "success", "contact", "grounding", "out_of_bounds", "diverged", typename="Outcome"
+)
 OUTCOMES = OUTCOME._fields
 OK = OUTCOME.running
 SUCCESS = OUTCOME.success
@@ -232,7 +234,11 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
                         break
                 r = m
             # no crossing: each outline lies wholly inside or wholly outside the other
-            hit = hit or inside_polygon(hn[0], he[0], vn, ve, st, cnt) or inside_polygon(vn[st], ve[st], hn, he, 0, nh)
+            hit = (
+                hit
+                or inside_polygon(hn[0], he[0], vn, ve, st, cnt)
+                or inside_polygon(vn[st], ve[st], hn, he, 0, nh)
+            )
             if hit:
                 clear2 = cull2 = 0.0
                 if polys[q, 2] == 1:

@@ -79,11 +79,17 @@ SPEC = task_spec(
         FeatureSpec("goal_heading_error", "rad", (1.0, "pi"), "goal heading - heading, wrapped"),
         FeatureSpec("sog", "m/s", (1.5, "U_T"), "speed over ground"),
         FeatureSpec("wind_speed", "m/s", (1.0, "wind max + 2 U_T"), "apparent wind speed (anemometer)"),
-        FeatureSpec("wind_angle_sin", "-", (1.0, "1"), "sin of apparent wind angle from the bow (+ from starboard)"),
+        FeatureSpec(
+            "wind_angle_sin", "-", (1.0, "1"), "sin of apparent wind angle from the bow (+ from starboard)"
+        ),
         FeatureSpec("wind_angle_cos", "-", (1.0, "1"), "cos of apparent wind angle"),
-        FeatureSpec("current_x", "m/s", (1.0, "current max"), "current along the body x axis (GNSS minus log)"),
+        FeatureSpec(
+            "current_x", "m/s", (1.0, "current max"), "current along the body x axis (GNSS minus log)"
+        ),
         FeatureSpec("current_y", "m/s", (1.0, "current max"), "current along the body y axis"),
-        FeatureSpec("beam", "m", (1.0, "beam range"), "free range at {angle} deg clockwise from the bow", "n_beams"),
+        FeatureSpec(
+            "beam", "m", (1.0, "beam range"), "free range at {angle} deg clockwise from the bow", "n_beams"
+        ),
     ),
 )
 TERM = SPEC.TERM

@@ -106,7 +106,9 @@ P = columns(
 )
 
 TurningCircleReward = SPEC.weights_class(
-    "TurningCircleReward", __name__, "Weights of the TurningCircle reward terms (reward = sum of weight x term)."
+    "TurningCircleReward",
+    __name__,
+    "Weights of the TurningCircle reward terms (reward = sum of weight x term).",
 )
 
 
@@ -127,7 +129,6 @@ class TurningCircleConfig(DisturbedOpenWaterConfig):
     )
     side: str = param("random", choices=("random", "starboard", "port"), doc="side of the commanded turn")
     reward: TurningCircleReward = param(TurningCircleReward(), doc="reward weights")
-
 
 
 # --- compiled step ----------------------------------------------------------------------------------------------

@@ -118,7 +118,9 @@ class ZigZagConfig(OpenWaterConfig):
 
 
 # --- start of an episode (both versions) ------------------------------------------------------------------------
-def reset_options(c: Any, options: Mapping | None, rng: np.random.Generator, U_T: float) -> tuple[float, float]:
+def reset_options(
+    c: Any, options: Mapping | None, rng: np.random.Generator, U_T: float
+) -> tuple[float, float]:
     """(heading, deg; approach speed, m/s) of a ZigZag reset: the options, else drawn / the config's."""
     opts = dict(options or {})
     heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))

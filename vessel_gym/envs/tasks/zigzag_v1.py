@@ -66,7 +66,11 @@ SPEC = task_spec(
     terms=(
         Term("heading_error", 1.0, "-|target - heading| / pi"),
         Term("overshoot", 1.0, "-growth of the course change's overshoot / overshoot scale"),
-        Term("target_reached", 1.0, "on reaching a target: +|course change| / pi x 5 (L / U_T) / control interval"),
+        Term(
+            "target_reached",
+            1.0,
+            "on reaching a target: +|course change| / pi x 5 (L / U_T) / control interval",
+        ),
         Term("rudder_activity", 0.1, RUDDER_ACTIVITY_DOC),
         Term("speed_loss", 0.1, SPEED_LOSS_DOC),
     ),
@@ -167,7 +171,6 @@ class ZigZagRandomConfig(ZigZagV1Config):
     schedule: str = param("random", choices=("imo", "random"), doc="target schedule")
 
 
-
 # --- compiled step ----------------------------------------------------------------------------------------------
 @njit(cache=True)
 def _close_overshoot_v1(s):
@@ -254,7 +257,6 @@ def zigzag_v1_update(
             terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
             terms[k, TERM.speed_loss] = speed_loss(speed_through_water(uk, vk), s[S.U0])
         close_row(k, s, S.psi0, S.target, S.prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done)
-
 
 
 # --- the task ---------------------------------------------------------------------------------------------------
@@ -401,4 +403,3 @@ class ZigZagV1Task(Task):
 
 class ZigZagRandomTask(ZigZagV1Task):
     Config = ZigZagRandomConfig
-
