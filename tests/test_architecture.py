@@ -80,10 +80,6 @@ MAX_MODULE_LINES = 700
 SPLIT_TARGET_LINES = 600
 LONG_MODULES_TO_SPLIT: frozenset[str] = frozenset(
     {
-        "vessel_gym.envs.kernels",  # every task's compiled reward and observation kernels
-        "vessel_gym.envs.core",  # the env base class: reset, step, render, traffic, wrappers
-        "vessel_gym.envs.zigzag",  # ZigZag v0 and v1 configs, resets and episode ends
-        "vessel_gym.envs.harbour",  # HarbourApproach config, layouts, reset and episode ends
         "vessel_gym.physics.shipfile",  # ship-file reading and validation of every table
     }
 )

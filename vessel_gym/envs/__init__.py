@@ -40,8 +40,11 @@ _LAZY = {
     "HarbourApproachV1Config": "harbour",
     "HarbourApproachV1Reward": "harbour",
     "ShipEnvConfig": "config",
-    "ObservationLayout": "core",
-    "Feature": "core",
+    "ObservationLayout": "observation",
+    "Feature": "declare",
+    "FeatureSpec": "declare",
+    "Term": "declare",
+    "TaskSpec": "declare",
 }
 
 __all__ = ["ENVIRONMENTS", "register_envs", *_LAZY]

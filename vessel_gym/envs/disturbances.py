@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vessel_gym.envs.config import OpenWaterConfig
-from vessel_gym.envs.core import _uniform
+from vessel_gym.envs.task import _uniform
 from vessel_gym.physics.environment import Environment, wrap_deg
 from vessel_gym.physics.schema import SpecError, check_ranges, param
 from vessel_gym.physics.shipfile import Ship, builtin_ships, load_ship

@@ -1,6 +1,6 @@
 """Scripted reference helms and classical baselines as policies: ``action = policy(observation)``.
 
-Each policy reads the observation through the environment's :class:`~vessel_gym.envs.core.ObservationLayout`
+Each policy reads the observation through the environment's :class:`~vessel_gym.envs.observation.ObservationLayout`
 (so it sees exactly what an agent sees, in either observation type) and returns an action in the
 environment's action type (continuous or discrete helm). Observations may be one (obs_dim,) vector or a
 batch (N, obs_dim) from a vector environment; stateful policies keep one state per row (``reset(mask)``).

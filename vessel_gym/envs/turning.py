@@ -1,220 +1,29 @@
-"""TurningCircle: bring the ship into and hold a commanded turn, or reverse course in little room."""
+"""TurningCircle environment: bring the ship into and hold a commanded turn, or reverse course in little room.
+
+The environment classes and their spec sheet; the task's declaration, configuration, reset and compiled step are
+in :mod:`vessel_gym.envs.tasks.turning` (names re-exported here).
+"""
 
 from __future__ import annotations
 
-import math
-from collections.abc import Mapping
-from dataclasses import dataclass
-from typing import Any
+from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
+from vessel_gym.envs.tasks.turning import (
+    MODES,
+    REVERSE,
+    TurningCircleConfig,
+    TurningCircleReward,
+    TurningCircleTask,
+)
 
-import numpy as np
-
-from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import weight
-from vessel_gym.envs.core import Feature, ShipEnv, ShipVectorEnv, Task, _uniform
-from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
-from vessel_gym.physics import layout as lo
-from vessel_gym.physics.schema import check_ranges, param
-
-MODES = ("rate", "radius", "reverse")
-REVERSE = MODES.index("reverse")
-
-
-@dataclass(frozen=True, kw_only=True)
-class TurningCircleReward:
-    """Weights of the TurningCircle reward terms (reward = sum of weight x term)."""
-
-    tracking_error: float = weight(1.0, "rate/radius: -min(relative error, 1)")
-    progress: float = weight(5.0, "reverse: heading change this step / pi")
-    footprint: float = weight(1.0, "reverse: -(growth of max advance + max transfer) / L")
-    rudder_activity: float = weight(0.1, "-|change of rudder order| / (2 rudder limit)")
-    speed_loss: float = weight(0.1, "-max(0, U0 - U) / U0")
-    time: float = weight(0.1, "reverse: -control interval x U0 / L")
-
-
-@dataclass(frozen=True, kw_only=True)
-class TurningCircleConfig(DisturbedOpenWaterConfig):
-    """TurningCircle-v0 configuration (see :class:`TurningCircleEnv`)."""
-
-    mode: str = param("rate", choices=MODES, doc="task: hold a rate of turn, a radius, or reverse course")
-    rate_prime: tuple[float, ...] = param(
-        (0.05, 0.3), unit="-", lo=0.001, hi=5.0, doc="rate: [min, max] commanded r' = r L / U0"
-    )
-    radius_L: tuple[float, ...] = param(
-        (2.0, 6.0),
-        unit="L",
-        lo=0.1,
-        hi=1000.0,
-        doc="radius: [min, max] commanded turning radius in ship lengths",
-    )
-    side: str = param("random", choices=("random", "starboard", "port"), doc="side of the commanded turn")
-    reward: TurningCircleReward = param(TurningCircleReward(), doc="reward weights")
-
-
-class TurningCircleTask(Task):
-    Config = TurningCircleConfig
-    kernel = staticmethod(kn.turning_update)
-    n_features = kn.TCFN
-
-    def __init__(self, config: TurningCircleConfig, n: int) -> None:
-        check_ranges(config, ("rate_prime", "radius_L", "initial_heading_deg"), "TurningCircle config")
-        super().__init__(config, n)
-        self.disturbances = Disturbances(config, self.ship, "TurningCircle config")
-        self.mode = MODES.index(config.mode)
-        self.ts = np.zeros((n, kn.TCN))
-        p = np.zeros(kn.TCPN)
-        p[kn.TCP_MODE] = self.mode
-        p[kn.TCP_L] = self.L
-        p[kn.TCP_DMAX] = getattr(self.helm, "rudder_limit_rad", np.array([self.delta_max]))[0]
-        p[kn.TCP_DT] = config.control_interval_s
-        self.p = p
-
-    def observation_features(self) -> list[Feature]:
-        U, L = self.U_T, self.L
-        f = self.motion_observation(rev=self.config.engine_control)
-        if self.config.mode == "rate":
-            f += [
-                Feature("commanded_rate", "rad/s", 2.0 * U / L, "commanded rate of turn", kn.TCF_CMD_RATE),
-                Feature(
-                    "rate_error", "rad/s", 2.0 * U / L, "commanded - actual rate of turn", kn.TCF_RATE_ERR
-                ),
-            ]
-        elif self.config.mode == "radius":
-            f += [
-                Feature(
-                    "commanded_curvature", "-", 1.0, "L / commanded radius (+ starboard)", kn.TCF_CMD_CURV
-                ),
-                Feature(
-                    "curvature_error", "-", 1.0, "L x (commanded - actual curvature r / U)", kn.TCF_CURV_ERR
-                ),
-            ]
-        else:
-            f += [
-                Feature(
-                    "heading_change",
-                    "rad",
-                    2.0 * math.pi,
-                    "heading - original course (unwrapped)",
-                    kn.TCF_HEAD_CHANGE,
-                ),
-                Feature("advance", "m", 10.0 * L, "displacement along the original course", kn.TCF_ADVANCE),
-                Feature("transfer", "m", 10.0 * L, "displacement across it (+ starboard)", kn.TCF_TRANSFER),
-            ]
-        return f
-
-    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
-        c = self.config
-        opts = dict(options or {})
-        heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
-        speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or self.U_T))
-        side = {"starboard": 1.0, "port": -1.0}.get(c.side)
-        if side is None:
-            side = 1.0 if rng.random() < 0.5 else -1.0
-        if self.mode == 0:
-            cmd = side * _uniform(rng, c.rate_prime) * speed / self.L
-        elif self.mode == 1:
-            cmd = side / (_uniform(rng, c.radius_L) * self.L)
-        else:
-            cmd = 0.0
-        cmd = float(opts.pop("command", cmd))
-        if opts:
-            raise ValueError(
-                f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s, command)"
-            )
-        self.disturbances.apply(self.sim, k, rng, heading)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
-        s = self.ts[k]
-        s[:] = 0.0
-        s[kn.TC_PSI0] = float(self.sim.heading[k])
-        s[kn.TC_N0] = float(self.sim.north[k])
-        s[kn.TC_E0] = float(self.sim.east[k])
-        s[kn.TC_CMD] = cmd
-        s[kn.TC_U0] = speed
-        s[kn.TC_PREV_ORDER] = float(self.sim.rudder_order[k])
-
-    def kernel_args(self) -> tuple:
-        return (
-            self.sim.state,
-            self.sim.inputs,
-            self.sim.alive,
-            self.ts,
-            self.p,
-            self.weights,
-            self.enc,
-            self.feat,
-            self.obs,
-            self.terms,
-            self.reward,
-            self.terminated,
-        )
-
-    def _radius(self, k: Any) -> Any:
-        U = np.hypot(self.sim.u[k], self.sim.v[k])
-        r = np.abs(self.sim.r[k])
-        return np.where(r > 1e-9, U / np.maximum(r, 1e-9), 0.0)
-
-    def _radius_k(self, k: int) -> float:
-        x = self.sim.state[k]
-        r = abs(float(x[lo.X_R]))
-        return math.hypot(float(x[lo.X_U]), float(x[lo.X_V])) / r if r > 1e-9 else 0.0
-
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
-        cmd = s[kn.TC_CMD]
-        info = {
-            "reward_terms": self.weighted_terms(k),
-            "time_s": s[kn.TC_T],
-            "heading_change_deg": math.degrees(self.feat[k, kn.TCF_HEAD_CHANGE]),
-            "rate_of_turn_deg_s": math.degrees(self.sim.state[k, lo.X_R]),
-            "turning_radius_m": self._radius_k(k),
-            "commanded_rate_deg_s": float(math.degrees(cmd)) if self.mode == 0 else 0.0,
-            "commanded_radius_m": float(1.0 / cmd) if self.mode == 1 else 0.0,
-            "advance_m": s[kn.TC_ADV],
-            "transfer_m": s[kn.TC_TRF],
-            "tactical_diameter_m": s[kn.TC_TD],
-            "reached_90": s[kn.TC_R90] > 0.0,
-            "reached_180": s[kn.TC_R180] > 0.0,
-            "success": bool(self.terminated[k] and self.sim.alive[k]),
-            "diverged": bool(not self.sim.alive[k]),
-        }
-        if self.mode == REVERSE:  # the only mode with an end state to reach
-            info["is_success"] = info["success"]
-        return info
-
-    def batch_info(self) -> dict[str, Any]:
-        s = self.task_columns()
-        cmd = s[kn.TC_CMD]
-        zeros = np.zeros(self.n)
-        info = {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[kn.TC_T],
-            "heading_change_deg": np.degrees(self.feat[:, kn.TCF_HEAD_CHANGE]),
-            "rate_of_turn_deg_s": np.degrees(self.sim.r),
-            "turning_radius_m": self._radius(slice(None)),
-            "commanded_rate_deg_s": np.degrees(cmd) if self.mode == 0 else zeros,
-            "commanded_radius_m": 1.0 / cmd if self.mode == 1 else zeros.copy(),
-            "advance_m": s[kn.TC_ADV],
-            "transfer_m": s[kn.TC_TRF],
-            "tactical_diameter_m": s[kn.TC_TD],
-            "reached_90": s[kn.TC_R90] > 0.0,
-            "reached_180": s[kn.TC_R180] > 0.0,
-            "success": self.terminated & self.sim.alive,
-            "diverged": ~self.sim.alive,
-        }
-        if self.mode == REVERSE:
-            info["is_success"] = info["success"].copy()
-        return info
-
-    def overlay(self, k: int) -> dict[str, Any]:
-        s = self.ts[k]
-        out: dict[str, Any] = {
-            "origin_m": (float(s[kn.TC_N0]), float(s[kn.TC_E0])),
-            "original_course_rad": float(s[kn.TC_PSI0]),
-            "title": "TurningCircle",
-        }
-        if self.mode == 1:
-            out["commanded_radius_m"] = float(1.0 / s[kn.TC_CMD])
-        return out
+__all__ = [
+    "MODES",
+    "REVERSE",
+    "TurningCircleConfig",
+    "TurningCircleEnv",
+    "TurningCircleReward",
+    "TurningCircleTask",
+    "TurningCircleVectorEnv",
+]
 
 
 class TurningCircleEnv(ShipEnv):

@@ -1,196 +1,42 @@
-"""ZigZag: a course-changing autopilot task built around the IMO zig-zag manoeuvre."""
+"""ZigZag environments: a course-changing autopilot task built around the IMO zig-zag manoeuvre.
+
+The environment classes and their spec sheets. Each task's declaration, configuration, reset and compiled step
+are in :mod:`vessel_gym.envs.tasks.zigzag` (v0) and :mod:`vessel_gym.envs.tasks.zigzag_v1` (v1); their names
+are re-exported here.
+"""
 
 from __future__ import annotations
 
-import math
-from collections.abc import Mapping
-from dataclasses import dataclass
-from typing import Any
+from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
+from vessel_gym.envs.tasks.zigzag import ZigZagConfig, ZigZagReward, ZigZagTask
+from vessel_gym.envs.tasks.zigzag_v1 import (
+    LEG_TIME_LIMIT_L_U,
+    REACH_TIME_L_U,
+    ZigZagRandomConfig,
+    ZigZagRandomTask,
+    ZigZagV1Config,
+    ZigZagV1Reward,
+    ZigZagV1Task,
+)
 
-import numpy as np
-
-from vessel_gym.envs import kernels as kn
-from vessel_gym.envs.config import OpenWaterConfig, weight
-from vessel_gym.envs.core import PHASE_STEP, Feature, ShipEnv, ShipVectorEnv, Task, _uniform
-from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
-from vessel_gym.physics.schema import check_ranges, param
-from vessel_gym.physics.units import DEG
-
-
-@dataclass(frozen=True, kw_only=True)
-class ZigZagReward:
-    """Weights of the ZigZag reward terms (reward = sum of weight x term)."""
-
-    heading_error: float = weight(1.0, "-|target - heading| / pi")
-    overshoot: float = weight(1.0, "-min(excursion past the reached target / psi, 1)")
-    rudder_activity: float = weight(0.1, "-|change of rudder order| / (2 rudder limit)")
-    speed_loss: float = weight(0.5, "-max(0, U0 - U) / U0")
-
-
-@dataclass(frozen=True, kw_only=True)
-class ZigZagConfig(OpenWaterConfig):
-    """ZigZag-v0 configuration (see :class:`ZigZagEnv`)."""
-
-    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
-    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
-    first_side: str = param(
-        "starboard", choices=("starboard", "port", "random"), doc="imo: first target side"
-    )
-    course_change_deg: tuple[float, ...] = param(
-        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
-    )
-    leg_time_s: tuple[float, ...] = param(
-        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
-    )
-    reward: ZigZagReward = param(ZigZagReward(), doc="reward weights")
-
-
-def _reset_options(
-    c: ZigZagConfig | ZigZagV1Config, options: Mapping | None, rng: np.random.Generator, U_T: float
-) -> tuple[float, float]:
-    """(heading, deg; approach speed, m/s) of a ZigZag reset: the options, else drawn / the config's."""
-    opts = dict(options or {})
-    heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
-    speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or U_T))
-    if opts:
-        raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
-    return heading, speed
-
-
-def _first_side(first_side: str, rng: np.random.Generator) -> float:
-    """IMO schedule: side of the first target, +1 starboard / -1 port ("random": drawn)."""
-    side = {"starboard": 1.0, "port": -1.0}.get(first_side)
-    return (1.0 if rng.random() < 0.5 else -1.0) if side is None else side
-
-
-def _course_change(c: ZigZagConfig | ZigZagV1Config, rng: np.random.Generator) -> float:
-    """Random schedule: a signed course change of ``course_change_deg``, either side, rad."""
-    return _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
-
-
-class ZigZagTask(Task):
-    Config = ZigZagConfig
-    kernel = staticmethod(kn.zigzag_update)
-    n_features = kn.ZFN
-
-    def __init__(self, config: ZigZagConfig, n: int) -> None:
-        check_ranges(config, ("course_change_deg", "leg_time_s", "initial_heading_deg"), "ZigZag config")
-        super().__init__(config, n)
-        self.imo = config.schedule == "imo"
-        self.psi_z = config.zigzag_heading_deg * DEG
-        self.ts = np.zeros((n, kn.ZN))
-        p = np.zeros(kn.ZPN)
-        p[kn.ZP_PSIZ] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
-        p[kn.ZP_DMAX] = self.rudder_scale()
-        p[kn.ZP_IMO] = 1.0 if self.imo else 0.0
-        p[kn.ZP_DT] = config.control_interval_s
-        self.p = p
-
-    def rudder_scale(self) -> float:
-        """Scale of the rudder_activity term: the helm's rudder limit, rad."""
-        return self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
-
-    def observation_features(self) -> list[Feature]:
-        f = self.motion_observation(rev=self.config.engine_control)
-        f += [
-            Feature("heading_error", "rad", math.pi, "target heading - heading, wrapped", kn.ZF_HEAD_ERR),
-            Feature(
-                "heading_deviation", "rad", math.pi, "heading - original course, wrapped", kn.ZF_HEAD_DEV
-            ),
-            Feature("target_deviation", "rad", math.pi, "target heading - original course", kn.ZF_TARGET_DEV),
-        ]
-        return f
-
-    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
-        c = self.config
-        heading, speed = _reset_options(c, options, rng, self.U_T)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
-        s = self.ts[k]
-        s[:] = 0.0
-        psi0 = float(self.sim.heading[k])
-        s[kn.Z_PSI0] = psi0
-        s[kn.Z_U0] = speed
-        s[kn.Z_PREV_ORDER] = float(self.sim.rudder_order[k])
-        if self.imo:
-            side = _first_side(c.first_side, rng)
-            s[kn.Z_SIDE] = side
-            s[kn.Z_TARGET] = psi0 + side * self.psi_z
-            s[kn.Z_EXEC] = 1.0  # the first execute is the rudder order at t = 0
-        else:
-            s[kn.Z_TARGET] = psi0
-            self._new_leg(k, rng)
-
-    def _new_leg(self, k: int, rng: np.random.Generator) -> None:
-        c = self.config
-        s = self.ts[k]
-        s[kn.Z_TARGET] += _course_change(c, rng)
-        s[kn.Z_LEG_SIGN] = 1.0 if s[kn.Z_TARGET] >= self.sim.heading[k] else -1.0
-        s[kn.Z_REACHED] = 0.0
-        s[kn.Z_EXEC] += 1.0
-        s[kn.Z_NEXT] = s[kn.Z_T] + _uniform(rng, c.leg_time_s)
-
-    def kernel_args(self) -> tuple:
-        return (
-            self.sim.state,
-            self.sim.inputs,
-            self.sim.alive,
-            self.ts,
-            self.p,
-            self.weights,
-            self.enc,
-            self.feat,
-            self.obs,
-            self.terms,
-            self.reward,
-            self.terminated,
-        )
-
-    def update(self, phase: np.ndarray) -> None:
-        if not self.imo:  # random schedule: a new leg on vessels whose leg time is up
-            due = (phase == PHASE_STEP) & (
-                self.ts[:, kn.Z_T] + self.config.control_interval_s >= self.ts[:, kn.Z_NEXT] - 1e-9
-            )
-            for k in np.flatnonzero(due):
-                self._new_leg(int(k), self.rngs[k])
-        super().update(phase)
-
-    # --- info -------------------------------------------------------------------------------------------
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
-        return {
-            "reward_terms": self.weighted_terms(k),
-            "time_s": s[kn.Z_T],
-            "target_heading_deg": math.degrees(s[kn.Z_TARGET]) % 360.0,
-            "heading_error_deg": math.degrees(self.feat[k, kn.ZF_HEAD_ERR]),
-            "executes": int(s[kn.Z_EXEC]),
-            "overshoot_count": int(s[kn.Z_OS_N]),
-            "overshoot_1_deg": math.degrees(s[kn.Z_OS1]),
-            "overshoot_2_deg": math.degrees(s[kn.Z_OS2]),
-            "last_overshoot_deg": math.degrees(s[kn.Z_OS_LAST]),
-            "diverged": not self.sim.alive[k],
-        }
-
-    def batch_info(self) -> dict[str, Any]:
-        s = self.task_columns()
-        return {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[kn.Z_T],
-            "target_heading_deg": np.degrees(s[kn.Z_TARGET]) % 360.0,
-            "heading_error_deg": np.degrees(self.feat[:, kn.ZF_HEAD_ERR]),
-            "executes": s[kn.Z_EXEC].astype(np.int64),
-            "overshoot_count": s[kn.Z_OS_N].astype(np.int64),
-            "overshoot_1_deg": np.degrees(s[kn.Z_OS1]),
-            "overshoot_2_deg": np.degrees(s[kn.Z_OS2]),
-            "last_overshoot_deg": np.degrees(s[kn.Z_OS_LAST]),
-            "diverged": ~self.sim.alive,
-        }
-
-    def overlay(self, k: int) -> dict[str, Any]:
-        return {
-            "target_heading_rad": float(self.ts[k, kn.Z_TARGET]),
-            "original_course_rad": float(self.ts[k, kn.Z_PSI0]),
-            "title": "ZigZag",
-        }
+__all__ = [
+    "LEG_TIME_LIMIT_L_U",
+    "REACH_TIME_L_U",
+    "ZigZagConfig",
+    "ZigZagEnv",
+    "ZigZagRandomConfig",
+    "ZigZagRandomEnv",
+    "ZigZagRandomTask",
+    "ZigZagRandomVectorEnv",
+    "ZigZagReward",
+    "ZigZagTask",
+    "ZigZagV1Config",
+    "ZigZagV1Env",
+    "ZigZagV1Reward",
+    "ZigZagV1Task",
+    "ZigZagV1VectorEnv",
+    "ZigZagVectorEnv",
+]
 
 
 class ZigZagEnv(ShipEnv):
@@ -318,215 +164,6 @@ class ZigZagVectorEnv(ShipVectorEnv):
     """Native vector version of :class:`ZigZagEnv` (one simulation of ``num_envs`` ships)."""
 
     Env = ZigZagEnv
-
-
-# --- ZigZag-v1 ----------------------------------------------------------------------------------------------
-#: the IMO schedule's next course change starts at the latest this many ship time scales L / U_T after the
-#: last one. It must not cut the zig-zag of a helm that completes it: the IMO 10/10 rule itself takes 4.5-6.7
-#: L / U_T from execute to execute on kvlcc2_l7 (27-40 s), a PID helm 2-3.3 L / U_T; so the limit bites only on
-#: a helm that stops short of a target or never gets there, and gives it the next course change anyway
-LEG_TIME_LIMIT_L_U = 10.0
-#: the target_reached bonus of a course change equals the heading_error charge of a turn whose error falls
-#: linearly to zero in 2 x this many L / U_T, the leg time limit: a helm that reaches a target within the
-#: limit earns about what the turn costs it or more, so completing a course change always beats stopping
-#: short of it, and, in the IMO schedule, a helm gains by completing more course changes
-REACH_TIME_L_U = 5.0
-
-
-@dataclass(frozen=True, kw_only=True)
-class ZigZagV1Reward:
-    """Weights of the ZigZag-v1 reward terms (reward = sum of weight x term)."""
-
-    heading_error: float = weight(1.0, "-|target - heading| / pi")
-    overshoot: float = weight(1.0, "-growth of the course change's overshoot / overshoot scale")
-    target_reached: float = weight(
-        1.0, "on reaching a target: +|course change| / pi x 5 (L / U_T) / control interval"
-    )
-    rudder_activity: float = weight(0.1, "-|change of rudder order| / (2 rudder limit)")
-    speed_loss: float = weight(0.1, "-max(0, U0 - U) / U0")
-
-
-@dataclass(frozen=True, kw_only=True)
-class ZigZagV1Config(DisturbedOpenWaterConfig):
-    """ZigZag-v1 configuration (see :class:`ZigZagV1Env`)."""
-
-    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
-    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
-    first_side: str = param("random", choices=("starboard", "port", "random"), doc="imo: first target side")
-    first_change_s: tuple[float, ...] = param(
-        (0.0, 10.0), unit="s", lo=0.0, hi=1e5, doc="[min, max] time of the first course change"
-    )
-    leg_time_limit_s: float | None = param(
-        None,
-        unit="s",
-        lo=0.01,
-        hi=1e5,
-        doc="imo: the next course change starts at the latest this long after the last (default 10 L / U_T)",
-    )
-    course_change_deg: tuple[float, ...] = param(
-        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
-    )
-    leg_time_s: tuple[float, ...] = param(
-        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
-    )
-    initial_heading_deg: tuple[float, ...] = param(
-        (0.0, 360.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
-    )
-    success_overshoot_deg: float | None = param(
-        None,
-        unit="deg",
-        lo=0.0,
-        hi=180.0,
-        doc="success: mean overshoot per course change at most this (default half the overshoot scale)",
-    )
-    reward: ZigZagV1Reward = param(ZigZagV1Reward(), doc="reward weights")
-
-
-@dataclass(frozen=True, kw_only=True)
-class ZigZagRandomConfig(ZigZagV1Config):
-    """ZigZagRandom-v1 configuration: ZigZag-v1 with the random course-change schedule."""
-
-    schedule: str = param("random", choices=("imo", "random"), doc="target schedule")
-
-
-class ZigZagV1Task(Task):
-    Config = ZigZagV1Config
-    kernel = staticmethod(kn.zigzag_v1_update)
-    n_features = kn.ZFN
-
-    def __init__(self, config: ZigZagV1Config, n: int) -> None:
-        where = f"{type(config).__name__}"
-        check_ranges(
-            config, ("course_change_deg", "leg_time_s", "initial_heading_deg", "first_change_s"), where
-        )
-        super().__init__(config, n)
-        self.disturbances = Disturbances(config, self.ship, where)
-        self.imo = config.schedule == "imo"
-        self.psi_z = config.zigzag_heading_deg * DEG
-        self.overshoot_ref = self.psi_z if self.imo else config.course_change_deg[0] * DEG
-        self.leg_time_limit = (
-            config.leg_time_limit_s
-            if config.leg_time_limit_s is not None
-            else LEG_TIME_LIMIT_L_U * self.L / self.U_T
-        )
-        self.success_overshoot = (
-            config.success_overshoot_deg * DEG
-            if config.success_overshoot_deg is not None
-            else 0.5 * self.overshoot_ref
-        )
-        self.ts = np.zeros((n, kn.ZVN))
-        p = np.zeros(kn.ZVPN)
-        p[kn.ZVP_PSIZ] = self.psi_z
-        p[kn.ZVP_OS_REF] = self.overshoot_ref
-        p[kn.ZVP_DMAX] = self.rudder_scale()
-        p[kn.ZVP_IMO] = 1.0 if self.imo else 0.0
-        p[kn.ZVP_DT] = config.control_interval_s
-        p[kn.ZVP_LEG_LIMIT] = self.leg_time_limit
-        p[kn.ZVP_REACH] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
-        self.p = p
-
-    rudder_scale = ZigZagTask.rudder_scale
-    observation_features = ZigZagTask.observation_features
-
-    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
-        c = self.config
-        heading, speed = _reset_options(c, options, rng, self.U_T)
-        self.disturbances.apply(self.sim, k, rng, heading)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
-        s = self.ts[k]
-        s[:] = 0.0
-        psi0 = float(self.sim.heading[k])
-        s[kn.ZV_PSI0] = psi0
-        s[kn.ZV_TARGET] = psi0
-        s[kn.ZV_U0] = speed
-        s[kn.ZV_PREV_ORDER] = float(self.sim.rudder_order[k])
-        s[kn.ZV_NEXT] = _uniform(rng, c.first_change_s)
-        if self.imo:
-            side = _first_side(c.first_side, rng)
-            s[kn.ZV_SIDE] = -side  # the first change flips it to the first side
-        else:
-            self._draw_change(k, rng)
-
-    def _draw_change(self, k: int, rng: np.random.Generator) -> None:
-        """Draw vessel k's next random course change and the duration of the leg it starts."""
-        c = self.config
-        s = self.ts[k]
-        s[kn.ZV_PEND_CHANGE] = _course_change(c, rng)
-        s[kn.ZV_PEND_LEG] = _uniform(rng, c.leg_time_s)
-        s[kn.ZV_DRAW] = 0.0
-
-    kernel_args = ZigZagTask.kernel_args
-
-    def update(self, phase: np.ndarray) -> None:
-        super().update(phase)
-        if self.imo:
-            return
-        # the kernel started a course change: draw the one after it
-        if self.n == 1:  # a scalar test: the one-ship step should not pay for flatnonzero
-            if self.ts[0, kn.ZV_DRAW]:
-                self._draw_change(0, self.rngs[0])
-            return
-        for k in np.flatnonzero(self.ts[:, kn.ZV_DRAW]):
-            self._draw_change(int(k), self.rngs[k])
-
-    # --- info -------------------------------------------------------------------------------------------
-    def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
-        """(overshoot per course change, largest overshoot, success) from the task columns ``s`` of all
-        vessels (the batched info): the open measurement counts with its overshoot so far."""
-        running = s[kn.ZV_OS_PEAK] * s[kn.ZV_OS_ON]
-        per_change = (s[kn.ZV_OS_SUM] + running) / np.maximum(s[kn.ZV_CHANGES], 1.0)
-        largest = np.maximum(s[kn.ZV_OS_MAX], running)
-        success = (s[kn.ZV_MISSED] == 0.0) & (s[kn.ZV_NREACH] >= 1.0) & (per_change <= self.success_overshoot)
-        return per_change, largest, success
-
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
-        # as _metrics, on Python floats (the one-ship step should not pay for numpy scalar arithmetic)
-        running = s[kn.ZV_OS_PEAK] * s[kn.ZV_OS_ON]
-        per_change = (s[kn.ZV_OS_SUM] + running) / max(s[kn.ZV_CHANGES], 1.0)
-        success = s[kn.ZV_MISSED] == 0.0 and s[kn.ZV_NREACH] >= 1.0 and per_change <= self.success_overshoot
-        return {
-            "reward_terms": self.weighted_terms(k),
-            "time_s": s[kn.ZV_T],
-            "target_heading_deg": math.degrees(s[kn.ZV_TARGET]) % 360.0,
-            "heading_error_deg": math.degrees(self.feat[k, kn.ZF_HEAD_ERR]),
-            "course_changes": int(s[kn.ZV_CHANGES]),
-            "targets_reached": int(s[kn.ZV_NREACH]),
-            "targets_missed": int(s[kn.ZV_MISSED]),
-            "overshoot_deg": math.degrees(per_change),
-            "max_overshoot_deg": math.degrees(max(s[kn.ZV_OS_MAX], running)),
-            "overshoot_1_deg": math.degrees(s[kn.ZV_OS1]),
-            "overshoot_2_deg": math.degrees(s[kn.ZV_OS2]),
-            "success": success,
-            "is_success": success,
-            "diverged": not self.sim.alive[k],
-        }
-
-    def batch_info(self) -> dict[str, Any]:
-        s = self.task_columns()
-        per_change, largest, success = self._metrics(s)
-        return {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[kn.ZV_T],
-            "target_heading_deg": np.degrees(s[kn.ZV_TARGET]) % 360.0,
-            "heading_error_deg": np.degrees(self.feat[:, kn.ZF_HEAD_ERR]),
-            "course_changes": s[kn.ZV_CHANGES].astype(np.int64),
-            "targets_reached": s[kn.ZV_NREACH].astype(np.int64),
-            "targets_missed": s[kn.ZV_MISSED].astype(np.int64),
-            "overshoot_deg": np.degrees(per_change),
-            "max_overshoot_deg": np.degrees(largest),
-            "overshoot_1_deg": np.degrees(s[kn.ZV_OS1]),
-            "overshoot_2_deg": np.degrees(s[kn.ZV_OS2]),
-            "success": success,
-            "is_success": success.copy(),
-            "diverged": ~self.sim.alive,
-        }
-
-    overlay = ZigZagTask.overlay  # both task states keep the original course and target in the same columns
-
-
-class ZigZagRandomTask(ZigZagV1Task):
-    Config = ZigZagRandomConfig
 
 
 class ZigZagV1Env(ShipEnv):

@@ -133,3 +133,71 @@ def added_mass_coriolis_forces(P, u, v, r):
     X, Y, N = coriolis_forces(P, u, v, r)
     Xb, Yb, Nb = rigid_body_coriolis_forces(P, u, v, r)
     return X - Xb, Y - Yb, N - Nb
+
+
+# --- named accessors of one vessel's rows ------------------------------------------------------------------------
+# What a task asks the physics for, by name: the motion in the state row x[k] and the helm in the input row
+# inp[k] of a simulation (``sim.state``, ``sim.inputs``), the current and the air velocity in its environment row
+# env[k] (``sim.env``). Inlined into the caller (numba IR inlining): a call with array arguments would otherwise
+# cost reference counts in the task kernels' loops.
+@njit(cache=True, inline="always")
+def velocity_through_water(x, k):
+    """(u m/s, v m/s, r rad/s) of vessel k: surge and sway through the water at midship, rate of turn."""
+    return x[k, lo.X_U], x[k, lo.X_V], x[k, lo.X_R]
+
+
+@njit(cache=True, inline="always")
+def heading(x, k):
+    """Heading psi of vessel k, rad, clockwise from north, unwrapped (as integrated)."""
+    return x[k, lo.X_PSI]
+
+
+@njit(cache=True, inline="always")
+def position(x, k):
+    """(north m, east m) of vessel k's midship point."""
+    return x[k, lo.X_N], x[k, lo.X_E]
+
+
+@njit(cache=True, inline="always")
+def rudder_angle(x, k):
+    """Actual rudder angle of vessel k, rad, positive to starboard."""
+    return x[k, lo.X_DELTA]
+
+
+@njit(cache=True, inline="always")
+def shaft_speed(x, k):
+    """Propeller shaft speed of vessel k, rev/s (negative astern)."""
+    return x[k, lo.X_REV]
+
+
+@njit(cache=True, inline="always")
+def helm_orders(inp, k):
+    """(rudder order rad, shaft-speed order rev/s) of vessel k."""
+    return inp[k, lo.U_DELTA_C], inp[k, lo.U_REV_C]
+
+
+@njit(cache=True, inline="always")
+def current_velocity(env, k):
+    """Current velocity (north m/s, east m/s) at vessel k, as the physics applies it."""
+    return env[k, lo.E_CUR_N], env[k, lo.E_CUR_E]
+
+
+@njit(cache=True, inline="always")
+def air_velocity(env, k):
+    """Air velocity over ground (north m/s, east m/s) at vessel k (the true wind blows towards it)."""
+    return env[k, lo.E_WIND_N], env[k, lo.E_WIND_E]
+
+
+@njit(cache=True)
+def speed_through_water(u, v):
+    """Speed through the water U = sqrt(u^2 + v^2), m/s, from surge and sway (m/s)."""
+    return math.sqrt(u * u + v * v)
+
+
+@njit(cache=True)
+def apparent_wind(u, v, cos_psi, sin_psi, cur_n, cur_e, w_n, w_e):
+    """Apparent wind as an anemometer on board senses it, (V m/s, gamma rad, cos gamma, sin gamma) as
+    :func:`relative_wind`, from the velocity through the water (u, v), the current (cur_n, cur_e) and the air
+    velocity (w_n, w_e) over ground (m/s): the wind relative to the ship's velocity over ground."""
+    u_g, v_g = ground_velocity_body(u, v, cos_psi, sin_psi, cur_n, cur_e)
+    return relative_wind(u_g, v_g, cos_psi, sin_psi, w_n, w_e)

@@ -1,0 +1,217 @@
+"""Task declarations: a task's reward terms and observation features are named once, and everything positional
+is derived from those names.
+
+A task module declares
+
+* its reward terms, a tuple of :class:`Term` (name, default weight, what the term is per step);
+* its features, a tuple of :class:`FeatureSpec` (name, unit, scale, meaning): every quantity the task computes
+  per vessel, of which the configuration observes a subset;
+* the columns of its per-vessel task state and of its parameter row, with :func:`columns`.
+
+From the one declaration :class:`TaskSpec` derives the kernel's column indices (``spec.TERM.heading_error``,
+``spec.FEAT.sog``: namedtuples of ints, which numba folds to constants when a kernel reads them as module
+globals), the reward-weights config class (:meth:`TaskSpec.weights_class`, its fields in declaration order), the
+weight vector (by name, :meth:`TaskSpec.weight_vector`), the keys of ``info["reward_terms"]`` and the docs
+tables (:meth:`TaskSpec.reward_table`, :meth:`TaskSpec.feature_table`; docs/envs.md carries them and a test
+compares). Nothing is numbered by hand, so a reordered declaration moves the kernel's columns, the weights, the
+``info`` keys and the docs with it.
+
+Feature scales are a factor times a named scale of the task (``(1.5, "U_T")``: 1.5 times the ship's test
+speed); each task says what its scale names are worth (:meth:`vessel_gym.envs.task.Task.scales`), and the
+docs show the name.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections import namedtuple
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from vessel_gym.envs.config import weight
+
+
+def columns(*names: str, start: int = 0, typename: str = "Columns") -> Any:
+    """A namedtuple mapping each of ``names`` to its column, ``start``, ``start + 1``, ... in order.
+
+    Module-level results are compile-time constants in numba kernels (``s[S.target]`` compiles to a fixed
+    offset). ``len()`` of the result is the number of columns. Names must be unique identifiers.
+    """
+    if len(set(names)) != len(names):
+        dup = sorted({n for n in names if names.count(n) > 1})
+        raise ValueError(f"{typename}: duplicate column names {dup}")
+    return namedtuple(typename, names)(*range(start, start + len(names)))
+
+
+@dataclass(frozen=True)
+class Term:
+    """A reward term: its name (the weight's config key and its ``info["reward_terms"]`` key), default weight
+    and what the term is worth per step (before weighting)."""
+
+    name: str
+    weight: float
+    doc: str
+
+
+@dataclass(frozen=True)
+class FeatureSpec:
+    """A per-vessel quantity a task computes: name, unit, scale (``(factor, scale name)``; normalized
+    observation = value / (factor x the task's value of that name)) and meaning.
+
+    ``repeat`` names the config key whose value is the number of copies (``beam_0``, ``beam_1``, ...): such a
+    block comes last in a declaration and ``{j}`` and ``{angle}`` in ``doc`` stand for the copy's index and for
+    360 j / count.
+    """
+
+    name: str
+    unit: str
+    scale: tuple[float, str]
+    doc: str
+    repeat: str | None = None
+
+    def scale_text(self) -> str:
+        factor, name = self.scale
+        if name == "1":
+            return f"{factor:g}"
+        return name if factor == 1.0 else f"{factor:g} {name}"
+
+
+@dataclass(frozen=True)
+class Feature:
+    """One observation entry as the environment uses it: name, unit, scale (a number), meaning and its column
+    in the task's feature array."""
+
+    name: str
+    unit: str
+    scale: float
+    doc: str
+    column: int = 0
+
+
+def _identifier(name: str) -> str:
+    if not name.isidentifier():
+        raise ValueError(f"declared name {name!r} is not an identifier")
+    return name
+
+
+class TaskSpec:
+    """The declaration of one task: reward terms and features, and what is derived from them.
+
+    ``TERM``: namedtuple term name -> column of the kernel's reward-term rows. ``FEAT``: feature name -> column of
+    the feature rows (a repeated feature: its first column; its copies follow to the end of the row).
+    """
+
+    def __init__(self, title: str, terms: Sequence[Term], features: Sequence[FeatureSpec]) -> None:
+        self.title = title
+        self.terms = tuple(terms)
+        self.features = tuple(features)
+        self.term_names = tuple(_identifier(t.name) for t in self.terms)
+        self.feature_names = tuple(_identifier(f.name) for f in self.features)
+        self.TERM = columns(*self.term_names, typename="Terms")
+        self.FEAT = columns(*self.feature_names, typename="Features")
+        repeated = [i for i, f in enumerate(self.features) if f.repeat is not None]
+        if repeated and repeated != [len(self.features) - 1]:
+            raise ValueError(f"{title}: only the last feature may repeat")
+        #: feature columns before a repeated block (the whole row if nothing repeats)
+        self.n_fixed = len(self.features) - len(repeated)
+        self._feature = {f.name: f for f in self.features}
+
+    def variant(self, title: str, **terms: Term) -> TaskSpec:
+        """The same declaration (same names in the same order: the same kernel columns) under another title,
+        with the terms named in ``terms`` replaced (new default weight or description)."""
+        for name, term in terms.items():
+            if name not in self.term_names or term.name != name:
+                raise ValueError(f"{title}: {name!r} replaces no term of {self.title} of that name")
+        return TaskSpec(title, tuple(terms.get(t.name, t) for t in self.terms), self.features)
+
+    # --- reward -------------------------------------------------------------------------------------------
+    def weights_class(self, name: str, module: str, doc: str, base: type | None = None) -> type:
+        """A frozen config dataclass of the weights, one field per term in declaration order (default weight,
+        ``doc`` in the field's metadata), named ``name`` in ``module`` (so that configs pickle). With ``base``
+        (another task's weights class with the same terms) it subclasses it."""
+        if base is not None:
+            base_names = tuple(f.name for f in dataclasses.fields(base))
+            if base_names != self.term_names:
+                raise ValueError(
+                    f"{name}: terms {self.term_names} differ from {base.__name__}'s {base_names}"
+                )
+        cls = dataclasses.make_dataclass(
+            name,
+            [(t.name, float, weight(t.weight, t.doc)) for t in self.terms],
+            bases=(base,) if base is not None else (),
+            frozen=True,
+            kw_only=True,
+        )
+        cls.__module__ = module
+        cls.__qualname__ = name
+        cls.__doc__ = doc
+        return cls
+
+    def weight_vector(self, reward: Any) -> np.ndarray:
+        """The weights of a reward config in term-column order (read by name)."""
+        names = tuple(f.name for f in dataclasses.fields(reward))
+        if sorted(names) != sorted(self.term_names):
+            raise ValueError(f"{self.title}: reward weights {names} are not the terms {self.term_names}")
+        return np.array([getattr(reward, t) for t in self.term_names], dtype=np.float64)
+
+    # --- features -----------------------------------------------------------------------------------------
+    def n_features(self, counts: Mapping[str, int] | None = None) -> int:
+        """Columns of the feature rows: the fixed features, then the repeated block's ``counts[repeat]``."""
+        last = self.features[-1] if self.features else None
+        if last is None or last.repeat is None:
+            return self.n_fixed
+        return self.n_fixed + int((counts or {})[last.repeat])
+
+    def layout(
+        self, names: Iterable[str], scales: Mapping[str, float], counts: Mapping[str, int] | None = None
+    ) -> list[Feature]:
+        """The observation entries for the features ``names`` (in that order; a repeated feature expands to its
+        copies), with the scales resolved from the task's scale values ``scales``."""
+        out = []
+        for name in names:
+            spec = self._feature.get(name)
+            if spec is None:
+                raise KeyError(
+                    f"{self.title}: no declared feature {name!r} (have: {', '.join(self.feature_names)})"
+                )
+            factor, sname = spec.scale
+            value = factor * (1.0 if sname == "1" else scales[sname])
+            col = getattr(self.FEAT, name)
+            if spec.repeat is None:
+                out.append(Feature(name, spec.unit, value, spec.doc, col))
+                continue
+            count = int((counts or {})[spec.repeat])
+            for j in range(count):
+                doc = spec.doc.format(j=j, angle=f"{360.0 * j / count:g}")
+                out.append(Feature(f"{name}_{j}", spec.unit, value, doc, col + j))
+        return out
+
+    # --- docs ---------------------------------------------------------------------------------------------
+    def reward_table(self) -> str:
+        """Markdown table of the reward terms (docs/envs.md carries it)."""
+        rows = ["| term | default weight | value per step |", "|---|---|---|"]
+        rows += [f"| `{t.name}` | {t.weight:g} | {_md(t.doc)} |" for t in self.terms]
+        return "\n".join(rows)
+
+    def feature_table(self) -> str:
+        """Markdown table of the declared features (docs/envs.md carries it)."""
+        rows = ["| column | feature | unit | scale | meaning |", "|---|---|---|---|---|"]
+        for f in self.features:
+            name = f"{f.name}_j" if f.repeat else f.name
+            col = getattr(self.FEAT, f.name)
+            where = f"{col}.." if f.repeat else f"{col}"
+            doc = f.doc.format(j="j", angle=f"360 j / {f.repeat}") if f.repeat else f.doc
+            rows.append(f"| {where} | `{name}` | {f.unit} | {f.scale_text()} | {_md(doc)} |")
+        return "\n".join(rows)
+
+    def docs(self) -> str:
+        """The reward and feature tables under a heading (the generated part of docs/envs.md)."""
+        return f"#### {self.title}\n\nReward terms:\n\n{self.reward_table()}\n\nFeatures:\n\n{self.feature_table()}\n"
+
+
+def _md(text: str) -> str:
+    """Text for a markdown table cell (a literal | escaped)."""
+    return text.replace("|", "\\|")

@@ -1,0 +1,296 @@
+"""The single environment and its native vector twin over one task (N = 1 and N = num_envs vessels).
+
+:class:`ShipEnv` is a task of N = 1; :class:`ShipVectorEnv` is the same task of N = num_envs, so single and
+vector environments share every line of task code and vessel k of a vector environment seeded with s follows
+exactly the trajectory of a single environment seeded with s + k.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from vessel_gym.envs.config import make_config
+from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
+
+
+class ShipEnv(gym.Env):
+    """Base of the single environments (see each subclass's docstring for its spec sheet)."""
+
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
+    Task: ClassVar[type[Task]]
+    env_name: ClassVar[str] = "ShipEnv"
+
+    def __init__(self, render_mode: str | None = None, config: Any = None, **overrides: Any) -> None:
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.render_mode = render_mode
+        self.task = self.make_task(config, overrides, 1)
+        self.config = self.task.config
+        self.sim = self.task.sim
+        self.observation_layout = self.task.layout
+        self.action_space = self.task.helm.space
+        self.observation_space = self.task.layout.space()
+        self._renderer = None
+        self._track: list[tuple[float, float]] = []
+        self._traffic: Any = None  # the scenario's traffic, simulated only for frames (first render)
+        self._step_phase = np.full(1, PHASE_STEP, dtype=np.int8)
+        self._reset_phase = np.full(1, PHASE_RESET, dtype=np.int8)
+        self._reset_done = False
+
+    @classmethod
+    def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
+        cfg = make_config(cls.Task.Config, config, where=f"{cls.env_name} config", **overrides)
+        return cls.Task(cfg, n)
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        self.task.rngs = (self.np_random,)
+        self.task.reset_vessel(0, self.np_random, options)
+        self.task.update(self._reset_phase)
+        self._reset_done = True
+        if self.render_mode is not None:
+            self._track = [(float(self.sim.north[0]), float(self.sim.east[0]))]
+            if self.render_mode == "human":
+                self.render()
+        return self.task.obs[0].copy(), self.task.info(0)
+
+    def step(self, action: Any):
+        if not self._reset_done:
+            raise RuntimeError("call reset() before step()")
+        task = self.task
+        task.helm.apply_single(action)
+        task.advance()
+        task.update(self._step_phase)
+        if self.render_mode is not None:
+            self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
+            if self.render_mode == "human":
+                self.render()
+        return task.obs[0].copy(), float(task.reward[0]), bool(task.terminated[0]), False, task.info(0)
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array' or 'human'")
+            return None
+        if self._renderer is None:
+            self._renderer = self.task.renderer(self.render_mode)
+        return self._renderer.draw(
+            self.sim,
+            0,
+            self._track,
+            telegraph=self._telegraph(),
+            overlay=self.task.overlay(0),
+            targets=self._traffic_targets(),
+        )
+
+    def _traffic_targets(self) -> Any:
+        """The scenario's ``[[traffic]]`` ships at this step, simulated only when a frame is drawn (the task, its
+        observations and reward never see them)."""
+        scenario = getattr(self.task, "scenario", None)
+        if scenario is None or not scenario.traffic:
+            return ()
+        if self._traffic is None:
+            from vessel_gym.scenarios.traffic import Traffic
+
+            self._traffic = Traffic.from_scenario(scenario, self.task.dt, self.config.control_interval_s)
+        steps = max(len(self._track) - 1, 0)  # one track point per step since the reset
+        if steps < self._traffic.steps:  # a new episode
+            self._traffic.reset()
+        return self._traffic.lazy_targets(steps)
+
+    def _telegraph(self) -> int | None:
+        return (
+            int(self.task.helm.telegraph[0])
+            if self.config.action_type == "discrete" and self.config.engine_control
+            else None
+        )
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_renderer"] = None
+        return state
+
+
+# --- native vector environment ---------------------------------------------------------------------------------
+class ShipVectorEnv(VectorEnv):
+    """Base of the native vector environments: N vessels in one simulation, stepped in one batched call.
+
+    Autoreset modes: next-step (default, as Gymnasium's SyncVectorEnv), same-step (``info["final_obs"]``,
+    ``info["final_info"]``) and disabled (reset with ``options={"reset_mask": mask}``). Vessel k seeded
+    with ``seed + k`` reproduces a single environment reset with that seed.
+    """
+
+    metadata: ClassVar[dict[str, Any]] = {
+        "render_modes": ["rgb_array"],
+        "render_fps": 4,
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+    }
+    Env: ClassVar[type[ShipEnv]]
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        max_episode_steps: int | None = None,
+        render_mode: str | None = None,
+        config: Any = None,
+        autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP,
+        **overrides: Any,
+    ) -> None:
+        if num_envs < 1:
+            raise ValueError(f"num_envs must be >= 1, got {num_envs}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}"
+            )
+        self.autoreset_mode = AutoresetMode(autoreset_mode)
+        self.metadata = {**type(self).metadata, "autoreset_mode": self.autoreset_mode}
+        self.num_envs = num_envs
+        self.max_episode_steps = max_episode_steps
+        self.render_mode = render_mode
+        self.task = self.Env.make_task(config, overrides, num_envs)
+        self.config = self.task.config
+        self.sim = self.task.sim
+        self.observation_layout = self.task.layout
+        self.single_action_space = self.task.helm.space
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self.single_observation_space = self.task.layout.space()
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self._rngs: list[np.random.Generator] | None = None
+        self._steps = np.zeros(num_envs, dtype=np.int64)
+        self._needs_reset = np.zeros(num_envs, dtype=np.bool_)
+        self._all_reset = np.full(num_envs, PHASE_RESET, dtype=np.int8)
+        self._renderer = None
+        self._tracks: list[list[tuple[float, float]]] = [[] for _ in range(min(num_envs, 4))]
+        self._reset_done = False
+
+    def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
+        for k in idx:
+            self.task.reset_vessel(int(k), self._rngs[k], options)
+            self._steps[k] = 0
+            if self.render_mode is not None and k < len(self._tracks):
+                self._tracks[k] = [(float(self.sim.north[k]), float(self.sim.east[k]))]
+
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
+        super().reset(seed=seed if isinstance(seed, int) else None)
+        n = self.num_envs
+        if seed is None:
+            seeds: list = [None] * n
+        elif isinstance(seed, int):
+            seeds = [seed + i for i in range(n)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != n:
+                raise ValueError(f"seed list must have {n} entries, got {len(seeds)}")
+        if self._rngs is None:
+            self._rngs = [seeding.np_random(s)[0] for s in seeds]
+        else:
+            for i, s in enumerate(seeds):
+                if s is not None:
+                    self._rngs[i] = seeding.np_random(s)[0]
+        self.task.rngs = self._rngs
+        opts = dict(options) if options else {}
+        mask = opts.pop("reset_mask", None)
+        if mask is not None:
+            mask = np.asarray(mask)
+            if mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
+                raise ValueError(f"options['reset_mask'] must be a boolean array of shape ({n},) with a True")
+            phase = np.where(mask, PHASE_RESET, 0).astype(np.int8)
+        else:
+            mask = np.ones(n, dtype=np.bool_)
+            phase = self._all_reset
+        self._reset_vessels(np.flatnonzero(mask), opts or None)
+        self._needs_reset[mask] = False
+        self.task.update(phase)
+        self._reset_done = True
+        return self.task.observe(), self.task.batch_info()
+
+    def step(self, actions: Any):
+        if not self._reset_done:
+            raise RuntimeError("call reset() before step()")
+        task = self.task
+        n = self.num_envs
+        a = task.helm.batch(actions, n)
+        done_prev = self._needs_reset
+        if self.autoreset_mode == AutoresetMode.DISABLED and done_prev.any():
+            raise RuntimeError("autoreset disabled: reset the finished sub-environments (options reset_mask)")
+        task.helm.apply(a)
+        task.advance()
+        if done_prev.any():
+            self._reset_vessels(np.flatnonzero(done_prev), None)
+            phase = np.where(done_prev, PHASE_RESET, PHASE_STEP).astype(np.int8)
+        else:
+            phase = task.phase
+        task.update(phase)
+        stepped = ~done_prev
+        self._steps[stepped] += 1
+        terminated = task.terminated & stepped
+        truncated = (
+            stepped & ~terminated & (self._steps >= self.max_episode_steps)
+            if self.max_episode_steps
+            else np.zeros(n, dtype=np.bool_)
+        )
+        rewards = task.reward.copy()
+        obs = task.observe()
+        info = task.batch_info()
+        done = terminated | truncated
+        if self.render_mode is not None:
+            for k in range(len(self._tracks)):
+                if stepped[k]:
+                    self._tracks[k].append((float(self.sim.north[k]), float(self.sim.east[k])))
+        if self.autoreset_mode == AutoresetMode.SAME_STEP and done.any():
+            idx = np.flatnonzero(done)
+            final_obs = np.full(n, None, dtype=object)
+            final_info = np.full(n, None, dtype=object)
+            for k in idx:
+                final_obs[k] = obs[k].copy()
+                final_info[k] = {
+                    key: (val[k] if isinstance(val, np.ndarray) else {t: v[k] for t, v in val.items()})
+                    for key, val in info.items()
+                    if not key.startswith("_")
+                }
+            self._reset_vessels(idx, None)
+            phase2 = np.where(done, PHASE_RESET, 0).astype(np.int8)
+            task.update(phase2)
+            obs[idx] = task.observe()[idx]
+            info["final_obs"] = final_obs
+            info["_final_obs"] = done.copy()
+            info["final_info"] = final_info
+            info["_final_info"] = done.copy()
+            self._needs_reset = np.zeros(n, dtype=np.bool_)
+        else:
+            self._needs_reset = done
+        return obs, rewards, terminated, truncated, info
+
+    def render(self):
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
+            return None
+        if self._renderer is None:
+            self._renderer = self.task.renderer("rgb_array")
+        return tuple(
+            self._renderer.draw(self.sim, k, self._tracks[k], telegraph=None, overlay=self.task.overlay(k))
+            for k in range(len(self._tracks))
+        )
+
+    def close_extras(self, **kwargs: Any) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_renderer"] = None
+        return state

@@ -1,0 +1,223 @@
+"""The task base: one simulation of N vessels, its start states, features, reward terms and episode ends.
+
+A task is declared once (:class:`~vessel_gym.envs.declare.TaskSpec`: reward terms and features by name) and
+asks the physics for named quantities; its per-step arithmetic runs in one compiled call for all N vessels
+(the task's ``kernel``). The single environment is a task of N = 1, the vector environment the same task of
+N = num_envs (:mod:`vessel_gym.envs.env`).
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any, ClassVar
+
+import numpy as np
+
+from vessel_gym.envs.config import ShipEnvConfig
+from vessel_gym.envs.declare import Feature, TaskSpec
+from vessel_gym.envs.helm import make_helm
+from vessel_gym.envs.observation import ObservationLayout
+from vessel_gym.physics.linear import stable_step
+from vessel_gym.physics.schema import SpecError
+from vessel_gym.physics.shipfile import Ship, load_ship
+from vessel_gym.physics.simulation import Simulation, steps_for
+from vessel_gym.physics.units import DEG
+
+PHASE_SKIP = 0  # vessel untouched this call
+PHASE_STEP = 1  # vessel advanced one control step: update task state, reward terms, outcome
+PHASE_RESET = 2  # vessel just reset: features only
+
+
+# The default physics step keeps the ship's fastest mode at the steady run (on small models the shaft's, the
+# steering gear being solved exactly) within 0.7 of the integrator's stability limit. Over the operating
+# envelope (astern, low speed, hard over, shaft overspeed) that mode is up to 1.1x faster on kvlcc2_l7, so the
+# step stays within 0.77 of the limit everywhere. Stability is not accuracy: the rudder's path within a step
+# (slewing, then settling) is forcing the step must also resolve, so the ship travels at most 5 % of its length
+# per step at its test speed (the Mariner, stable to 22 s steps, converges at 0.06 L and is off by 0.07 deg at
+# 0.12 L). docs/envs.md, "Physics step", has the envelope and the convergence studies.
+STEP_MARGIN = 0.7
+STEP_TRAVEL_L = 0.05  # ship lengths travelled per default step, at most
+
+
+def physics_step(config: ShipEnvConfig, ship: Ship) -> float:
+    """``config.dt_s``, or the default: the longest control_interval_s / k within STEP_MARGIN x the stable step
+    and STEP_TRAVEL_L ship lengths of travel at the test speed.
+
+    An explicit ``dt_s`` beyond the stable step raises SpecError (the integration would diverge).
+    """
+    limit = stable_step(ship, config.method)
+    if config.dt_s is None:
+        longest = min(STEP_MARGIN * limit, STEP_TRAVEL_L * ship.particulars.L_m / ship.test_speed_m_s)
+        return config.control_interval_s / math.ceil(config.control_interval_s / longest - 1e-9)
+    if config.dt_s > limit:
+        raise SpecError(
+            f"dt_s = {config.dt_s:g} s is beyond the stable {config.method} step of ship {ship.name!r}, "
+            f"{limit:.3g} s (set by its fastest mode); use a shorter dt_s or leave it unset"
+        )
+    return float(config.dt_s)
+
+
+class Task(abc.ABC):
+    """A task over one simulation of N vessels: start states, observations, reward terms, episode end.
+
+    Subclasses define ``spec`` (their :class:`~vessel_gym.envs.declare.TaskSpec`: reward terms and features by
+    name), ``Config`` (a :class:`ShipEnvConfig` subclass whose ``reward`` table is ``spec``'s weights class),
+    their compiled ``kernel`` and its ``kernel_args()``, ``observed()`` (the names of the observed features),
+    ``reset_vessel()`` and ``info()``; ``scales()`` and ``feature_counts()`` when their features need more than
+    the shared scale names.
+    """
+
+    Config: ClassVar[type[ShipEnvConfig]] = ShipEnvConfig
+    spec: ClassVar[TaskSpec]
+    kernel: ClassVar[Any]  # compiled update, batched over vessels: kernel(phase, *kernel_args())
+
+    def __init__(
+        self,
+        config: Any,
+        n: int,
+        ship: str | Ship | None = None,
+        reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
+    ) -> None:
+        self.config = config
+        self.n = n
+        ship = load_ship(ship if ship is not None else config.ship)
+        self.dt = physics_step(config, ship)
+        try:
+            self.nsub = steps_for(config.control_interval_s, self.dt)
+        except ValueError:
+            raise SpecError(
+                f"control_interval_s = {config.control_interval_s:g} s is not a whole multiple of "
+                f"dt_s = {self.dt:g} s"
+            ) from None
+        self.sim = Simulation(
+            ship,
+            n=n,
+            dt=self.dt,
+            method=config.method,
+            reference_latlon_deg=reference_latlon_deg,
+        )
+        self.ship: Ship = self.sim.ship(0)
+        self.helm = make_helm(config, self.sim)
+        self.U_T = self.ship.test_speed_m_s
+        self.L = self.ship.particulars.L_m
+        self.delta_max = float(self.ship.steering_gear.max_angle_deg * DEG)
+        self.rev_full = float(np.max(np.abs(self.helm.rev_table[0]))) or 1.0
+        self.layout = ObservationLayout(self.observation_features(), config.observation_type == "normalized")
+        self.term_names = self.spec.term_names  # the keys of info["reward_terms"], in kernel column order
+        self.weights = self.spec.weight_vector(config.reward)
+        self.n_features = self.spec.n_features(self.feature_counts())
+        self.feat = np.zeros((n, self.n_features))
+        self.terms = np.zeros((n, len(self.term_names)))  # weighted reward terms (they sum to the reward)
+        self.reward = np.zeros(n)
+        self.terminated = np.zeros(n, dtype=np.bool_)
+        self.phase = np.full(n, PHASE_STEP, dtype=np.int8)
+        self.rngs: Sequence[np.random.Generator] = ()  # per-vessel generators, set by the environment
+        self.enc = np.stack(
+            [
+                self.layout.columns.astype(np.float64),
+                self.layout.scale,
+                np.full(len(self.layout), 1.0 if self.layout.normalized else 0.0),
+            ],
+            axis=1,
+        )
+        self.obs = np.zeros((n, len(self.layout)), dtype=np.float32)
+        self._kernel_args: tuple | None = None
+
+    # subclass interface
+    @abc.abstractmethod
+    def observed(self) -> Sequence[str]:
+        """The names of the observed features, in observation order (see :meth:`motion_observed`)."""
+
+    @abc.abstractmethod
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        """Put vessel k at a new start drawn with ``rng`` (``options`` as the environment's reset)."""
+
+    def scales(self) -> dict[str, float]:
+        """What each scale name of the declared features is worth for this task's ship (extend in a task)."""
+        U, L = self.U_T, self.L
+        return {
+            "U_T": U,  # ship test speed, m/s
+            "U_T / L": U / L,  # 1/s
+            "L": L,  # ship length, m
+            "rudder max": self.delta_max,  # steering-gear limit, rad
+            "full rev": self.rev_full,  # largest telegraph shaft speed, rev/s
+            "pi": math.pi,
+        }
+
+    def feature_counts(self) -> dict[str, int]:
+        """Copies of each repeated feature (config key -> count); none unless a task declares one."""
+        return {}
+
+    def observation_features(self) -> list[Feature]:
+        """The observation entries, in order: the declared features of :meth:`observed`, scales resolved."""
+        return self.spec.layout(self.observed(), self.scales(), self.feature_counts())
+
+    @staticmethod
+    def motion_observed(rev: bool) -> tuple[str, ...]:
+        """The features every observation begins with: motion through the water and the helm; the shaft speed
+        only if ``rev``."""
+        return ("u", "v", "r", "rudder", "rudder_order") + (("rev",) if rev else ())
+
+    @abc.abstractmethod
+    def kernel_args(self) -> tuple:
+        """The arguments of the task's compiled ``kernel`` after ``phase``: arrays that live as long as the task.
+
+        Bound once, on the first update: a step then costs one call with no attribute look-ups.
+        """
+
+    def update(self, phase: np.ndarray) -> None:
+        """Run the task kernel; fill ``feat``, ``terms`` and ``terminated`` for the vessels in ``phase``."""
+        args = self._kernel_args
+        if args is None:
+            args = self._kernel_args = self.kernel_args()
+        self.kernel(phase, *args)
+
+    @abc.abstractmethod
+    def info(self, k: int) -> dict[str, Any]:
+        """Vessel k's ``info`` dict (Python scalars; the one-ship environment's step returns it)."""
+
+    @abc.abstractmethod
+    def batch_info(self) -> dict[str, Any]:
+        """The ``info`` of all vessels, each entry an array over the vessels (the vector environment's)."""
+
+    def renderer(self, mode: str) -> Any:
+        """A chart renderer of this task's ship and chart (pygame is imported only here)."""
+        from vessel_gym.ui.chart import ChartRenderer
+
+        return ChartRenderer(
+            mode,
+            ship=self.ship,
+            scenario=getattr(self, "scenario", None),
+            fps=1.0 / self.config.control_interval_s,
+        )
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        """What the chart draws besides the ship (target heading, goal, ...)."""
+        return {}
+
+    # shared
+    def advance(self) -> None:
+        self.sim.step(self.nsub)
+
+    def observe(self) -> np.ndarray:
+        """A new array of the current observations (N, obs_dim)."""
+        return self.obs.copy()
+
+    def weighted_terms(self, k: int) -> dict[str, float]:
+        return dict(zip(self.term_names, self.terms[k].tolist()))
+
+    def batch_weighted_terms(self) -> dict[str, np.ndarray]:
+        cols = self.terms.T.copy()  # one copy; its rows are the terms, contiguous
+        return dict(zip(self.term_names, cols))
+
+    def task_columns(self) -> np.ndarray:
+        """A new (n_columns, N) copy of the task state: row j is column j of ``ts`` for all vessels (for the
+        batched ``info``: one copy instead of one per entry)."""
+        return self.ts.T.copy()
+
+
+def _uniform(rng: np.random.Generator, rng_range: Sequence[float]) -> float:
+    lo, hi = float(rng_range[0]), float(rng_range[1])
+    return lo if hi <= lo else float(rng.uniform(lo, hi))

@@ -1,0 +1,350 @@
+"""TurningCircle-v0: bring the ship into and hold a commanded turn, or reverse course in little room.
+
+Declaration, configuration, start of an episode and compiled step together; the environment classes and their
+spec sheet are in :mod:`vessel_gym.envs.turning`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from vessel_gym.control.angles import PI
+from vessel_gym.control.turning import (
+    ADVANCE_HEADING_RAD,
+    TACTICAL_HEADING_RAD,
+    at_crossing,
+    course_axes,
+    crossing_fraction,
+)
+from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
+from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.tasks.common import (
+    RUDDER_ACTIVITY_DOC,
+    SPEED_LOSS_DOC,
+    clear_row,
+    encode_row,
+    finish,
+    motion,
+    motion_features,
+    rudder_activity,
+    speed_loss,
+    task_spec,
+)
+from vessel_gym.physics.kinematics import speed_through_water, velocity_through_water
+from vessel_gym.physics.schema import check_ranges, param
+from vessel_gym.physics.vessel import NO_REFCOUNT
+
+MODES = ("rate", "radius", "reverse")
+REVERSE = MODES.index("reverse")
+
+
+# --- declaration ------------------------------------------------------------------------------------------------
+SPEC = task_spec(
+    "TurningCircle-v0",
+    terms=(
+        Term("tracking_error", 1.0, "rate/radius: -min(relative error, 1)"),
+        Term("progress", 5.0, "reverse: heading change this step / pi"),
+        Term("footprint", 1.0, "reverse: -(growth of max advance + max transfer) / L"),
+        Term("rudder_activity", 0.1, RUDDER_ACTIVITY_DOC),
+        Term("speed_loss", 0.1, SPEED_LOSS_DOC),
+        Term("time", 0.1, "reverse: -control interval x U0 / L"),
+    ),
+    features=(
+        FeatureSpec("commanded_rate", "rad/s", (2.0, "U_T / L"), "commanded rate of turn"),
+        FeatureSpec("rate_error", "rad/s", (2.0, "U_T / L"), "commanded - actual rate of turn"),
+        FeatureSpec("commanded_curvature", "-", (1.0, "1"), "L / commanded radius (+ starboard)"),
+        FeatureSpec("curvature_error", "-", (1.0, "1"), "L x (commanded - actual curvature r / U)"),
+        FeatureSpec("heading_change", "rad", (2.0, "pi"), "heading - original course (unwrapped)"),
+        FeatureSpec("advance", "m", (10.0, "L"), "displacement along the original course"),
+        FeatureSpec("transfer", "m", (10.0, "L"), "displacement across it (+ starboard)"),
+    ),
+)
+TERM = SPEC.TERM
+FEAT = SPEC.FEAT
+#: the features each mode observes after the motion
+MODE_FEATURES = {
+    "rate": ("commanded_rate", "rate_error"),
+    "radius": ("commanded_curvature", "curvature_error"),
+    "reverse": ("heading_change", "advance", "transfer"),
+}
+
+#: per-vessel task state (columns of ``ts``)
+S = columns(
+    "psi0",  # heading at the rudder order (episode start), rad
+    "north0",  # midship position at the rudder order, m
+    "east0",
+    "command",  # rate mode: commanded rate of turn, rad/s; radius mode: commanded curvature, 1/m
+    "prev_order",  # rudder order of the previous step, rad
+    "U0",  # approach speed, m/s
+    "t",  # time since the start of the episode, s
+    "advance",  # advance at 90 deg heading change, m
+    "transfer",  # transfer at 90 deg, m
+    "tactical_diameter",  # tactical diameter (transfer at 180 deg), m
+    "reached_90",  # 90 deg reached
+    "reached_180",  # 180 deg reached
+    "max_advance",  # largest advance so far, m
+    "max_transfer",  # largest |transfer| so far, m
+    "prev_turned",  # |heading change| at the previous step, rad
+    "prev_advance",  # advance and transfer at the previous step, m
+    "prev_transfer",
+    typename="TurningState",
+)
+#: the kernel's parameter row
+P = columns(
+    "mode",  # 0 rate, 1 radius, 2 reverse
+    "L",  # ship length, m
+    "rudder_max",  # rudder scale (limit), rad
+    "dt",  # control interval, s
+    typename="TurningParams",
+)
+
+TurningCircleReward = SPEC.weights_class(
+    "TurningCircleReward",
+    __name__,
+    "Weights of the TurningCircle reward terms (reward = sum of weight x term).",
+)
+
+
+@dataclass(frozen=True, kw_only=True)
+class TurningCircleConfig(DisturbedOpenWaterConfig):
+    """TurningCircle-v0 configuration (see :class:`~vessel_gym.envs.turning.TurningCircleEnv`)."""
+
+    mode: str = param("rate", choices=MODES, doc="task: hold a rate of turn, a radius, or reverse course")
+    rate_prime: tuple[float, ...] = param(
+        (0.05, 0.3), unit="-", lo=0.001, hi=5.0, doc="rate: [min, max] commanded r' = r L / U0"
+    )
+    radius_L: tuple[float, ...] = param(
+        (2.0, 6.0),
+        unit="L",
+        lo=0.1,
+        hi=1000.0,
+        doc="radius: [min, max] commanded turning radius in ship lengths",
+    )
+    side: str = param("random", choices=("random", "starboard", "port"), doc="side of the commanded turn")
+    reward: TurningCircleReward = param(TurningCircleReward(), doc="reward weights")
+
+
+# --- compiled step ----------------------------------------------------------------------------------------------
+@njit(cache=True, **NO_REFCOUNT)
+def turning_update(
+    phase,
+    x,
+    inp,
+    alive,
+    ts,
+    p,
+    w,
+    enc,
+    feat,
+    obs,
+    terms,
+    reward,
+    done,
+):
+    """Turning task (phases as :func:`zigzag_update`); ``done`` set on a completed course reversal."""
+    mode = int(p[P.mode])
+    L = p[P.L]
+    for k in range(x.shape[0]):
+        if phase[k] == 0:
+            continue
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        s = ts[k]
+        done[k] = False
+        clear_row(terms, k)
+        adv, trf = course_axes(s[S.psi0], s[S.north0], s[S.east0], nk, ek)
+        turned = abs(psik - s[S.psi0])
+        U = speed_through_water(uk, vk)
+        U0 = s[S.U0]
+        curv = rk / max(U, 0.1 * U0)
+        if phase[k] == 1:
+            s[S.t] += p[P.dt]
+            tp = s[S.prev_turned]
+            if s[S.reached_90] == 0.0 and turned >= ADVANCE_HEADING_RAD:
+                fr = crossing_fraction(tp, turned, ADVANCE_HEADING_RAD)
+                s[S.advance] = at_crossing(s[S.prev_advance], adv, fr)
+                s[S.transfer] = abs(at_crossing(s[S.prev_transfer], trf, fr))
+                s[S.reached_90] = 1.0
+            if s[S.reached_180] == 0.0 and turned >= TACTICAL_HEADING_RAD:
+                fr = crossing_fraction(tp, turned, TACTICAL_HEADING_RAD)
+                s[S.tactical_diameter] = abs(at_crossing(s[S.prev_transfer], trf, fr))
+                s[S.reached_180] = 1.0
+            ma = max(s[S.max_advance], adv)
+            mt = max(s[S.max_transfer], abs(trf))
+            if mode == 0:
+                terms[k, TERM.tracking_error] = -min(abs(rk - s[S.command]) / abs(s[S.command]), 1.0)
+            elif mode == 1:
+                terms[k, TERM.tracking_error] = -min(abs(curv - s[S.command]) / abs(s[S.command]), 1.0)
+            else:
+                terms[k, TERM.progress] = (min(turned, PI) - min(tp, PI)) / PI
+                terms[k, TERM.footprint] = -((ma - s[S.max_advance]) + (mt - s[S.max_transfer])) / L
+                terms[k, TERM.time] = -p[P.dt] * U0 / L
+                done[k] = turned >= PI
+            s[S.max_advance] = ma
+            s[S.max_transfer] = mt
+            terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
+            terms[k, TERM.speed_loss] = speed_loss(U, U0)
+        if not alive[k]:
+            done[k] = True
+            clear_row(terms, k)
+        finish(terms, k, w, reward)
+        s[S.prev_order] = dck
+        s[S.prev_turned] = turned
+        s[S.prev_advance] = adv
+        s[S.prev_transfer] = trf
+        f = feat[k]
+        motion_features(f, uk, vk, rk, dk, dck, revk)
+        f[FEAT.commanded_rate] = s[S.command] if mode == 0 else 0.0
+        f[FEAT.rate_error] = s[S.command] - rk if mode == 0 else 0.0
+        f[FEAT.commanded_curvature] = s[S.command] * L if mode == 1 else 0.0
+        f[FEAT.curvature_error] = (s[S.command] - curv) * L if mode == 1 else 0.0
+        f[FEAT.heading_change] = psik - s[S.psi0]
+        f[FEAT.advance] = adv
+        f[FEAT.transfer] = trf
+        encode_row(feat, k, enc, obs)
+
+
+# --- the task ---------------------------------------------------------------------------------------------------
+class TurningCircleTask(Task):
+    Config = TurningCircleConfig
+    spec = SPEC
+    kernel = staticmethod(turning_update)
+
+    def __init__(self, config: TurningCircleConfig, n: int) -> None:
+        check_ranges(config, ("rate_prime", "radius_L", "initial_heading_deg"), "TurningCircle config")
+        super().__init__(config, n)
+        self.disturbances = Disturbances(config, self.ship, "TurningCircle config")
+        self.mode = MODES.index(config.mode)
+        self.ts = np.zeros((n, len(S)))
+        p = np.zeros(len(P))
+        p[P.mode] = self.mode
+        p[P.L] = self.L
+        p[P.rudder_max] = getattr(self.helm, "rudder_limit_rad", np.array([self.delta_max]))[0]
+        p[P.dt] = config.control_interval_s
+        self.p = p
+
+    def observed(self) -> tuple[str, ...]:
+        return self.motion_observed(rev=self.config.engine_control) + MODE_FEATURES[self.config.mode]
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        c = self.config
+        opts = dict(options or {})
+        heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
+        speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or self.U_T))
+        side = {"starboard": 1.0, "port": -1.0}.get(c.side)
+        if side is None:
+            side = 1.0 if rng.random() < 0.5 else -1.0
+        if self.mode == 0:
+            cmd = side * _uniform(rng, c.rate_prime) * speed / self.L
+        elif self.mode == 1:
+            cmd = side / (_uniform(rng, c.radius_L) * self.L)
+        else:
+            cmd = 0.0
+        cmd = float(opts.pop("command", cmd))
+        if opts:
+            raise ValueError(
+                f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s, command)"
+            )
+        self.disturbances.apply(self.sim, k, rng, heading)
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
+        s = self.ts[k]
+        s[:] = 0.0
+        s[S.psi0] = float(self.sim.heading[k])
+        s[S.north0] = float(self.sim.north[k])
+        s[S.east0] = float(self.sim.east[k])
+        s[S.command] = cmd
+        s[S.U0] = speed
+        s[S.prev_order] = float(self.sim.rudder_order[k])
+
+    def kernel_args(self) -> tuple:
+        return (
+            self.sim.state,
+            self.sim.inputs,
+            self.sim.alive,
+            self.ts,
+            self.p,
+            self.weights,
+            self.enc,
+            self.feat,
+            self.obs,
+            self.terms,
+            self.reward,
+            self.terminated,
+        )
+
+    def _radius(self, k: Any) -> Any:
+        U = np.hypot(self.sim.u[k], self.sim.v[k])
+        r = np.abs(self.sim.r[k])
+        return np.where(r > 1e-9, U / np.maximum(r, 1e-9), 0.0)
+
+    @staticmethod
+    def _radius_k(u: float, v: float, r: float) -> float:
+        r = abs(r)
+        return math.hypot(u, v) / r if r > 1e-9 else 0.0
+
+    def info(self, k: int) -> dict[str, Any]:
+        s = self.ts[k].tolist()
+        cmd = s[S.command]
+        # the motion as the physics names it (the un-jitted accessor: one call from Python costs no dispatch)
+        u, v, r = velocity_through_water.py_func(self.sim.state, k)
+        r = float(r)
+        info = {
+            "reward_terms": self.weighted_terms(k),
+            "time_s": s[S.t],
+            "heading_change_deg": math.degrees(self.feat[k, FEAT.heading_change]),
+            "rate_of_turn_deg_s": math.degrees(r),
+            "turning_radius_m": self._radius_k(u, v, r),
+            "commanded_rate_deg_s": float(math.degrees(cmd)) if self.mode == 0 else 0.0,
+            "commanded_radius_m": float(1.0 / cmd) if self.mode == 1 else 0.0,
+            "advance_m": s[S.advance],
+            "transfer_m": s[S.transfer],
+            "tactical_diameter_m": s[S.tactical_diameter],
+            "reached_90": s[S.reached_90] > 0.0,
+            "reached_180": s[S.reached_180] > 0.0,
+            "success": bool(self.terminated[k] and self.sim.alive[k]),
+            "diverged": bool(not self.sim.alive[k]),
+        }
+        if self.mode == REVERSE:  # the only mode with an end state to reach
+            info["is_success"] = info["success"]
+        return info
+
+    def batch_info(self) -> dict[str, Any]:
+        s = self.task_columns()
+        cmd = s[S.command]
+        zeros = np.zeros(self.n)
+        info = {
+            "reward_terms": self.batch_weighted_terms(),
+            "time_s": s[S.t],
+            "heading_change_deg": np.degrees(self.feat[:, FEAT.heading_change]),
+            "rate_of_turn_deg_s": np.degrees(self.sim.r),
+            "turning_radius_m": self._radius(slice(None)),
+            "commanded_rate_deg_s": np.degrees(cmd) if self.mode == 0 else zeros,
+            "commanded_radius_m": 1.0 / cmd if self.mode == 1 else zeros.copy(),
+            "advance_m": s[S.advance],
+            "transfer_m": s[S.transfer],
+            "tactical_diameter_m": s[S.tactical_diameter],
+            "reached_90": s[S.reached_90] > 0.0,
+            "reached_180": s[S.reached_180] > 0.0,
+            "success": self.terminated & self.sim.alive,
+            "diverged": ~self.sim.alive,
+        }
+        if self.mode == REVERSE:
+            info["is_success"] = info["success"].copy()
+        return info
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        s = self.ts[k]
+        out: dict[str, Any] = {
+            "origin_m": (float(s[S.north0]), float(s[S.east0])),
+            "original_course_rad": float(s[S.psi0]),
+            "title": "TurningCircle",
+        }
+        if self.mode == 1:
+            out["commanded_radius_m"] = float(1.0 / s[S.command])
+        return out

@@ -1,0 +1,345 @@
+"""ZigZag-v0: a course-changing autopilot task built around the IMO zig-zag manoeuvre (deprecated for v1).
+
+The declaration (reward terms, features), the configuration, the start of an episode and the compiled step sit
+together here; the environment classes and their spec sheets are in :mod:`vessel_gym.envs.zigzag`. What ZigZag-v1
+shares with v0 (its features, the reset options, the close of a vessel's row) is defined here once.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from vessel_gym.control.angles import PI, wrap_pi
+from vessel_gym.control.zigzag import (
+    OVERSHOOT_V0,
+    overshoot_excursion,
+    overshoot_step,
+    target_reached,
+    zigzag_execute,
+)
+from vessel_gym.envs.config import OpenWaterConfig
+from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.task import PHASE_STEP, Task, _uniform
+from vessel_gym.envs.tasks.common import (
+    RUDDER_ACTIVITY_DOC,
+    SPEED_LOSS_DOC,
+    clear_row,
+    encode_row,
+    finish,
+    motion,
+    motion_features,
+    rudder_activity,
+    speed_loss,
+    task_spec,
+)
+from vessel_gym.physics.kinematics import speed_through_water
+from vessel_gym.physics.schema import check_ranges, param
+from vessel_gym.physics.units import DEG
+from vessel_gym.physics.vessel import NO_REFCOUNT
+
+# --- declaration ------------------------------------------------------------------------------------------------
+#: the features of both ZigZag versions after the motion
+ZIGZAG_FEATURES = (
+    FeatureSpec("heading_error", "rad", (1.0, "pi"), "target heading - heading, wrapped"),
+    FeatureSpec("heading_deviation", "rad", (1.0, "pi"), "heading - original course, wrapped"),
+    FeatureSpec("target_deviation", "rad", (1.0, "pi"), "target heading - original course"),
+)
+SPEC = task_spec(
+    "ZigZag-v0",
+    terms=(
+        Term("heading_error", 1.0, "-|target - heading| / pi"),
+        Term("overshoot", 1.0, "-min(excursion past the reached target / psi, 1)"),
+        Term("rudder_activity", 0.1, RUDDER_ACTIVITY_DOC),
+        Term("speed_loss", 0.5, SPEED_LOSS_DOC),
+    ),
+    features=ZIGZAG_FEATURES,
+)
+TERM = SPEC.TERM
+FEAT = SPEC.FEAT
+
+#: per-vessel task state (columns of ``ts``)
+S = columns(
+    "psi0",  # original course, rad
+    "target",  # current target heading, rad (unwrapped, same branch as the heading)
+    "side",  # IMO schedule: side of the current target, +1 starboard / -1 port
+    "leg_sign",  # random schedule: direction of the course change of this leg
+    "reached",  # random schedule: target of this leg reached
+    "os_on",  # overshoot being measured
+    "os_sign",
+    "os_target",  # heading past which the overshoot is measured, rad
+    "os_max",  # largest excursion past it so far, rad
+    "os_n",  # overshoots completed
+    "os1",  # first overshoot angle, rad
+    "os2",  # second overshoot angle, rad
+    "os_last",  # last completed overshoot angle, rad
+    "executes",  # rudder executes (target changes) so far
+    "prev_order",  # rudder order of the previous step, rad
+    "U0",  # approach speed, m/s
+    "t",  # time since the start of the episode, s
+    "next",  # random schedule: time of the next course change, s
+    typename="ZigZagState",
+)
+#: the kernel's parameter row
+P = columns(
+    "psi_z",  # IMO heading deviation psi_z (or random-schedule overshoot reference), rad
+    "rudder_max",  # rudder scale (limit), rad
+    "imo",  # 1: IMO schedule, 0: random course changes
+    "dt",  # control interval, s
+    typename="ZigZagParams",
+)
+
+ZigZagReward = SPEC.weights_class(
+    "ZigZagReward", __name__, "Weights of the ZigZag reward terms (reward = sum of weight x term)."
+)
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagConfig(OpenWaterConfig):
+    """ZigZag-v0 configuration (see :class:`~vessel_gym.envs.zigzag.ZigZagEnv`)."""
+
+    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
+    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
+    first_side: str = param(
+        "starboard", choices=("starboard", "port", "random"), doc="imo: first target side"
+    )
+    course_change_deg: tuple[float, ...] = param(
+        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
+    )
+    leg_time_s: tuple[float, ...] = param(
+        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
+    )
+    reward: ZigZagReward = param(ZigZagReward(), doc="reward weights")
+
+
+# --- start of an episode (both versions) ------------------------------------------------------------------------
+def reset_options(
+    c: Any, options: Mapping | None, rng: np.random.Generator, U_T: float
+) -> tuple[float, float]:
+    """(heading, deg; approach speed, m/s) of a ZigZag reset: the options, else drawn / the config's."""
+    opts = dict(options or {})
+    heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
+    speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or U_T))
+    if opts:
+        raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
+    return heading, speed
+
+
+def first_side(side: str, rng: np.random.Generator) -> float:
+    """IMO schedule: side of the first target, +1 starboard / -1 port ("random": drawn)."""
+    value = {"starboard": 1.0, "port": -1.0}.get(side)
+    return (1.0 if rng.random() < 0.5 else -1.0) if value is None else value
+
+
+def course_change(c: Any, rng: np.random.Generator) -> float:
+    """Random schedule: a signed course change of ``course_change_deg``, either side, rad."""
+    return _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
+
+
+# --- compiled step ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _finish_overshoot(s):
+    s[S.os_on] = 0.0
+    s[S.os_n] += 1.0
+    if s[S.os_n] == 1.0:
+        s[S.os1] = s[S.os_max]
+    elif s[S.os_n] == 2.0:
+        s[S.os2] = s[S.os_max]
+    s[S.os_last] = s[S.os_max]
+
+
+@njit(cache=True, inline="always")
+def close_row(k, s, i_psi0, i_target, i_prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done):
+    """End of a zig-zag step of vessel k, both versions: done, reward, rudder memory, features, observation.
+
+    ``i_psi0``, ``i_target`` and ``i_prev_order``: where the version keeps the original course, the target and
+    the previous rudder order in its task state ``s``.
+    """
+    uk, vk, rk, psik, _n, _e, dk, dck, revk, _revc = motion(x, inp, k)
+    done[k] = not alive[k]
+    if done[k]:
+        clear_row(terms, k)
+    finish(terms, k, w, reward)
+    s[i_prev_order] = dck
+    f = feat[k]
+    motion_features(f, uk, vk, rk, dk, dck, revk)
+    f[FEAT.heading_error] = wrap_pi(s[i_target] - psik)
+    f[FEAT.heading_deviation] = wrap_pi(psik - s[i_psi0])
+    f[FEAT.target_deviation] = wrap_pi(s[i_target] - s[i_psi0])
+    encode_row(feat, k, enc, obs)
+
+
+# The task kernels loop over vessels taking row views (ts[k], feat[k]); compiled without reference counting
+# (vessel.NO_REFCOUNT, which explains why) they allocate nothing: scratch comes from their caller.
+@njit(cache=True, **NO_REFCOUNT)
+def zigzag_update(phase, x, inp, alive, ts, p, w, enc, feat, obs, terms, reward, done):
+    """Zig-zag task: vessels in phase 1 advance one control step, phase 2 (just reset) get features only."""
+    psiz = p[P.psi_z]
+    dmax = p[P.rudder_max]
+    imo = p[P.imo] > 0.0
+    for k in range(x.shape[0]):
+        if phase[k] == 0:
+            continue
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        s = ts[k]
+        clear_row(terms, k)
+        if phase[k] == 1:
+            s[S.t] += p[P.dt]
+            if s[S.os_on] > 0.0:
+                s[S.os_max], _rose, finished = overshoot_step(
+                    s[S.os_sign], s[S.os_target], s[S.os_max], psik, rk, OVERSHOOT_V0
+                )
+                if finished:
+                    _finish_overshoot(s)
+            crossed = False
+            sign = 0.0
+            if imo:
+                if target_reached(s[S.side], psik, s[S.target]):
+                    crossed = True
+                    sign = s[S.side]
+            elif s[S.reached] == 0.0 and target_reached(s[S.leg_sign], psik, s[S.target]):
+                crossed = True
+                sign = s[S.leg_sign]
+                s[S.reached] = 1.0
+            if crossed:
+                if s[S.os_on] > 0.0:  # v0: a measurement still running counts as complete
+                    _finish_overshoot(s)
+                s[S.os_on] = 1.0
+                s[S.os_sign] = sign
+                s[S.os_target] = s[S.target]
+                s[S.os_max] = overshoot_excursion(sign, s[S.target], psik)
+                if imo:  # the IMO execute: the target flips to the other side of the original course
+                    s[S.side], s[S.target] = zigzag_execute(s[S.psi0], s[S.side], psiz)
+                    s[S.executes] += 1.0
+            err = wrap_pi(s[S.target] - psik)
+            terms[k, TERM.heading_error] = -abs(err) / PI
+            if s[S.os_on] > 0.0:
+                exc = overshoot_excursion(s[S.os_sign], s[S.os_target], psik)
+                if exc > 0.0:
+                    terms[k, TERM.overshoot] = -min(exc / psiz, 1.0)
+            terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], dmax)
+            terms[k, TERM.speed_loss] = speed_loss(speed_through_water(uk, vk), s[S.U0])
+        close_row(k, s, S.psi0, S.target, S.prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done)
+
+
+# --- the task ---------------------------------------------------------------------------------------------------
+class ZigZagTask(Task):
+    spec = SPEC
+    Config = ZigZagConfig
+    kernel = staticmethod(zigzag_update)
+
+    def __init__(self, config: ZigZagConfig, n: int) -> None:
+        check_ranges(config, ("course_change_deg", "leg_time_s", "initial_heading_deg"), "ZigZag config")
+        super().__init__(config, n)
+        self.imo = config.schedule == "imo"
+        self.psi_z = config.zigzag_heading_deg * DEG
+        self.ts = np.zeros((n, len(S)))
+        p = np.zeros(len(P))
+        p[P.psi_z] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
+        p[P.rudder_max] = self.rudder_scale()
+        p[P.imo] = 1.0 if self.imo else 0.0
+        p[P.dt] = config.control_interval_s
+        self.p = p
+
+    def rudder_scale(self) -> float:
+        """Scale of the rudder_activity term: the helm's rudder limit, rad."""
+        return self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
+
+    def observed(self) -> tuple[str, ...]:
+        return self.motion_observed(rev=self.config.engine_control) + tuple(f.name for f in ZIGZAG_FEATURES)
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        c = self.config
+        heading, speed = reset_options(c, options, rng, self.U_T)
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
+        s = self.ts[k]
+        s[:] = 0.0
+        psi0 = float(self.sim.heading[k])
+        s[S.psi0] = psi0
+        s[S.U0] = speed
+        s[S.prev_order] = float(self.sim.rudder_order[k])
+        if self.imo:
+            side = first_side(c.first_side, rng)
+            s[S.side] = side
+            s[S.target] = psi0 + side * self.psi_z
+            s[S.executes] = 1.0  # the first execute is the rudder order at t = 0
+        else:
+            s[S.target] = psi0
+            self._new_leg(k, rng)
+
+    def _new_leg(self, k: int, rng: np.random.Generator) -> None:
+        c = self.config
+        s = self.ts[k]
+        s[S.target] += course_change(c, rng)
+        s[S.leg_sign] = 1.0 if s[S.target] >= self.sim.heading[k] else -1.0
+        s[S.reached] = 0.0
+        s[S.executes] += 1.0
+        s[S.next] = s[S.t] + _uniform(rng, c.leg_time_s)
+
+    def kernel_args(self) -> tuple:
+        return (
+            self.sim.state,
+            self.sim.inputs,
+            self.sim.alive,
+            self.ts,
+            self.p,
+            self.weights,
+            self.enc,
+            self.feat,
+            self.obs,
+            self.terms,
+            self.reward,
+            self.terminated,
+        )
+
+    def update(self, phase: np.ndarray) -> None:
+        if not self.imo:  # random schedule: a new leg on vessels whose leg time is up
+            due = (phase == PHASE_STEP) & (
+                self.ts[:, S.t] + self.config.control_interval_s >= self.ts[:, S.next] - 1e-9
+            )
+            for k in np.flatnonzero(due):
+                self._new_leg(int(k), self.rngs[k])
+        super().update(phase)
+
+    # --- info -------------------------------------------------------------------------------------------
+    def info(self, k: int) -> dict[str, Any]:
+        s = self.ts[k].tolist()
+        return {
+            "reward_terms": self.weighted_terms(k),
+            "time_s": s[S.t],
+            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": math.degrees(self.feat[k, FEAT.heading_error]),
+            "executes": int(s[S.executes]),
+            "overshoot_count": int(s[S.os_n]),
+            "overshoot_1_deg": math.degrees(s[S.os1]),
+            "overshoot_2_deg": math.degrees(s[S.os2]),
+            "last_overshoot_deg": math.degrees(s[S.os_last]),
+            "diverged": not self.sim.alive[k],
+        }
+
+    def batch_info(self) -> dict[str, Any]:
+        s = self.task_columns()
+        return {
+            "reward_terms": self.batch_weighted_terms(),
+            "time_s": s[S.t],
+            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
+            "executes": s[S.executes].astype(np.int64),
+            "overshoot_count": s[S.os_n].astype(np.int64),
+            "overshoot_1_deg": np.degrees(s[S.os1]),
+            "overshoot_2_deg": np.degrees(s[S.os2]),
+            "last_overshoot_deg": np.degrees(s[S.os_last]),
+            "diverged": ~self.sim.alive,
+        }
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        return {
+            "target_heading_rad": float(self.ts[k, S.target]),
+            "original_course_rad": float(self.ts[k, S.psi0]),
+            "title": "ZigZag",
+        }

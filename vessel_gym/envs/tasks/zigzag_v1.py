@@ -1,0 +1,405 @@
+"""ZigZag-v1 and ZigZagRandom-v1: the zig-zag task with honest overshoot accounting, a leg time limit, seeded
+starts and disturbances.
+
+Declaration, configuration, start of an episode and compiled step together; the environment classes and their
+spec sheets are in :mod:`vessel_gym.envs.zigzag`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+from vessel_gym.control.angles import PI, wrap_pi
+from vessel_gym.control.zigzag import (
+    OVERSHOOT_V1,
+    overshoot_excursion,
+    overshoot_step,
+    target_reached,
+    zigzag_execute,
+)
+from vessel_gym.envs.declare import Term, columns
+from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
+from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.tasks.common import (
+    RUDDER_ACTIVITY_DOC,
+    SPEED_LOSS_DOC,
+    clear_row,
+    motion,
+    rudder_activity,
+    speed_loss,
+    task_spec,
+)
+from vessel_gym.envs.tasks.zigzag import (
+    ZIGZAG_FEATURES,
+    ZigZagTask,
+    close_row,
+    course_change,
+    first_side,
+    reset_options,
+)
+from vessel_gym.physics.kinematics import speed_through_water
+from vessel_gym.physics.schema import check_ranges, param
+from vessel_gym.physics.units import DEG
+from vessel_gym.physics.vessel import NO_REFCOUNT
+
+#: the IMO schedule's next course change starts at the latest this many ship time scales L / U_T after the
+#: last one. It must not cut the zig-zag of a helm that completes it: the IMO 10/10 rule itself takes 4.5-6.7
+#: L / U_T from execute to execute on kvlcc2_l7 (27-40 s), a PID helm 2-3.3 L / U_T; so the limit bites only on
+#: a helm that stops short of a target or never gets there, and gives it the next course change anyway
+LEG_TIME_LIMIT_L_U = 10.0
+#: the target_reached bonus of a course change equals the heading_error charge of a turn whose error falls
+#: linearly to zero in 2 x this many L / U_T, the leg time limit: a helm that reaches a target within the
+#: limit earns about what the turn costs it or more, so completing a course change always beats stopping
+#: short of it, and, in the IMO schedule, a helm gains by completing more course changes
+REACH_TIME_L_U = 5.0
+
+
+# --- declaration ------------------------------------------------------------------------------------------------
+SPEC = task_spec(
+    "ZigZag-v1",
+    terms=(
+        Term("heading_error", 1.0, "-|target - heading| / pi"),
+        Term("overshoot", 1.0, "-growth of the course change's overshoot / overshoot scale"),
+        Term(
+            "target_reached",
+            1.0,
+            "on reaching a target: +|course change| / pi x 5 (L / U_T) / control interval",
+        ),
+        Term("rudder_activity", 0.1, RUDDER_ACTIVITY_DOC),
+        Term("speed_loss", 0.1, SPEED_LOSS_DOC),
+    ),
+    features=ZIGZAG_FEATURES,
+)
+TERM = SPEC.TERM
+FEAT = SPEC.FEAT
+
+# One schedule for both target kinds: a course change starts when its start time comes (the first after the
+# seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
+# schedule, at the execute (the target reached). Overshoots are measured with the OVERSHOOT_V1 tracker.
+#: per-vessel task state (columns of ``ts``)
+S = columns(
+    "psi0",  # original course, rad
+    "target",  # target of the current course change, rad (unwrapped, same branch as the heading)
+    "sign",  # direction in which the current target is reached, +1 starboard / -1 port; 0 before the first
+    "side",  # IMO schedule: side of the current target (the first change flips it: set -first side)
+    "reached",  # current target reached
+    "next",  # time at which the next course change starts, s
+    "dpsi",  # size of the current course change |target - previous target|, rad
+    "os_on",  # an overshoot measurement is open
+    "os_sign",  # its side (+1 starboard)
+    "os_target",  # its target, rad
+    "os_peak",  # its overshoot so far (largest excursion past the target), rad
+    "os_sum",  # overshoots of the closed measurements, summed, rad
+    "os_max",  # largest closed overshoot, rad
+    "os_n",  # closed measurements
+    "os1",  # first and second closed overshoot, rad (the IMO first and second overshoot angles)
+    "os2",
+    "changes",  # course changes started
+    "n_reached",  # targets reached
+    "missed",  # course changes that ended with their target not reached
+    "prev_order",  # rudder order of the previous step, rad
+    "U0",  # approach speed, m/s
+    "t",  # time since the start of the episode, s
+    "pending_change",  # random schedule: the next course change, drawn in advance (signed), rad
+    "pending_leg",  # random schedule: the duration of the leg it starts, s
+    "draw",  # random schedule: the pending change was used; the task draws the next one
+    typename="ZigZagV1State",
+)
+#: the kernel's parameter row
+P = columns(
+    "psi_z",  # IMO heading deviation psi_z, rad
+    "os_ref",  # overshoot scale of the reward, rad
+    "rudder_max",  # rudder scale (limit), rad
+    "imo",  # 1: IMO schedule, 0: random course changes
+    "dt",  # control interval, s
+    "leg_limit",  # IMO schedule: the next change starts at the latest this long after the last, s
+    "reach",  # target_reached term per radian of course change, 1/rad
+    typename="ZigZagV1Params",
+)
+
+ZigZagV1Reward = SPEC.weights_class(
+    "ZigZagV1Reward", __name__, "Weights of the ZigZag-v1 reward terms (reward = sum of weight x term)."
+)
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagV1Config(DisturbedOpenWaterConfig):
+    """ZigZag-v1 configuration (see :class:`ZigZagV1Env`)."""
+
+    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
+    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
+    first_side: str = param("random", choices=("starboard", "port", "random"), doc="imo: first target side")
+    first_change_s: tuple[float, ...] = param(
+        (0.0, 10.0), unit="s", lo=0.0, hi=1e5, doc="[min, max] time of the first course change"
+    )
+    leg_time_limit_s: float | None = param(
+        None,
+        unit="s",
+        lo=0.01,
+        hi=1e5,
+        doc="imo: the next course change starts at the latest this long after the last (default 10 L / U_T)",
+    )
+    course_change_deg: tuple[float, ...] = param(
+        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
+    )
+    leg_time_s: tuple[float, ...] = param(
+        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
+    )
+    initial_heading_deg: tuple[float, ...] = param(
+        (0.0, 360.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
+    )
+    success_overshoot_deg: float | None = param(
+        None,
+        unit="deg",
+        lo=0.0,
+        hi=180.0,
+        doc="success: mean overshoot per course change at most this (default half the overshoot scale)",
+    )
+    reward: ZigZagV1Reward = param(ZigZagV1Reward(), doc="reward weights")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ZigZagRandomConfig(ZigZagV1Config):
+    """ZigZagRandom-v1 configuration: ZigZag-v1 with the random course-change schedule."""
+
+    schedule: str = param("random", choices=("imo", "random"), doc="target schedule")
+
+
+# --- compiled step ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def _close_overshoot_v1(s):
+    s[S.os_on] = 0.0
+    s[S.os_n] += 1.0
+    peak = s[S.os_peak]
+    s[S.os_sum] += peak
+    s[S.os_max] = max(s[S.os_max], peak)
+    if s[S.os_n] == 1.0:
+        s[S.os1] = peak
+    elif s[S.os_n] == 2.0:
+        s[S.os2] = peak
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def zigzag_v1_update(
+    phase,
+    x,
+    inp,
+    alive,
+    ts,
+    p,
+    w,
+    enc,
+    feat,
+    obs,
+    terms,
+    reward,
+    done,
+):
+    """ZigZag-v1 (phases as :func:`zigzag_update`; a course change due at the reset starts there)."""
+    psiz = p[P.psi_z]
+    osref = p[P.os_ref]
+    imo = p[P.imo] > 0.0
+    for k in range(x.shape[0]):
+        if phase[k] == 0:
+            continue
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        s = ts[k]
+        clear_row(terms, k)
+        reached_now = False
+        if phase[k] == 1:
+            s[S.t] += p[P.dt]
+            if s[S.os_on] > 0.0:
+                before = s[S.os_peak]
+                s[S.os_peak], _rose, _fin = overshoot_step(
+                    s[S.os_sign], s[S.os_target], before, psik, rk, OVERSHOOT_V1
+                )
+                terms[k, TERM.overshoot] = -(s[S.os_peak] - before) / osref
+            if s[S.sign] != 0.0 and s[S.reached] == 0.0 and target_reached(s[S.sign], psik, s[S.target]):
+                reached_now = True
+                s[S.reached] = 1.0
+                s[S.n_reached] += 1.0
+                if s[S.os_on] > 0.0:  # the previous change's measurement ends where this one begins
+                    _close_overshoot_v1(s)
+                s[S.os_on] = 1.0
+                s[S.os_sign] = s[S.sign]
+                s[S.os_target] = s[S.target]
+                s[S.os_peak] = max(overshoot_excursion(s[S.sign], s[S.target], psik), 0.0)
+                terms[k, TERM.overshoot] -= s[S.os_peak] / osref
+                terms[k, TERM.target_reached] = s[S.dpsi] * p[P.reach]
+        if s[S.t] >= s[S.next] - 1e-9 or (imo and reached_now):  # a course change starts
+            if s[S.sign] != 0.0 and s[S.reached] == 0.0:
+                s[S.missed] += 1.0
+            # closed when the next change starts; the IMO execute starts a change at the very sample the
+            # measurement opens, and the change after that closes it
+            if s[S.os_on] > 0.0 and not (imo and reached_now):
+                _close_overshoot_v1(s)
+            previous = s[S.target]
+            if imo:
+                s[S.side], s[S.target] = zigzag_execute(s[S.psi0], s[S.side], psiz)
+                s[S.sign] = s[S.side]
+                s[S.next] = s[S.t] + p[P.leg_limit]
+            else:
+                s[S.target] += s[S.pending_change]
+                s[S.sign] = 1.0 if s[S.target] >= psik else -1.0
+                s[S.next] = s[S.t] + s[S.pending_leg]
+                s[S.draw] = 1.0
+            s[S.dpsi] = abs(s[S.target] - previous)
+            s[S.reached] = 0.0
+            s[S.changes] += 1.0
+        if phase[k] == 1:
+            terms[k, TERM.heading_error] = -abs(wrap_pi(s[S.target] - psik)) / PI
+            terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
+            terms[k, TERM.speed_loss] = speed_loss(speed_through_water(uk, vk), s[S.U0])
+        close_row(k, s, S.psi0, S.target, S.prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done)
+
+
+# --- the task ---------------------------------------------------------------------------------------------------
+class ZigZagV1Task(Task):
+    Config = ZigZagV1Config
+    spec = SPEC
+    kernel = staticmethod(zigzag_v1_update)
+
+    def __init__(self, config: ZigZagV1Config, n: int) -> None:
+        where = f"{type(config).__name__}"
+        check_ranges(
+            config, ("course_change_deg", "leg_time_s", "initial_heading_deg", "first_change_s"), where
+        )
+        super().__init__(config, n)
+        self.disturbances = Disturbances(config, self.ship, where)
+        self.imo = config.schedule == "imo"
+        self.psi_z = config.zigzag_heading_deg * DEG
+        self.overshoot_ref = self.psi_z if self.imo else config.course_change_deg[0] * DEG
+        self.leg_time_limit = (
+            config.leg_time_limit_s
+            if config.leg_time_limit_s is not None
+            else LEG_TIME_LIMIT_L_U * self.L / self.U_T
+        )
+        self.success_overshoot = (
+            config.success_overshoot_deg * DEG
+            if config.success_overshoot_deg is not None
+            else 0.5 * self.overshoot_ref
+        )
+        self.ts = np.zeros((n, len(S)))
+        p = np.zeros(len(P))
+        p[P.psi_z] = self.psi_z
+        p[P.os_ref] = self.overshoot_ref
+        p[P.rudder_max] = self.rudder_scale()
+        p[P.imo] = 1.0 if self.imo else 0.0
+        p[P.dt] = config.control_interval_s
+        p[P.leg_limit] = self.leg_time_limit
+        p[P.reach] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
+        self.p = p
+
+    rudder_scale = ZigZagTask.rudder_scale
+    observed = ZigZagTask.observed
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        c = self.config
+        heading, speed = reset_options(c, options, rng, self.U_T)
+        self.disturbances.apply(self.sim, k, rng, heading)
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
+        s = self.ts[k]
+        s[:] = 0.0
+        psi0 = float(self.sim.heading[k])
+        s[S.psi0] = psi0
+        s[S.target] = psi0
+        s[S.U0] = speed
+        s[S.prev_order] = float(self.sim.rudder_order[k])
+        s[S.next] = _uniform(rng, c.first_change_s)
+        if self.imo:
+            side = first_side(c.first_side, rng)
+            s[S.side] = -side  # the first change flips it to the first side
+        else:
+            self._draw_change(k, rng)
+
+    def _draw_change(self, k: int, rng: np.random.Generator) -> None:
+        """Draw vessel k's next random course change and the duration of the leg it starts."""
+        c = self.config
+        s = self.ts[k]
+        s[S.pending_change] = course_change(c, rng)
+        s[S.pending_leg] = _uniform(rng, c.leg_time_s)
+        s[S.draw] = 0.0
+
+    kernel_args = ZigZagTask.kernel_args
+
+    def update(self, phase: np.ndarray) -> None:
+        super().update(phase)
+        if self.imo:
+            return
+        # the kernel started a course change: draw the one after it
+        if self.n == 1:  # a scalar test: the one-ship step should not pay for flatnonzero
+            if self.ts[0, S.draw]:
+                self._draw_change(0, self.rngs[0])
+            return
+        for k in np.flatnonzero(self.ts[:, S.draw]):
+            self._draw_change(int(k), self.rngs[k])
+
+    # --- info -------------------------------------------------------------------------------------------
+    def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
+        """(overshoot per course change, largest overshoot, success) from the task columns ``s`` of all
+        vessels (the batched info): the open measurement counts with its overshoot so far."""
+        running = s[S.os_peak] * s[S.os_on]
+        per_change = (s[S.os_sum] + running) / np.maximum(s[S.changes], 1.0)
+        largest = np.maximum(s[S.os_max], running)
+        success = (s[S.missed] == 0.0) & (s[S.n_reached] >= 1.0) & (per_change <= self.success_overshoot)
+        return per_change, largest, success
+
+    def info(self, k: int) -> dict[str, Any]:
+        s = self.ts[k].tolist()
+        # as _metrics, on Python floats (the one-ship step should not pay for numpy scalar arithmetic)
+        running = s[S.os_peak] * s[S.os_on]
+        per_change = (s[S.os_sum] + running) / max(s[S.changes], 1.0)
+        success = s[S.missed] == 0.0 and s[S.n_reached] >= 1.0 and per_change <= self.success_overshoot
+        return {
+            "reward_terms": self.weighted_terms(k),
+            "time_s": s[S.t],
+            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": math.degrees(self.feat[k, FEAT.heading_error]),
+            "course_changes": int(s[S.changes]),
+            "targets_reached": int(s[S.n_reached]),
+            "targets_missed": int(s[S.missed]),
+            "overshoot_deg": math.degrees(per_change),
+            "max_overshoot_deg": math.degrees(max(s[S.os_max], running)),
+            "overshoot_1_deg": math.degrees(s[S.os1]),
+            "overshoot_2_deg": math.degrees(s[S.os2]),
+            "success": success,
+            "is_success": success,
+            "diverged": not self.sim.alive[k],
+        }
+
+    def batch_info(self) -> dict[str, Any]:
+        s = self.task_columns()
+        per_change, largest, success = self._metrics(s)
+        return {
+            "reward_terms": self.batch_weighted_terms(),
+            "time_s": s[S.t],
+            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
+            "course_changes": s[S.changes].astype(np.int64),
+            "targets_reached": s[S.n_reached].astype(np.int64),
+            "targets_missed": s[S.missed].astype(np.int64),
+            "overshoot_deg": np.degrees(per_change),
+            "max_overshoot_deg": np.degrees(largest),
+            "overshoot_1_deg": np.degrees(s[S.os1]),
+            "overshoot_2_deg": np.degrees(s[S.os2]),
+            "success": success,
+            "is_success": success.copy(),
+            "diverged": ~self.sim.alive,
+        }
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        return {
+            "target_heading_rad": float(self.ts[k, S.target]),
+            "original_course_rad": float(self.ts[k, S.psi0]),
+            "title": "ZigZag",
+        }
+
+
+class ZigZagRandomTask(ZigZagV1Task):
+    Config = ZigZagRandomConfig
