@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from vessel_gym.physics import layout as lo
 from vessel_gym.physics.crossflow import LargeDrift, mmg_weight
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.hull import hull_forces
@@ -182,3 +183,21 @@ def test_table_is_checked():
     with pytest.raises(ShipFileError, match="C_D"):
         parse_ship(bad, "k.toml")
     assert isinstance(parse_ship(data, "k.toml").large_drift, LargeDrift)
+
+
+def test_sternway_from_a_tiny_sway_of_either_sign_gives_mirrored_tracks():
+    """KVLCC2 from rest at -80 rpm, rudder amidships, seeded with v = +-1e-6 m/s. No propeller side force is
+    modelled, so the two tracks mirror each other. Going astern the Munk moment N'_v v u reverses and the hull
+    is course-unstable, so the seed grows into a slow yaw (about 18 deg after 2400 s), the same way on both."""
+    out = []
+    for sign in (1.0, -1.0):
+        sim = Simulation("kvlcc2", dt=0.5)
+        sim.reset(speed_m_s=0.0)
+        sim.state[0, lo.X_V] = sign * 1e-6
+        sim.set_helm(rudder_order_rad=0.0, rev_order=-80.0 / 60.0)
+        sim.advance(2400.0)
+        assert sim.alive[0] and sim.u[0] < -3.0
+        out.append((sim.north[0], sim.east[0], math.degrees(sim.heading[0]), sim.v[0], sim.r[0]))
+    (n1, e1, h1, v1, r1), (n2, e2, h2, v2, r2) = out
+    assert n2 == pytest.approx(n1, rel=1e-3)
+    assert (e2, h2, v2, r2) == pytest.approx((-e1, -h1, -v1, -r1), rel=1e-2, abs=1e-6)
