@@ -16,6 +16,7 @@ import math
 
 from numba import njit
 
+from vessel_gym.physics import crossflow
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.shallow_water import hull_factors
 
@@ -166,7 +167,10 @@ def hull_forces_at_depth(P, u, v, r, delta, H):
     if kind == lo.HULL_ABKOWITZ:
         return abkowitz_forces(P, u, v, r, delta)
     if kind == lo.HULL_MMG:
-        return mmg_hull_forces(P, u, v, r, H)
+        X, Y, N = mmg_hull_forces(P, u, v, r, H)
+        if P[lo.P_XF_ON] > 0.0:  # outside the polynomial's fitted range: cross-flow model (crossflow.py)
+            return crossflow.blend(P, u, v, r, X, Y, N)
+        return X, Y, N
     return 0.0, 0.0, 0.0
 
 

@@ -132,6 +132,17 @@ P_MMG_NVVV = _field("N_vvv")
 P_MMG_NVVR = _field("N_vvr")
 P_MMG_NVRR = _field("N_vrr")
 P_MMG_NRRR = _field("N_rrr")
+# MMG hull at any drift angle (physics/crossflow.py, ship-file table [large_drift]): Yoshimura, Nakao &
+# Ishibashi (2009) cross-flow model, blended with the polynomial above outside its fitted range; 0: off
+P_XF_ON = _field("large_drift_on")
+P_XF_CD = _field("C_D")  # cross-flow drag coefficient of the hull at 90 deg drift, on 1/2 rho L d, -
+P_XF_CRY = _field("C_rY")  # yaw-rate factor of the cross flow in the sway force, -
+P_XF_CRN = _field("C_rN")  # yaw-rate factor of the cross flow in the yaw moment, -
+P_XF_R0A = _field("R_0_astern")  # straight-astern resistance coefficient, on 1/2 rho L d u^2, -
+P_XF_BETA1 = _field("mmg_drift_max")  # flow angle up to which the MMG polynomial is used alone, rad
+P_XF_BETA2 = _field("cross_flow_drift_min")  # flow angle from which the cross-flow model is used alone, rad
+P_XF_RP1 = _field("mmg_r_prime_max")  # |r'| up to which the MMG polynomial is used alone, -
+P_XF_RP2 = _field("cross_flow_r_prime_min")  # |r'| from which the cross-flow model is used alone, -
 
 # propeller (open water K_T, K_Q quadratics in J; wake, thrust deduction; MMG wake change in manoeuvres)
 P_PROP_ON = _field("has_propeller")

@@ -12,6 +12,8 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from vessel_gym.physics.crossflow import LargeDrift
+from vessel_gym.physics.crossflow import check as check_large_drift
 from vessel_gym.physics.propeller4q import TABLE_NAMES
 from vessel_gym.physics.schema import (
     SpecError,
@@ -339,6 +341,7 @@ class Ship:
     transmission: Transmission | None = None
     windage: Windage | None = None
     wave_drift: WaveDrift | None = None
+    large_drift: LargeDrift | None = None
     components: tuple[ComponentEntry, ...] = ()
     path: str = ""
 
@@ -372,6 +375,7 @@ _SECTIONS = {
     "transmission": Transmission,
     "windage": Windage,
     "wave_drift": WaveDrift,
+    "large_drift": LargeDrift,
 }
 _REQUIRED = ("source", "particulars", "hull", "rudder", "steering_gear")
 
@@ -529,6 +533,8 @@ def parse_ship(data: dict, where: str, name: str = "") -> Ship:
             raise ShipFileError(
                 f"{where} [hull] model: {model!r} is not one of 'abkowitz', 'mmg' or an import path 'pkg.module:Class'"
             )
+        if "large_drift" in parts:
+            check_large_drift(parts["large_drift"], str(model), where)
         user += _component_list(data.get("components", []), where)
     except SpecError as exc:
         raise ShipFileError(str(exc)) from None

@@ -23,6 +23,7 @@ import math
 import numpy as np
 from numba import njit
 
+from vessel_gym.physics import crossflow
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.atmosphere import blendermann_wind_loads
 from vessel_gym.physics.hull import drift_angle, hull_forces_at_depth
@@ -224,6 +225,7 @@ def pack(ship: Ship) -> np.ndarray:
         P[lo.P_WAVE_TAB : lo.P_WAVE_TAB + 3 * lo.WAVE_NA] = tab.ravel()
         tab_u = drift_speed_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
         P[lo.P_WAVE_TAB_U : lo.P_WAVE_TAB_U + 3 * lo.WAVE_NA] = tab_u.ravel()
+    crossflow.pack(P, ship.large_drift)
     return P
 
 

@@ -1,0 +1,165 @@
+"""MMG hull forces at any drift angle: the cross-flow model of Yoshimura, Nakao & Ishibashi (2009).
+
+The MMG hull polynomial (hull.mmg_hull_forces; Yasukawa & Yoshimura 2015 eq. 8-10) is a Taylor fit to captive
+tests at small drift (|beta| <~ 20 deg) and moderate yaw rate. Outside that range its even terms run away: the
+KVLCC2's X'_vvvv v'^4 makes the surge force +39.9 MN at 4 m/s and 90 deg drift (against -1.2 MN straight ahead),
+so a dead ship in a beam sea gathered headway. Yoshimura, Nakao & Ishibashi (2009), "Unified mathematical model
+for ocean and harbour manoeuvring", MARSIM 2009, replace the nonlinear terms by cross-flow drag integrated along
+the hull and keep the linear derivatives, written so that each term has the sign the flow direction gives it:
+
+    X_H = 1/2 rho L d [ X'_0(chi) u U + X'_vr v r L ]
+    Y_H = 1/2 rho L d [ Y'_v v |u| + Y'_r r L u - C_D int |v + C_rY r L x'| (v + C_rY r L x') dx' ]
+    N_H = 1/2 rho L^2 d [ N'_v v u + N'_r r L |u| - C_D int |v + C_rN r L x'| (v + C_rN r L x') x' dx' ]
+
+over x' = -1/2..1/2, with X'_0 = -R'_0 straight ahead and -R'_0,astern straight astern, interpolated linearly in
+the flow angle chi = atan2(|v|, u) in [0, pi] (the angle between the flow past the hull and the bow direction).
+At 90 deg drift u = 0, so the surge force is X'_vr v r L only: no surge gain from sway. The sway force at
+90 deg is -1/2 rho L d C_D v|v| (C_D is the hull's lateral drag coefficient on L d). Yaw damping N'_r r L |u|
+and the cross flow of a ship turning on the spot keep their sign in sternway, while the Munk moment N'_v v u and
+the lift Y'_r r L u reverse with u. X'_vr, Y'_v, Y'_r, N'_v, N'_r are the ship's MMG derivatives (MMG axes:
+the added-mass term (m + m_y) v r stays in the equations of motion, vessel.pack).
+
+Blend (our choice, documented in docs/physics.md): the published MMG set is used unchanged inside its fitted
+range and the cross-flow model outside it, with weight w = w_beta(chi) * w_r(|r'|) on the MMG forces,
+each a C1 smoothstep from 1 to 0 between two limits of the ship file ([large_drift]). A pure rotation at rest
+(|r'| -> infinity) and any sternway (chi -> 180 deg) are pure cross-flow model. Every term is continuous through
+u = 0, v = 0 and chi = 90/180 deg, odd in (v, r) for Y and N and even for X (port/starboard mirror), and
+vanishes at rest.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.schema import SpecError, param
+
+
+@dataclass(frozen=True, kw_only=True)
+class LargeDrift:
+    """Ship-file table ``[large_drift]``: the cross-flow model for an MMG hull (docs/ship-file.md)."""
+
+    model: str = param("yoshimura_2009", choices=("yoshimura_2009",), doc="Yoshimura, Nakao & Ishibashi (2009)")
+    C_D: float = param(unit="-", lo=0.1, hi=2.0, doc="hull cross-flow drag coefficient at 90 deg drift, on 1/2 rho L d")
+    C_rY: float = param(unit="-", lo=0.0, hi=5.0, doc="yaw-rate factor of the cross flow in the sway force")
+    C_rN: float = param(unit="-", lo=0.0, hi=5.0, doc="yaw-rate factor of the cross flow in the yaw moment")
+    R_0_astern: float = param(unit="-", lo=0.0, hi=0.2, doc="resistance coefficient straight astern, like R_0")
+    mmg_drift_max_deg: float = param(
+        22.0, unit="deg", lo=0.0, hi=60.0, doc="flow angle up to which the MMG polynomial is used unchanged"
+    )
+    cross_flow_drift_min_deg: float = param(
+        35.0, unit="deg", lo=1.0, hi=90.0, doc="flow angle from which the cross-flow model is used alone"
+    )
+    mmg_r_prime_max: float = param(1.2, unit="-", lo=0.0, hi=5.0, doc="|r'| up to which the MMG polynomial is used")
+    cross_flow_r_prime_min: float = param(
+        2.4, unit="-", lo=0.1, hi=10.0, doc="|r'| from which the cross-flow model is used alone"
+    )
+
+
+def check(ld: LargeDrift, hull_model: str, where: str) -> None:
+    """Cross-key rules of ``[large_drift]``; a SpecError names the file and key."""
+    # a user's hull (an import path) replaces the built-in MMG hull, and with it this table, which then has no
+    # effect (a copied built-in file keeps working); an Abkowitz hull has its own nonlinear terms
+    if hull_model == "abkowitz":
+        raise SpecError(f"{where} [large_drift]: applies to [hull] model = 'mmg', not 'abkowitz'")
+    if ld.cross_flow_drift_min_deg <= ld.mmg_drift_max_deg:
+        raise SpecError(
+            f"{where} [large_drift] cross_flow_drift_min_deg: {ld.cross_flow_drift_min_deg:g} deg must exceed "
+            f"mmg_drift_max_deg = {ld.mmg_drift_max_deg:g} deg"
+        )
+    if ld.cross_flow_r_prime_min <= ld.mmg_r_prime_max:
+        raise SpecError(
+            f"{where} [large_drift] cross_flow_r_prime_min: {ld.cross_flow_r_prime_min:g} must exceed "
+            f"mmg_r_prime_max = {ld.mmg_r_prime_max:g}"
+        )
+
+
+def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
+    """Fill the ``[large_drift]`` fields of a parameter row (off when ``ld`` is None)."""
+    if ld is None:
+        P[lo.P_XF_ON] = 0.0
+        return
+    P[lo.P_XF_ON] = 1.0
+    P[lo.P_XF_CD], P[lo.P_XF_CRY], P[lo.P_XF_CRN], P[lo.P_XF_R0A] = ld.C_D, ld.C_rY, ld.C_rN, ld.R_0_astern
+    P[lo.P_XF_BETA1] = math.radians(ld.mmg_drift_max_deg)
+    P[lo.P_XF_BETA2] = math.radians(ld.cross_flow_drift_min_deg)
+    P[lo.P_XF_RP1], P[lo.P_XF_RP2] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
+
+
+#: strips of the cross-flow integral (midpoint rule): the integrand |s| s is C1, so the error is O(1/N^2),
+#: 0.3 % of the pure-yaw moment at N = 20
+CROSS_FLOW_STRIPS = 20
+
+
+@njit(cache=True)
+def cross_flow_integrals(v, rL, C_rY, C_rN):
+    """int |v + C_rY rL x'|(v + C_rY rL x') dx' and int |v + C_rN rL x'|(v + C_rN rL x') x' dx' over
+    x' = -1/2..1/2 (midpoint rule), in m^2/s^2; ``rL`` is r L in m/s."""
+    h = 1.0 / CROSS_FLOW_STRIPS
+    IY = 0.0
+    IN = 0.0
+    for i in range(CROSS_FLOW_STRIPS):
+        x = -0.5 + (i + 0.5) * h
+        sy = v + C_rY * rL * x
+        sn = v + C_rN * rL * x
+        IY += abs(sy) * sy
+        IN += abs(sn) * sn * x
+    return IY * h, IN * h
+
+
+@njit(cache=True)
+def yoshimura_forces(P, u, v, r):
+    """Hull forces of the Yoshimura, Nakao & Ishibashi (2009) model (module docstring), midship origin.
+    Returns (X, Y, N) in N, N, N m."""
+    L = P[lo.P_L]
+    U = math.sqrt(u * u + v * v)
+    chi = math.atan2(abs(v), u) if U > 0.0 else 0.0
+    R0 = P[lo.P_MMG_R0]
+    X0 = -(R0 + (P[lo.P_XF_R0A] - R0) * chi / math.pi)
+    rL = r * L
+    IY, IN = cross_flow_integrals(v, rL, P[lo.P_XF_CRY], P[lo.P_XF_CRN])
+    CD = P[lo.P_XF_CD]
+    q = 0.5 * P[lo.P_RHO] * L * P[lo.P_T]
+    X = q * (X0 * u * U + P[lo.P_MMG_XVR] * v * rL)
+    Y = q * (P[lo.P_MMG_YV] * v * abs(u) + P[lo.P_MMG_YR] * rL * u - CD * IY)
+    N = q * L * (P[lo.P_MMG_NV] * v * u + P[lo.P_MMG_NR] * rL * abs(u) - CD * IN)
+    return X, Y, N
+
+
+@njit(cache=True)
+def _fade(x, x1, x2):
+    """1 for x <= x1, 0 for x >= x2, a C1 smoothstep between."""
+    if x <= x1:
+        return 1.0
+    if x >= x2:
+        return 0.0
+    t = (x - x1) / (x2 - x1)
+    return 1.0 - t * t * (3.0 - 2.0 * t)
+
+
+@njit(cache=True)
+def mmg_weight(P, u, v, r):
+    """Weight of the MMG polynomial in the blend (module docstring): 1 inside its fitted range."""
+    U = math.sqrt(u * u + v * v)
+    rL = abs(r) * P[lo.P_L]
+    if U <= 0.0:
+        return 1.0 if rL == 0.0 else 0.0  # at rest both models give 0; turning on the spot: cross flow
+    w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
+    if w_beta == 0.0:
+        return 0.0
+    return w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
+
+
+@njit(cache=True)
+def blend(P, u, v, r, X_mmg, Y_mmg, N_mmg):
+    """The MMG forces (X_mmg, Y_mmg, N_mmg) inside their fitted range, the cross-flow model outside, blended.
+    Returns (X, Y, N) in N, N, N m."""
+    w = mmg_weight(P, u, v, r)
+    if w == 1.0:
+        return X_mmg, Y_mmg, N_mmg
+    Xc, Yc, Nc = yoshimura_forces(P, u, v, r)
+    return w * X_mmg + (1.0 - w) * Xc, w * Y_mmg + (1.0 - w) * Yc, w * N_mmg + (1.0 - w) * Nc
