@@ -14,8 +14,8 @@ References:
 
   m (1 + k) the mass with surge added mass (App. 3 takes T_a as the thrust when the ship is dead in the
   water), plus a term for the time taken to achieve the astern thrust at the initial speed.
-- Tani, H. (1968), "The reverse stopping ability of supertankers", Journal of Navigation 21(4) (Royal Institute
-  of Navigation): the head reach of a 100,000 dwt supertanker from service speed, engines full astern and helm
+- Tani, H. (1968), "The reverse stopping ability of supertankers", Journal of Navigation 21 (Royal Institute of
+  Navigation): the head reach of a 100,000 dwt supertanker from service speed, engines full astern and helm
   midships, "may range from 10 L to 15 L"; a larger tanker stops in more lengths (its mass grows as L^3,
   its resistance as L^2).
 
