@@ -1,14 +1,27 @@
-"""Full-astern stopping (crash stop) of the full-scale KVLCC2 with its direct-reversing diesel.
+"""Full-astern stopping (crash stop) of every built-in ship except the environment ships (kvlcc2_l7,
+kvlcc2_l7_windage), each against the published reference that applies to a ship of its kind.
 
-Reference: IMO MSC/Circ.1053 (2002), Explanatory notes to the Standards for ship manoeuvrability, Appendix 3
-"Stopping ability of very large ships": on a straight track, with hull resistance proportional to the square
-of the speed, R = R_0 (u / V_0)^2, and a constant astern thrust T_a equal to the thrust when the ship is
-finally dead in the water, the stopping distance is
+References:
+- IMO Res. MSC.137(76) (2002) §5.3.4: track reach of the full-astern stopping test <= 15 L; an Administration
+  may accept more for ships of large displacement, never more than 20 L. It applies to ships of 100 m and over.
+- IMO MSC/Circ.1053 (2002), Explanatory notes to the Standards for ship manoeuvrability, Appendix 3 "Stopping
+  ability of very large ships": (1) the discretion beyond 15 L "is only likely to be required in the case of
+  large tankers"; (2) the longest stop is on a straight track; (3) with hull resistance proportional to the
+  square of the speed, R = R_0 (u / V_0)^2, a constant astern thrust T_a and the propeller reversed as rapidly
+  as possible, the straight-track stopping distance is
 
-    S = m (1 + k) V_0^2 / (2 R_0) ln(1 + R_0 / T_a),
+      S = m (1 + k) V_0^2 / (2 R_0) ln(1 + R_0 / T_a),
 
-m (1 + k) the mass with surge added mass. App. 3 takes the propeller as reversed at once; the model's engine
-takes its reversal sequence, during which the ship keeps nearly its approach speed.
+  m (1 + k) the mass with surge added mass (App. 3 takes T_a as the thrust when the ship is dead in the
+  water), plus a term for the time taken to achieve the astern thrust at the initial speed.
+- Tani, H. (1968), "The reverse stopping ability of supertankers", Journal of Navigation 21 (Royal Institute of
+  Navigation): the head reach of a 100,000 dwt supertanker from service speed, engines full astern and helm
+  midships, "may range from 10 L to 15 L"; a larger tanker stops in more lengths (its mass grows as L^3,
+  its resistance as L^2).
+
+Each test builds App. 3's bracket from the model's own mass, resistance and propeller (never from a trial
+result of the model) and checks the head reach lies inside it, and the MSC.137(76) criterion where it applies.
+The figures are reported in docs/physics.md ("Crash stop of the built-in ships").
 """
 
 from __future__ import annotations
@@ -18,47 +31,109 @@ import math
 import pytest
 
 from vessel_gym.manoeuvres import stopping
-from vessel_gym.manoeuvres.imo import STOPPING_LIMIT_L, stopping_criteria
+from vessel_gym.manoeuvres.imo import STOPPING_LARGE_SHIP_LIMIT_L, STOPPING_LIMIT_L, stopping_criteria
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.hull import hull_forces
 from vessel_gym.physics.propulsion import propeller_thrust_torque
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.vessel import pack
 
-#: the reversing sequence of the KVLCC2 engine ends within this time (tests/physics/test_reversal.py), s
+#: the reversing sequence ends (engine or clutch driving astern) within this time of the full-astern order
+#: (direct-reversing engine: tests/physics/test_reversal.py; clutch plants: the shaft's run-down), s
 REVERSAL_BOUND_S = 60.0
 
+#: Tani (1968): head reach of a 100,000 dwt supertanker from service speed, L
+TANI_1968_SUPERTANKER_L = (10.0, 15.0)
 
-def _app3_inputs(ship) -> tuple[float, float, float, float]:
-    """(m (1 + k) V_0^2 / (2 R_0) m, R_0 N, T_a N, J_max): App. 3's inputs from the model's own mass, resistance
-    and dead-in-water astern thrust at the full-astern telegraph rpm; J_max the propeller's advance ratio
-    u_a / (|n| D) at the approach speed and that rpm."""
+
+def _app3_bracket(name: str) -> tuple[float, float]:
+    """(lower, upper) head reach in metres from MSC/Circ.1053 App. 3 with the model's own quantities.
+
+    The astern thrust T_a at full-astern telegraph rpm (after thrust deduction) is evaluated both dead in the
+    water and at the approach speed: the larger of the two, with the propeller reversed at once, gives the
+    shortest straight stop (lower bound); the smaller, with the approach speed kept over the reversal
+    (REVERSAL_BOUND_S), the longest (upper bound). App. 3 calls the straight track the longest stop, so the
+    head reach of any track is below the upper bound.
+    """
+    ship = load_ship(name)
     P = pack(ship)
     V0 = ship.test_speed_m_s
     R0 = -hull_forces(P, V0, 0.0, 0.0, 0.0)[0]
+    scale = P[lo.P_M11] * V0**2 / (2.0 * R0)
     n_astern = ship.engine.telegraph_rpm[0] / 60.0
-    T, _Q = propeller_thrust_torque(P, 0.0, n_astern)
-    T_a = -(1.0 - P[lo.P_TP]) * T
-    J_max = V0 * (1.0 - P[lo.P_WP0]) / (abs(n_astern) * P[lo.P_DP])
-    return P[lo.P_M11] * V0**2 / (2.0 * R0), R0, T_a, J_max
+    thrust = [
+        -(1.0 - P[lo.P_TP]) * propeller_thrust_torque(P, u_a, n_astern)[0]
+        for u_a in (0.0, V0 * (1.0 - P[lo.P_WP0]))
+    ]
+    assert min(thrust) > 0.0
+    low = scale * math.log(1.0 + R0 / max(thrust))
+    high = scale * math.log(1.0 + R0 / min(thrust)) + V0 * REVERSAL_BOUND_S
+    return low, high
+
+
+def _check(name: str):
+    st = stopping(name)
+    low, high = _app3_bracket(name)
+    assert low <= st.head_reach_m <= high, (low / st.L_m, st.head_reach_m / st.L_m, high / st.L_m)
+    assert st.track_reach_m >= st.head_reach_m - 1e-6
+    return st
 
 
 def test_kvlcc2_crash_stop_against_msc_circ_1053_appendix_3():
-    """Head reach between the App. 3 estimate with the ahead-inflow thrust gain of the model's four-quadrant
-    propeller (lower bound: the astern thrust with headway is up to 1 + astern_inflow_slope J times the
-    dead-in-water thrust, which App. 3 ignores) and the App. 3 estimate plus the approach speed over the
-    reversal (upper bound: App. 3 calls the straight track the longest stop). Rudder midships and no
-    single-screw side force in the model: the track stays straight (lateral deviation < 0.01 L)."""
-    ship = load_ship("kvlcc2")
-    scale, R0, T_a, J_max = _app3_inputs(ship)
-    S = scale * math.log(1.0 + R0 / T_a)
-    gain = 1.0 + ship.propeller.astern_inflow_slope * J_max
-    S_low = scale * math.log(1.0 + R0 / (gain * T_a))
-    S_high = S + ship.test_speed_m_s * REVERSAL_BOUND_S
-    st = stopping("kvlcc2")
-    assert S_low <= st.head_reach_m <= S_high, (S_low / st.L_m, st.head_reach_m / st.L_m, S_high / st.L_m)
+    """VLCC, direct-reversing two-stroke diesel, Wageningen B4-70 four-quadrant propeller. Head reach within
+    the App. 3 bracket; no single-screw side force is modelled, so with the rudder midships the track stays
+    straight (lateral deviation < 0.01 L). The MSC.137(76) criterion is evaluated; a large tanker may need
+    the 20 L an Administration may accept, never more."""
+    st = _check("kvlcc2")
     assert abs(st.lateral_deviation_m) < 0.01 * st.L_m
     assert st.track_reach_m == pytest.approx(st.head_reach_m, rel=1e-3)
-    (crit,) = stopping_criteria(st)  # the MSC.137(76) 15 L criterion is still evaluated
+    (crit,) = stopping_criteria(st)
     assert crit.limit == STOPPING_LIMIT_L
     assert crit.value == pytest.approx(st.track_reach_m / st.L_m)
+    assert crit.value <= STOPPING_LARGE_SHIP_LIMIT_L
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="known gap (docs/physics.md, 'Engine reversal'): the published MMG set's resistance R'_0 = 0.022 "
+    "is the model-scale value, about twice a full-scale estimate, so the full-scale KVLCC2 stops in about "
+    "half the lengths a real VLCC needs",
+)
+def test_kvlcc2_head_reach_where_published_supertanker_stops_lie():
+    """Tani (1968): 10-15 L for a 100,000 dwt supertanker; the ~300,000 dwt KVLCC2 should need at least the
+    lower figure (a larger tanker stops in more lengths), and MSC/Circ.1053 App. 3 names large tankers as the
+    ships that may exceed 15 L. Strict: when the gap is closed this test passes and must lose its mark."""
+    st = stopping("kvlcc2")
+    assert st.head_reach_m / st.L_m >= TANI_1968_SUPERTANKER_L[0]
+
+
+def test_mariner_crash_stop_against_msc_137_and_appendix_3():
+    """Mariner-class cargo liner (L 161 m, 15 kn; geared steam turbine with an astern turbine, modelled as the
+    clutch plant with astern torque 0.4 of ahead). Not a large tanker, so App. 3 expects the 15 L of
+    MSC.137(76) to be met; head reach within the App. 3 bracket. The published Abkowitz set carries the
+    trial ship's asymmetry (bias terms Y_0, N_0), so the track veers to one side: the lateral deviation is
+    nonzero but stays below the head reach."""
+    st = _check("mariner")
+    (crit,) = stopping_criteria(st)
+    assert crit.value <= STOPPING_LIMIT_L
+    assert 0.0 < abs(st.lateral_deviation_m) < st.head_reach_m
+
+
+def test_dtc_crash_stop_against_msc_137_and_appendix_3():
+    """DTC 14,000 TEU container ship at 25 kn (its propulsion plant is not published; the file keeps the
+    instant clutch reversal, docs/physics.md). Not a large tanker: App. 3 expects the 15 L of MSC.137(76)
+    to be met; head reach within the App. 3 bracket; symmetric model, straight track."""
+    st = _check("dtc")
+    (crit,) = stopping_criteria(st)
+    assert crit.value <= STOPPING_LIMIT_L
+    assert abs(st.lateral_deviation_m) < 0.01 * st.L_m
+
+
+def test_supply_crash_stop_against_appendix_3():
+    """76 m offshore supply vessel at its 6 kn test speed (geared diesel with reversing clutch). MSC.137(76)
+    applies to ships of 100 m and over only, so only the App. 3 bracket is checked. The published linear
+    surge damping makes the resistance far from App. 3's quadratic law at low speed (docs/physics.md), so
+    the bracket uses the resistance at the test speed, which overstates R below it: the lower bound holds
+    all the more, and the upper bound carries the reversal allowance."""
+    st = _check("supply")
+    assert abs(st.lateral_deviation_m) < 0.01 * st.L_m

@@ -128,15 +128,19 @@ def test_continuous_through_n_zero_and_va_zero():
 
 
 def test_first_quadrant_keeps_the_ships_own_curves_and_the_option_is_off_by_default():
-    """Quadrant 1 is the ship's published K_T / K_Q (the ahead-speed validation is untouched), and every
-    built-in ship leaves the option off, so its parameter row has code 0 and the astern_* approximation."""
-    ship = load_ship("kvlcc2")
+    """Quadrant 1 is the ship's published K_T / K_Q (the ahead-speed validation is untouched). The option is
+    off by default: the environment ships (kvlcc2_l7, kvlcc2_l7_windage) leave it off, so their parameter
+    row has code 0 and the astern_* approximation; the other built-in ships, whose first quadrant is a B4
+    propeller (docs/physics.md), name the B4-70 P/D 0.8 table."""
+    ship = _with_4q(name="")
     P0, P4 = pack(ship), pack(_with_4q())
-    assert P4[lo.P_PROP_4Q] == 1.0
+    assert P0[lo.P_PROP_4Q] == 0.0 and P4[lo.P_PROP_4Q] == 1.0
     for ua, n in ((0.0, 1.75), (4.8, 1.75), (6.0, 0.5), (4.0, 0.0)):
         assert propeller_thrust_torque(P4, ua, n) == propeller_thrust_torque(P0, ua, n)
-    for name in ("kvlcc2", "kvlcc2_l7", "kvlcc2_l7_windage", "mariner", "dtc", "supply"):
+    for name in ("kvlcc2_l7", "kvlcc2_l7_windage"):
         assert pack(load_ship(name))[lo.P_PROP_4Q] == 0.0
+    for name in ("kvlcc2", "mariner", "dtc", "supply"):
+        assert pack(load_ship(name))[lo.P_PROP_4Q] == 1.0
     # bollard ahead: the ship's own k_0; bollard astern: the series' astern/ahead ratio times the ship's k_0
     n = 1.5
     T_ahead = propeller_thrust_torque(P4, 0.0, n)[0]

@@ -30,7 +30,7 @@ ASTERN = -80.0 / 60.0  # full astern order, rev/s
 def test_kvlcc2_declares_direct_reversing_engine_others_keep_the_clutch():
     assert KV.engine.reversing == "direct_air_start"
     assert P_KV[lo.P_REV_KIND] == lo.REVERSING_DIRECT_AIR
-    for name in ("kvlcc2_l7", "mariner", "dtc"):
+    for name in ("kvlcc2_l7", "kvlcc2_l7_windage", "mariner", "dtc", "supply"):
         assert load_ship(name).engine.reversing == "clutch"
         assert pack(load_ship(name))[lo.P_REV_KIND] == lo.REVERSING_CLUTCH
 
