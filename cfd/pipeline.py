@@ -55,6 +55,7 @@ from .runner import (
     check_openfoam,
     mpi_available,
     parse_check_mesh,
+    parse_layers,
     patch_area,
     read_boundary,
     run_app,
@@ -162,8 +163,16 @@ class Pipeline:
                 raise CfdError("checkMesh (mesh)", f"unusable mesh: {reason}", log)
             for w in check["warnings"]:
                 self.progress("checkMesh", f"warning: {w}")
+            layers = parse_layers(case / "log.snappyHexMesh").get(HULL_PATCH)
+            if spec.n_layers and layers:
+                self.progress(
+                    "snappyHexMesh",
+                    f"{layers['layers']:.2f} of {spec.n_layers} layers on the hull, "
+                    f"{layers['thickness_pct']:.0f} % of the layer thickness asked for",
+                )
             return {
                 **check,
+                "layers": layers,
                 "hull_faces": int(hull["nFaces"]),
                 "hull_area_m2": patch_area(case, hull),
                 "patches": sorted(patches),
@@ -222,7 +231,7 @@ class Pipeline:
         omega = 2.0 * math.pi / period
         y0 = amplitude if kind == "sway" else U * math.tan(math.radians(amplitude)) / omega
         motion = Motion(kind, y0, omega, U, 0.5 * period)
-        dt = pmm_time_step(self.spec, U, period)
+        dt = pmm_time_step(self.spec, U, period, courant=s.courant)
         t_end = s.cycles * period
         flow = FlowSpec(U=U, rho=s.rho, nu=s.nu)
         name = f"sway_a{amplitude:.5f}" if kind == "sway" else f"yaw_p{amplitude:05.2f}"
@@ -234,11 +243,22 @@ class Pipeline:
             "dt": dt,
             "t_end": t_end,
             "flow": repr(flow),
+            "time_scheme": s.time_scheme,
         }
 
         def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
             start = _latest_time(self.cases / base.name)
-            write_pmm_case(case, self.cases / "mesh", start, flow, motion, t_end, dt, procs=procs)
+            write_pmm_case(
+                case,
+                self.cases / "mesh",
+                start,
+                flow,
+                motion,
+                t_end,
+                dt,
+                procs=procs,
+                time_scheme=s.time_scheme,
+            )
             self._solve(case, "pimpleFoam", job.label, procs, end_time=t_end)
             h = read_forces(case)
             if len(h.t) == 0 or not np.all(np.isfinite(h.F)):
@@ -392,7 +412,16 @@ class Pipeline:
         s = self.study
         assert self.hull is not None
         self.spec = mesh_spec(
-            s.lpp, s.bwl, s.tm, s.grading, U=s.U_ref, nu=s.nu, layers=s.layers, yplus=s.yplus, sizing=s.sizing
+            s.lpp,
+            s.bwl,
+            s.tm,
+            s.grading,
+            U=s.U_ref,
+            nu=s.nu,
+            layers=s.layers,
+            yplus=s.yplus,
+            sizing=s.sizing,
+            wake_deg=self.wake_angles() if s.wake else (),
         )
         mesh = self._mesh_job()
         base = self._steady_job("tow", s.U_ref, 0.0)
@@ -407,6 +436,19 @@ class Pipeline:
         if "tow" in s.tests:
             later += [self._steady_job("tow", u, 0.0) for u in s.speeds if not math.isclose(u, s.U_ref)]
         return jobs + later
+
+    def wake_angles(self) -> tuple[float, ...]:
+        """Inflow angles (deg, case frame) whose wakes the one shared mesh refines: the straight tow, every
+        drift angle, and ± the largest drift angle of the hull's path in each sway and yaw run (v/U = y0 ω/U
+        in sway; the heading amplitude ψ0 in yaw, where the wake trails along the curved path)."""
+        s = self.study
+        drift = list(s.drift_deg) if "drift" in s.tests else []
+        pmm = []
+        if "sway" in s.tests:
+            pmm += [math.degrees(math.atan(a * s.sway_omega() / s.U_ref)) for a in s.sway_amplitude]
+        if "yaw" in s.tests:
+            pmm += list(s.yaw_deg)
+        return (0.0, *drift, *pmm, *(-a for a in pmm))
 
     def run(self) -> StudyResult:
         s = self.study
