@@ -24,9 +24,10 @@ from cfd.case import (
     write_pmm_case,
     write_steady_case,
 )
+from cfd.case.free_surface import resistance_from_half
 from cfd.foamdict import Named, Words
 from cfd.friction import ittc57, wall_distance
-from cfd.geometry import wigley_hull, write_stl
+from cfd.geometry import wigley_hull, wigley_hull_with_freeboard, write_stl
 
 L, B, T = 1.0, 0.1, 0.0625
 
@@ -193,18 +194,54 @@ def test_motion_kinematics():
 
 
 def test_free_surface_case_is_generated(tmp_path):
-    stl = write_stl(tmp_path / "hull.stl", wigley_hull(L, B, T))
-    spec = mesh_spec(L, B, T, 1, U=1.0, nu=1e-6)
+    stl = write_stl(tmp_path / "hull.stl", wigley_hull_with_freeboard(L, B, T, 0.1))
+    spec = mesh_spec(L, B, T, 2, U=1.0, nu=1e-6, layers=True, wake_deg=(0.0, 5.0))
     case = tmp_path / "vof"
-    write_free_surface_case(case, spec, stl, FlowSpec(U=1.0), 1000)
-    assert _parse(case / "system" / "controlDict")["application"] == "interFoam"
+    fs = write_free_surface_case(case, spec, stl, FlowSpec(U=1.0, rho=998.8), 1000)
+    cd = _parse(case / "system" / "controlDict")
+    assert cd["application"] == "interFoam" and cd["endTime"] == 1000
+    assert cd["functions"]["forces"]["rho"] == "rho"  # interFoam's p is in Pa: no rhoInf scaling
+    assert _parse(case / "system" / "fvSchemes")["ddtSchemes"]["default"] == "localEuler"
     bm = _parse(case / "system" / "blockMeshDict")
-    assert "atmosphere" in str(bm["boundary"])
-    assert np.asarray(bm["vertices"])[:, 2].max() > 0  # air above the waterline
+    names = str(bm["boundary"])
+    assert all(n in names for n in ("inlet", "outlet", "atmosphere", "midPlane", "side", "bottom"))
+    v = np.asarray(bm["vertices"])
+    assert v[:, 1].max() == 0.0 and v[:, 1].min() < -L  # half domain, the centreplane y = 0 a symmetry plane
+    assert v[:, 2].max() >= 0.5 * L  # air above the waterline
+    assert fs.hi[1] == 0.0 and fs.cells[1] * 2 == spec.cells[1]
+    bands = {b.name: b for b in fs.boxes}
+    assert bands["freeSurfaceInner"].level == spec.hull_level - 1 and bands["freeSurfaceInner"].hi[2] > 0
+    assert bands["box6"].hi[2] == pytest.approx(-bands["box6"].lo[2])  # boxes mirrored above the waterline
+    assert [w.name for w in fs.wakes] == ["wake_p00"]  # a straight tow: only its own wake
+    sn = _parse(case / "system" / "snappyHexMeshDict")
+    assert sn["snap"] is False and sn["addLayers"] is False  # castellated hull (docs/cfd.md says why)
+    regions = [str(r) for r in _parse(case / "system" / "setFieldsDict")["regions"]]
+    assert any("boxToFace" in r for r in regions)  # the inlet's water, not only the cells
+    assert _parse(case / "constant" / "hRef")["value"] == 0
+    U = _parse(case / "0.orig" / "U")
+    assert U["boundaryField"]["outlet"]["type"] == "outletPhaseMeanVelocity"
+    assert _parse(case / "0.orig" / "p_rgh")["boundaryField"]["atmosphere"]["type"] == "totalPressure"
     for f in ("alpha.water", "U", "p_rgh", "k", "omega", "nut"):
-        assert (case / "0.orig" / f).is_file()
-    assert "NOT validated" in (case / "Allrun").read_text()
-    assert _parse(case / "system" / "setFieldsDict")["regions"]
+        assert _parse(case / "0.orig" / f)["boundaryField"]["midPlane"]["type"] == "symmetryPlane"
+    text = (case / "Allrun").read_text()
+    assert text.index("snappyHexMesh") < text.index("setFields") < text.index("interFoam")
+    assert resistance_from_half(-1.5) == 3.0  # both sides of the hull, as a positive resistance
+
+
+def test_wall_sided_wigley_is_closed_and_has_its_volume():
+    from cfd.geometry import check_surface, hydrostatics
+
+    F = 0.05
+    tris = wigley_hull_with_freeboard(L, B, T, F)
+    surface = check_surface(tris, z_max=10.0)  # every edge, above the waterline too
+    assert surface.open_edges == 0 and surface.non_manifold_edges == 0
+    # divergence theorem over the closed surface: Wigley 4/9 LBT below, L B F 2/3 (parabolic waterplane) above
+    vol = np.einsum("ij,ij->i", tris[:, 0], np.cross(tris[:, 1], tris[:, 2])).sum() / 6.0
+    assert vol == pytest.approx(4 / 9 * L * B * T + 2 / 3 * L * B * F, rel=0.01)
+    below = hydrostatics(tris)
+    assert below.volume_m3 == pytest.approx(4 / 9 * L * B * T, rel=0.01) and below.draught_m == pytest.approx(
+        T
+    )
 
 
 def test_numerics_default_to_second_order(mesh_case, tmp_path):
