@@ -82,6 +82,7 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
     ("sway-amplitude", "pure sway amplitudes (m), list or MIN:MAX:COUNT (default: 0.025 L)"),
     ("yaw-period", "pure yaw period (s; default pi L / U)"),
     ("yaw-deg", "pure yaw heading amplitudes (deg), list or MIN:MAX:COUNT"),
+    ("sweep-omega-prime", "frequency sweep: extra sway and yaw runs at these omega' = omega L / U (0.2-5)"),
     ("cycles", "PMM periods simulated (first half period is a start ramp)"),
     ("fit-cycles", "last whole PMM periods used in the fits"),
     ("rho", "water density (kg/m3)"),

@@ -61,6 +61,7 @@ class Study:
     sway_amplitude: tuple[float, ...] = ()  # m; () -> 0.025 L
     yaw_period: float = 0.0
     yaw_deg: tuple[float, ...] = (4.0,)
+    sweep_omega_prime: tuple[float, ...] = ()  # frequency sweep: extra sway/yaw runs at these ω' = ωL/U
     cycles: float = 3.0  # PMM periods simulated after the start ramp
     fit_cycles: int = 2  # last whole periods used in the fits
     rho: float = 999.1  # ITTC 7.5-02-01-03, fresh water 15 °C
@@ -205,6 +206,7 @@ KEYS = (
     "sway_amplitude",
     "yaw_period",
     "yaw_deg",
+    "sweep_omega_prime",
     "cycles",
     "fit_cycles",
     "rho",
@@ -307,14 +309,21 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
     )
     if "yaw_deg" in raw:
         kw["yaw_deg"] = parse_list("yaw_deg", raw["yaw_deg"], 0.0, 30.0)
+    if "sweep_omega_prime" in raw:
+        # omega' 0.2-5 spans the quasi-steady range to the seed's omega' = 2 and beyond (memory effects)
+        kw["sweep_omega_prime"] = parse_list(
+            "sweep_omega_prime", raw["sweep_omega_prime"], 0.2, 5.0, max_count=6
+        )
+    periods = [kw["sway_period"]] + [2 * math.pi * lpp / (w * pmm) for w in kw.get("sweep_omega_prime", ())]
     for a in kw["sway_amplitude"]:
-        v0 = a * 2 * math.pi / kw["sway_period"]
-        if v0 > math.tan(math.radians(30.0)) * pmm:
-            raise InputError(
-                "sway_amplitude",
-                f"{a:g} m at period {kw['sway_period']:g} s gives a sway "
-                f"velocity of {v0 / pmm:.2f} U; allowed up to tan(30 deg) U",
-            )
+        for period in periods:
+            v0 = a * 2 * math.pi / period
+            if v0 > math.tan(math.radians(30.0)) * pmm:
+                raise InputError(
+                    "sway_amplitude",
+                    f"{a:g} m at period {period:.4g} s gives a sway "
+                    f"velocity of {v0 / pmm:.2f} U; allowed up to tan(30 deg) U",
+                )
     if "cycles" in raw:
         kw["cycles"] = parse_number("cycles", raw["cycles"], 1.5, 50.0)
     if "fit_cycles" in raw:

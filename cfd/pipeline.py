@@ -222,12 +222,15 @@ class Pipeline:
 
         return Job(name, kind, label, key, action, params={"U": U, "beta": beta})
 
-    def _pmm_job(self, kind: str, amplitude: float, base: Job) -> Job:
-        """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw)."""
+    def _pmm_job(self, kind: str, amplitude: float, base: Job, omega_prime: float | None = None) -> Job:
+        """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw).
+        ``omega_prime``: a run of the frequency sweep at ω' = ωL/U instead of the study's period."""
         s = self.study
         assert self.spec is not None
         U = s.U_ref
         period = s.sway_period if kind == "sway" else s.yaw_period
+        if omega_prime is not None:
+            period = 2.0 * math.pi * s.lpp / (omega_prime * U)
         omega = 2.0 * math.pi / period
         y0 = amplitude if kind == "sway" else U * math.tan(math.radians(amplitude)) / omega
         motion = Motion(kind, y0, omega, U, 0.5 * period)
@@ -235,6 +238,8 @@ class Pipeline:
         t_end = s.cycles * period
         flow = FlowSpec(U=U, rho=s.rho, nu=s.nu)
         name = f"sway_a{amplitude:.5f}" if kind == "sway" else f"yaw_p{amplitude:05.2f}"
+        if omega_prime is not None:
+            name += f"_w{omega_prime:.2f}"
         label = f"sway y0={amplitude:g} m" if kind == "sway" else f"yaw psi0={amplitude:g} deg"
         key = {
             "mesh": self.mesh_key,
@@ -287,9 +292,10 @@ class Pipeline:
                 "psi0_deg": math.degrees(math.atan(y0 * omega / U)) if kind == "yaw" else 0.0,
             }
 
-        return Job(
-            name, kind, label, key, action, params={"motion": motion, "t_end": t_end, "period": period}
-        )
+        if omega_prime is not None:
+            label += f" omega'={omega_prime:g}"
+        params = {"motion": motion, "t_end": t_end, "period": period, "amplitude": amplitude}
+        return Job(name, kind, label, key, action, params=params | {"sweep": omega_prime is not None})
 
     def _solve(self, case: Path, app: str, label: str, procs: int, end_time: float, on_tick=None) -> None:
         step = f"{app} ({label})"
@@ -427,10 +433,14 @@ class Pipeline:
         base = self._steady_job("tow", s.U_ref, 0.0)
         jobs = [mesh, base]
         later: list[Job] = []
-        if "sway" in s.tests:
-            later += [self._pmm_job("sway", a, base) for a in s.sway_amplitude]
-        if "yaw" in s.tests:
-            later += [self._pmm_job("yaw", a, base) for a in s.yaw_deg]
+        for kind, amplitudes in (("sway", s.sway_amplitude), ("yaw", s.yaw_deg)):
+            if kind not in s.tests:
+                continue
+            later += [self._pmm_job(kind, a, base) for a in amplitudes]
+            own = 2.0 * math.pi * s.lpp / ((s.sway_period if kind == "sway" else s.yaw_period) * s.U_ref)
+            for w in s.sweep_omega_prime:  # the frequency sweep, at every amplitude
+                if not math.isclose(w, own, rel_tol=1e-6):
+                    later += [self._pmm_job(kind, a, base, omega_prime=w) for a in amplitudes]
         if "drift" in s.tests:
             later += [self._steady_job("drift", s.U_ref, b) for b in s.drift_deg]
         if "tow" in s.tests:
@@ -445,7 +455,8 @@ class Pipeline:
         drift = list(s.drift_deg) if "drift" in s.tests else []
         pmm = []
         if "sway" in s.tests:
-            pmm += [math.degrees(math.atan(a * s.sway_omega() / s.U_ref)) for a in s.sway_amplitude]
+            omegas = [s.sway_omega()] + [w * s.U_ref / s.lpp for w in s.sweep_omega_prime]
+            pmm += [math.degrees(math.atan(a * w / s.U_ref)) for a in s.sway_amplitude for w in omegas]
         if "yaw" in s.tests:
             pmm += list(s.yaw_deg)
         return (0.0, *drift, *pmm, *(-a for a in pmm))
