@@ -82,3 +82,14 @@ def test_dependence_shows_a_frequency_dependent_derivative():
     assert "amplitudes" not in dep["sway"]  # one amplitude at the base frequency
     lines = summary_lines(dep, "rho_L2_U2")
     assert lines[-1].startswith("| spread | 66.7 %")
+
+
+def test_a_failed_sweep_run_leaves_the_ship_file_derivatives_status(tmp_path, monkeypatch):
+    # the sweep's omega' = 1 runs (and only they: case names ending _w1.00) bound k < 0 to the end
+    fake = FakeFoam()
+    fake.bounding_k_in = "sway_a0.03000_w1"
+    fake_environment(monkeypatch, fake)
+    result = run(study(tmp_path, sweep_omega_prime="1", drift_deg="4,8"), fake)
+    gate = result.verification
+    assert gate["verdict"] == "UNVERIFIED" and "sway_a0.03000_w1.00: k >= 0" in gate["failures"]
+    assert gate["derivatives"]["Y_vdot"] == "verified"
