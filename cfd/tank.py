@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 import time
 from dataclasses import asdict, dataclass
@@ -60,6 +61,7 @@ DTC_TANK = (
 # 5.69 %; ITTC 7.5-03-01-04 cites a few per cent as the state of the art for resistance on fine grids).
 TARGET_REL = 0.03
 SETTLE_WINDOW = 0.1  # last fraction of the LTS iterations averaged (and whose spread is reported)
+MODES = ("run", "write", "collect")  # of validate_dtc
 
 
 def _solve(case: Path, procs: int, label: str, iterations: int, progress: Progress) -> None:
@@ -113,12 +115,14 @@ def run_free_surface_tows(
     x_ap: float | None = None,
     procs: int = 1,
     progress: Progress | None = None,
+    write_only: bool = False,
 ) -> dict[str, Any]:
     """Mesh the hull once (half domain, free-surface bands) and run an interFoam tow per speed.
 
     Returns the mesh figures and, per speed, the total resistance R_T (N, both sides), the spread of the
     half-hull x force over the last tenth of the iterations relative to its mean, the iterations and the
-    wall time. Cases are in ``out/cases``.
+    wall time. Cases are in ``out/cases``. ``write_only``: mesh and write the cases, run none (for
+    ``vessel-cfd slurm``; :func:`collect_tows` reads them back).
     """
     progress = progress or Progress()
     check_openfoam(parallel=procs > 1)
@@ -146,28 +150,57 @@ def run_free_surface_tows(
         progress(label, f"case {k} of {len(speeds)}")
         write_free_surface_case(case, spec, stl, FlowSpec(U=U, rho=rho, nu=nu), iterations, procs, mesh_case)
         shutil.copytree(case / "0.orig", case / "0")
+        if write_only:
+            continue
         t1 = time.monotonic()
         _solve(case, procs, label, iterations, progress)
-        h = read_forces(case)
-        n = max(1, math.ceil(SETTLE_WINDOW * len(h.t)))
-        fx = h.F[-n:, 0]
-        if not all(math.isfinite(v) for v in fx):
-            raise CfdError(
-                f"interFoam ({label})", "non-finite forces: the solution diverged", case / "log.interFoam"
-            )
-        mean = float(fx.mean())
-        runs.append(
-            {
-                "U_m_s": U,
-                "Fn": U / math.sqrt(9.81 * lpp),
-                "R_T_N": resistance_from_half(mean),
-                "spread_rel": float((fx.max() - fx.min()) / abs(mean)) if mean else math.inf,
-                "iterations": int(h.t[-1]),
-                "wall_s": time.monotonic() - t1,
-            }
-        )
+        runs.append(_result(case, U, lpp) | {"wall_s": time.monotonic() - t1})
         progress(label, f"R_T = {runs[-1]['R_T_N']:.4g} N after {runs[-1]['iterations']} iterations")
     return {"mesh": mesh, "grading": grading, "iterations": iterations, "procs": procs, "runs": runs}
+
+
+def _result(case: Path, U: float, lpp: float) -> dict[str, Any]:
+    """R_T (both sides) of a finished tow: the mean x force over the last tenth of its iterations."""
+    h = read_forces(case)
+    n = max(1, math.ceil(SETTLE_WINDOW * len(h.t)))
+    fx = h.F[-n:, 0]
+    if not all(math.isfinite(v) for v in fx):
+        raise CfdError(
+            f"interFoam ({case.name})", "non-finite forces: the solution diverged", case / "log.interFoam"
+        )
+    mean = float(fx.mean())
+    return {
+        "U_m_s": U,
+        "Fn": U / math.sqrt(9.81 * lpp),
+        "R_T_N": resistance_from_half(mean),
+        "spread_rel": float((fx.max() - fx.min()) / abs(mean)) if mean else math.inf,
+        "iterations": int(h.t[-1]),
+    }
+
+
+def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
+    """Read back tows run elsewhere (e.g. by ``vessel-cfd slurm``) from ``out/cases``: the same record as
+    :func:`run_free_surface_tows` (mesh cells from its checkMesh log, no wall times)."""
+    cases = Path(out) / "cases"
+    log = cases / "mesh" / "log.checkMesh"
+    if not log.is_file():
+        raise InputError("out", f"{out} holds no meshed free-surface study (missing {log})")
+    runs = []
+    for U in speeds:
+        case = cases / f"vof_U{U:.4f}"
+        if not (case / "postProcessing" / "forces").is_dir():
+            raise InputError("speeds", f"{U:g} m/s has not been run ({case} has no forces output)")
+        runs.append(_result(case, U, lpp) | {"wall_s": None})
+    control = (cases / f"vof_U{speeds[0]:.4f}" / "system" / "controlDict").read_text()
+    m = re.search(r"^endTime\s+(\d+);", control, re.M)
+    mesh = {"cells": parse_check_mesh(log)["cells"], "hull_level": None}
+    return {
+        "mesh": mesh,
+        "grading": None,
+        "iterations": int(m.group(1)) if m else None,
+        "procs": None,
+        "runs": runs,
+    }
 
 
 def compare_with_tank(
@@ -190,7 +223,7 @@ def report(result: dict[str, Any], rows: list[dict[str, Any]], out: Path) -> dic
     """Write ``validation.md`` and ``validation.json`` in ``out``; return the JSON content."""
     errors = [abs(r["error_rel"]) for r in rows]
     verdict = "within" if errors and max(errors) <= TARGET_REL else "NOT within"
-    cpu = sum(r["wall_s"] for r in rows)
+    cpu = sum(r["wall_s"] or 0.0 for r in rows)
     doc = {
         "source": DTC_CITATION,
         "passed": verdict == "within",
@@ -209,7 +242,8 @@ def report(result: dict[str, Any], rows: list[dict[str, Any]], out: Path) -> dic
         "",
         f"Mesh: grading {result['grading']}, {result['mesh']['cells']} cells (half domain), hull level "
         f"{result['mesh']['hull_level']}, castellated hull; interFoam LTS, {result['iterations']} iterations per "
-        f"speed, {result['procs']} processor(s); solver wall time {cpu / 60:.1f} min in all.",
+        f"speed, {result['procs']} processor(s); solver wall time {cpu / 60:.1f} min in all"
+        + (" (the cases ran elsewhere)." if result["procs"] is None else "."),
         "",
         "| U (m/s) | Fn | tank R_T (N) | CFD R_T (N) | error (%) | spread of the last 10 % (%) | iterations |",
         "|---|---|---|---|---|---|---|",
@@ -232,7 +266,14 @@ def report(result: dict[str, Any], rows: list[dict[str, Any]], out: Path) -> dic
 
 
 def console_lines(doc: dict[str, Any], out: Path) -> list[str]:
-    """What the command prints: where the report is, each speed's error, the verdict."""
+    """What the command prints: where the report is, each speed's error, the verdict (or, for cases only
+    written, how to run and collect them)."""
+    if "verdict" not in doc:
+        cases = out / "cases"
+        return [
+            f"cases written to {cases}: run each vof_U* case's Allrun, or vessel-cfd slurm --cases {cases};",
+            f"then: vessel-cfd dtc-validation --out {out} --mode collect",
+        ]
     lines = [f"validation: {out / 'validation.md'}"]
     for r in doc["runs"]:
         lines.append(
@@ -251,11 +292,19 @@ def validate_dtc(
     iterations: int = 4000,
     procs: int = 1,
     progress: Progress | None = None,
+    mode: str = "run",
 ) -> dict[str, Any]:
     """The DTC free-surface validation: tows at the tank speeds (all six by default), compared with
-    :data:`DTC_TANK`. ``hull`` is the DTC STL (Debian's openfoam-examples ships it as :data:`DTC_STL`)."""
+    :data:`DTC_TANK`. ``hull`` is the DTC STL (Debian's openfoam-examples ships it as :data:`DTC_STL`).
+    ``mode``: ``run`` (mesh, run, report), ``write`` (mesh and write the cases only; returns no report) or
+    ``collect`` (report on cases run elsewhere)."""
+    if mode not in MODES:
+        raise InputError("mode", f"must be one of {', '.join(MODES)} (got {mode!r})")
     chosen = speeds or tuple(p.U_m_s for p in DTC_TANK)
     compare_with_tank([{"U_m_s": u, "R_T_N": 1.0} for u in chosen])  # refuse a non-tank speed before meshing
+    if mode == "collect":
+        result = collect_tows(out, chosen, DTC["lpp"])
+        return report(result, compare_with_tank(result["runs"]), Path(out))
     result = run_free_surface_tows(
         read_stl(hull),
         lpp=DTC["lpp"],
@@ -270,5 +319,8 @@ def validate_dtc(
         iterations=iterations,
         procs=procs,
         progress=progress,
+        write_only=mode == "write",
     )
+    if mode == "write":
+        return result
     return report(result, compare_with_tank(result["runs"]), Path(out))

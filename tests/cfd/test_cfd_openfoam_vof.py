@@ -59,3 +59,30 @@ def test_interfoam_runs_the_free_surface_tow(tmp_path):
     Fz = read_forces(case).F[-1, 2]
     assert Fz == pytest.approx(RHO * G * 4 / 9 * L * B * T / 2, rel=0.1)
     assert run["R_T_N"] > 0 and math.isfinite(run["R_T_N"])
+
+
+def test_write_only_meshes_and_leaves_runnable_cases(tmp_path):
+    from cfd.cluster import pending_cases
+
+    result = run_free_surface_tows(
+        wigley_hull_with_freeboard(L, B, T, 0.05),
+        lpp=L,
+        bwl=B,
+        tm=T,
+        speeds=(0.8, 1.0),
+        out=tmp_path,
+        iterations=10,
+        rho=RHO,
+        nu=1e-6,
+        progress=Progress(quiet=True),
+        write_only=True,
+    )
+    assert result["runs"] == [] and result["mesh"]["cells"] > 5_000
+    cases = tmp_path / "cases"
+    assert [(c.name, app) for c, app in pending_cases(cases)] == [
+        ("vof_U0.8000", "interFoam"),
+        ("vof_U1.0000", "interFoam"),
+    ]
+    for c, _ in pending_cases(cases):
+        assert (c / "constant" / "polyMesh" / "owner").is_file() and (c / "0" / "alpha.water").is_file()
+        assert not (c / "log.interFoam").exists() and "interFoam" in (c / "Allrun").read_text()

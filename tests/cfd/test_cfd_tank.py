@@ -63,3 +63,52 @@ def test_the_command_refuses_bad_input_before_any_work(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "speeds" in err and "1.668" in err and len(err.strip().splitlines()) == 1
     assert main(["dtc-validation", "--out", out, "--hull", str(stl), "--grading", "7"]) == 2
+
+
+def _ran_elsewhere(out, speeds_R: dict[float, float]) -> None:
+    """A free-surface study whose cases ran elsewhere: a checkMesh log and each case's forces output."""
+    import numpy as np
+    from cfd_fake_foam import _forces_table
+
+    (out / "cases" / "mesh").mkdir(parents=True)
+    (out / "cases" / "mesh" / "log.checkMesh").write_text("    cells:            129016\nMesh OK.\n")
+    for U, R in speeds_R.items():
+        case = out / "cases" / f"vof_U{U:.4f}"
+        (case / "system").mkdir(parents=True)
+        (case / "system" / "controlDict").write_text("application interFoam;\nendTime 4000;\n")
+        t = np.arange(1.0, 4001.0)
+        F = np.column_stack([-0.5 * R * (1 + 0.5 * np.exp(-t / 300)), 1600 + 0 * t, 3900 + 0 * t])
+        d = case / "postProcessing" / "forces" / "0"
+        d.mkdir(parents=True)
+        ftxt, mtxt = _forces_table(t, F, 0 * F)
+        (d / "force.dat").write_text(ftxt)
+        (d / "moment.dat").write_text(mtxt)
+
+
+def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
+    out = tmp_path / "v"
+    _ran_elsewhere(out, {1.668: 31.83 * 1.01, 1.335: 20.34 * 0.98})
+    stl = tmp_path / "hull.stl"
+    stl.write_text("solid hull\nendsolid hull\n")
+    argv = [
+        "dtc-validation",
+        "--out",
+        str(out),
+        "--hull",
+        str(stl),
+        "--speeds",
+        "1.335,1.668",
+        "--mode",
+        "collect",
+    ]
+    assert main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "error +1.00 %" in printed and "error -2.00 %" in printed and "within 3 %" in printed
+    doc = json.loads((out / "validation.json").read_text())
+    assert doc["mesh"]["cells"] == 129016 and doc["iterations"] == 4000 and doc["passed"]
+    assert "(the cases ran elsewhere)" in (out / "validation.md").read_text()
+    # a speed not run yet, and a mode that does not exist, are bad input
+    assert main(argv[:5] + ["--speeds", "1.401", "--mode", "collect"]) == 2
+    assert "has not been run" in capsys.readouterr().err
+    assert main(argv[:-1] + ["rerun"]) == 2
+    assert "mode" in capsys.readouterr().err
