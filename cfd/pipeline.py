@@ -46,7 +46,7 @@ from .case import (
 )
 from .config import Study
 from .errors import CfdError
-from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, write_stl
+from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, wigley_hull_with_freeboard, write_stl
 from .jobs import FinishedStudy, Job
 from .postprocess import body_forces, forces_settled, read_forces, read_yplus, steady_forces
 from .runner import (
@@ -481,13 +481,13 @@ class Pipeline:
             fs = self.cases / "free_surface_tow"
             if fs.exists():
                 shutil.rmtree(fs)
-            write_free_surface_case(
-                fs,
-                self.spec,
-                self.cases / "hull.stl",
-                FlowSpec(U=s.U_ref, rho=s.rho, nu=s.nu),
-                s.steady_iterations * 4,
-            )
+            stl = self.cases / "hull.stl"
+            if s.hull == "wigley":  # wall-sided topsides up to a deck at T, not the mirrored double body
+                stl = write_stl(
+                    self.cases / "hull_freeboard.stl", wigley_hull_with_freeboard(s.lpp, s.bwl, s.tm, s.tm)
+                )
+            # LTS iterations: the DTCHull tutorial's 4000
+            write_free_surface_case(fs, self.spec, stl, FlowSpec(U=s.U_ref, rho=s.rho, nu=s.nu), 4000)
             self.progress("free surface", f"interFoam case written to {fs} (not run; see docs/cfd.md)")
         mesh, base, *later = jobs
         mesh.summary = self._run_job(mesh, s.mesh_procs)

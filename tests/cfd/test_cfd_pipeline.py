@@ -236,3 +236,16 @@ def test_cli_run_exit_codes(tmp_path, monkeypatch, capsys):
     out = capsys.readouterr().out
     assert "ship file:" in out and (tmp_path / "o" / "ship.toml").is_file()
     assert "borrowed:  The CFD hull is bare; [rudder]" in out
+
+
+def test_free_surface_option_writes_a_vof_case_with_topsides(tmp_path, fake):
+    from cfd.geometry import check_surface, read_stl
+
+    s = study(tmp_path, tests="tow", speeds="1.0", free_surface="true")
+    run(s, fake)
+    case = s.out / "cases" / "free_surface_tow"
+    assert "interFoam" in (case / "Allrun").read_text() and (case / "0.orig" / "alpha.water").is_file()
+    hull = read_stl(case / "constant" / "triSurface" / "hull.stl")
+    # the Wigley gets wall-sided topsides and a deck at z = T, closed all round
+    assert hull[:, :, 2].max() == pytest.approx(0.0625) and check_surface(hull, z_max=1.0).open_edges == 0
+    assert ("interFoam", "free_surface_tow") not in fake.calls  # written, not run
