@@ -40,9 +40,9 @@ LIMITS: dict[str, float] = {
     "settling_window_fraction": 0.1,  # of the iterations, and at least 20 iterations
     # PMM runs: rms of F(t) - F(t - T) over the last period, relative to the rms of F over that period
     "periodicity_rel": 0.02,
-    # PMM runs: largest Courant number in the field; the time step is sized for Co = 1 on the hull cells (the
-    # thin prism-layer cells at stem and stern reach about 4), and PIMPLE with two outer correctors stays
-    # time-accurate to about this
+    # PMM runs: largest Courant number in the field; the time step is sized for Co = 1 on the hull cells (small
+    # cells by the stem, squeezed by the layer addition, reach 4-5), and PIMPLE with two outer correctors
+    # stays time-accurate to about this
     "courant_max": 5.0,
     # hull patch area / STL wetted area: the snapped surface follows the STL to a few per cent; twice the area
     # means the inside of the hull was meshed too
