@@ -33,6 +33,7 @@ from .fitting import (
 )
 from .friction import ittc57
 from .jobs import FinishedStudy
+from .pmm_sweep import dependence
 from .postprocess import body_forces, read_forces
 from .regression import choose, fit_forms, spread
 from .report import write_report
@@ -119,12 +120,13 @@ def _window(t: np.ndarray, t_end: float, span: float) -> np.ndarray:
     return t >= t_end - span - 1e-9 * max(1.0, t_end)
 
 
-def _pmm_runs(p: FinishedStudy, kind: str) -> list[dict[str, Any]]:
-    """Body-axis force time series of each finished PMM run of ``kind`` (fit window and all)."""
+def _pmm_runs(p: FinishedStudy, kind: str, sweep: bool = False) -> list[dict[str, Any]]:
+    """Body-axis force time series of each finished PMM run of ``kind`` (fit window and all); the runs of
+    the frequency sweep only with ``sweep``."""
     s = p.study
     runs = []
     for job in p.jobs.values():
-        if job.kind != kind:
+        if job.kind != kind or (job.params.get("sweep") and not sweep):
             continue
         motion, period, t_end = job.params["motion"], job.params["period"], job.params["t_end"]
         h = read_forces(p.cases / job.name)
@@ -145,6 +147,8 @@ def _pmm_runs(p: FinishedStudy, kind: str) -> list[dict[str, Any]]:
                 # standard axes: y and ψ change sign
                 "q": -(motion.y(h.t[sel]) if kind == "sway" else motion.psi(h.t[sel])),
                 "omega": motion.omega,
+                "amplitude": job.params.get("amplitude"),
+                "base": not job.params.get("sweep"),
             }
         )
     return runs
@@ -443,6 +447,12 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
             normalisation=norm,
         )
         provenance["dynamic_sway"] = {"Y_v": dyn["Y_v"], "N_v": dyn["N_v"]}
+    # each amplitude on its own and each frequency of the sweep (cfd.pmm_sweep): the spread per derivative
+    dep = dependence(
+        {kind: _pmm_runs(p, kind, sweep=True) for kind in pmm_runs}, U=U, L=L, rho=rho, normalisation=norm
+    )
+    if dep:
+        provenance["pmm_dependence"] = dep
     name = s.name or (
         f"{Path(s.hull).name.split('.')[0]} (vessel-cfd)" if s.hull != "wigley" else "Wigley (vessel-cfd)"
     )

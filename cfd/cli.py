@@ -5,10 +5,12 @@
     vessel-cfd run --study study.toml [--out DIR ...]
     vessel-cfd wigley --lpp L --bwl B --tm T --out hull.stl
     vessel-cfd clarke --lpp L --bwl B --tm T --cb CB
+    vessel-cfd dtc-validation --out DIR [--hull DTC.stl] [--grading G] [--speeds ...] [--iterations N]
 
 Exit codes: 0 success, 1 a CFD step failed (one line on stderr naming the step and its log),
 2 bad input (one line on stderr naming the argument or key and the allowed range), 3 the study finished
-and wrote its ship file and report, but the verification gate failed (UNVERIFIED; see report/summary.md).
+and wrote its ship file and report, but the verification gate failed (UNVERIFIED; see report/summary.md),
+or the DTC validation ran but missed its target at some speed (see validation.md).
 """
 
 from __future__ import annotations
@@ -80,12 +82,16 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
     ("sway-amplitude", "pure sway amplitudes (m), list or MIN:MAX:COUNT (default: 0.025 L)"),
     ("yaw-period", "pure yaw period (s; default pi L / U)"),
     ("yaw-deg", "pure yaw heading amplitudes (deg), list or MIN:MAX:COUNT"),
+    ("sweep-omega-prime", "frequency sweep: extra sway and yaw runs at these omega' = omega L / U (0.2-5)"),
     ("cycles", "PMM periods simulated (first half period is a start ramp)"),
     ("fit-cycles", "last whole PMM periods used in the fits"),
     ("rho", "water density (kg/m3)"),
     ("nu", "kinematic viscosity (m2/s)"),
-    ("layers", "add boundary layers sized for --yplus (true/false)"),
+    ("layers", "prism layers on the hull, the first one sized for --yplus (true/false)"),
     ("yplus", "target y+ of the first cell centre"),
+    ("wake", "refinement cylinder along the wake of each drift and PMM inflow angle (true/false)"),
+    ("courant", "PMM time step as a Courant number U dt / h on the hull cells, 0.1-2.5"),
+    ("time-scheme", "PMM time discretisation: backward (second order) or Euler (first order)"),
     ("sizing", "grading (default) or yplus (seed rule: background cell = wall cell x 2^levels)"),
     ("free-surface", "also write (not run) an interFoam free-surface tow case (true/false)"),
     ("max-iterations", "steady SIMPLE iterations (default by grading)"),
@@ -147,6 +153,16 @@ def _parser() -> _Parser:
     sl.add_argument("--time", default="04:00:00", help="time limit per case, [D-]HH:MM:SS")
     sl.add_argument("--partition", help="SLURM partition")
     sl.add_argument("--account", help="SLURM account")
+    dv = sub.add_parser("dtc-validation", help="free-surface (interFoam) DTC tows against the towing tank")
+    dv.add_argument("--hull", help="the DTC STL (default: Debian openfoam-examples' DTC-scaled.stl.gz)")
+    dv.add_argument("--out", required=True, help="output folder (cases/, validation.md, validation.json)")
+    dv.add_argument("--grading", default="1", help="mesh grading 1-5")
+    dv.add_argument("--speeds", help="tank speeds to run (m/s), e.g. 1.668 (default: all six)")
+    dv.add_argument("--iterations", default="4000", help="interFoam LTS iterations per speed")
+    dv.add_argument("--procs", default="1", help="MPI processors per case")
+    dv.add_argument(
+        "--mode", default="run", help="run; write (mesh, write the cases, run none); collect (report)"
+    )
     sub.add_parser("interactive", help="interactive set-up (the default without a command)")
     w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
     for opt in ("lpp", "bwl", "tm", "out"):
@@ -485,6 +501,27 @@ def _slurm(args: argparse.Namespace) -> int:
     return 0
 
 
+def _dtc_validation(args: argparse.Namespace) -> int:
+    from .runner import Progress  # noqa: PLC0415
+    from .tank import DTC_STL, console_lines, validate_dtc  # noqa: PLC0415
+
+    hull = Path(args.hull) if args.hull else DTC_STL
+    if not hull.is_file():
+        raise InputError("hull", f"{hull} does not exist (apt-get install openfoam-examples, or give --hull)")
+    doc = validate_dtc(
+        hull,
+        Path(args.out),
+        grading=int(parse_number("grading", args.grading, 1, 5, integer=True)),
+        speeds=parse_list("speeds", args.speeds, 0.0, 20.0) if args.speeds else None,
+        iterations=int(parse_number("iterations", args.iterations, 1, 100000, integer=True)),
+        procs=int(parse_number("procs", args.procs, 1, 4 * (os.cpu_count() or 1), integer=True)),
+        progress=Progress(),
+        mode=args.mode,
+    )
+    print("\n".join(console_lines(doc, Path(args.out))))
+    return 0 if doc.get("passed", True) else EXIT_UNVERIFIED
+
+
 def _wigley(args: argparse.Namespace) -> int:
     from .geometry import hydrostatics, wigley_hull, write_stl  # noqa: PLC0415
 
@@ -529,6 +566,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _grid(args)
         if args.command == "slurm":
             return _slurm(args)
+        if args.command == "dtc-validation":
+            return _dtc_validation(args)
         if args.command == "wigley":
             return _wigley(args)
         if args.command == "clarke":

@@ -96,6 +96,9 @@ read -r CASE APP < <(sed -n "$((SLURM_ARRAY_TASK_ID + 1))p" "$LIST")
 cd "$CASE"
 HOSTFILE="$CASE/hostfile.$SLURM_JOB_ID"
 scontrol show hostnames "$SLURM_JOB_NODELIST" | awk -v n="$SLURM_NTASKS_PER_NODE" '{{print $1 " slots=" n}}' > "$HOSTFILE"
+if [ "$APP" = interFoam ]; then  # free-surface tow: water below the waterline first
+    rm -rf 0 && cp -r 0.orig 0 && setFields > log.setFields 2>&1
+fi
 decomposePar -force > log.decomposePar 2>&1
 mpirun -np "$SLURM_NTASKS" --hostfile "$HOSTFILE" "$APP" -parallel > "log.$APP" 2>&1
 reconstructPar -latestTime > log.reconstructPar 2>&1

@@ -20,6 +20,7 @@ except ModuleNotFoundError:  # Python 3.10
     import tomli as tomllib
 
 
+from .case.common import TIME_SCHEMES
 from .errors import InputError
 from .regression import CHOICES as DRIFT_FORMS
 from .regression import DEFAULT as DRIFT_FORM_DEFAULT
@@ -60,12 +61,16 @@ class Study:
     sway_amplitude: tuple[float, ...] = ()  # m; () -> 0.025 L
     yaw_period: float = 0.0
     yaw_deg: tuple[float, ...] = (4.0,)
+    sweep_omega_prime: tuple[float, ...] = ()  # frequency sweep: extra sway/yaw runs at these ω' = ωL/U
     cycles: float = 3.0  # PMM periods simulated after the start ramp
     fit_cycles: int = 2  # last whole periods used in the fits
     rho: float = 999.1  # ITTC 7.5-02-01-03, fresh water 15 °C
     nu: float = 1.1386e-6
-    layers: bool = False
+    layers: bool = True  # prism layers on the hull, first layer sized for ``yplus``
     yplus: float = 150.0
+    wake: bool = True  # a refinement cylinder along the wake of each inflow angle (drift and PMM)
+    courant: float = 1.0  # PMM time step: Courant number U dt / h on the hull surface cells
+    time_scheme: str = "backward"  # PMM time discretisation: backward (second order) or Euler
     sizing: str = "grading"  # "grading" or "yplus" (seed: background cell = wall distance x 2^levels)
     free_surface: bool = False
     max_iterations: int = 0  # steady SIMPLE iterations; 0 -> by grading
@@ -201,12 +206,16 @@ KEYS = (
     "sway_amplitude",
     "yaw_period",
     "yaw_deg",
+    "sweep_omega_prime",
     "cycles",
     "fit_cycles",
     "rho",
     "nu",
     "layers",
     "yplus",
+    "wake",
+    "courant",
+    "time_scheme",
     "sizing",
     "free_surface",
     "max_iterations",
@@ -300,14 +309,21 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
     )
     if "yaw_deg" in raw:
         kw["yaw_deg"] = parse_list("yaw_deg", raw["yaw_deg"], 0.0, 30.0)
+    if "sweep_omega_prime" in raw:
+        # omega' 0.2-5 spans the quasi-steady range to the seed's omega' = 2 and beyond (memory effects)
+        kw["sweep_omega_prime"] = parse_list(
+            "sweep_omega_prime", raw["sweep_omega_prime"], 0.2, 5.0, max_count=6
+        )
+    periods = [kw["sway_period"]] + [2 * math.pi * lpp / (w * pmm) for w in kw.get("sweep_omega_prime", ())]
     for a in kw["sway_amplitude"]:
-        v0 = a * 2 * math.pi / kw["sway_period"]
-        if v0 > math.tan(math.radians(30.0)) * pmm:
-            raise InputError(
-                "sway_amplitude",
-                f"{a:g} m at period {kw['sway_period']:g} s gives a sway "
-                f"velocity of {v0 / pmm:.2f} U; allowed up to tan(30 deg) U",
-            )
+        for period in periods:
+            v0 = a * 2 * math.pi / period
+            if v0 > math.tan(math.radians(30.0)) * pmm:
+                raise InputError(
+                    "sway_amplitude",
+                    f"{a:g} m at period {period:.4g} s gives a sway "
+                    f"velocity of {v0 / pmm:.2f} U; allowed up to tan(30 deg) U",
+                )
     if "cycles" in raw:
         kw["cycles"] = parse_number("cycles", raw["cycles"], 1.5, 50.0)
     if "fit_cycles" in raw:
@@ -322,11 +338,16 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
         kw["rho"] = parse_number("rho", raw["rho"], 500.0, 2000.0)
     if "nu" in raw:
         kw["nu"] = parse_number("nu", raw["nu"], 1e-8, 1e-3)
-    for k in ("layers", "free_surface"):
+    for k in ("layers", "free_surface", "wake"):
         if k in raw:
             kw[k] = _bool(k, raw[k])
     if "yplus" in raw:
         kw["yplus"] = parse_number("yplus", raw["yplus"], 1.0, 1000.0)
+    if "courant" in raw:
+        # above ~2.5 on the hull cells the field maximum passes the gate's limit (cfd.verification)
+        kw["courant"] = parse_number("courant", raw["courant"], 0.1, 2.5)
+    if "time_scheme" in raw:
+        kw["time_scheme"] = _choice("time_scheme", raw["time_scheme"], TIME_SCHEMES)
     if "sizing" in raw:
         kw["sizing"] = _choice("sizing", raw["sizing"], ("grading", "yplus"))
     if "max_iterations" in raw:

@@ -130,6 +130,74 @@ def wigley_hull(L: float, B: float, T: float, nx: int = 81, nz: int = 25) -> np.
     return np.array(tris)
 
 
+def wigley_hull_with_freeboard(
+    L: float, B: float, T: float, freeboard: float, nx: int = 81, nz: int = 17, nz_above: int = 5
+) -> np.ndarray:
+    """Closed Wigley hull for free-surface cases: the parabolic hull below the waterline, wall-sided above it
+    up to a flat deck at z = ``freeboard`` (case frame, waterline z = 0).
+
+    Below z = 0: y = ±B/2 (1 − (2x/L)²)(1 − (z/T)²), as :func:`wigley_hull`; above: y = ±B/2 (1 − (2x/L)²),
+    so the water meets vertical sides (a knife edge above the waterline, as in the double body, leaves
+    slivers of air cells at the hull that a VOF solver does not survive). Stem, stern and keel are shared
+    by both sides; the deck closes the top. Normals point outwards.
+    """
+    if min(L, B, T, freeboard) <= 0:
+        raise InputError(
+            "wigley", f"L, B, T and the freeboard must be > 0 m (got {L}, {B}, {T}, {freeboard})"
+        )
+    xi = _clustered(nx)
+    below = -T * np.cos(0.5 * np.pi * np.linspace(0.0, 1.0, nz))  # keel -> waterline, dense at the keel
+    z = np.concatenate([below, np.linspace(0.0, freeboard, nz_above)[1:]])
+    nzt = len(z)
+    depth = np.clip(z / T, -1.0, 0.0)
+    half = 0.5 * B * (1.0 - xi[:, None] ** 2) * (1.0 - depth[None, :] ** 2)
+    shared = np.zeros((nx, nzt), dtype=bool)  # on the centreline: stem, stern, keel
+    shared[[0, -1], :] = True
+    shared[:, 0] = True
+    points: list[tuple[float, float, float]] = []
+    index = np.full((2, nx, nzt), -1, dtype=int)
+    for i in range(nx):
+        for j in range(nzt):
+            x = 0.5 * L * xi[i]
+            if shared[i, j]:
+                index[:, i, j] = len(points)
+                points.append((x, 0.0, z[j]))
+            else:
+                for side, sign in enumerate((1.0, -1.0)):
+                    index[side, i, j] = len(points)
+                    points.append((x, sign * half[i, j], z[j]))
+    P = np.array(points)
+
+    def oriented(ids: list[int], axis: int, sign: float) -> np.ndarray | None:
+        tri = P[ids]
+        n = np.cross(tri[1] - tri[0], tri[2] - tri[0])
+        if np.linalg.norm(n) < 1e-14 * L * L:
+            return None  # the deck's corner triangles at stem and stern collapse to a line
+        return tri[[0, 2, 1]] if n[axis] * sign < 0 else tri
+
+    tris = []
+    for side, sign in enumerate((1.0, -1.0)):
+        for i in range(nx - 1):
+            for j in range(nzt - 1):
+                a, b, c, d = (i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)
+                for pair in (((a, b, c), (a, c, d)), ((a, b, d), (b, c, d))):
+                    if not any(all(shared[q] for q in t) for t in pair):
+                        break
+                for t in pair:
+                    tri = oriented([index[side, q[0], q[1]] for q in t], 1, sign)
+                    if tri is not None:
+                        tris.append(tri)
+    top = nzt - 1
+    for i in range(nx - 1):  # the deck: strips between the port and starboard top edges
+        p0, p1 = index[0, i, top], index[0, i + 1, top]
+        s0, s1 = index[1, i, top], index[1, i + 1, top]
+        for ids in ([p0, s0, s1], [p0, s1, p1]):
+            tri = oriented(ids, 2, 1.0)
+            if tri is not None:
+                tris.append(tri)
+    return np.array(tris)
+
+
 # --------------------------------------------------------------------------------------- hydrostatics
 def clip_below(triangles: np.ndarray, z0: float = 0.0) -> np.ndarray:
     """Parts of the triangles with z ≤ z0 (orientation kept)."""

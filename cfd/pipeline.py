@@ -46,7 +46,7 @@ from .case import (
 )
 from .config import Study
 from .errors import CfdError
-from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, write_stl
+from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, wigley_hull_with_freeboard, write_stl
 from .jobs import FinishedStudy, Job
 from .postprocess import body_forces, forces_settled, read_forces, read_yplus, steady_forces
 from .runner import (
@@ -55,6 +55,7 @@ from .runner import (
     check_openfoam,
     mpi_available,
     parse_check_mesh,
+    parse_layers,
     patch_area,
     read_boundary,
     run_app,
@@ -162,8 +163,16 @@ class Pipeline:
                 raise CfdError("checkMesh (mesh)", f"unusable mesh: {reason}", log)
             for w in check["warnings"]:
                 self.progress("checkMesh", f"warning: {w}")
+            layers = parse_layers(case / "log.snappyHexMesh").get(HULL_PATCH)
+            if spec.n_layers and layers:
+                self.progress(
+                    "snappyHexMesh",
+                    f"{layers['layers']:.2f} of {spec.n_layers} layers on the hull, "
+                    f"{layers['thickness_pct']:.0f} % of the layer thickness asked for",
+                )
             return {
                 **check,
+                "layers": layers,
                 "hull_faces": int(hull["nFaces"]),
                 "hull_area_m2": patch_area(case, hull),
                 "patches": sorted(patches),
@@ -213,19 +222,24 @@ class Pipeline:
 
         return Job(name, kind, label, key, action, params={"U": U, "beta": beta})
 
-    def _pmm_job(self, kind: str, amplitude: float, base: Job) -> Job:
-        """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw)."""
+    def _pmm_job(self, kind: str, amplitude: float, base: Job, omega_prime: float | None = None) -> Job:
+        """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw).
+        ``omega_prime``: a run of the frequency sweep at ω' = ωL/U instead of the study's period."""
         s = self.study
         assert self.spec is not None
         U = s.U_ref
         period = s.sway_period if kind == "sway" else s.yaw_period
+        if omega_prime is not None:
+            period = 2.0 * math.pi * s.lpp / (omega_prime * U)
         omega = 2.0 * math.pi / period
         y0 = amplitude if kind == "sway" else U * math.tan(math.radians(amplitude)) / omega
         motion = Motion(kind, y0, omega, U, 0.5 * period)
-        dt = pmm_time_step(self.spec, U, period)
+        dt = pmm_time_step(self.spec, U, period, courant=s.courant)
         t_end = s.cycles * period
         flow = FlowSpec(U=U, rho=s.rho, nu=s.nu)
         name = f"sway_a{amplitude:.5f}" if kind == "sway" else f"yaw_p{amplitude:05.2f}"
+        if omega_prime is not None:
+            name += f"_w{omega_prime:.2f}"
         label = f"sway y0={amplitude:g} m" if kind == "sway" else f"yaw psi0={amplitude:g} deg"
         key = {
             "mesh": self.mesh_key,
@@ -234,11 +248,22 @@ class Pipeline:
             "dt": dt,
             "t_end": t_end,
             "flow": repr(flow),
+            "time_scheme": s.time_scheme,
         }
 
         def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
             start = _latest_time(self.cases / base.name)
-            write_pmm_case(case, self.cases / "mesh", start, flow, motion, t_end, dt, procs=procs)
+            write_pmm_case(
+                case,
+                self.cases / "mesh",
+                start,
+                flow,
+                motion,
+                t_end,
+                dt,
+                procs=procs,
+                time_scheme=s.time_scheme,
+            )
             self._solve(case, "pimpleFoam", job.label, procs, end_time=t_end)
             h = read_forces(case)
             if len(h.t) == 0 or not np.all(np.isfinite(h.F)):
@@ -267,9 +292,10 @@ class Pipeline:
                 "psi0_deg": math.degrees(math.atan(y0 * omega / U)) if kind == "yaw" else 0.0,
             }
 
-        return Job(
-            name, kind, label, key, action, params={"motion": motion, "t_end": t_end, "period": period}
-        )
+        if omega_prime is not None:
+            label += f" omega'={omega_prime:g}"
+        params = {"motion": motion, "t_end": t_end, "period": period, "amplitude": amplitude}
+        return Job(name, kind, label, key, action, params=params | {"sweep": omega_prime is not None})
 
     def _solve(self, case: Path, app: str, label: str, procs: int, end_time: float, on_tick=None) -> None:
         step = f"{app} ({label})"
@@ -392,21 +418,48 @@ class Pipeline:
         s = self.study
         assert self.hull is not None
         self.spec = mesh_spec(
-            s.lpp, s.bwl, s.tm, s.grading, U=s.U_ref, nu=s.nu, layers=s.layers, yplus=s.yplus, sizing=s.sizing
+            s.lpp,
+            s.bwl,
+            s.tm,
+            s.grading,
+            U=s.U_ref,
+            nu=s.nu,
+            layers=s.layers,
+            yplus=s.yplus,
+            sizing=s.sizing,
+            wake_deg=self.wake_angles() if s.wake else (),
         )
         mesh = self._mesh_job()
         base = self._steady_job("tow", s.U_ref, 0.0)
         jobs = [mesh, base]
         later: list[Job] = []
-        if "sway" in s.tests:
-            later += [self._pmm_job("sway", a, base) for a in s.sway_amplitude]
-        if "yaw" in s.tests:
-            later += [self._pmm_job("yaw", a, base) for a in s.yaw_deg]
+        for kind, amplitudes in (("sway", s.sway_amplitude), ("yaw", s.yaw_deg)):
+            if kind not in s.tests:
+                continue
+            later += [self._pmm_job(kind, a, base) for a in amplitudes]
+            own = 2.0 * math.pi * s.lpp / ((s.sway_period if kind == "sway" else s.yaw_period) * s.U_ref)
+            for w in s.sweep_omega_prime:  # the frequency sweep, at every amplitude
+                if not math.isclose(w, own, rel_tol=1e-6):
+                    later += [self._pmm_job(kind, a, base, omega_prime=w) for a in amplitudes]
         if "drift" in s.tests:
             later += [self._steady_job("drift", s.U_ref, b) for b in s.drift_deg]
         if "tow" in s.tests:
             later += [self._steady_job("tow", u, 0.0) for u in s.speeds if not math.isclose(u, s.U_ref)]
         return jobs + later
+
+    def wake_angles(self) -> tuple[float, ...]:
+        """Inflow angles (deg, case frame) whose wakes the one shared mesh refines: the straight tow, every
+        drift angle, and ± the largest drift angle of the hull's path in each sway and yaw run (v/U = y0 ω/U
+        in sway; the heading amplitude ψ0 in yaw, where the wake trails along the curved path)."""
+        s = self.study
+        drift = list(s.drift_deg) if "drift" in s.tests else []
+        pmm = []
+        if "sway" in s.tests:
+            omegas = [s.sway_omega()] + [w * s.U_ref / s.lpp for w in s.sweep_omega_prime]
+            pmm += [math.degrees(math.atan(a * w / s.U_ref)) for a in s.sway_amplitude for w in omegas]
+        if "yaw" in s.tests:
+            pmm += list(s.yaw_deg)
+        return (0.0, *drift, *pmm, *(-a for a in pmm))
 
     def run(self) -> StudyResult:
         s = self.study
@@ -428,13 +481,13 @@ class Pipeline:
             fs = self.cases / "free_surface_tow"
             if fs.exists():
                 shutil.rmtree(fs)
-            write_free_surface_case(
-                fs,
-                self.spec,
-                self.cases / "hull.stl",
-                FlowSpec(U=s.U_ref, rho=s.rho, nu=s.nu),
-                s.steady_iterations * 4,
-            )
+            stl = self.cases / "hull.stl"
+            if s.hull == "wigley":  # wall-sided topsides up to a deck at T, not the mirrored double body
+                stl = write_stl(
+                    self.cases / "hull_freeboard.stl", wigley_hull_with_freeboard(s.lpp, s.bwl, s.tm, s.tm)
+                )
+            # LTS iterations: the DTCHull tutorial's 4000
+            write_free_surface_case(fs, self.spec, stl, FlowSpec(U=s.U_ref, rho=s.rho, nu=s.nu), 4000)
             self.progress("free surface", f"interFoam case written to {fs} (not run; see docs/cfd.md)")
         mesh, base, *later = jobs
         mesh.summary = self._run_job(mesh, s.mesh_procs)

@@ -16,6 +16,7 @@ import numpy as np
 from .fitting import FitResult, harmonic_fit
 from .friction import ittc57
 from .jobs import FinishedStudy
+from .pmm_sweep import summary_lines
 from .postprocess import read_forces
 
 
@@ -290,6 +291,7 @@ def _summary(
     regression = provenance["tests"].get("drift", {}).get("regression")
     if regression:
         lines += _regression_lines(regression)
+    lines += summary_lines(provenance.get("pmm_dependence", {}), s.normalisation)
     if verification:
         lines += _verification_lines(verification)
     lines += ["", "## Fit residuals (rms residual / rms force)", ""]

@@ -271,6 +271,34 @@ def parse_check_mesh(log: Path) -> dict[str, object]:
     }
 
 
+_LAYER_ROW = re.compile(r"^(\S+)\s+(\d+)\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s+([0-9.eE+-]+)\s*$")
+
+
+def parse_layers(log: Path) -> dict[str, dict[str, float]]:
+    """Per patch, the prism layers snappyHexMesh added (its last layer table): faces, mean number of layers,
+    overall thickness (m) and that thickness as a percentage of the one asked for. Empty without layers."""
+    try:
+        text = log.read_text(errors="replace")
+    except OSError:
+        return {}
+    start = text.rfind("overall thickness")
+    if start < 0:
+        return {}
+    rows: dict[str, dict[str, float]] = {}
+    for line in text[start:].splitlines()[3:]:
+        m = _LAYER_ROW.match(line.strip())
+        if not m:
+            break
+        name, faces, layers, thick, pct = m.groups()
+        rows[name] = {
+            "faces": int(faces),
+            "layers": float(layers),
+            "thickness_m": float(thick),
+            "thickness_pct": float(pct),
+        }
+    return rows
+
+
 _FACE = re.compile(r"(\d+)\(([^)]*)\)")
 
 

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from .errors import CfdError
+from .friction import wall_distance
 from .jobs import FinishedStudy, Job
 from .postprocess import body_forces, read_forces, read_yplus
 
@@ -39,12 +40,21 @@ LIMITS: dict[str, float] = {
     "settling_window_fraction": 0.1,  # of the iterations, and at least 20 iterations
     # PMM runs: rms of F(t) - F(t - T) over the last period, relative to the rms of F over that period
     "periodicity_rel": 0.02,
-    # PMM runs: largest Courant number in the field; the time step is sized for Co = 1.25 on the hull cells,
-    # and PIMPLE with two outer correctors stays time-accurate to about this
+    # PMM runs: largest Courant number in the field; the time step is sized for Co = 1 on the hull cells (small
+    # cells by the stem, squeezed by the layer addition, reach 4-5), and PIMPLE with two outer correctors
+    # stays time-accurate to about this
     "courant_max": 5.0,
     # hull patch area / STL wetted area: the snapped surface follows the STL to a few per cent; twice the area
     # means the inside of the hull was meshed too
     "hull_area_rel": 0.05,
+    # prism layers: overall thickness snappyHexMesh reached on the hull, as a fraction of the designed one.
+    # Where layers collapse the first cell is the snapped surface cell, several times the designed height, and
+    # its y+ several times the target; below one half of the design the y+ sizing no longer describes the mesh.
+    "layer_thickness_min": 0.5,
+    # mean y+ on the hull against the y+ the first layer was sized for (flat-plate C_f at Re_L): the local
+    # friction varies along the hull (high at the bow, low at the stern), so the mean lands near the target
+    # on a layered mesh; a factor of 2 away means the sizing did not hold (layers collapsed, wrong speed)
+    "yplus_target_factor": 2.0,
 }
 _BOUNDING_K = re.compile(r"^bounding k, min: (\S+)", re.M)
 _TIME = re.compile(r"^Time = (\S+)", re.M)
@@ -98,6 +108,17 @@ def _yplus_check(case: Path) -> Check:
     lo, hi, mean = yp
     ok = mean <= LIMITS["yplus_mean_max"] and hi <= LIMITS["yplus_max"]
     return Check("y+", {"min": lo, "max": hi, "mean": mean}, limit, ok)
+
+
+def _yplus_target_check(case: Path, target: float) -> Check:
+    """Did the prism layers give the y+ they were sized for? Mean y+ within a factor of the target."""
+    f = LIMITS["yplus_target_factor"]
+    limit = f"mean within [{target / f:.3g}, {target * f:.3g}] (target {target:g}, factor {f:g})"
+    yp = read_yplus(case)
+    if yp is None:
+        return Check("y+ at the layer target", None, limit, None, "no yPlus output")
+    ratio = yp[2] / target
+    return Check("y+ at the layer target", {"mean": yp[2], "ratio": ratio}, limit, bool(1 / f <= ratio <= f))
 
 
 def _steady_checks(p: FinishedStudy, job: Job, case: Path) -> list[Check]:
@@ -154,8 +175,16 @@ def _case_checks(p: FinishedStudy, job: Job) -> list[Check]:
     case = p.cases / job.name
     U = job.params.get("U", s.U_ref)
     re_L = U * s.lpp / s.nu
-    checks = [
-        _yplus_check(case),
+    checks = [_yplus_check(case)]
+    if p.spec.yplus_target:
+        # the layers were sized at U_ref; the same first cell has y+ in proportion to u_tau at this speed
+        at_U = (
+            p.spec.yplus_target
+            * wall_distance(s.U_ref, s.lpp, s.nu, 1.0)
+            / wall_distance(U, s.lpp, s.nu, 1.0)
+        )
+        checks.append(_yplus_target_check(case, at_U))
+    checks += [
         Check(
             "Reynolds number",
             re_L,
@@ -218,7 +247,22 @@ def _study_checks(p: FinishedStudy) -> list[Check]:
                 bool(abs(rel) <= LIMITS["hull_area_rel"]),
             )
         )
+    if p.spec.n_layers:
+        checks.append(_layer_check(mesh.get("layers"), p.spec.n_layers))
     return checks
+
+
+def _layer_check(layers: dict[str, Any] | None, asked: int) -> Check:
+    limit = f"overall thickness >= {LIMITS['layer_thickness_min']:g} of the designed ({asked} layers asked)"
+    if not layers:
+        return Check("prism layers", None, limit, None, "no layer table in log.snappyHexMesh")
+    frac = layers["thickness_pct"] / 100.0
+    return Check(
+        "prism layers",
+        {"layers_mean": layers["layers"], "layers_asked": asked, "thickness_fraction": frac},
+        limit,
+        bool(frac >= LIMITS["layer_thickness_min"]),
+    )
 
 
 # which cases each derivative comes from, by the origin the analysis gives it
@@ -244,7 +288,8 @@ def verify(p: FinishedStudy, origin: dict[str, str]) -> dict[str, Any]:
         if kinds is None:
             status[key] = "estimate (no CFD test; not verified)"
             continue
-        names = [n for n, j in p.jobs.items() if j.kind in kinds] + (
+        # the frequency sweep's runs feed the reported spread, not the ship file's derivatives
+        names = [n for n, j in p.jobs.items() if j.kind in kinds and not j.params.get("sweep")] + (
             [base] if "base" in kinds and base else []
         )
         bad = failed_study + [f"{n}: {c.name}" for n in names for c in cases.get(n, []) if not c.ok]

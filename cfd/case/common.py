@@ -28,19 +28,31 @@ def decompose_dict(n: int) -> dict[str, Any]:
     }
 
 
-def write_schemes(system: Path, steady: bool) -> None:
-    div_u = "bounded Gauss linearUpwind grad(U)" if steady else "Gauss linearUpwind grad(U)"
-    div_t = "bounded Gauss upwind" if steady else "Gauss upwind"
+TIME_SCHEMES = ("backward", "Euler")
+
+
+def write_schemes(system: Path, steady: bool, time_scheme: str = "backward") -> None:
+    """fvSchemes: second order in space for U, k and ω (linearUpwind on a cell-limited gradient), and for
+    transient cases ``time_scheme`` (``backward``: second-order, three time levels; ``Euler``: first order)."""
+    if time_scheme not in TIME_SCHEMES:
+        raise ValueError(f"time scheme must be one of {TIME_SCHEMES} (got {time_scheme!r})")
+    # steady SIMPLE: 'bounded' removes the continuity error term (div(phi) != 0 until converged)
+    bounded = "bounded " if steady else ""
     foamdict.write(
         system / "fvSchemes",
         {
-            "ddtSchemes": {"default": "steadyState" if steady else "Euler"},
-            "gradSchemes": {"default": "Gauss linear", "grad(U)": "cellLimited Gauss linear 1"},
+            "ddtSchemes": {"default": "steadyState" if steady else time_scheme},
+            "gradSchemes": {
+                "default": "Gauss linear",
+                "grad(U)": "cellLimited Gauss linear 1",
+                # limited so the linearUpwind extrapolation of k and ω cannot make them negative
+                "limitedGrad": "cellLimited Gauss linear 1",
+            },
             "divSchemes": {
                 "default": "none",
-                "div(phi,U)": div_u,
-                "div(phi,k)": div_t,
-                "div(phi,omega)": div_t,
+                "div(phi,U)": f"{bounded}Gauss linearUpwind grad(U)",
+                "div(phi,k)": f"{bounded}Gauss linearUpwind limitedGrad",
+                "div(phi,omega)": f"{bounded}Gauss linearUpwind limitedGrad",
                 "div((nuEff*dev2(T(grad(U)))))": "Gauss linear",
             },
             "laplacianSchemes": {"default": "Gauss linear limited corrected 0.5"},

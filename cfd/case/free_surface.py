@@ -1,96 +1,127 @@
-"""A VOF interFoam straight-tow case with a free surface, written for users to run (never run by the tool)."""
+"""The free-surface (VOF) straight tow: an interFoam case with local time stepping, in the set-up of the
+DTCHull tutorial of OpenFOAM, on a half domain (the tow is symmetric about the centreplane).
+
+The hull is fixed at its design draught and trim (no sinkage or trim), the water flows past it at −U, and
+air fills the domain up to 0.5 Lpp above the waterline. The mesh follows the double-body mesh of
+:mod:`cfd.case.sizing` (background cells, Table-2 boxes, wake cylinder, hull level, prism layers) with the
+boxes mirrored above the waterline and two bands refining the free surface over the Kelvin wedge.
+
+The forces function object integrates the hull patch of the half domain; :func:`resistance_from_half`
+doubles it. The STL must be closed and reach above the waterline (a deck, or topsides cut by the domain
+top); a knife edge at the waterline, as on a double body, leaves slivers of air cells at the hull.
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import shutil
 from pathlib import Path
+from typing import Any
 
 from .. import foamdict
 from ..foamdict import Named, Words
-from .common import HULL_PATCH, function_objects, symmetry_plane
+from .common import HULL_PATCH, decompose_dict, link_mesh, write_solution
 from .flow import FlowSpec
-from .mesh import block_mesh_dict, write_mesh_case
+from .mesh import MESH_QUALITY, _snappy, block_mesh_dict
 from .sizing import Box, MeshSpec
 
+AIR_HEIGHT = 0.5  # Lpp of air above the waterline (the DTCHull tutorial: about 0.7 Lpp)
+# Free-surface bands: the Kelvin wedge (half angle 19.47 deg) from the bow reaches |y| = 1.06 L at the
+# outlet 3 L behind it, so the bands span y >= -KELVIN_WIDTH L. The bow wave rises about U^2 / 2g, which is
+# 0.024 L for the DTC at Fn 0.218 (0.14 m at 1.668 m/s): the inner band (hull level - 1) covers +-0.03 L,
+# the outer one (hull level - 2) +-0.06 L.
+KELVIN_WIDTH = 1.1
+BAND_INNER = 0.03
+BAND_OUTER = 0.06
+AHEAD_OF_BOW = 0.5  # Lpp of free-surface refinement ahead of the bow
+AIR = {"nu": 1.48e-5, "rho": 1.0}  # air at 15 deg C (m2/s, kg/m3), as in the DTCHull tutorial
+G = 9.81  # m/s2
 
-def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpec, iterations: int) -> None:
-    """Generate (not run) a VOF interFoam straight-tow case in the style of the DTCHull tutorial.
 
-    The domain extends 0.5 Lpp above the waterline with an ``atmosphere`` patch; water below z = 0
-    via setFields; local time stepping (LTS). This case is written for users to run and tune; the
-    tool never runs it and its results are not validated (see docs/cfd.md).
-    """
-    L = spec.L
-    top = 0.5 * L
-    n_up = max(1, math.ceil(top / spec.h0))
-    lo, hi = spec.lo, (spec.hi[0], spec.hi[1], n_up * spec.h0)
-    fs = MeshSpec(
-        spec.L,
-        spec.B,
-        spec.T,
-        spec.grading,
-        spec.h0,
-        lo,
-        hi,
-        (spec.cells[0], spec.cells[1], spec.cells[2] + n_up),
-        spec.hull_level,
-        spec.boxes
-        + (
-            Box(
-                "freeSurface",
-                (lo[0], lo[1], -0.25 * spec.T),
-                (hi[0], hi[1], 0.25 * spec.T),
-                max(1, spec.hull_level - 2),
-            ),
-        ),
-        (spec.location[0], spec.location[1], spec.location[2]),
+def free_surface_spec(spec: MeshSpec, half: bool = True) -> MeshSpec:
+    """The double-body mesh spec turned into the VOF one: half domain (y <= 0), air above the waterline,
+    the refinement boxes mirrored above it, and the free-surface bands."""
+    L, h0 = spec.L, spec.h0
+    n_up = max(1, math.ceil(round(AIR_HEIGHT * L / h0, 9)))
+    n_half = max(1, math.ceil(round(-spec.lo[1] / h0, 9)))
+    lo = (spec.lo[0], -n_half * h0, spec.lo[2])
+    hi = (spec.hi[0], 0.0 if half else n_half * h0, n_up * h0)
+    boxes = [dataclasses.replace(b, hi=(b.hi[0], b.hi[1], -b.lo[2])) for b in spec.boxes]
+    x_band = (lo[0], min(hi[0], (0.5 + AHEAD_OF_BOW) * L))
+    for name, height, level in (
+        ("freeSurfaceOuter", BAND_OUTER, spec.hull_level - 2),
+        ("freeSurfaceInner", BAND_INNER, spec.hull_level - 1),
+    ):
+        if level >= 1:
+            boxes.append(
+                Box(name, (x_band[0], -KELVIN_WIDTH * L, -height * L), (x_band[1], h0, height * L), level)
+            )
+    location = (
+        lo[0] + 0.71234 * (hi[0] - lo[0]) + 0.0123 * h0,
+        lo[1] + 0.08234 * (hi[1] - lo[1]) + 0.0123 * h0,
+        lo[2] + 0.31234 * (0.0 - lo[2]) - 0.0123 * h0,
     )
-    write_mesh_case(case, fs, stl)
+    wakes = tuple(w for w in spec.wakes if w.beta_deg == 0.0)
+    cells = (spec.cells[0], n_half * (1 if half else 2), spec.cells[2] + n_up)
+    return dataclasses.replace(
+        spec, lo=lo, hi=hi, cells=cells, boxes=tuple(boxes), location=location, wakes=wakes
+    )
+
+
+def resistance_from_half(fx_half_N: float) -> float:
+    """Total resistance (N) of the whole hull from the x force on the half hull of the half domain."""
+    return -2.0 * fx_half_N
+
+
+def _block_mesh(fs: MeshSpec) -> dict[str, Any]:
     bm = block_mesh_dict(fs)
     bm["boundary"] = [
-        Named("inlet", {"type": "patch", "faces": [(1, 2, 6, 5)]}),
+        Named("inlet", {"type": "patch", "faces": [(1, 2, 6, 5)]}),  # ahead of the bow (+x)
         Named("outlet", {"type": "patch", "faces": [(0, 4, 7, 3)]}),
-        Named("sides", {"type": "symmetry", "faces": [(0, 1, 5, 4), (3, 7, 6, 2)]}),
+        Named("side", {"type": "symmetryPlane", "faces": [(0, 1, 5, 4)]}),
+        Named("midPlane", {"type": "symmetryPlane", "faces": [(3, 7, 6, 2)]}),  # the centreplane y = 0
         Named("bottom", {"type": "symmetryPlane", "faces": [(0, 3, 2, 1)]}),
         Named("atmosphere", {"type": "patch", "faces": [(4, 5, 6, 7)]}),
     ]
-    system, const = case / "system", case / "constant"
-    foamdict.write(system / "blockMeshDict", bm)
-    U = (-flow.U, 0.0, 0.0)
+    return bm
+
+
+def write_free_surface_mesh(case: Path, fs: MeshSpec, stl: Path, procs: int = 1) -> None:
+    """blockMesh, surfaceFeatureExtract and snappyHexMesh dictionaries of the VOF mesh (spec from
+    :func:`free_surface_spec`)."""
+    system, tri = case / "system", case / "constant" / "triSurface"
+    tri.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(stl, tri / "hull.stl")
+    foamdict.write(system / "blockMeshDict", _block_mesh(fs))
     foamdict.write(
-        system / "controlDict",
+        system / "surfaceFeatureExtractDict",
         {
-            "application": "interFoam",
-            "startFrom": "latestTime",
-            "startTime": 0,
-            "stopAt": "endTime",
-            "endTime": iterations,
-            "deltaT": 1,
-            "writeControl": "timeStep",
-            "writeInterval": 100,
-            "purgeWrite": 2,
-            "writeFormat": "binary",
-            "writePrecision": 10,
-            "timeFormat": "general",
-            "runTimeModifiable": True,
-            "functions": function_objects(flow.rho, write_yplus=False),
+            "hull.stl": {
+                "extractionMethod": "extractFromSurface",
+                "extractFromSurfaceCoeffs": {"includedAngle": 150},
+                "subsetFeatures": {"nonManifoldEdges": False, "openEdges": True},
+                "writeObj": False,
+            }
         },
     )
-    foamdict.write(
-        system / "setFieldsDict",
-        {
-            "defaultFieldValues": [Words("volScalarFieldValue", "alpha.water", 0)],
-            "regions": [
-                Named(
-                    "boxToCell",
-                    {
-                        "box": Words((-1e9, -1e9, -1e9), (1e9, 1e9, 0)),
-                        "fieldValues": [Words("volScalarFieldValue", "alpha.water", 1)],
-                    },
-                )
-            ],
-        },
-    )
+    snappy = _snappy(fs)
+    # Castellated hull: every snapped hull mesh we tried (feature snapping on or off, tighter tolerances,
+    # prism layers) blew up within 10-30 interFoam iterations in v1912 (also single-phase, also without
+    # gravity, also with Euler at Co 0.2), while pimpleFoam ran on the same snapped mesh and interFoam on the
+    # castellated one: the stair-stepped surface is what runs here. It adds roughness-like drag that shrinks
+    # with the grading; docs/cfd.md says so next to every free-surface number.
+    snappy["snap"] = False
+    snappy["addLayers"] = False
+    foamdict.write(system / "snappyHexMeshDict", snappy)
+    foamdict.write(system / "meshQualityDict", MESH_QUALITY)
+    foamdict.write(system / "decomposeParDict", decompose_dict(procs))
+    _schemes(system)
+    write_solution(system, steady=True)  # snappyHexMesh reads fvSolution; the solver's is written later
+
+
+def _schemes(system: Path) -> None:
+    # the DTCHull tutorial's schemes: LTS pseudo-time, vanLeer + interface compression for alpha
     foamdict.write(
         system / "fvSchemes",
         {
@@ -111,6 +142,9 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
             "wallDist": {"method": "meshWave"},
         },
     )
+
+
+def _solution(system: Path) -> None:
     foamdict.write(
         system / "fvSolution",
         {
@@ -126,6 +160,7 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
                     "tolerance": 1e-8,
                     "relTol": 0,
                 },
+                '"pcorr.*"': {"solver": "GAMG", "smoother": "DIC", "tolerance": 1e-5, "relTol": 0},
                 '"p_rgh.*"': {"solver": "GAMG", "smoother": "DIC", "tolerance": 1e-7, "relTol": 0.01},
                 '"(U|k|omega).*"': {
                     "solver": "smoothSolver",
@@ -136,10 +171,11 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
                 },
             },
             "PIMPLE": {
-                "momentumPredictor": True,
+                "momentumPredictor": False,
                 "nOuterCorrectors": 1,
                 "nCorrectors": 2,
                 "nNonOrthogonalCorrectors": 0,
+                # local time step: Courant 10 in the flow, 5 at the interface, smoothed and damped in time
                 "maxCo": 10,
                 "maxAlphaCo": 5,
                 "rDeltaTSmoothingCoeff": 0.05,
@@ -151,32 +187,27 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
             "relaxationFactors": {"equations": {'".*"': 1}},
         },
     )
-    foamdict.write(
-        const / "g",
-        {"dimensions": "[0 1 -2 0 0 0 0]", "value": (0, 0, -9.81)},
-        foam_class="uniformDimensionedVectorField",
-    )
-    foamdict.write(
-        const / "hRef",
-        {"dimensions": "[0 1 0 0 0 0 0]", "value": 0},
-        foam_class="uniformDimensionedScalarField",
-    )
-    foamdict.write(
-        const / "transportProperties",
-        {
-            "phases": ["water", "air"],
-            "water": {"transportModel": "Newtonian", "nu": flow.nu, "rho": flow.rho},
-            "air": {"transportModel": "Newtonian", "nu": 1.48e-05, "rho": 1},
-            "sigma": 0,
-        },
-    )
-    foamdict.write(
-        const / "turbulenceProperties",
-        {"simulationType": "RAS", "RAS": {"RASModel": "kOmegaSST", "turbulence": True, "printCoeffs": True}},
-    )
+
+
+def _fields(flow: FlowSpec) -> dict[str, tuple[str, Any, str, dict[str, Any]]]:
+    """0.orig fields, with the DTCHull tutorial's boundary conditions: the outflow keeps the inflow's mean
+    water velocity (outletPhaseMeanVelocity) and lets the water level follow (variableHeightFlowRate); the
+    atmosphere is open at zero total pressure."""
+    U = (-flow.U, 0.0, 0.0)
     k, w = flow.k, flow.omega
-    sym = {"sides": {"type": "symmetry"}, "bottom": symmetry_plane()}
-    fields = {
+    in_out = {"type": "inletOutlet", "inletValue": Words("uniform", 0), "value": Words("uniform", 0)}
+
+    def turb(v: float, wall: str) -> dict[str, Any]:
+        io = {"type": "inletOutlet", "inletValue": Words("uniform", v), "value": Words("uniform", v)}
+        return {
+            "inlet": {"type": "fixedValue", "value": Words("uniform", v)},
+            "outlet": io,
+            "atmosphere": io,
+            HULL_PATCH: {"type": wall, "value": Words("uniform", v)},
+        }
+
+    return {
+        # the inlet's water below z = 0 is set by setFields (boxToFace)
         "alpha.water": (
             "[0 0 0 0 0 0 0]",
             0,
@@ -184,11 +215,7 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
             {
                 "inlet": {"type": "fixedValue", "value": Words("uniform", 0)},
                 "outlet": {"type": "variableHeightFlowRate", "lowerBound": 0, "upperBound": 1},
-                "atmosphere": {
-                    "type": "inletOutlet",
-                    "inletValue": Words("uniform", 0),
-                    "value": Words("uniform", 0),
-                },
+                "atmosphere": in_out,
                 HULL_PATCH: {"type": "zeroGradient"},
             },
         ),
@@ -198,13 +225,14 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
             "volVectorField",
             {
                 "inlet": {"type": "fixedValue", "value": Words("uniform", U)},
-                "outlet": {"type": "outletPhaseMeanVelocity", "Umean": flow.U, "alpha": "alpha.water"},
-                "atmosphere": {
-                    "type": "pressureInletOutletVelocity",
-                    "tangentialVelocity": Words("uniform", U),
-                    "value": Words("uniform", (0, 0, 0)),
+                "outlet": {
+                    "type": "outletPhaseMeanVelocity",
+                    "Umean": flow.U,
+                    "alpha": "alpha.water",
+                    "value": Words("uniform", U),
                 },
-                HULL_PATCH: {"type": "fixedValue", "value": Words("uniform", (0, 0, 0))},
+                "atmosphere": {"type": "pressureInletOutletVelocity", "value": Words("uniform", (0, 0, 0))},
+                HULL_PATCH: {"type": "noSlip"},
             },
         ),
         "p_rgh": (
@@ -218,44 +246,8 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
                 HULL_PATCH: {"type": "fixedFluxPressure", "value": Words("uniform", 0)},
             },
         ),
-        "k": (
-            "[0 2 -2 0 0 0 0]",
-            k,
-            "volScalarField",
-            {
-                "inlet": {"type": "fixedValue", "value": Words("uniform", k)},
-                "outlet": {
-                    "type": "inletOutlet",
-                    "inletValue": Words("uniform", k),
-                    "value": Words("uniform", k),
-                },
-                "atmosphere": {
-                    "type": "inletOutlet",
-                    "inletValue": Words("uniform", k),
-                    "value": Words("uniform", k),
-                },
-                HULL_PATCH: {"type": "kqRWallFunction", "value": Words("uniform", k)},
-            },
-        ),
-        "omega": (
-            "[0 0 -1 0 0 0 0]",
-            w,
-            "volScalarField",
-            {
-                "inlet": {"type": "fixedValue", "value": Words("uniform", w)},
-                "outlet": {
-                    "type": "inletOutlet",
-                    "inletValue": Words("uniform", w),
-                    "value": Words("uniform", w),
-                },
-                "atmosphere": {
-                    "type": "inletOutlet",
-                    "inletValue": Words("uniform", w),
-                    "value": Words("uniform", w),
-                },
-                HULL_PATCH: {"type": "omegaWallFunction", "value": Words("uniform", w)},
-            },
-        ),
+        "k": ("[0 2 -2 0 0 0 0]", k, "volScalarField", turb(k, "kqRWallFunction")),
+        "omega": ("[0 0 -1 0 0 0 0]", w, "volScalarField", turb(w, "omegaWallFunction")),
         "nut": (
             "[0 2 -1 0 0 0 0]",
             0,
@@ -264,11 +256,111 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
                 "inlet": {"type": "fixedValue", "value": Words("uniform", 0)},
                 "outlet": {"type": "zeroGradient"},
                 "atmosphere": {"type": "zeroGradient"},
-                HULL_PATCH: {"type": "nutkWallFunction", "value": Words("uniform", 0)},
+                HULL_PATCH: {"type": "nutUSpaldingWallFunction", "value": Words("uniform", 0)},
             },
         ),
     }
-    for name, (dims, internal, cls, bnd) in fields.items():
+
+
+def write_free_surface_case(
+    case: Path,
+    spec: MeshSpec,
+    stl: Path,
+    flow: FlowSpec,
+    iterations: int,
+    procs: int = 1,
+    mesh_case: Path | None = None,
+) -> MeshSpec:
+    """Write a VOF interFoam straight tow at ``flow.U`` for ``iterations`` LTS iterations.
+
+    ``spec`` is the double-body spec (:func:`~cfd.case.sizing.mesh_spec`); the VOF one is derived from it
+    and returned. With ``mesh_case`` (a finished VOF mesh) its polyMesh is copied in; otherwise the case
+    holds the meshing dictionaries too and its ``Allrun`` meshes first. ``0.orig`` holds the initial fields;
+    ``Allrun`` copies it to ``0`` and runs setFields (water below z = 0) before interFoam.
+    """
+    fs = free_surface_spec(spec)
+    case.mkdir(parents=True, exist_ok=True)
+    if mesh_case is None:
+        write_free_surface_mesh(case, fs, stl, procs)
+    else:
+        link_mesh(case, mesh_case)
+    system, const = case / "system", case / "constant"
+    foamdict.write(
+        system / "controlDict",
+        {
+            "application": "interFoam",
+            "startFrom": "latestTime",
+            "startTime": 0,
+            "stopAt": "endTime",
+            "endTime": iterations,
+            "deltaT": 1,
+            "writeControl": "timeStep",
+            "writeInterval": max(1, iterations // 4),
+            "purgeWrite": 1,
+            "writeFormat": "binary",
+            "writePrecision": 10,
+            "writeCompression": False,
+            "timeFormat": "general",
+            "runTimeModifiable": True,
+            "functions": {
+                "forces": {
+                    "type": "forces",
+                    "libs": ['"libforces.so"'],
+                    "writeControl": "timeStep",
+                    "writeInterval": 1,
+                    "patches": [HULL_PATCH],
+                    "rho": "rho",  # interFoam's p is in Pa: integrate it as it is, with the two-phase rho field
+                    "CofR": (0, 0, 0),
+                    "log": False,
+                }
+            },
+        },
+    )
+    foamdict.write(
+        system / "setFieldsDict",
+        {
+            "defaultFieldValues": [Words("volScalarFieldValue", "alpha.water", 0)],
+            "regions": [
+                Named(
+                    shape,
+                    {
+                        "box": Words((-1e9, -1e9, -1e9), (1e9, 1e9, 0)),
+                        "fieldValues": [Words("volScalarFieldValue", "alpha.water", 1)],
+                    },
+                )
+                for shape in ("boxToCell", "boxToFace")  # the cells and the inlet faces below z = 0
+            ],
+        },
+    )
+    _schemes(system)
+    _solution(system)
+    foamdict.write(system / "decomposeParDict", decompose_dict(procs))
+    foamdict.write(
+        const / "g",
+        {"dimensions": "[0 1 -2 0 0 0 0]", "value": (0, 0, -G)},
+        foam_class="uniformDimensionedVectorField",
+    )
+    # p_rgh = p - rho g (h - hRef): hRef at the undisturbed waterline z = 0 makes p_rgh = 0 at the surface
+    foamdict.write(
+        const / "hRef",
+        {"dimensions": "[0 1 0 0 0 0 0]", "value": 0},
+        foam_class="uniformDimensionedScalarField",
+    )
+    foamdict.write(
+        const / "transportProperties",
+        {
+            "phases": ["water", "air"],
+            "water": {"transportModel": "Newtonian", "nu": flow.nu, "rho": flow.rho},
+            "air": {"transportModel": "Newtonian", **AIR},
+            "sigma": 0,  # surface tension is negligible at model scale for resistance
+        },
+    )
+    foamdict.write(
+        const / "turbulenceProperties",
+        {"simulationType": "RAS", "RAS": {"RASModel": "kOmegaSST", "turbulence": True, "printCoeffs": True}},
+    )
+    sym = {p: {"type": "symmetryPlane"} for p in ("side", "midPlane", "bottom")}
+    for name, (dims, internal, cls, bnd) in _fields(flow).items():
         foamdict.write(
             case / "0.orig" / name,
             {
@@ -278,11 +370,17 @@ def write_free_surface_case(case: Path, spec: MeshSpec, stl: Path, flow: FlowSpe
             },
             foam_class=cls,
         )
-    (case / "Allrun").write_text(
-        "#!/bin/sh\n# VOF straight tow generated by vessel-cfd. NOT validated: see docs/cfd.md.\n"
-        'set -e\ncd "${0%/*}"\nexport WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}\n'
+    mesh_steps = (
         "blockMesh > log.blockMesh\nsurfaceFeatureExtract > log.surfaceFeatureExtract\n"
-        "snappyHexMesh -overwrite > log.snappyHexMesh\nrm -rf 0 && cp -r 0.orig 0\n"
-        "setFields > log.setFields\ninterFoam > log.interFoam\n"
+        "snappyHexMesh -overwrite > log.snappyHexMesh\ncheckMesh > log.checkMesh\n"
+        if mesh_case is None
+        else ""
+    )
+    (case / "Allrun").write_text(
+        "#!/bin/sh\n# VOF straight tow written by vessel-cfd (docs/cfd.md, section Free surface).\n"
+        'set -e\ncd "${0%/*}"\nexport WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}\n'
+        + mesh_steps
+        + "rm -rf 0 && cp -r 0.orig 0\nsetFields > log.setFields\ninterFoam > log.interFoam\n"
     )
     (case / "Allrun").chmod(0o755)
+    return fs

@@ -66,6 +66,14 @@ def _snappy(spec: MeshSpec) -> dict[str, Any]:
     for b in spec.boxes:
         geometry[b.name] = {"type": "searchableBox", "min": b.lo, "max": b.hi}
         regions[b.name] = {"mode": "inside", "levels": [(1e15, b.level)]}
+    for w in spec.wakes:
+        geometry[w.name] = {
+            "type": "searchableCylinder",
+            "point1": w.point1,
+            "point2": w.point2,
+            "radius": w.radius,
+        }
+        regions[w.name] = {"mode": "inside", "levels": [(1e15, w.level)]}
     H = spec.hull_level
     layers = {
         "relativeSizes": False,

@@ -83,9 +83,11 @@ def write_pmm_case(
     t_end: float,
     dt: float,
     procs: int = 1,
+    time_scheme: str = "backward",
 ) -> None:
     """pimpleFoam case with a rigidly moving mesh (solidBody, tabulated6DoFMotion), started from the
-    converged straight-tow fields in ``start_dir`` (a time directory of the tow case)."""
+    converged straight-tow fields in ``start_dir`` (a time directory of the tow case); ``time_scheme`` is
+    the ddt scheme (``backward``, second order, or ``Euler``)."""
     case.mkdir(parents=True, exist_ok=True)
     link_mesh(case, mesh_case)
     write_constant(case, flow.nu)
@@ -131,6 +133,6 @@ def write_pmm_case(
             "functions": function_objects(flow.rho, write_yplus=True),
         },
     )
-    write_schemes(system, steady=False)
+    write_schemes(system, steady=False, time_scheme=time_scheme)
     write_solution(system, steady=False)
     foamdict.write(system / "decomposeParDict", decompose_dict(procs))

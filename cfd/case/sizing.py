@@ -40,6 +40,22 @@ class Box:
 
 
 @dataclass(frozen=True)
+class Wake:
+    """A cylindrical refinement region along the wake of one inflow angle (snappyHexMesh searchableCylinder).
+
+    The axis runs from midship on the waterplane downstream along the inflow direction, so at a drift angle
+    β it passes the stern at y = −(L/2) tan β, where the leeward bilge vortices leave the hull.
+    """
+
+    name: str
+    beta_deg: float  # inflow angle of the case frame (U∞ ∝ (−cos β, −sin β, 0))
+    point1: tuple[float, float, float]
+    point2: tuple[float, float, float]
+    radius: float
+    level: int
+
+
+@dataclass(frozen=True)
 class MeshSpec:
     """Everything blockMesh and snappyHexMesh need, derived from the hull and the grading."""
 
@@ -57,6 +73,8 @@ class MeshSpec:
     n_layers: int = 0
     first_layer_m: float = 0.0
     expansion: float = 1.2
+    yplus_target: float = 0.0  # y+ the first layer was sized for (0: no layers)
+    wakes: tuple[Wake, ...] = ()
 
     @property
     def h_hull(self) -> float:
@@ -83,6 +101,7 @@ def mesh_spec(
     layers: bool = False,
     yplus: float = 150.0,
     sizing: str = "grading",
+    wake_deg: tuple[float, ...] = (),
 ) -> MeshSpec:
     """Background mesh, Table-2 boxes and surface levels for a hull of Lpp L, breadth B, draught T.
 
@@ -132,11 +151,55 @@ def mesh_spec(
         if t1 < 0.8 * h_hull:
             n_layers = max(1, min(20, math.ceil(math.log(0.6 * h_hull / t1) / math.log(1.2)) + 1))
     return MeshSpec(
-        L, B, T, grading, h0, tuple(lo), tuple(hi), tuple(cells), H, tuple(boxes), location, n_layers, t1
+        L,
+        B,
+        T,
+        grading,
+        h0,
+        tuple(lo),
+        tuple(hi),
+        tuple(cells),
+        H,
+        tuple(boxes),
+        location,
+        n_layers,
+        t1,
+        yplus_target=yplus if n_layers else 0.0,
+        wakes=wake_regions(L, B, T, H, wake_deg),
     )
 
 
-def pmm_time_step(spec: MeshSpec, U: float, period: float, courant: float = 1.25) -> float:
+# The wake cylinder reaches WAKE_LENGTH behind the stern (in Lpp), about where the double-body wake of a
+# slender hull has spread to the coarse background cells; its radius clears the draught and the half
+# breadth by WAKE_CLEARANCE Lpp, the clearance of the seed's innermost Table-2 box to the DTC's side.
+WAKE_LENGTH = 1.0
+WAKE_CLEARANCE = 0.05
+# Cylinders are laid in a fan every WAKE_STEP_DEG from 0 to the largest angle (rounded up): neighbours
+# 5 deg apart overlap to about 2 L behind midship (2 R / tan 5 deg with R ~ 0.1 L), so every angle in the fan
+# has its wake inside refined cells, and a new angle inside the fan does not change the mesh (resume).
+WAKE_STEP_DEG = 5.0
+
+
+def wake_regions(L: float, B: float, T: float, hull_level: int, angles_deg: tuple[float, ...]) -> tuple:
+    """The :class:`Wake` fan covering the inflow angles ``angles_deg`` (deg, case frame; the sign gives the
+    side): one cylinder every :data:`WAKE_STEP_DEG` from 0 to each angle rounded up, at the level of the
+    second innermost Table-2 box (hull level − 2, at least 1). No angles, no wake regions."""
+    fan: set[float] = set()
+    for a in angles_deg:
+        n = math.ceil(abs(a) / WAKE_STEP_DEG - 1e-9)
+        fan |= {math.copysign(k * WAKE_STEP_DEG, a) if k else 0.0 for k in range(n + 1)}
+    out = []
+    radius = max(T, 0.5 * B) + WAKE_CLEARANCE * L
+    reach = (0.5 + WAKE_LENGTH) * L  # from midship to WAKE_LENGTH behind the stern
+    for beta in sorted(fan):
+        b = math.radians(beta)
+        p2 = (-reach * math.cos(b), -reach * math.sin(b), 0.0)
+        name = f"wake_{'m' if beta < 0 else 'p'}{abs(beta):02.0f}"
+        out.append(Wake(name, beta, (0.0, 0.0, 0.0), p2, radius, max(1, hull_level - 2)))
+    return tuple(out)
+
+
+def pmm_time_step(spec: MeshSpec, U: float, period: float, courant: float = 1.0) -> float:
     """Time step with the given Courant number on the hull cells, dividing the period into whole steps."""
     dt = courant * spec.h_hull / U
     n = max(40, math.ceil(period / dt))
@@ -151,6 +214,9 @@ def cell_count_estimate(spec: MeshSpec) -> int:
         vol = float(np.prod(np.subtract(b.hi, b.lo)))
         vol = min(vol, float(np.prod(np.subtract(spec.hi, spec.lo))))
         n += vol / vol_cell0 * (8**b.level - 8 ** (b.level - 1))
+    for w in spec.wakes:  # the half below the waterplane, at its own level over the background
+        vol = 0.5 * math.pi * w.radius**2 * math.dist(w.point1, w.point2)
+        n += vol / vol_cell0 * (8**w.level - 1)
     # hull band: about 3 cell layers around a surface of area ~ 2 L (B + 2T)
     area = 2.0 * spec.L * (spec.B + 2.0 * spec.T) * 0.7
     n += 3.0 * area / spec.h_hull**2

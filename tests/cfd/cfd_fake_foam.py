@@ -72,12 +72,14 @@ class FakeFoam:
         bounding_k_in: str | None = None,
         settle: bool = True,
         grid_error: float | None = None,
+        layer_fraction: float = 0.8,
     ) -> None:
         # grid_error c: forces times (1 + c h^2), h = 2^-H the hull cell size in units of the background
         # cell for hull level H, and 100 x 8^H cells: a second-order grid convergence (p = 2, r = 2)
         self.grid_error = grid_error
         self.level = 0
         self.hull_faces = hull_faces
+        self.layer_fraction = layer_fraction  # prism-layer thickness reached / designed, in the snappy log
         self.yplus = yplus  # (min, max, mean) written by the yPlus function object
         self.courant = courant  # largest Courant number in the PMM logs
         self.hull_area_factor = hull_area_factor  # hull patch area / STL wetted area (2: inside meshed too)
@@ -133,6 +135,16 @@ class FakeFoam:
         head = "FoamFile\n{{\n    format ascii;\n    class {};\n}}\n\n"
         (poly / "points").write_text(head.format("vectorField") + f"{4 * n}\n(\n{pts})\n")
         (poly / "faces").write_text(head.format("faceList") + f"{n}\n(\n{faces})\n")
+        asked = re.search(r"nSurfaceLayers\s+(\d+);", (case / "system" / "snappyHexMeshDict").read_text())
+        if asked and int(asked.group(1)) > 0 and self.hull_faces:  # snappyHexMesh's layer table
+            n_asked = int(asked.group(1))
+            (case / "log.snappyHexMesh").write_text(
+                "patch faces    layers   overall thickness\n"
+                "                       [m]       [%]\n"
+                "----- -----    ------   ---       ---\n"
+                f"hull {self.hull_faces}      {self.layer_fraction * n_asked:.3g}     0.0171    "
+                f"{100 * self.layer_fraction:.3g}\n\nLayer mesh : cells:14896\nEnd\n"
+            )
 
     def _checkMesh(self, case: Path) -> None:
         levels = re.findall(

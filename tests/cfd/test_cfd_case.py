@@ -24,9 +24,10 @@ from cfd.case import (
     write_pmm_case,
     write_steady_case,
 )
+from cfd.case.free_surface import resistance_from_half
 from cfd.foamdict import Named, Words
 from cfd.friction import ittc57, wall_distance
-from cfd.geometry import wigley_hull, write_stl
+from cfd.geometry import wigley_hull, wigley_hull_with_freeboard, write_stl
 
 L, B, T = 1.0, 0.1, 0.0625
 
@@ -34,6 +35,11 @@ L, B, T = 1.0, 0.1, 0.0625
 def _parse(path: Path) -> dict:
     foamlib = pytest.importorskip("foamlib")
     return foamlib.FoamFile(path).as_dict()
+
+
+def _words(value) -> str:
+    """A foamlib entry of several words as the text OpenFOAM reads."""
+    return " ".join(str(v) for v in value) if isinstance(value, (tuple, list)) else str(value)
 
 
 def test_foamdict_text_is_parsed_back_by_foamlib(tmp_path):
@@ -157,7 +163,8 @@ def test_pmm_case_and_motion_table(mesh_case):
     motion = Motion("yaw", 0.03, 2 * math.pi / period, 1.0, 0.5 * period)
     dt = pmm_time_step(spec, 1.0, period)
     assert period / dt == pytest.approx(round(period / dt))  # whole steps per period
-    assert dt * 1.0 / spec.h_hull == pytest.approx(1.25, rel=0.05)  # Courant number on the hull cells
+    assert dt * 1.0 / spec.h_hull == pytest.approx(1.0, rel=0.05)  # Courant number on the hull cells
+    assert pmm_time_step(spec, 1.0, period, courant=0.5) == pytest.approx(dt / 2, rel=0.05)
     case = root / "yaw"
     write_pmm_case(case, root / "mesh", start, FlowSpec(U=1.0), motion, 3 * period, dt)
     dyn = _parse(case / "constant" / "dynamicMeshDict")
@@ -187,15 +194,133 @@ def test_motion_kinematics():
 
 
 def test_free_surface_case_is_generated(tmp_path):
-    stl = write_stl(tmp_path / "hull.stl", wigley_hull(L, B, T))
-    spec = mesh_spec(L, B, T, 1, U=1.0, nu=1e-6)
+    stl = write_stl(tmp_path / "hull.stl", wigley_hull_with_freeboard(L, B, T, 0.1))
+    spec = mesh_spec(L, B, T, 2, U=1.0, nu=1e-6, layers=True, wake_deg=(0.0, 5.0))
     case = tmp_path / "vof"
-    write_free_surface_case(case, spec, stl, FlowSpec(U=1.0), 1000)
-    assert _parse(case / "system" / "controlDict")["application"] == "interFoam"
+    fs = write_free_surface_case(case, spec, stl, FlowSpec(U=1.0, rho=998.8), 1000)
+    cd = _parse(case / "system" / "controlDict")
+    assert cd["application"] == "interFoam" and cd["endTime"] == 1000
+    assert cd["functions"]["forces"]["rho"] == "rho"  # interFoam's p is in Pa: no rhoInf scaling
+    assert _parse(case / "system" / "fvSchemes")["ddtSchemes"]["default"] == "localEuler"
     bm = _parse(case / "system" / "blockMeshDict")
-    assert "atmosphere" in str(bm["boundary"])
-    assert np.asarray(bm["vertices"])[:, 2].max() > 0  # air above the waterline
+    names = str(bm["boundary"])
+    assert all(n in names for n in ("inlet", "outlet", "atmosphere", "midPlane", "side", "bottom"))
+    v = np.asarray(bm["vertices"])
+    assert v[:, 1].max() == 0.0 and v[:, 1].min() < -L  # half domain, the centreplane y = 0 a symmetry plane
+    assert v[:, 2].max() >= 0.5 * L  # air above the waterline
+    assert fs.hi[1] == 0.0 and fs.cells[1] * 2 == spec.cells[1]
+    bands = {b.name: b for b in fs.boxes}
+    assert bands["freeSurfaceInner"].level == spec.hull_level - 1 and bands["freeSurfaceInner"].hi[2] > 0
+    assert bands["box6"].hi[2] == pytest.approx(-bands["box6"].lo[2])  # boxes mirrored above the waterline
+    assert [w.name for w in fs.wakes] == ["wake_p00"]  # a straight tow: only its own wake
+    sn = _parse(case / "system" / "snappyHexMeshDict")
+    assert sn["snap"] is False and sn["addLayers"] is False  # castellated hull (docs/cfd.md says why)
+    regions = [str(r) for r in _parse(case / "system" / "setFieldsDict")["regions"]]
+    assert any("boxToFace" in r for r in regions)  # the inlet's water, not only the cells
+    assert _parse(case / "constant" / "hRef")["value"] == 0
+    U = _parse(case / "0.orig" / "U")
+    assert U["boundaryField"]["outlet"]["type"] == "outletPhaseMeanVelocity"
+    assert _parse(case / "0.orig" / "p_rgh")["boundaryField"]["atmosphere"]["type"] == "totalPressure"
     for f in ("alpha.water", "U", "p_rgh", "k", "omega", "nut"):
-        assert (case / "0.orig" / f).is_file()
-    assert "NOT validated" in (case / "Allrun").read_text()
-    assert _parse(case / "system" / "setFieldsDict")["regions"]
+        assert _parse(case / "0.orig" / f)["boundaryField"]["midPlane"]["type"] == "symmetryPlane"
+    text = (case / "Allrun").read_text()
+    assert text.index("snappyHexMesh") < text.index("setFields") < text.index("interFoam")
+    assert resistance_from_half(-1.5) == 3.0  # both sides of the hull, as a positive resistance
+
+
+def test_wall_sided_wigley_is_closed_and_has_its_volume():
+    from cfd.geometry import check_surface, hydrostatics
+
+    F = 0.05
+    tris = wigley_hull_with_freeboard(L, B, T, F)
+    surface = check_surface(tris, z_max=10.0)  # every edge, above the waterline too
+    assert surface.open_edges == 0 and surface.non_manifold_edges == 0
+    # divergence theorem over the closed surface: Wigley 4/9 LBT below, L B F 2/3 (parabolic waterplane) above
+    vol = np.einsum("ij,ij->i", tris[:, 0], np.cross(tris[:, 1], tris[:, 2])).sum() / 6.0
+    assert vol == pytest.approx(4 / 9 * L * B * T + 2 / 3 * L * B * F, rel=0.01)
+    below = hydrostatics(tris)
+    assert below.volume_m3 == pytest.approx(4 / 9 * L * B * T, rel=0.01) and below.draught_m == pytest.approx(
+        T
+    )
+
+
+def test_numerics_default_to_second_order(mesh_case, tmp_path):
+    root, _ = mesh_case
+    steady = root / "steady_schemes"
+    write_steady_case(steady, root / "mesh", FlowSpec(U=1.0), 100)
+    sch = _parse(steady / "system" / "fvSchemes")
+    assert sch["ddtSchemes"]["default"] == "steadyState"
+    for f in ("k", "omega"):  # second-order convection of the turbulence quantities, limited gradient
+        assert _words(sch["divSchemes"][f"div(phi,{f})"]) == "bounded Gauss linearUpwind limitedGrad"
+    assert _words(sch["gradSchemes"]["limitedGrad"]) == "cellLimited Gauss linear 1"
+    start = root / "tow_for_schemes" / "100"
+    start.mkdir(parents=True)
+    for name in ("U", "p", "k", "omega", "nut"):
+        (start / name).write_text("placeholder\n")
+    motion = Motion("sway", 0.02, math.pi, 1.0, 1.0)
+    for scheme in ("backward", "Euler"):
+        case = root / f"pmm_{scheme}"
+        kw = {} if scheme == "backward" else {"time_scheme": "Euler"}  # backward is the default
+        write_pmm_case(case, root / "mesh", start, FlowSpec(U=1.0), motion, 4.0, 0.02, **kw)
+        sch = _parse(case / "system" / "fvSchemes")
+        assert sch["ddtSchemes"]["default"] == scheme
+        assert _words(sch["divSchemes"]["div(phi,k)"]) == "Gauss linearUpwind limitedGrad"
+    with pytest.raises(ValueError, match="time scheme"):
+        write_pmm_case(
+            root / "pmm_bad", root / "mesh", start, FlowSpec(U=1.0), motion, 4.0, 0.02, time_scheme="CN"
+        )
+
+
+def test_study_defaults_suit_the_physics(tmp_path):
+    from cfd.config import build_study
+    from cfd.errors import InputError
+
+    s = build_study({"hull": "wigley", "lpp": 1, "bwl": 0.1, "tm": 0.0625, "out": str(tmp_path)})
+    assert s.layers is True and s.yplus == 150.0 and s.wake is True
+    assert s.time_scheme == "backward" and s.courant == 1.0
+    s = build_study(
+        {"hull": "wigley", "lpp": 1, "bwl": 0.1, "tm": 0.0625, "out": str(tmp_path), "courant": "0.5"}
+        | {"time_scheme": "Euler", "layers": "false", "wake": "no"}
+    )
+    assert (s.courant, s.time_scheme, s.layers, s.wake) == (0.5, "Euler", False, False)
+    for key, bad in (("courant", "3"), ("courant", "0"), ("time_scheme", "CrankNicolson")):
+        with pytest.raises(InputError, match=key):
+            build_study(
+                {"hull": "wigley", "lpp": 1, "bwl": 0.1, "tm": 0.0625, "out": str(tmp_path), key: bad}
+            )
+
+
+def test_layers_are_sized_for_the_yplus_target():
+    # Wigley L = 1 m at Re = 1e6: flat-plate C_f(1e6) = 0.00375, u_tau = 0.0433 m/s, so y+ = 150 puts the
+    # first cell centre 3.47 mm off the wall and the first layer is 6.9 mm; growth 1.2 up to 0.6 of the
+    # 15.6 mm surface cell takes 3 layers
+    spec = mesh_spec(L, B, T, 1, U=1.0, nu=1e-6, layers=True, yplus=150.0)
+    assert spec.first_layer_m == pytest.approx(2 * 3.47e-3, rel=0.01)
+    assert spec.n_layers == 3 and spec.yplus_target == 150.0
+    assert spec.first_layer_m * spec.expansion ** (spec.n_layers - 1) == pytest.approx(
+        0.6 * spec.h_hull, rel=0.25
+    )
+    assert mesh_spec(L, B, T, 1, U=1.0, nu=1e-6).yplus_target == 0.0  # no layers, no target
+
+
+def test_wake_refinement_follows_the_drift_angle(tmp_path):
+    spec = mesh_spec(L, B, T, 2, U=1.0, nu=1e-6, wake_deg=(0.0, 6.0, -3.0))
+    # a fan every 5 deg from 0 to each angle rounded up; negative angles (PMM) on the other side
+    assert [w.name for w in spec.wakes] == ["wake_m05", "wake_p00", "wake_p05", "wake_p10"]
+    w10 = spec.wakes[-1]
+    (x1, y1, z1), (x2, y2, z2) = w10.point1, w10.point2
+    assert (x1, y1) == (0.0, 0.0) and z1 == z2 == 0.0  # from midship on the waterplane (double body)
+    # downstream of an inflow (-cos b, -sin b): the axis leans to -y, past the stern by 1 L
+    assert math.degrees(math.atan2(-y2, -x2)) == pytest.approx(10.0)
+    assert math.hypot(x2, y2) == pytest.approx(1.5 * L)
+    assert w10.radius > T and w10.level == spec.hull_level - 2
+    assert mesh_spec(L, B, T, 2, U=1.0, nu=1e-6, wake_deg=(0.0, 4.0)).wakes == spec.wakes[1:3]
+    stl = write_stl(tmp_path / "hull.stl", wigley_hull(L, B, T))
+    write_mesh_case(tmp_path / "mesh", spec, stl)
+    sn = _parse(tmp_path / "mesh" / "system" / "snappyHexMeshDict")
+    cyl = sn["geometry"]["wake_p10"]
+    assert cyl["type"] == "searchableCylinder" and list(cyl["point2"]) == pytest.approx(w10.point2)
+    assert cyl["radius"] == pytest.approx(w10.radius)
+    region = sn["castellatedMeshControls"]["refinementRegions"]["wake_p10"]
+    assert region["mode"] == "inside" and list(region["levels"][0]) == [1e15, w10.level]
+    assert cell_count_estimate(spec) > cell_count_estimate(mesh_spec(L, B, T, 2, U=1.0, nu=1e-6))

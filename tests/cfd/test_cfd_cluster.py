@@ -47,6 +47,10 @@ def test_job_array_script_runs_one_case_per_task_over_a_hostfile(cases, capsys):
     assert "#SBATCH --array=0-1" in text and "#SBATCH --nodes=2" in text and "--ntasks-per-node=16" in text
     assert 'mpirun -np "$SLURM_NTASKS" --hostfile "$HOSTFILE" "$APP" -parallel' in text
     assert "scontrol show hostnames" in text and "hierarchical" in text
+    # a free-surface (interFoam) case gets its water (0.orig, setFields) before it is decomposed
+    assert (
+        text.index('if [ "$APP" = interFoam ]') < text.index("setFields") < text.index("decomposePar -force")
+    )
     lines = (cases.parent / "slurm" / "cases.txt").read_text().splitlines()
     assert lines[0].endswith("drift_b04.00 simpleFoam") and len(lines) == 2
     decomp = (cases / "drift_b04.00" / "system" / "decomposeParDict").read_text()

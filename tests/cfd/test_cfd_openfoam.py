@@ -1,9 +1,10 @@
 """The whole pipeline with OpenFOAM on a Wigley hull at grading 1 (ULTRA COARSE), checked against
 Clarke, Gedling & Hine (1983), Trans. RINA 125, 45-68 (regressions as printed in Fossen's Handbook).
 
-About 2 min on two free cores (108 s measured; 13.6k cells; tow at two speeds, static drift at 3, 6 and
-9 deg, one pure sway and one pure yaw run of three periods at omega' = pi). Skipped only when OpenFOAM is
-not installed.
+About 2 min on two free cores with the earlier numerical defaults (108 s measured; 13.6k cells), 10 min on
+one shared core with the current ones (prism layers, backward time at Courant 1; 15.1k cells). Tow at two
+speeds, static drift at 3, 6 and 9 deg, one pure sway and one pure yaw run of three periods at omega' = pi.
+Skipped only when OpenFOAM is not installed.
 """
 
 from __future__ import annotations

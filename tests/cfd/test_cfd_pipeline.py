@@ -144,13 +144,24 @@ def test_resume_skips_finished_cases_and_redoes_changed_ones(tmp_path, monkeypat
     run(s, second)
     assert second.calls == []  # everything resumed
     third = fake_environment(monkeypatch, FakeFoam())
-    run(study(tmp_path, drift_deg="3,6,9,12"), third)
-    assert {c for _, c in third.calls} == {"drift_b12.00"}
+    # 8 deg lies inside the wake fan already refined for 9 deg (cfd.case.sizing.wake_regions): one case
+    run(study(tmp_path, drift_deg="3,6,8,9"), third)
+    assert {c for _, c in third.calls} == {"drift_b08.00"}
     marker = cases / "tow_U0.8000" / DONE
     marker.write_text(json.dumps({"key": "stale"}))
     fourth = fake_environment(monkeypatch, FakeFoam())
-    run(study(tmp_path, drift_deg="3,6,9,12"), fourth)
+    run(study(tmp_path, drift_deg="3,6,8,9"), fourth)
     assert {c for _, c in fourth.calls} == {"tow_U0.8000"}
+
+
+def test_a_drift_angle_beyond_the_wake_fan_remeshes(tmp_path, monkeypatch):
+    s = study(tmp_path)
+    run(s, fake_environment(monkeypatch, FakeFoam()))
+    wider = fake_environment(monkeypatch, FakeFoam())
+    run(study(tmp_path, drift_deg="3,6,9,12"), wider)  # the wake fan grows from 10 to 15 deg: new mesh
+    assert ("snappyHexMesh", "mesh") in wider.calls and ("simpleFoam", "drift_b03.00") in wider.calls
+    snappy = (s.out / "cases" / "mesh" / "system" / "snappyHexMeshDict").read_text()
+    assert "wake_p15" in snappy and "wake_p20" not in snappy
 
 
 def test_missing_hull_patch_is_a_clear_error(tmp_path, monkeypatch):
@@ -225,3 +236,16 @@ def test_cli_run_exit_codes(tmp_path, monkeypatch, capsys):
     out = capsys.readouterr().out
     assert "ship file:" in out and (tmp_path / "o" / "ship.toml").is_file()
     assert "borrowed:  The CFD hull is bare; [rudder]" in out
+
+
+def test_free_surface_option_writes_a_vof_case_with_topsides(tmp_path, fake):
+    from cfd.geometry import check_surface, read_stl
+
+    s = study(tmp_path, tests="tow", speeds="1.0", free_surface="true")
+    run(s, fake)
+    case = s.out / "cases" / "free_surface_tow"
+    assert "interFoam" in (case / "Allrun").read_text() and (case / "0.orig" / "alpha.water").is_file()
+    hull = read_stl(case / "constant" / "triSurface" / "hull.stl")
+    # the Wigley gets wall-sided topsides and a deck at z = T, closed all round
+    assert hull[:, :, 2].max() == pytest.approx(0.0625) and check_surface(hull, z_max=1.0).open_edges == 0
+    assert ("interFoam", "free_surface_tow") not in fake.calls  # written, not run

@@ -31,12 +31,16 @@ def test_a_clean_study_is_verified_and_reports_every_check(tmp_path, monkeypatch
     tow = _checks(gate, "tow_U1.0000")
     assert set(tow) == {
         "y+",
+        "y+ at the layer target",
         "Reynolds number",
         "k >= 0",
         "converged before the iteration cap",
         "force settling",
     }
     assert tow["y+"]["value"] == {"min": 40.0, "max": 250.0, "mean": 120.0}  # y+ of every case, not only tows
+    assert tow["y+ at the layer target"]["value"]["ratio"] == pytest.approx(
+        120.0 / 150.0
+    )  # default target 150
     assert _checks(gate, "yaw_p05.00")["y+"]["passed"]
     sway = _checks(gate, "sway_a0.03000")
     assert sway["periodicity"]["value"]["Y"] < 1e-3 and sway["Courant number"]["value"] == pytest.approx(
@@ -44,6 +48,8 @@ def test_a_clean_study_is_verified_and_reports_every_check(tmp_path, monkeypatch
     )
     area = {c["name"]: c for c in gate["study"]}["hull patch area"]["value"]
     assert area["relative"] == pytest.approx(0.0, abs=1e-9)  # the fake's patch has the STL's wetted area
+    layers = {c["name"]: c for c in gate["study"]}["prism layers"]
+    assert layers["passed"] and layers["value"]["thickness_fraction"] == pytest.approx(0.8)
     assert set(gate["derivatives"]["Y_v"].split()) == {"verified"}
     assert gate["derivatives"]["X_udot"].startswith("estimate")
     summary = (result.report_dir / "summary.md").read_text()
@@ -69,6 +75,14 @@ def test_a_clean_study_is_verified_and_reports_every_check(tmp_path, monkeypatch
         ({}, {"nu": 1e-5}, ("tow_U1.0000", "Reynolds number"), {"Y_v", "Y_r"}, set()),
         ({}, {"cycles": 2.0, "fit_cycles": 1.0}, ("sway_a0.03000", "periodicity"), {"Y_vdot"}, {"Y_v"}),
         ({"hull_area_factor": 2.0}, {}, ("hull patch area",), {"Y_v", "Y_r", "Y_vdot"}, set()),
+        ({"layer_fraction": 0.3}, {}, ("prism layers",), {"Y_v", "Y_r", "Y_vdot"}, set()),
+        (  # y+ inside the wall-function range, but far below what the layers were sized for
+            {"yplus": (5.0, 60.0, 30.0)},
+            {},
+            ("drift_b04.00", "y+ at the layer target"),
+            {"Y_v", "N_v"},
+            set(),
+        ),
     ],
 )
 def test_a_failed_check_marks_the_derivatives_it_feeds(

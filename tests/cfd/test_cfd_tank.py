@@ -1,0 +1,114 @@
+"""The DTC towing-tank reference and the free-surface validation report (no OpenFOAM needed)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from cfd.cli import main
+from cfd.errors import InputError
+from cfd.tank import DTC, DTC_TANK, TARGET_REL, compare_with_tank, console_lines, report
+
+
+def test_the_tank_table_is_consistent_with_its_froude_numbers_and_the_dtc_study():
+    # el Moctar, Shigunov & Zorn (2012): Fn = U / sqrt(g Lpp) with Lpp = 5.976 m, printed to 3 decimals
+    assert len(DTC_TANK) == 6
+    for p in DTC_TANK:
+        assert p.U_m_s / math.sqrt(9.81 * DTC["lpp"]) == pytest.approx(p.Fn, abs=6e-4)
+    # C_T = R_T / (1/2 rho S U^2) with the model's wetted surface 6.243 m2: 3.661e-3 at the lowest speed and
+    # 3.669e-3 at the highest (the tank columns of docs/cfd-dtc-study.md)
+    c_t = [p.R_T_N / (0.5 * DTC["rho"] * 6.243 * p.U_m_s**2) for p in DTC_TANK]
+    assert c_t[0] == pytest.approx(3.661e-3, abs=2e-6) and c_t[-1] == pytest.approx(3.669e-3, abs=2e-6)
+    assert [p.R_T_N for p in DTC_TANK] == sorted(p.R_T_N for p in DTC_TANK)
+
+
+def _runs(factor: float) -> list[dict]:
+    return [
+        {"U_m_s": p.U_m_s, "Fn": p.Fn, "R_T_N": p.R_T_N * factor, "spread_rel": 0.001, "iterations": 4000}
+        | {"wall_s": 3600.0}
+        for p in DTC_TANK
+    ]
+
+
+def test_the_report_gives_each_speeds_error_and_the_verdict(tmp_path):
+    result = {"mesh": {"cells": 129016, "hull_level": 4}, "grading": 1, "iterations": 4000, "procs": 1}
+    rows = compare_with_tank(_runs(1.02))
+    assert all(r["error_rel"] == pytest.approx(0.02) for r in rows)
+    doc = report(result | {"runs": []}, rows, tmp_path)
+    assert doc["verdict"] == "within 3 % at every speed" and doc["max_abs_error_rel"] == pytest.approx(0.02)
+    text = (tmp_path / "validation.md").read_text()
+    assert "| 1.668 | 0.218 | 31.83 | 32.47 | +2.00 |" in text and "el Moctar" in text
+    assert json.loads((tmp_path / "validation.json").read_text())["target_rel"] == TARGET_REL
+    lines = console_lines(doc, tmp_path)
+    assert doc["passed"] and lines[-1] == "DTC free-surface resistance: within 3 % at every speed"
+    assert "U = 1.335 m/s (Fn 0.174): CFD 20.75 N, tank 20.34 N, error +2.00 %" in lines[1]
+    doc = report(result | {"runs": []}, compare_with_tank(_runs(0.95)), tmp_path)
+    assert doc["verdict"].startswith("NOT within") and not doc["passed"]
+
+
+def test_a_speed_the_tank_did_not_run_is_refused():
+    with pytest.raises(InputError, match="speeds"):
+        compare_with_tank([{"U_m_s": 1.5, "R_T_N": 25.0}])
+
+
+def test_the_command_refuses_bad_input_before_any_work(tmp_path, capsys):
+    out = str(tmp_path / "v")
+    assert main(["dtc-validation", "--out", out, "--hull", str(tmp_path / "none.stl")]) == 2
+    assert "hull" in capsys.readouterr().err
+    stl = tmp_path / "hull.stl"
+    stl.write_text("solid hull\nendsolid hull\n")
+    assert main(["dtc-validation", "--out", out, "--hull", str(stl), "--speeds", "1.5"]) == 2
+    err = capsys.readouterr().err
+    assert "speeds" in err and "1.668" in err and len(err.strip().splitlines()) == 1
+    assert main(["dtc-validation", "--out", out, "--hull", str(stl), "--grading", "7"]) == 2
+
+
+def _ran_elsewhere(out, speeds_R: dict[float, float]) -> None:
+    """A free-surface study whose cases ran elsewhere: a checkMesh log and each case's forces output."""
+    import numpy as np
+    from cfd_fake_foam import _forces_table
+
+    (out / "cases" / "mesh").mkdir(parents=True)
+    (out / "cases" / "mesh" / "log.checkMesh").write_text("    cells:            129016\nMesh OK.\n")
+    for U, R in speeds_R.items():
+        case = out / "cases" / f"vof_U{U:.4f}"
+        (case / "system").mkdir(parents=True)
+        (case / "system" / "controlDict").write_text("application interFoam;\nendTime 4000;\n")
+        t = np.arange(1.0, 4001.0)
+        F = np.column_stack([-0.5 * R * (1 + 0.5 * np.exp(-t / 300)), 1600 + 0 * t, 3900 + 0 * t])
+        d = case / "postProcessing" / "forces" / "0"
+        d.mkdir(parents=True)
+        ftxt, mtxt = _forces_table(t, F, 0 * F)
+        (d / "force.dat").write_text(ftxt)
+        (d / "moment.dat").write_text(mtxt)
+
+
+def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
+    out = tmp_path / "v"
+    _ran_elsewhere(out, {1.668: 31.83 * 1.01, 1.335: 20.34 * 0.98})
+    stl = tmp_path / "hull.stl"
+    stl.write_text("solid hull\nendsolid hull\n")
+    argv = [
+        "dtc-validation",
+        "--out",
+        str(out),
+        "--hull",
+        str(stl),
+        "--speeds",
+        "1.335,1.668",
+        "--mode",
+        "collect",
+    ]
+    assert main(argv) == 0
+    printed = capsys.readouterr().out
+    assert "error +1.00 %" in printed and "error -2.00 %" in printed and "within 3 %" in printed
+    doc = json.loads((out / "validation.json").read_text())
+    assert doc["mesh"]["cells"] == 129016 and doc["iterations"] == 4000 and doc["passed"]
+    assert "(the cases ran elsewhere)" in (out / "validation.md").read_text()
+    # a speed not run yet, and a mode that does not exist, are bad input
+    assert main(argv[:5] + ["--speeds", "1.401", "--mode", "collect"]) == 2
+    assert "has not been run" in capsys.readouterr().err
+    assert main(argv[:-1] + ["rerun"]) == 2
+    assert "mode" in capsys.readouterr().err
