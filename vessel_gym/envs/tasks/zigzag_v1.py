@@ -25,24 +25,19 @@ from vessel_gym.control.zigzag import (
 )
 from vessel_gym.envs.declare import Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
-from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
     clear_row,
+    draw_side,
     motion,
+    reset_options,
     rudder_activity,
     speed_loss,
     task_spec,
 )
-from vessel_gym.envs.tasks.zigzag import (
-    ZIGZAG_FEATURES,
-    ZigZagTask,
-    close_row,
-    course_change,
-    first_side,
-    reset_options,
-)
+from vessel_gym.envs.tasks.zigzag import ZIGZAG_FEATURES, ZigZagCommon, close_row, course_change
 from vessel_gym.physics.kinematics import speed_through_water
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
@@ -260,7 +255,8 @@ def zigzag_v1_update(
 
 
 # --- the task ---------------------------------------------------------------------------------------------------
-class ZigZagV1Task(Task):
+class ZigZagV1Task(ZigZagCommon):
+    S = S
     Config = ZigZagV1Config
     spec = SPEC
     kernel = staticmethod(zigzag_v1_update)
@@ -296,24 +292,14 @@ class ZigZagV1Task(Task):
         p[P.reach] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
         self.p = p
 
-    rudder_scale = ZigZagTask.rudder_scale
-    observed = ZigZagTask.observed
-
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
-        heading, speed = reset_options(c, options, rng, self.U_T)
-        self.disturbances.apply(self.sim, k, rng, heading)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
-        s = self.ts[k]
-        s[:] = 0.0
-        psi0 = float(self.sim.heading[k])
-        s[S.psi0] = psi0
-        s[S.target] = psi0
-        s[S.U0] = speed
-        s[S.prev_order] = float(self.sim.rudder_order[k])
+        heading, speed, _ = reset_options(c, options, rng, self.U_T)
+        s = self.start_vessel(k, rng, heading, speed)
+        s[S.target] = s[S.psi0]
         s[S.next] = _uniform(rng, c.first_change_s)
         if self.imo:
-            side = first_side(c.first_side, rng)
+            side = draw_side(c.first_side, rng)
             s[S.side] = -side  # the first change flips it to the first side
         else:
             self._draw_change(k, rng)
@@ -325,8 +311,6 @@ class ZigZagV1Task(Task):
         s[S.pending_change] = course_change(c, rng)
         s[S.pending_leg] = _uniform(rng, c.leg_time_s)
         s[S.draw] = 0.0
-
-    kernel_args = ZigZagTask.kernel_args
 
     def update(self, phase: np.ndarray) -> None:
         super().update(phase)
@@ -357,10 +341,7 @@ class ZigZagV1Task(Task):
         per_change = (s[S.os_sum] + running) / max(s[S.changes], 1.0)
         success = s[S.missed] == 0.0 and s[S.n_reached] >= 1.0 and per_change <= self.success_overshoot
         return {
-            "reward_terms": self.weighted_terms(k),
-            "time_s": s[S.t],
-            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": math.degrees(self.feat[k, FEAT.heading_error]),
+            **self.heading_info(k, s),
             "course_changes": int(s[S.changes]),
             "targets_reached": int(s[S.n_reached]),
             "targets_missed": int(s[S.missed]),
@@ -377,10 +358,7 @@ class ZigZagV1Task(Task):
         s = self.task_columns()
         per_change, largest, success = self._metrics(s)
         return {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[S.t],
-            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
+            **self.batch_heading_info(s),
             "course_changes": s[S.changes].astype(np.int64),
             "targets_reached": s[S.n_reached].astype(np.int64),
             "targets_missed": s[S.missed].astype(np.int64),
@@ -391,13 +369,6 @@ class ZigZagV1Task(Task):
             "success": success,
             "is_success": success.copy(),
             "diverged": ~self.sim.alive,
-        }
-
-    def overlay(self, k: int) -> dict[str, Any]:
-        return {
-            "target_heading_rad": float(self.ts[k, S.target]),
-            "original_course_rad": float(self.ts[k, S.psi0]),
-            "title": "ZigZag",
         }
 
 
