@@ -103,21 +103,41 @@ ZigZagReward = SPEC.weights_class(
 )
 
 
+# The keys both versions' configurations have, declared once (a dataclass field belongs to one class, so each
+# is made by a function; the configurations list them in their own order).
+def schedule_param(default: str = "imo") -> Any:
+    return param(default, choices=("imo", "random"), doc="target schedule")
+
+
+def zigzag_heading_param() -> Any:
+    return param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
+
+
+def first_side_param(default: str) -> Any:
+    return param(default, choices=("starboard", "port", "random"), doc="imo: first target side")
+
+
+def course_change_param() -> Any:
+    return param(
+        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
+    )
+
+
+def leg_time_param() -> Any:
+    return param(
+        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
+    )
+
+
 @dataclass(frozen=True, kw_only=True)
 class ZigZagConfig(OpenWaterConfig):
     """ZigZag-v0 configuration (see :class:`~vessel_gym.envs.zigzag.ZigZagEnv`)."""
 
-    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
-    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
-    first_side: str = param(
-        "starboard", choices=("starboard", "port", "random"), doc="imo: first target side"
-    )
-    course_change_deg: tuple[float, ...] = param(
-        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
-    )
-    leg_time_s: tuple[float, ...] = param(
-        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
-    )
+    schedule: str = schedule_param()
+    zigzag_heading_deg: float = zigzag_heading_param()
+    first_side: str = first_side_param("starboard")
+    course_change_deg: tuple[float, ...] = course_change_param()
+    leg_time_s: tuple[float, ...] = leg_time_param()
     reward: ZigZagReward = param(ZigZagReward(), doc="reward weights")
 
 

@@ -37,7 +37,17 @@ from vessel_gym.envs.tasks.common import (
     speed_loss,
     task_spec,
 )
-from vessel_gym.envs.tasks.zigzag import ZIGZAG_FEATURES, ZigZagCommon, close_row, course_change
+from vessel_gym.envs.tasks.zigzag import (
+    ZIGZAG_FEATURES,
+    ZigZagCommon,
+    close_row,
+    course_change,
+    course_change_param,
+    first_side_param,
+    leg_time_param,
+    schedule_param,
+    zigzag_heading_param,
+)
 from vessel_gym.physics.kinematics import speed_through_water
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
@@ -127,9 +137,9 @@ ZigZagV1Reward = SPEC.weights_class(
 class ZigZagV1Config(DisturbedOpenWaterConfig):
     """ZigZag-v1 configuration (see :class:`ZigZagV1Env`)."""
 
-    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
-    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
-    first_side: str = param("random", choices=("starboard", "port", "random"), doc="imo: first target side")
+    schedule: str = schedule_param()
+    zigzag_heading_deg: float = zigzag_heading_param()
+    first_side: str = first_side_param("random")
     first_change_s: tuple[float, ...] = param(
         (0.0, 10.0), unit="s", lo=0.0, hi=1e5, doc="[min, max] time of the first course change"
     )
@@ -140,12 +150,8 @@ class ZigZagV1Config(DisturbedOpenWaterConfig):
         hi=1e5,
         doc="imo: the next course change starts at the latest this long after the last (default 10 L / U_T)",
     )
-    course_change_deg: tuple[float, ...] = param(
-        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
-    )
-    leg_time_s: tuple[float, ...] = param(
-        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
-    )
+    course_change_deg: tuple[float, ...] = course_change_param()
+    leg_time_s: tuple[float, ...] = leg_time_param()
     initial_heading_deg: tuple[float, ...] = param(
         (0.0, 360.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
     )
@@ -163,7 +169,7 @@ class ZigZagV1Config(DisturbedOpenWaterConfig):
 class ZigZagRandomConfig(ZigZagV1Config):
     """ZigZagRandom-v1 configuration: ZigZag-v1 with the random course-change schedule."""
 
-    schedule: str = param("random", choices=("imo", "random"), doc="target schedule")
+    schedule: str = schedule_param("random")
 
 
 # --- compiled step ----------------------------------------------------------------------------------------------
