@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numba import njit
@@ -235,8 +235,22 @@ def zigzag_update(phase, x, inp, alive, ts, p, w, enc, feat, obs, terms, reward,
 
 # --- the task ---------------------------------------------------------------------------------------------------
 class ZigZagCommon(OpenWaterTask):
-    """What both ZigZag versions share on the Python side: the observation, the chart overlay and the head of
-    the ``info`` (their task states name the same quantities in different columns, ``S``)."""
+    """What both ZigZag versions share on the Python side: the schedule, the parameter columns both kernels
+    read, the observation, the chart overlay and the head of the ``info`` (their task states and parameter rows
+    name the same quantities in different columns, ``S`` and ``P``)."""
+
+    P: ClassVar[Any]  # the columns of the parameter row
+
+    def __init__(self, config: Any, n: int) -> None:
+        super().__init__(config, n)
+        self.imo = config.schedule == "imo"
+        self.psi_z = config.zigzag_heading_deg * DEG
+        self.ts = np.zeros((n, len(self.S)))
+        P = self.P
+        self.p = p = np.zeros(len(P))
+        p[P.rudder_max] = self.rudder_scale()
+        p[P.imo] = 1.0 if self.imo else 0.0
+        p[P.dt] = config.control_interval_s
 
     def observed(self) -> tuple[str, ...]:
         return self.motion_observed(rev=self.config.engine_control) + tuple(f.name for f in ZIGZAG_FEATURES)
@@ -271,6 +285,7 @@ class ZigZagCommon(OpenWaterTask):
 
 class ZigZagTask(ZigZagCommon):
     S = S
+    P = P
     spec = SPEC
     Config = ZigZagConfig
     kernel = staticmethod(zigzag_update)
@@ -278,15 +293,7 @@ class ZigZagTask(ZigZagCommon):
     def __init__(self, config: ZigZagConfig, n: int) -> None:
         check_ranges(config, ("course_change_deg", "leg_time_s", "initial_heading_deg"), "ZigZag config")
         super().__init__(config, n)
-        self.imo = config.schedule == "imo"
-        self.psi_z = config.zigzag_heading_deg * DEG
-        self.ts = np.zeros((n, len(S)))
-        p = np.zeros(len(P))
-        p[P.psi_z] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
-        p[P.rudder_max] = self.rudder_scale()
-        p[P.imo] = 1.0 if self.imo else 0.0
-        p[P.dt] = config.control_interval_s
-        self.p = p
+        self.p[P.psi_z] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config

@@ -263,6 +263,7 @@ def zigzag_v1_update(
 # --- the task ---------------------------------------------------------------------------------------------------
 class ZigZagV1Task(ZigZagCommon):
     S = S
+    P = P
     Config = ZigZagV1Config
     spec = SPEC
     kernel = staticmethod(zigzag_v1_update)
@@ -274,8 +275,6 @@ class ZigZagV1Task(ZigZagCommon):
         )
         super().__init__(config, n)
         self.disturbances = Disturbances(config, self.ship, where)
-        self.imo = config.schedule == "imo"
-        self.psi_z = config.zigzag_heading_deg * DEG
         self.overshoot_ref = self.psi_z if self.imo else config.course_change_deg[0] * DEG
         self.leg_time_limit = (
             config.leg_time_limit_s
@@ -287,16 +286,11 @@ class ZigZagV1Task(ZigZagCommon):
             if config.success_overshoot_deg is not None
             else 0.5 * self.overshoot_ref
         )
-        self.ts = np.zeros((n, len(S)))
-        p = np.zeros(len(P))
+        p = self.p
         p[P.psi_z] = self.psi_z
         p[P.os_ref] = self.overshoot_ref
-        p[P.rudder_max] = self.rudder_scale()
-        p[P.imo] = 1.0 if self.imo else 0.0
-        p[P.dt] = config.control_interval_s
         p[P.leg_limit] = self.leg_time_limit
         p[P.reach] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
-        self.p = p
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
