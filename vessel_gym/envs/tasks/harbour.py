@@ -161,37 +161,19 @@ class HarbourApproachConfig(ShipEnvConfig):
 
 # --- compiled step ----------------------------------------------------------------------------------------------
 @njit(cache=True)
-def harbour_update(phase, x, inp, env, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
+def harbour_update(phase, *args):
     """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
-    stepped vessels. ``env`` is the simulation's environment rows (``sim.env``: current and wind as the
-    physics sees them). Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1
-    (the range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's
-    scratch and runs :func:`_harbour_range`."""
+    stepped vessels. ``args`` are :func:`_harbour_range`'s from ``x`` to ``k1`` (``env`` is the simulation's
+    environment rows, ``sim.env``: current and wind as the physics sees them; the range comes last, so that the
+    task binds (0, N) with the other arguments). Allocates the chart query's scratch and runs
+    :func:`_harbour_range`."""
+    hull, beam_dirs = args[6], args[11]
     nb = beam_dirs.shape[0]
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
     he = np.empty(hull.shape[0])
     bw = np.empty((2, nb))
-    _harbour_range(
-        phase,
-        x,
-        inp,
-        env,
-        alive,
-        ts,
-        p,
-        hull,
-        edges,
-        polys,
-        pbox,
-        goal_verts,
-        beam_dirs,
-        *args,
-        beams,
-        hn,
-        he,
-        bw,
-    )
+    _harbour_range(phase, *args, beams, hn, he, bw)
 
 
 @njit(cache=True, **NO_REFCOUNT)
