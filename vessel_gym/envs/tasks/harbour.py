@@ -494,17 +494,7 @@ class HarbourApproachTask(Task):
             "outcome": OUTCOMES[f],
             "success": success,
             "is_success": success,
-            "contact": f == CONTACT,
-            "grounding": f == GROUNDING,
-            "out_of_bounds": f == OUT_OF_BOUNDS,
-            "diverged": f == DIVERGED,
-            "time_s": s[S.t],
-            "clearance_m": s[S.clearance],
-            "min_clearance_m": s[S.min_clearance],
-            "distance_to_goal_m": s[S.d_prev],
-            "speed_over_ground_m_s": s[S.sog],
-            "heading_error_deg": math.degrees(self.feat[k, FEAT.goal_heading_error]),
-            "path_m": s[S.path],
+            **self._state_info(f, s, math.degrees(self.feat[k, FEAT.goal_heading_error])),
         }
 
     def batch_info(self) -> dict[str, Any]:
@@ -516,6 +506,14 @@ class HarbourApproachTask(Task):
             "outcome": np.array(OUTCOMES, dtype=object)[f],
             "success": success,
             "is_success": success.copy(),
+            **self._state_info(f, s, np.degrees(self.feat[:, FEAT.goal_heading_error])),
+        }
+
+    @staticmethod
+    def _state_info(f: Any, s: Any, heading_error_deg: Any) -> dict[str, Any]:
+        """The ``info`` entries after the outcome, of one vessel (``f`` its flag, ``s`` its task state as a
+        list) or of all (``f`` the flags, ``s`` :meth:`task_columns`)."""
+        return {
             "contact": f == CONTACT,
             "grounding": f == GROUNDING,
             "out_of_bounds": f == OUT_OF_BOUNDS,
@@ -525,7 +523,7 @@ class HarbourApproachTask(Task):
             "min_clearance_m": s[S.min_clearance],
             "distance_to_goal_m": s[S.d_prev],
             "speed_over_ground_m_s": s[S.sog],
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.goal_heading_error]),
+            "heading_error_deg": heading_error_deg,
             "path_m": s[S.path],
         }
 
