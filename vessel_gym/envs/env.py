@@ -20,7 +20,24 @@ from vessel_gym.envs.config import make_config
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
 
 
-class ShipEnv(gym.Env):
+class _Renders:
+    """The chart renderer an environment opens on its first render: closed with the environment, and left out
+    of a pickled copy (a window or surface does not travel; the copy opens its own)."""
+
+    _renderer: Any
+
+    def _close_renderer(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_renderer"] = None
+        return state
+
+
+class ShipEnv(_Renders, gym.Env):
     """Base of the single environments (see each subclass's docstring for its spec sheet)."""
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 4}
@@ -114,18 +131,11 @@ class ShipEnv(gym.Env):
         )
 
     def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
-
-    def __getstate__(self) -> dict:
-        state = self.__dict__.copy()
-        state["_renderer"] = None
-        return state
+        self._close_renderer()
 
 
 # --- native vector environment ---------------------------------------------------------------------------------
-class ShipVectorEnv(VectorEnv):
+class ShipVectorEnv(_Renders, VectorEnv):
     """Base of the native vector environments: N vessels in one simulation, stepped in one batched call.
 
     Autoreset modes: next-step (default, as Gymnasium's SyncVectorEnv), same-step (``info["final_obs"]``,
@@ -286,11 +296,4 @@ class ShipVectorEnv(VectorEnv):
         )
 
     def close_extras(self, **kwargs: Any) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
-
-    def __getstate__(self) -> dict:
-        state = self.__dict__.copy()
-        state["_renderer"] = None
-        return state
+        self._close_renderer()

@@ -1,5 +1,8 @@
 """What every task's kernel shares: the motion features every observation begins with, the reward terms more
-than one task uses, and the compiled steps that close a vessel's row (weighting, encoding the observation).
+than one task uses, and the compiled steps that close a vessel's row (weighting, encoding the observation);
+and what the open-water tasks (ZigZag, TurningCircle) share on the Python side: the reset options, the side
+of a turn, the start of a vessel's episode, the rudder scale and the kernel's arguments
+(:class:`OpenWaterTask`).
 
 Every task's features begin with :data:`MOTION` (:func:`task_spec` prepends it), so :func:`motion_features`
 writes the same columns for all of them. The motion comes from the physics by name
@@ -9,11 +12,14 @@ writes the same columns for all of them. The motion comes from the physics by na
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any, ClassVar
 
+import numpy as np
 from numba import njit
 
 from vessel_gym.envs.declare import FeatureSpec, TaskSpec, Term, columns
+from vessel_gym.envs.task import Task, _uniform
 from vessel_gym.physics.kinematics import (
     heading,
     helm_orders,
@@ -110,3 +116,68 @@ def finish(terms, k, w, reward):
         terms[k, j] *= w[j]
         tot += terms[k, j]
     reward[k] = tot
+
+
+# --- the open-water tasks' Python side --------------------------------------------------------------------------
+def reset_options(
+    c: Any, options: Mapping | None, rng: np.random.Generator, U_T: float, extra: tuple[str, ...] = ()
+) -> tuple[float, float, dict[str, Any]]:
+    """(heading, deg; approach speed, m/s; the ``extra`` options given) of an open-water reset: the options,
+    else drawn from ``initial_heading_deg`` / the config's approach speed (default U_T)."""
+    opts = dict(options or {})
+    heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
+    speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or U_T))
+    unknown = sorted(set(opts) - set(extra))
+    if unknown:
+        allowed = ", ".join(("heading_deg", "speed_m_s", *extra))
+        raise ValueError(f"unknown reset option(s) {unknown} (allowed: {allowed})")
+    return heading, speed, opts
+
+
+def draw_side(side: str, rng: np.random.Generator) -> float:
+    """Side of a turn, +1 starboard / -1 port ("random": drawn)."""
+    value = {"starboard": 1.0, "port": -1.0}.get(side)
+    return (1.0 if rng.random() < 0.5 else -1.0) if value is None else value
+
+
+class OpenWaterTask(Task):
+    """A task in open water: its task state ``ts`` (columns ``S``) keeps the original course ``psi0``, the
+    approach speed ``U0`` and the previous rudder order ``prev_order``; its parameter row is ``p``; its kernel
+    takes the arrays of :meth:`kernel_args`. ``disturbances`` (if the task has them) are drawn at each start."""
+
+    S: ClassVar[Any]  # the columns of the task state
+    disturbances: Any = None
+
+    def rudder_scale(self) -> float:
+        """Scale of the rudder_activity term: the helm's rudder limit, rad."""
+        return self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
+
+    def start_vessel(self, k: int, rng: np.random.Generator, heading: float, speed: float) -> np.ndarray:
+        """Put vessel k on ``heading`` (deg) at ``speed`` (m/s), its disturbances drawn first; clear its task
+        state but for the original course, the approach speed and the rudder order, and return that row."""
+        if self.disturbances is not None:
+            self.disturbances.apply(self.sim, k, rng, heading)
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
+        S = self.S
+        s = self.ts[k]
+        s[:] = 0.0
+        s[S.psi0] = float(self.sim.heading[k])
+        s[S.U0] = speed
+        s[S.prev_order] = float(self.sim.rudder_order[k])
+        return s
+
+    def kernel_args(self) -> tuple:
+        return (
+            self.sim.state,
+            self.sim.inputs,
+            self.sim.alive,
+            self.ts,
+            self.p,
+            self.weights,
+            self.enc,
+            self.feat,
+            self.obs,
+            self.terms,
+            self.reward,
+            self.terminated,
+        )

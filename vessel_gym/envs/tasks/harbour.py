@@ -161,37 +161,19 @@ class HarbourApproachConfig(ShipEnvConfig):
 
 # --- compiled step ----------------------------------------------------------------------------------------------
 @njit(cache=True)
-def harbour_update(phase, x, inp, env, alive, ts, p, hull, edges, polys, pbox, goal_verts, beam_dirs, *args):
+def harbour_update(phase, *args):
     """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
-    stepped vessels. ``env`` is the simulation's environment rows (``sim.env``: current and wind as the
-    physics sees them). Arguments after ``beam_dirs``: w, enc, feat, obs, terms, reward, flags, done, k0, k1
-    (the range last, so that the task binds (0, N) with the other arguments). Allocates the chart query's
-    scratch and runs :func:`_harbour_range`."""
+    stepped vessels. ``args`` are :func:`_harbour_range`'s from ``x`` to ``k1`` (``env`` is the simulation's
+    environment rows, ``sim.env``: current and wind as the physics sees them; the range comes last, so that the
+    task binds (0, N) with the other arguments). Allocates the chart query's scratch and runs
+    :func:`_harbour_range`."""
+    hull, beam_dirs = args[6], args[11]
     nb = beam_dirs.shape[0]
     beams = np.empty(nb)
     hn = np.empty(hull.shape[0])
     he = np.empty(hull.shape[0])
     bw = np.empty((2, nb))
-    _harbour_range(
-        phase,
-        x,
-        inp,
-        env,
-        alive,
-        ts,
-        p,
-        hull,
-        edges,
-        polys,
-        pbox,
-        goal_verts,
-        beam_dirs,
-        *args,
-        beams,
-        hn,
-        he,
-        bw,
-    )
+    _harbour_range(phase, *args, beams, hn, he, bw)
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -512,17 +494,7 @@ class HarbourApproachTask(Task):
             "outcome": OUTCOMES[f],
             "success": success,
             "is_success": success,
-            "contact": f == CONTACT,
-            "grounding": f == GROUNDING,
-            "out_of_bounds": f == OUT_OF_BOUNDS,
-            "diverged": f == DIVERGED,
-            "time_s": s[S.t],
-            "clearance_m": s[S.clearance],
-            "min_clearance_m": s[S.min_clearance],
-            "distance_to_goal_m": s[S.d_prev],
-            "speed_over_ground_m_s": s[S.sog],
-            "heading_error_deg": math.degrees(self.feat[k, FEAT.goal_heading_error]),
-            "path_m": s[S.path],
+            **self._state_info(f, s, math.degrees(self.feat[k, FEAT.goal_heading_error])),
         }
 
     def batch_info(self) -> dict[str, Any]:
@@ -534,6 +506,14 @@ class HarbourApproachTask(Task):
             "outcome": np.array(OUTCOMES, dtype=object)[f],
             "success": success,
             "is_success": success.copy(),
+            **self._state_info(f, s, np.degrees(self.feat[:, FEAT.goal_heading_error])),
+        }
+
+    @staticmethod
+    def _state_info(f: Any, s: Any, heading_error_deg: Any) -> dict[str, Any]:
+        """The ``info`` entries after the outcome, of one vessel (``f`` its flag, ``s`` its task state as a
+        list) or of all (``f`` the flags, ``s`` :meth:`task_columns`)."""
+        return {
             "contact": f == CONTACT,
             "grounding": f == GROUNDING,
             "out_of_bounds": f == OUT_OF_BOUNDS,
@@ -543,7 +523,7 @@ class HarbourApproachTask(Task):
             "min_clearance_m": s[S.min_clearance],
             "distance_to_goal_m": s[S.d_prev],
             "speed_over_ground_m_s": s[S.sog],
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.goal_heading_error]),
+            "heading_error_deg": heading_error_deg,
             "path_m": s[S.path],
         }
 

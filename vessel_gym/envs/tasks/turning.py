@@ -24,15 +24,18 @@ from vessel_gym.control.turning import (
 )
 from vessel_gym.envs.declare import FeatureSpec, Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
-from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
+    OpenWaterTask,
     clear_row,
+    draw_side,
     encode_row,
     finish,
     motion,
     motion_features,
+    reset_options,
     rudder_activity,
     speed_loss,
     task_spec,
@@ -211,7 +214,8 @@ def turning_update(
 
 
 # --- the task ---------------------------------------------------------------------------------------------------
-class TurningCircleTask(Task):
+class TurningCircleTask(OpenWaterTask):
+    S = S
     Config = TurningCircleConfig
     spec = SPEC
     kernel = staticmethod(turning_update)
@@ -225,7 +229,7 @@ class TurningCircleTask(Task):
         p = np.zeros(len(P))
         p[P.mode] = self.mode
         p[P.L] = self.L
-        p[P.rudder_max] = getattr(self.helm, "rudder_limit_rad", np.array([self.delta_max]))[0]
+        p[P.rudder_max] = self.rudder_scale()
         p[P.dt] = config.control_interval_s
         self.p = p
 
@@ -234,49 +238,19 @@ class TurningCircleTask(Task):
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
-        opts = dict(options or {})
-        heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
-        speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or self.U_T))
-        side = {"starboard": 1.0, "port": -1.0}.get(c.side)
-        if side is None:
-            side = 1.0 if rng.random() < 0.5 else -1.0
+        heading, speed, opts = reset_options(c, options, rng, self.U_T, extra=("command",))
+        side = draw_side(c.side, rng)
         if self.mode == 0:
             cmd = side * _uniform(rng, c.rate_prime) * speed / self.L
         elif self.mode == 1:
             cmd = side / (_uniform(rng, c.radius_L) * self.L)
         else:
             cmd = 0.0
-        cmd = float(opts.pop("command", cmd))
-        if opts:
-            raise ValueError(
-                f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s, command)"
-            )
-        self.disturbances.apply(self.sim, k, rng, heading)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
-        s = self.ts[k]
-        s[:] = 0.0
-        s[S.psi0] = float(self.sim.heading[k])
+        cmd = float(opts.get("command", cmd))
+        s = self.start_vessel(k, rng, heading, speed)
         s[S.north0] = float(self.sim.north[k])
         s[S.east0] = float(self.sim.east[k])
         s[S.command] = cmd
-        s[S.U0] = speed
-        s[S.prev_order] = float(self.sim.rudder_order[k])
-
-    def kernel_args(self) -> tuple:
-        return (
-            self.sim.state,
-            self.sim.inputs,
-            self.sim.alive,
-            self.ts,
-            self.p,
-            self.weights,
-            self.enc,
-            self.feat,
-            self.obs,
-            self.terms,
-            self.reward,
-            self.terminated,
-        )
 
     def _radius(self, k: Any) -> Any:
         U = np.hypot(self.sim.u[k], self.sim.v[k])

@@ -2,7 +2,8 @@
 
 The declaration (reward terms, features), the configuration, the start of an episode and the compiled step sit
 together here; the environment classes and their spec sheets are in :mod:`vessel_gym.envs.zigzag`. What ZigZag-v1
-shares with v0 (its features, the reset options, the close of a vessel's row) is defined here once.
+shares with v0 (its features, the close of a vessel's row, the Python side in :class:`ZigZagCommon`) is defined
+here once.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numba import njit
@@ -25,15 +26,18 @@ from vessel_gym.control.zigzag import (
 )
 from vessel_gym.envs.config import OpenWaterConfig
 from vessel_gym.envs.declare import FeatureSpec, Term, columns
-from vessel_gym.envs.task import PHASE_STEP, Task, _uniform
+from vessel_gym.envs.task import PHASE_STEP, _uniform
 from vessel_gym.envs.tasks.common import (
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
+    OpenWaterTask,
     clear_row,
+    draw_side,
     encode_row,
     finish,
     motion,
     motion_features,
+    reset_options,
     rudder_activity,
     speed_loss,
     task_spec,
@@ -99,43 +103,45 @@ ZigZagReward = SPEC.weights_class(
 )
 
 
+# The keys both versions' configurations have, declared once (a dataclass field belongs to one class, so each
+# is made by a function; the configurations list them in their own order).
+def schedule_param(default: str = "imo") -> Any:
+    return param(default, choices=("imo", "random"), doc="target schedule")
+
+
+def zigzag_heading_param() -> Any:
+    return param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
+
+
+def first_side_param(default: str) -> Any:
+    return param(default, choices=("starboard", "port", "random"), doc="imo: first target side")
+
+
+def course_change_param() -> Any:
+    return param(
+        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
+    )
+
+
+def leg_time_param() -> Any:
+    return param(
+        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
+    )
+
+
 @dataclass(frozen=True, kw_only=True)
 class ZigZagConfig(OpenWaterConfig):
     """ZigZag-v0 configuration (see :class:`~vessel_gym.envs.zigzag.ZigZagEnv`)."""
 
-    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
-    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
-    first_side: str = param(
-        "starboard", choices=("starboard", "port", "random"), doc="imo: first target side"
-    )
-    course_change_deg: tuple[float, ...] = param(
-        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
-    )
-    leg_time_s: tuple[float, ...] = param(
-        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
-    )
+    schedule: str = schedule_param()
+    zigzag_heading_deg: float = zigzag_heading_param()
+    first_side: str = first_side_param("starboard")
+    course_change_deg: tuple[float, ...] = course_change_param()
+    leg_time_s: tuple[float, ...] = leg_time_param()
     reward: ZigZagReward = param(ZigZagReward(), doc="reward weights")
 
 
 # --- start of an episode (both versions) ------------------------------------------------------------------------
-def reset_options(
-    c: Any, options: Mapping | None, rng: np.random.Generator, U_T: float
-) -> tuple[float, float]:
-    """(heading, deg; approach speed, m/s) of a ZigZag reset: the options, else drawn / the config's."""
-    opts = dict(options or {})
-    heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
-    speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or U_T))
-    if opts:
-        raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, speed_m_s)")
-    return heading, speed
-
-
-def first_side(side: str, rng: np.random.Generator) -> float:
-    """IMO schedule: side of the first target, +1 starboard / -1 port ("random": drawn)."""
-    value = {"starboard": 1.0, "port": -1.0}.get(side)
-    return (1.0 if rng.random() < 0.5 else -1.0) if value is None else value
-
-
 def course_change(c: Any, rng: np.random.Generator) -> float:
     """Random schedule: a signed course change of ``course_change_deg``, either side, rad."""
     return _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
@@ -228,7 +234,58 @@ def zigzag_update(phase, x, inp, alive, ts, p, w, enc, feat, obs, terms, reward,
 
 
 # --- the task ---------------------------------------------------------------------------------------------------
-class ZigZagTask(Task):
+class ZigZagCommon(OpenWaterTask):
+    """What both ZigZag versions share on the Python side: the schedule, the parameter columns both kernels
+    read, the observation, the chart overlay and the head of the ``info`` (their task states and parameter rows
+    name the same quantities in different columns, ``S`` and ``P``)."""
+
+    P: ClassVar[Any]  # the columns of the parameter row
+
+    def __init__(self, config: Any, n: int) -> None:
+        super().__init__(config, n)
+        self.imo = config.schedule == "imo"
+        self.psi_z = config.zigzag_heading_deg * DEG
+        self.ts = np.zeros((n, len(self.S)))
+        P = self.P
+        self.p = p = np.zeros(len(P))
+        p[P.rudder_max] = self.rudder_scale()
+        p[P.imo] = 1.0 if self.imo else 0.0
+        p[P.dt] = config.control_interval_s
+
+    def observed(self) -> tuple[str, ...]:
+        return self.motion_observed(rev=self.config.engine_control) + tuple(f.name for f in ZIGZAG_FEATURES)
+
+    def heading_info(self, k: int, s: list[float]) -> dict[str, Any]:
+        """The ``info`` entries of vessel k that both versions begin with; ``s`` its task state as a list."""
+        S = self.S
+        return {
+            "reward_terms": self.weighted_terms(k),
+            "time_s": s[S.t],
+            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": math.degrees(self.feat[k, FEAT.heading_error]),
+        }
+
+    def batch_heading_info(self, s: np.ndarray) -> dict[str, Any]:
+        """:meth:`heading_info` of all vessels; ``s`` is :meth:`task_columns`."""
+        S = self.S
+        return {
+            "reward_terms": self.batch_weighted_terms(),
+            "time_s": s[S.t],
+            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
+        }
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        return {
+            "target_heading_rad": float(self.ts[k, self.S.target]),
+            "original_course_rad": float(self.ts[k, self.S.psi0]),
+            "title": "ZigZag",
+        }
+
+
+class ZigZagTask(ZigZagCommon):
+    S = S
+    P = P
     spec = SPEC
     Config = ZigZagConfig
     kernel = staticmethod(zigzag_update)
@@ -236,35 +293,15 @@ class ZigZagTask(Task):
     def __init__(self, config: ZigZagConfig, n: int) -> None:
         check_ranges(config, ("course_change_deg", "leg_time_s", "initial_heading_deg"), "ZigZag config")
         super().__init__(config, n)
-        self.imo = config.schedule == "imo"
-        self.psi_z = config.zigzag_heading_deg * DEG
-        self.ts = np.zeros((n, len(S)))
-        p = np.zeros(len(P))
-        p[P.psi_z] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
-        p[P.rudder_max] = self.rudder_scale()
-        p[P.imo] = 1.0 if self.imo else 0.0
-        p[P.dt] = config.control_interval_s
-        self.p = p
-
-    def rudder_scale(self) -> float:
-        """Scale of the rudder_activity term: the helm's rudder limit, rad."""
-        return self.helm.rudder_limit_rad[0] if hasattr(self.helm, "rudder_limit_rad") else self.delta_max
-
-    def observed(self) -> tuple[str, ...]:
-        return self.motion_observed(rev=self.config.engine_control) + tuple(f.name for f in ZIGZAG_FEATURES)
+        self.p[P.psi_z] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
-        heading, speed = reset_options(c, options, rng, self.U_T)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
-        s = self.ts[k]
-        s[:] = 0.0
-        psi0 = float(self.sim.heading[k])
-        s[S.psi0] = psi0
-        s[S.U0] = speed
-        s[S.prev_order] = float(self.sim.rudder_order[k])
+        heading, speed, _ = reset_options(c, options, rng, self.U_T)
+        s = self.start_vessel(k, rng, heading, speed)
+        psi0 = s[S.psi0]
         if self.imo:
-            side = first_side(c.first_side, rng)
+            side = draw_side(c.first_side, rng)
             s[S.side] = side
             s[S.target] = psi0 + side * self.psi_z
             s[S.executes] = 1.0  # the first execute is the rudder order at t = 0
@@ -281,22 +318,6 @@ class ZigZagTask(Task):
         s[S.executes] += 1.0
         s[S.next] = s[S.t] + _uniform(rng, c.leg_time_s)
 
-    def kernel_args(self) -> tuple:
-        return (
-            self.sim.state,
-            self.sim.inputs,
-            self.sim.alive,
-            self.ts,
-            self.p,
-            self.weights,
-            self.enc,
-            self.feat,
-            self.obs,
-            self.terms,
-            self.reward,
-            self.terminated,
-        )
-
     def update(self, phase: np.ndarray) -> None:
         if not self.imo:  # random schedule: a new leg on vessels whose leg time is up
             due = (phase == PHASE_STEP) & (
@@ -310,10 +331,7 @@ class ZigZagTask(Task):
     def info(self, k: int) -> dict[str, Any]:
         s = self.ts[k].tolist()
         return {
-            "reward_terms": self.weighted_terms(k),
-            "time_s": s[S.t],
-            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": math.degrees(self.feat[k, FEAT.heading_error]),
+            **self.heading_info(k, s),
             "executes": int(s[S.executes]),
             "overshoot_count": int(s[S.os_n]),
             "overshoot_1_deg": math.degrees(s[S.os1]),
@@ -325,21 +343,11 @@ class ZigZagTask(Task):
     def batch_info(self) -> dict[str, Any]:
         s = self.task_columns()
         return {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[S.t],
-            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
+            **self.batch_heading_info(s),
             "executes": s[S.executes].astype(np.int64),
             "overshoot_count": s[S.os_n].astype(np.int64),
             "overshoot_1_deg": np.degrees(s[S.os1]),
             "overshoot_2_deg": np.degrees(s[S.os2]),
             "last_overshoot_deg": np.degrees(s[S.os_last]),
             "diverged": ~self.sim.alive,
-        }
-
-    def overlay(self, k: int) -> dict[str, Any]:
-        return {
-            "target_heading_rad": float(self.ts[k, S.target]),
-            "original_course_rad": float(self.ts[k, S.psi0]),
-            "title": "ZigZag",
         }

@@ -25,23 +25,28 @@ from vessel_gym.control.zigzag import (
 )
 from vessel_gym.envs.declare import Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
-from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
     clear_row,
+    draw_side,
     motion,
+    reset_options,
     rudder_activity,
     speed_loss,
     task_spec,
 )
 from vessel_gym.envs.tasks.zigzag import (
     ZIGZAG_FEATURES,
-    ZigZagTask,
+    ZigZagCommon,
     close_row,
     course_change,
-    first_side,
-    reset_options,
+    course_change_param,
+    first_side_param,
+    leg_time_param,
+    schedule_param,
+    zigzag_heading_param,
 )
 from vessel_gym.physics.kinematics import speed_through_water
 from vessel_gym.physics.schema import check_ranges, param
@@ -132,9 +137,9 @@ ZigZagV1Reward = SPEC.weights_class(
 class ZigZagV1Config(DisturbedOpenWaterConfig):
     """ZigZag-v1 configuration (see :class:`ZigZagV1Env`)."""
 
-    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
-    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
-    first_side: str = param("random", choices=("starboard", "port", "random"), doc="imo: first target side")
+    schedule: str = schedule_param()
+    zigzag_heading_deg: float = zigzag_heading_param()
+    first_side: str = first_side_param("random")
     first_change_s: tuple[float, ...] = param(
         (0.0, 10.0), unit="s", lo=0.0, hi=1e5, doc="[min, max] time of the first course change"
     )
@@ -145,12 +150,8 @@ class ZigZagV1Config(DisturbedOpenWaterConfig):
         hi=1e5,
         doc="imo: the next course change starts at the latest this long after the last (default 10 L / U_T)",
     )
-    course_change_deg: tuple[float, ...] = param(
-        (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
-    )
-    leg_time_s: tuple[float, ...] = param(
-        (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
-    )
+    course_change_deg: tuple[float, ...] = course_change_param()
+    leg_time_s: tuple[float, ...] = leg_time_param()
     initial_heading_deg: tuple[float, ...] = param(
         (0.0, 360.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
     )
@@ -168,7 +169,7 @@ class ZigZagV1Config(DisturbedOpenWaterConfig):
 class ZigZagRandomConfig(ZigZagV1Config):
     """ZigZagRandom-v1 configuration: ZigZag-v1 with the random course-change schedule."""
 
-    schedule: str = param("random", choices=("imo", "random"), doc="target schedule")
+    schedule: str = schedule_param("random")
 
 
 # --- compiled step ----------------------------------------------------------------------------------------------
@@ -260,7 +261,9 @@ def zigzag_v1_update(
 
 
 # --- the task ---------------------------------------------------------------------------------------------------
-class ZigZagV1Task(Task):
+class ZigZagV1Task(ZigZagCommon):
+    S = S
+    P = P
     Config = ZigZagV1Config
     spec = SPEC
     kernel = staticmethod(zigzag_v1_update)
@@ -272,8 +275,6 @@ class ZigZagV1Task(Task):
         )
         super().__init__(config, n)
         self.disturbances = Disturbances(config, self.ship, where)
-        self.imo = config.schedule == "imo"
-        self.psi_z = config.zigzag_heading_deg * DEG
         self.overshoot_ref = self.psi_z if self.imo else config.course_change_deg[0] * DEG
         self.leg_time_limit = (
             config.leg_time_limit_s
@@ -285,35 +286,20 @@ class ZigZagV1Task(Task):
             if config.success_overshoot_deg is not None
             else 0.5 * self.overshoot_ref
         )
-        self.ts = np.zeros((n, len(S)))
-        p = np.zeros(len(P))
+        p = self.p
         p[P.psi_z] = self.psi_z
         p[P.os_ref] = self.overshoot_ref
-        p[P.rudder_max] = self.rudder_scale()
-        p[P.imo] = 1.0 if self.imo else 0.0
-        p[P.dt] = config.control_interval_s
         p[P.leg_limit] = self.leg_time_limit
         p[P.reach] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
-        self.p = p
-
-    rudder_scale = ZigZagTask.rudder_scale
-    observed = ZigZagTask.observed
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
-        heading, speed = reset_options(c, options, rng, self.U_T)
-        self.disturbances.apply(self.sim, k, rng, heading)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
-        s = self.ts[k]
-        s[:] = 0.0
-        psi0 = float(self.sim.heading[k])
-        s[S.psi0] = psi0
-        s[S.target] = psi0
-        s[S.U0] = speed
-        s[S.prev_order] = float(self.sim.rudder_order[k])
+        heading, speed, _ = reset_options(c, options, rng, self.U_T)
+        s = self.start_vessel(k, rng, heading, speed)
+        s[S.target] = s[S.psi0]
         s[S.next] = _uniform(rng, c.first_change_s)
         if self.imo:
-            side = first_side(c.first_side, rng)
+            side = draw_side(c.first_side, rng)
             s[S.side] = -side  # the first change flips it to the first side
         else:
             self._draw_change(k, rng)
@@ -325,8 +311,6 @@ class ZigZagV1Task(Task):
         s[S.pending_change] = course_change(c, rng)
         s[S.pending_leg] = _uniform(rng, c.leg_time_s)
         s[S.draw] = 0.0
-
-    kernel_args = ZigZagTask.kernel_args
 
     def update(self, phase: np.ndarray) -> None:
         super().update(phase)
@@ -357,10 +341,7 @@ class ZigZagV1Task(Task):
         per_change = (s[S.os_sum] + running) / max(s[S.changes], 1.0)
         success = s[S.missed] == 0.0 and s[S.n_reached] >= 1.0 and per_change <= self.success_overshoot
         return {
-            "reward_terms": self.weighted_terms(k),
-            "time_s": s[S.t],
-            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": math.degrees(self.feat[k, FEAT.heading_error]),
+            **self.heading_info(k, s),
             "course_changes": int(s[S.changes]),
             "targets_reached": int(s[S.n_reached]),
             "targets_missed": int(s[S.missed]),
@@ -377,10 +358,7 @@ class ZigZagV1Task(Task):
         s = self.task_columns()
         per_change, largest, success = self._metrics(s)
         return {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[S.t],
-            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
+            **self.batch_heading_info(s),
             "course_changes": s[S.changes].astype(np.int64),
             "targets_reached": s[S.n_reached].astype(np.int64),
             "targets_missed": s[S.missed].astype(np.int64),
@@ -391,13 +369,6 @@ class ZigZagV1Task(Task):
             "success": success,
             "is_success": success.copy(),
             "diverged": ~self.sim.alive,
-        }
-
-    def overlay(self, k: int) -> dict[str, Any]:
-        return {
-            "target_heading_rad": float(self.ts[k, S.target]),
-            "original_course_rad": float(self.ts[k, S.psi0]),
-            "title": "ZigZag",
         }
 
 
