@@ -28,6 +28,7 @@ def test_every_ship_file_key_is_documented():
         sf.Transmission,
         sf.Windage,
         sf.WaveDrift,
+        sf.Roll,
     ):
         for f in dataclasses.fields(cls):
             assert f"`{f.name}" in text, f"{cls.__name__}.{f.name} missing from docs/ship-file.md"
