@@ -138,3 +138,23 @@ def test_zigzag_20_20_overshoots_match_the_transcription():
     d = zz.to_dict()
     assert d["max_heel_deg"] == pytest.approx(phi[np.argmax(np.abs(phi))])
     assert 5.0 < abs(d["max_heel_deg"]) < 10.0
+
+
+def test_hard_turn_at_26_kn_leaves_the_roll_model_in_both():
+    """GM is 0.3 m: at 26 kn a 35 deg turn heels the ship past 40 deg, where the roll model ends
+    (runaway.RUNAWAY_HEEL_DEG); the trial stops there and says so. The transcription, started from the same
+    state, heels past 40 deg too, within the same half-minute."""
+    from vessel_gym.manoeuvres.trials import ManoeuvreDiverged
+    from vessel_gym.physics.simulation import Simulation
+
+    with pytest.raises(ManoeuvreDiverged, match="heel .* exceeds 40 deg") as exc:
+        turning_circle("container", 35.0, speed_kn=26.0)
+    assert 20.0 < exc.value.t_s < 35.0
+    sim = Simulation("container", dt=DT_REF)
+    sim.reset(speed_m_s=26.0 * 1852.0 / 3600.0)
+    x, n_rpm = _reference_start(sim.state[:1].copy())
+    for _ in range(int(35.0 / DT_REF)):
+        x = rk4(x, [35.0 * DEG, n_rpm], DT_REF, RUDDER_LIMIT_DEG)
+        if abs(x[7]) > 40.0 * DEG:
+            break
+    assert abs(x[7]) > 40.0 * DEG
