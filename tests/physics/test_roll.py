@@ -73,6 +73,18 @@ def test_free_roll_period_from_gm_and_inertia(container):
     assert phi[p[3]] == pytest.approx(2.0 * DEG, rel=0.01)  # undamped at rest: K_p p' vanishes with U
 
 
+def test_a_gz_curve_replaces_gm_sin_phi(container):
+    """With a righting-lever curve GZ = 0.6 m x phi (rad) up to 40 deg the restoring is that of GM = 0.6 m:
+    the free-roll period is 2 pi sqrt(I_eff / (rho g nabla 0.6 m)), 21.4 s (tolerance 0.5 %)."""
+    gz = tuple(0.6 * math.radians(h) for h in (0.0, 10.0, 20.0, 40.0))
+    roll = dataclasses.replace(container.roll, GZ_heel_deg=(0.0, 10.0, 20.0, 40.0), GZ_m=gz)
+    ship = dataclasses.replace(container, roll=roll)
+    T_expected = 2.0 * math.pi * math.sqrt(_effective_roll_inertia() / (container.mass_kg * G * 0.6))
+    t, phi = _free_roll(ship, 5.0 * DEG, 3.2 * T_expected)
+    p = _peaks(phi)
+    assert (t[p[3]] - t[p[0]]) / 3.0 == pytest.approx(T_expected, rel=0.005)
+
+
 def test_linear_roll_damping_gives_the_logarithmic_decrement(container):
     """Damping ratio zeta = c / (2 sqrt(k I)) = 0.05: successive maxima in the ratio
     exp(-2 pi zeta / sqrt(1 - zeta^2)) = 0.730 (tolerance 1 %)."""
@@ -132,6 +144,9 @@ def _with_roll_lines(tmp_path: Path, old: str, new: str) -> Path:
         ("K_v = 0.0003026", "K_vvvvv = 0.1", "[roll.derivatives] K_vvvvv: powers above 4"),
         ("GM_m = 0.3", "GM_m = -0.3", "[roll] GM_m"),
         ("GM_m = 0.3", "GM_m = 0.3\nKG_m = 9.0", "[roll]: unknown key 'KG_m'"),
+        ("GM_m = 0.3", "GM_m = 0.3\nGZ_heel_deg = [0, 20, 30]\nGZ_m = [0, 0.1, 0.15]", "must reach 40 deg"),
+        ("GM_m = 0.3", "GM_m = 0.3\nGZ_heel_deg = [0, 20, 40]\nGZ_m = [0, 0.1]", "[roll] GZ_m: 2 values"),
+        ("GM_m = 0.3", "GM_m = 0.3\nGZ_heel_deg = [0, 40, 20]\nGZ_m = [0, 0.1, 0.2]", "increase strictly"),
     ],
 )
 def test_bad_roll_tables_are_refused_by_key(tmp_path, old, new, message):

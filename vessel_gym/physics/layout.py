@@ -252,6 +252,13 @@ P_ROLL_ON = _field("has_roll")
 # inverse of the 3x3 mass matrix over (v, r, p) with rigid body and added mass, row-major (pack time)
 P_ROLL_MINV = _field("roll_Minv", 9)
 P_ROLL_GM = _field("rho_g_nabla_GM")  # hydrostatic restoring rho g nabla GM, N m/rad (times sin phi)
+# righting-lever curve GZ(phi) where the ship file gives one (replaces GM sin phi): a count, the heel
+# breakpoints (rad, from 0, increasing) and GZ there (m); the restoring is rho g nabla GZ(|phi|) sign(phi)
+MAX_GZ_POINTS = 16
+P_ROLL_MG = _field("rho_g_nabla")  # N
+P_ROLL_GZ_N = _field("GZ_points")
+P_ROLL_GZ_PHI = _field("GZ_heel", MAX_GZ_POINTS)
+P_ROLL_GZ = _field("GZ", MAX_GZ_POINTS)
 P_ROLL_KP1 = _field("K_p_linear")  # linear roll damping, N m s/rad
 P_ROLL_KP2 = _field("K_p_quadratic")  # quadratic roll damping, N m s^2/rad^2
 P_ROLL_ZR = _field("z_R")  # rudder's centre of effort below the roll axis (through G), m

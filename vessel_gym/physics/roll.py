@@ -8,7 +8,8 @@ gravity G, as in Son & Nomoto (1982), so the rigid body adds no sway-roll inerti
 * the hull's roll terms, a polynomial in u', v', r', p' = pL/U and phi in the SNAME prime system
   (``[roll.derivatives]``, e.g. K_v, K_vvphi, Y_phi, N_rrphi, X_phiphi), which also carry the heel-induced
   sway force and yaw moment into Y and N;
-* the hydrostatic restoring -rho g nabla GM sin(phi) (the wall-sided small-angle righting arm GZ = GM sin phi);
+* the hydrostatic restoring -rho g nabla GZ(phi): the ship file's righting-lever curve where it gives one
+  (``GZ_heel_deg``, ``GZ_m``), else the wall-sided small-angle arm GZ = GM sin(phi);
 * roll damping -K_p1 p - K_p2 p|p| (dimensional, linear and quadratic) besides the hull's K_p p';
 * the rudder's roll moment -z_R Y_R, its sway force acting z_R below the roll axis.
 
@@ -30,6 +31,10 @@ from vessel_gym.physics.schema import SpecError, as_float, param
 
 #: acceleration due to gravity, m/s^2 (standard gravity)
 G_M_S2 = 9.80665
+#: heel up to which the roll model holds, deg: the Intact Stability Code (2008, Part A 2.2) judges righting levers
+#: up to 40 deg at most (or the downflooding angle); beyond it GM sin(phi), a GZ curve's use in a manoeuvring
+#: model and hull terms fitted at small heel have no basis (runaway.py stops a vessel there)
+HEEL_RANGE_DEG = 40.0
 
 _TOKEN = re.compile(r"phi|[uvrp]")
 _TERM = re.compile(r"^([XYKN])_((?:phi|[uvrp])+)$")
@@ -46,6 +51,10 @@ class Roll:
     z_R_m: float = param(
         0.0, unit="m", lo=-30.0, hi=30.0, doc="rudder's centre of effort below G (roll moment -z_R Y_R)"
     )
+    GZ_heel_deg: tuple[float, ...] = param(
+        (), unit="deg", lo=0.0, hi=90.0, doc="heel breakpoints of a righting-lever curve (0 first, to >= 40)"
+    )
+    GZ_m: tuple[float, ...] = param((), unit="m", lo=-20.0, hi=20.0, doc="righting lever GZ at GZ_heel_deg")
     damping_linear_Nms: float = param(
         0.0, unit="N m s/rad", lo=0.0, hi=1e12, doc="linear roll damping besides the hull's K_p"
     )
@@ -71,7 +80,21 @@ def roll_term(name: str) -> tuple[str, int, int, int, int, int] | None:
 
 
 def check_roll(roll: Roll, where: str) -> None:
-    """Reject an unknown or implausible roll derivative with a one-line message naming the key."""
+    """Reject an unknown or implausible roll derivative or a malformed GZ curve with a one-line message naming
+    the key."""
+    h, gz = roll.GZ_heel_deg, roll.GZ_m
+    w = f"{where} [roll]"
+    if len(h) != len(gz):
+        raise SpecError(f"{w} GZ_m: {len(gz)} values for {len(h)} GZ_heel_deg")
+    if h:
+        if not 2 <= len(h) <= lo.MAX_GZ_POINTS:
+            raise SpecError(f"{w} GZ_heel_deg: needs 2 to {lo.MAX_GZ_POINTS} values, got {len(h)}")
+        if h[0] != 0.0 or gz[0] != 0.0:
+            raise SpecError(f"{w} GZ_heel_deg: the curve starts at 0 deg with GZ_m 0")
+        if any(b <= a for a, b in zip(h, h[1:])):
+            raise SpecError(f"{w} GZ_heel_deg: values must increase strictly")
+        if h[-1] < HEEL_RANGE_DEG:
+            raise SpecError(f"{w} GZ_heel_deg: the curve ends at {h[-1]:g} deg, it must reach {HEEL_RANGE_DEG:g} deg")
     for key, value in roll.derivatives.items():
         w = f"{where} [roll.derivatives] {key}"
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(as_float(value, w)):
@@ -111,6 +134,11 @@ def pack_roll(P: np.ndarray, M3: np.ndarray, roll: Roll, mass: float, L: float, 
     P[lo.P_ROLL_ON] = 1.0
     P[lo.P_ROLL_MINV : lo.P_ROLL_MINV + 9] = np.linalg.inv(roll_mass_matrix(M3, roll, L, rho)).ravel()
     P[lo.P_ROLL_GM] = mass * G_M_S2 * roll.GM_m  # rho g nabla GM with rho nabla = m
+    P[lo.P_ROLL_MG] = mass * G_M_S2
+    k = len(roll.GZ_heel_deg)
+    P[lo.P_ROLL_GZ_N] = k
+    P[lo.P_ROLL_GZ_PHI : lo.P_ROLL_GZ_PHI + k] = np.radians(roll.GZ_heel_deg)
+    P[lo.P_ROLL_GZ : lo.P_ROLL_GZ + k] = roll.GZ_m
     P[lo.P_ROLL_KP1] = roll.damping_linear_Nms
     P[lo.P_ROLL_KP2] = roll.damping_quadratic_Nms2
     P[lo.P_ROLL_ZR] = roll.z_R_m
@@ -133,6 +161,25 @@ def pack_roll(P: np.ndarray, M3: np.ndarray, roll: Roll, mass: float, L: float, 
 @njit(cache=True)
 def _powers(x):
     return (1.0, x, x * x, x * x * x, x * x * x * x)
+
+
+@njit(cache=True)
+def restoring_moment(P, phi):
+    """Hydrostatic roll moment, N m: -rho g nabla GZ(|phi|) sign(phi) from the ship file's GZ curve (linear
+    between its points, the last segment continued beyond it), else -rho g nabla GM sin(phi)."""
+    k = int(P[lo.P_ROLL_GZ_N])
+    if k == 0:
+        return -P[lo.P_ROLL_GM] * math.sin(phi)
+    a = abs(phi)
+    i = 1
+    while i < k - 1 and a > P[lo.P_ROLL_GZ_PHI + i]:
+        i += 1
+    p0 = P[lo.P_ROLL_GZ_PHI + i - 1]
+    p1 = P[lo.P_ROLL_GZ_PHI + i]
+    g0 = P[lo.P_ROLL_GZ + i - 1]
+    g1 = P[lo.P_ROLL_GZ + i]
+    gz = g0 + (g1 - g0) * (a - p0) / (p1 - p0)
+    return -P[lo.P_ROLL_MG] * (gz if phi >= 0.0 else -gz)
 
 
 @njit(cache=True)
@@ -166,5 +213,5 @@ def roll_forces(P, u, v, r, p, phi):
         Ks += P[j + 7] * m
         Ns += P[j + 8] * m
     q = 0.5 * P[lo.P_RHO] * L * L * Ue * Ue
-    K = q * L * Ks - P[lo.P_ROLL_GM] * math.sin(phi) - P[lo.P_ROLL_KP1] * p - P[lo.P_ROLL_KP2] * p * abs(p)
+    K = q * L * Ks + restoring_moment(P, phi) - P[lo.P_ROLL_KP1] * p - P[lo.P_ROLL_KP2] * p * abs(p)
     return q * Xs, q * Ys, K, q * L * Ns

@@ -7,6 +7,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.roll import HEEL_RANGE_DEG
 from vessel_gym.physics.shipfile import Ship
 
 # Runaway detection: a state a ship cannot physically reach means the model left its valid range, even when
@@ -20,10 +21,9 @@ RUNAWAY_SPEED_FACTOR = 3.0  # speed through the water / U_full, -
 RUNAWAY_RATE_PRIME = 2.0  # -
 # the governor holds rated speed, and the overspeed trip acts at no more than 1.2 x rated (IACS UR M3)
 RUNAWAY_SHAFT_FACTOR = 1.5  # |shaft speed| / rated shaft speed, -
-# heel of a 4-DOF ship (roll.py): the Intact Stability Code (2008, Part A 2.2) judges righting levers only up to
-# 40 deg (or the downflooding angle); beyond it the model's GM sin(phi) restoring and its hull terms, fitted at
-# small heel, have no basis, so the run stops there rather than report a capsize the model cannot describe
-RUNAWAY_HEEL_DEG = 40.0  # deg
+# heel of a 4-DOF ship beyond the roll model's range (roll.HEEL_RANGE_DEG): the run stops there rather than
+# report a capsize the model cannot describe
+RUNAWAY_HEEL_DEG = HEEL_RANGE_DEG  # deg
 RUNAWAY_OK, RUNAWAY_NONFINITE, RUNAWAY_SPEED, RUNAWAY_RATE, RUNAWAY_SHAFT, RUNAWAY_HEEL = 0, 1, 2, 3, 4, 5
 _HEEL_MAX = math.radians(RUNAWAY_HEEL_DEG)  # rad
 
