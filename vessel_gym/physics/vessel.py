@@ -1,9 +1,10 @@
 """Vessel: the composition of a ship's components, and its equations of motion.
 
 A vessel is the sum of its components' forces: hull (Abkowitz or MMG), propeller (thrust through the
-thrust-deduction factor), rudder (MMG or hull delta-terms), windage and mean wave drift, plus any forces a
-user plugs in from Python (``F_ext``). The rigid body with added mass is solved in 3 DOF (surge, sway, yaw)
-on velocities through the water, so a uniform current only adds to the kinematics (Fossen 2011, Property
+thrust-deduction factor), rudder (MMG, Son & Nomoto or hull delta-terms), windage and mean wave drift, plus any forces a
+user plugs in from Python (``F_ext``). The rigid body with added mass is solved in 3 DOF (surge, sway, yaw),
+or in 4 DOF with roll on a ship with a ``[roll]`` table (:mod:`vessel_gym.physics.roll`), on velocities through
+the water, so a uniform current only adds to the kinematics (Fossen 2011, Property
 10.1 for an irrotational constant current):
 
     M nu_r' + C nu_r = tau_hull + tau_prop + tau_rudder + tau_wind + tau_waves + tau_ext,
