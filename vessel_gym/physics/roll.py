@@ -94,10 +94,13 @@ def check_roll(roll: Roll, where: str) -> None:
         if any(b <= a for a, b in zip(h, h[1:])):
             raise SpecError(f"{w} GZ_heel_deg: values must increase strictly")
         if h[-1] < HEEL_RANGE_DEG:
-            raise SpecError(f"{w} GZ_heel_deg: the curve ends at {h[-1]:g} deg, it must reach {HEEL_RANGE_DEG:g} deg")
+            raise SpecError(
+                f"{w} GZ_heel_deg: the curve ends at {h[-1]:g} deg, it must reach {HEEL_RANGE_DEG:g} deg"
+            )
     for key, value in roll.derivatives.items():
         w = f"{where} [roll.derivatives] {key}"
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(as_float(value, w)):
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if not number or not math.isfinite(as_float(value, w)):
             raise SpecError(f"{w}: expected a finite number, got {value!r}")
         if key in ROLL_ACCEL:
             continue

@@ -422,7 +422,7 @@ class Simulation(Helm):
                 f"({RUNAWAY_SHAFT_FACTOR:g} x rated)"
             )
         if code == RUNAWAY_HEEL:
-            return f"heel {abs(x[lo.X_PHI]) / DEG:.4g} deg exceeds {RUNAWAY_HEEL_DEG:g} deg, the roll model's range"
+            return f"heel {abs(x[lo.X_PHI]) / DEG:.4g} deg exceeds {RUNAWAY_HEEL_DEG:g} deg, the roll model's end"
         return "the state became non-finite"
 
     def advance(self, duration_s: float) -> int:

@@ -1,10 +1,10 @@
 """Vessel: the composition of a ship's components, and its equations of motion.
 
 A vessel is the sum of its components' forces: hull (Abkowitz or MMG), propeller (thrust through the
-thrust-deduction factor), rudder (MMG, Son & Nomoto or hull delta-terms), windage and mean wave drift, plus any forces a
-user plugs in from Python (``F_ext``). The rigid body with added mass is solved in 3 DOF (surge, sway, yaw),
-or in 4 DOF with roll on a ship with a ``[roll]`` table (:mod:`vessel_gym.physics.roll`), on velocities through
-the water, so a uniform current only adds to the kinematics (Fossen 2011, Property
+thrust-deduction factor), rudder (MMG, Son & Nomoto or hull delta-terms), windage and mean wave drift, plus
+any forces a user plugs in from Python (``F_ext``). The rigid body with added mass is solved in 3 DOF
+(surge, sway, yaw), or in 4 DOF with roll on a ship with a ``[roll]`` table (:mod:`vessel_gym.physics.roll`),
+on velocities through the water, so a uniform current only adds to the kinematics (Fossen 2011, Property
 10.1 for an irrotational constant current):
 
     M nu_r' + C nu_r = tau_hull + tau_prop + tau_rudder + tau_wind + tau_waves + tau_ext,
@@ -212,8 +212,8 @@ def pack(ship: Ship) -> np.ndarray:
         P[lo.P_RUD_KIND] = lo.RUDDER_SON_NOMOTO
         P[lo.P_AR], P[lo.P_AH], P[lo.P_XHP], P[lo.P_XRP] = rd.A_R_m2, rd.a_H, rd.x_H_prime, rd.x_R_prime
         P[lo.P_EPS], P[lo.P_KAPPA], P[lo.P_FALPHA] = rd.epsilon, rd.kappa, rd.f_alpha
-        P[lo.P_SN_GAMMA], P[lo.P_SN_CRR], P[lo.P_SN_CRRRR], P[lo.P_SN_CRRRV] = rd.gamma_R, rd.c_Rr, rd.c_Rrrr, rd.c_Rrrv
-        P[lo.P_SN_CRX] = rd.c_RX
+        P[lo.P_SN_GAMMA], P[lo.P_SN_CRR], P[lo.P_SN_CRX] = rd.gamma_R, rd.c_Rr, rd.c_RX
+        P[lo.P_SN_CRRRR], P[lo.P_SN_CRRRV] = rd.c_Rrrr, rd.c_Rrrv
     else:
         P[lo.P_RUD_KIND] = lo.RUDDER_DERIVATIVES
     sg = ship.steering_gear
