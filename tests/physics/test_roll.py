@@ -115,6 +115,27 @@ def test_quadratic_roll_damping_gives_the_energy_decrement(container):
     assert fall == pytest.approx(8.0 / 3.0 * c / I_eff * a_mid**2, rel=0.1)
 
 
+def test_shaft_torque_reaction_heels_a_right_handed_ship_to_port(container):
+    """With a right-handed propeller the hull takes -Q_P about x: in straight running the ship heels to port by
+    phi = -asin(Q_P / (rho g nabla GM)), 0.41 deg at 13.6 kn. The heel makes the ship drift and yaw a little, and
+    the hull's roll terms and the rudder's moment from that flow add 1.7 % of the moment: tolerance 3 %.
+    Without the option (container.m has no such term) the ship stays upright."""
+    from vessel_gym.physics.vessel import N_OUT, forces
+
+    roll = dataclasses.replace(container.roll, propeller_torque_reaction="right_handed")
+    for ship, heeled in ((dataclasses.replace(container, roll=roll), True), (container, False)):
+        sim = Simulation(ship, dt=0.1)
+        sim.reset()
+        sim.set_helm(rudder_order_rad=0.0)
+        sim.advance(800.0)  # 27 roll periods; the hull's K_p damps the roll in ~120 s at this speed
+        Q = forces(sim.Ps[0], sim.state[0], sim.inputs[0], sim.env[0], np.zeros(N_OUT))[14]
+        phi = sim.state[0, lo.X_PHI]
+        if heeled:
+            assert Q > 0.0 and phi == pytest.approx(-math.asin(Q / (ship.mass_kg * G * 0.3)), rel=0.03)
+        else:
+            assert phi == 0.0
+
+
 def test_a_three_dof_ship_never_rolls():
     """Without [roll] the roll fields are all 0 and phi, p stay exactly 0 in a hard turn."""
     ship = load_ship("kvlcc2")

@@ -262,6 +262,8 @@ P_ROLL_GZ = _field("GZ", MAX_GZ_POINTS)
 P_ROLL_KP1 = _field("K_p_linear")  # linear roll damping, N m s/rad
 P_ROLL_KP2 = _field("K_p_quadratic")  # quadratic roll damping, N m s^2/rad^2
 P_ROLL_ZR = _field("z_R")  # rudder's centre of effort below the roll axis (through G), m
+# shaft torque reaction on the hull, K = P_ROLL_QSIGN Q_P: -1 right-handed propeller, +1 left-handed, 0 off
+P_ROLL_QSIGN = _field("propeller_torque_sign")
 # hull roll terms in the SNAME prime system (1/2 rho L^2 U^2, times L for K and N), merged by monomial
 # u'^a v'^b r'^c p'^d phi^e: a count and MAX_ROLL_MONOMIALS x (a, b, c, d, e, c_X, c_Y, c_K, c_N)
 MAX_ROLL_MONOMIALS = 40

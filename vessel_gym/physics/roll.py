@@ -11,7 +11,10 @@ gravity G, as in Son & Nomoto (1982), so the rigid body adds no sway-roll inerti
 * the hydrostatic restoring -rho g nabla GZ(phi): the ship file's righting-lever curve where it gives one
   (``GZ_heel_deg``, ``GZ_m``), else the wall-sided small-angle arm GZ = GM sin(phi);
 * roll damping -K_p1 p - K_p2 p|p| (dimensional, linear and quadratic) besides the hull's K_p p';
-* the rudder's roll moment -z_R Y_R, its sway force acting z_R below the roll axis.
+* the rudder's roll moment -z_R Y_R, its sway force acting z_R below the roll axis;
+* optionally the reaction of the shaft torque on the hull, -Q_P for a right-handed propeller (clockwise seen
+  from astern when going ahead), +Q_P for a left-handed one, with Q_P the propeller's absorbed torque (equal
+  to the shaft's drive torque in steady running).
 
 A ship without ``[roll]`` never evaluates any of this: phi and p stay exactly 0 and the 3-DOF equations are
 untouched (vessel.derivatives).
@@ -55,6 +58,11 @@ class Roll:
         (), unit="deg", lo=0.0, hi=90.0, doc="heel breakpoints of a righting-lever curve (0 first, to >= 40)"
     )
     GZ_m: tuple[float, ...] = param((), unit="m", lo=-20.0, hi=20.0, doc="righting lever GZ at GZ_heel_deg")
+    propeller_torque_reaction: str = param(
+        "none",
+        choices=("none", "right_handed", "left_handed"),
+        doc="roll moment of the shaft torque on the hull, -Q_P for a right-handed propeller ('none': not modelled)",
+    )
     damping_linear_Nms: float = param(
         0.0, unit="N m s/rad", lo=0.0, hi=1e12, doc="linear roll damping besides the hull's K_p"
     )
@@ -145,6 +153,7 @@ def pack_roll(P: np.ndarray, M3: np.ndarray, roll: Roll, mass: float, L: float, 
     P[lo.P_ROLL_KP1] = roll.damping_linear_Nms
     P[lo.P_ROLL_KP2] = roll.damping_quadratic_Nms2
     P[lo.P_ROLL_ZR] = roll.z_R_m
+    P[lo.P_ROLL_QSIGN] = {"none": 0.0, "right_handed": -1.0, "left_handed": 1.0}[roll.propeller_torque_reaction]
     column = {"X": 5, "Y": 6, "K": 7, "N": 8}
     monomials: dict[tuple[int, ...], list[float]] = {}
     for name, value in roll.derivatives.items():

@@ -387,7 +387,7 @@ def derivatives(P, x, inp, env, F_ext, xdot):
         X += Xr
         Y += Yr
         N += Nr
-        K = Kr - P[lo.P_ROLL_ZR] * f[5]
+        K = Kr - P[lo.P_ROLL_ZR] * f[5] + P[lo.P_ROLL_QSIGN] * f[14]  # rudder; shaft torque reaction
         j = lo.P_ROLL_MINV
         udot = X / P[lo.P_M11]
         vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K
