@@ -29,6 +29,7 @@ def test_every_ship_file_key_is_documented():
         sf.Windage,
         sf.WaveDrift,
         sf.LargeDrift,
+        sf.Roll,
     ):
         for f in dataclasses.fields(cls):
             assert f"`{f.name}" in text, f"{cls.__name__}.{f.name} missing from docs/ship-file.md"

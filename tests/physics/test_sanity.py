@@ -22,7 +22,7 @@ from vessel_gym.physics.units import DEG, R_DRY_AIR_J_KGK
 from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, pack
 
 # state components mirrored by a port/starboard reflection: v, r, east, psi, delta change sign
-MIRROR = np.array([1.0, -1.0, -1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0, 1.0])
+MIRROR = np.array([1.0, -1.0, -1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0, 1.0, -1.0, -1.0])  # phi, p mirror too
 THROUGH_WATER = [lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA, lo.X_REV, lo.X_GOV]
 
 

@@ -60,6 +60,7 @@ class Track:
         "v": lo.X_V,
         "r": lo.X_R,
         "delta": lo.X_DELTA,
+        "phi": lo.X_PHI,  # heel, rad, starboard side down (0 throughout on a 3-DOF ship)
     }
 
     def __init__(self) -> None:
@@ -108,6 +109,22 @@ class Track:
         x = self.x[:upto]
         y = self.y[:upto]
         return float(np.hypot(np.diff(x), np.diff(y)).sum())
+
+
+def _heel_extreme(ship: Ship, track: Track) -> tuple[float | None, float | None]:
+    """(heel at the instant of the largest |heel|, deg, signed as phi: + starboard side down; that time, s),
+    or (None, None) for a 3-DOF ship, which has no heel."""
+    if ship.roll is None:
+        return None, None
+    phi = np.asarray(track.phi)
+    i = int(np.argmax(np.abs(phi)))
+    return math.degrees(float(phi[i])), float(track.t[i])
+
+
+def _heel_keys(d: dict, **heel: float | None) -> dict:
+    """``d`` with the heel entries that exist (a 3-DOF ship's result has none)."""
+    d.update({k: v for k, v in heel.items() if v is not None})
+    return d
 
 
 def trial_dt(ship: Ship, speed_m_s: float) -> float:
@@ -164,10 +181,15 @@ class TurningCircle:
     time_to_180_s: float
     final_speed_kn: float
     track: Track = field(repr=False, compare=False)
+    # 4-DOF ships only (None otherwise), signed as phi (+ starboard side down): the heel at its largest
+    # magnitude and when, and the mean heel of the steady turn (heading change 360..720 deg)
+    max_heel_deg: float | None = None
+    max_heel_time_s: float | None = None
+    steady_heel_deg: float | None = None
 
     def to_dict(self) -> dict:
         L = self.L_m
-        return {
+        d = {
             "ship": self.ship,
             "rudder_deg": self.rudder_deg,
             "speed_kn": self.speed_kn,
@@ -184,6 +206,12 @@ class TurningCircle:
             "time_to_180_s": self.time_to_180_s,
             "final_speed_kn": self.final_speed_kn,
         }
+        return _heel_keys(
+            d,
+            max_heel_deg=self.max_heel_deg,
+            max_heel_time_s=self.max_heel_time_s,
+            steady_heel_deg=self.steady_heel_deg,
+        )
 
 
 def _fit_circle(x: np.ndarray, y: np.ndarray) -> float:
@@ -238,6 +266,10 @@ def turning_circle(
         _fit_circle(np.asarray(track.x)[sel], np.asarray(track.y)[sel]) if psi[-1] >= 4 * math.pi else None
     )
     final_u = math.hypot(track.u[-1], track.v[-1])
+    max_heel, max_heel_t = _heel_extreme(s, track)
+    steady_heel = None
+    if s.roll is not None and psi[-1] >= 4 * math.pi:
+        steady_heel = math.degrees(float(np.mean(np.asarray(track.phi)[sel])))
     # the trial starts on heading 0 at the origin: x, y are already along and across the original course
     advance, transfer = course_axes(0.0, 0.0, 0.0, p90[1], p90[2])
     return TurningCircle(
@@ -253,6 +285,9 @@ def turning_circle(
         p180[0],
         final_u / KNOT_M_S,
         track,
+        max_heel,
+        max_heel_t,
+        steady_heel,
     )
 
 
@@ -268,9 +303,12 @@ class ZigZag:
     execute_time_s: list[float]
     period_s: float | None
     track: Track = field(repr=False, compare=False)
+    # 4-DOF ships only (None otherwise): the heel at its largest magnitude, signed as phi, and when
+    max_heel_deg: float | None = None
+    max_heel_time_s: float | None = None
 
     def to_dict(self) -> dict:
-        return {
+        d = {
             "ship": self.ship,
             "rudder_deg": self.rudder_deg,
             "heading_deg": self.heading_deg,
@@ -281,6 +319,7 @@ class ZigZag:
             "execute_time_s": self.execute_time_s,
             "period_s": self.period_s,
         }
+        return _heel_keys(d, max_heel_deg=self.max_heel_deg, max_heel_time_s=self.max_heel_time_s)
 
 
 def zigzag(
@@ -339,7 +378,8 @@ def zigzag(
         )
     period = exec_times[3] - exec_times[1] if len(exec_times) >= 4 else None
     return ZigZag(
-        s.name, rudder_deg, heading_deg, speed / KNOT_M_S, L, overs, over_t, exec_times, period, track
+        s.name, rudder_deg, heading_deg, speed / KNOT_M_S, L, overs, over_t, exec_times, period, track,
+        *_heel_extreme(s, track),
     )
 
 

@@ -26,9 +26,13 @@ X_GOV = 8  # speed-governor integrator state, fuel-index units (-)
 # +1 set for ahead, -1 for astern, in between while shifting (propulsion.direct_reversing_drive); unused (0)
 # by a clutch or ideal drive
 X_CAM = 9
-NX = 10
+# the fourth degree of freedom, appended so that no column above moves; integrated only on a ship with a
+# [roll] table (P_ROLL_ON), held at exactly 0 on a 3-DOF ship (roll.py)
+X_PHI = 10  # roll (heel) angle, rad (positive starboard side down)
+X_P = 11  # roll rate, rad/s
+NX = 12
 
-STATE_NAMES = ("u", "v", "r", "x", "y", "psi", "delta", "n", "governor", "reversing_gear")
+STATE_NAMES = ("u", "v", "r", "x", "y", "psi", "delta", "n", "governor", "reversing_gear", "phi", "p")
 
 # --- input u[k, :] ---------------------------------------------------------------------------------------------
 U_DELTA_C = 0  # rudder order, rad
@@ -236,6 +240,47 @@ P_REV_QAIR = _field("Q_air")  # engine torque of the starting air, N m
 # stay in the kernel and read these flags (1: the component drives that part of the state)
 P_ENGINE_EXT = _field("engine_by_component")  # shaft drive torque from F_ext[3]; governor, reversing gear held
 P_SG_EXT = _field("steering_gear_by_component")  # rudder rate from the component, integrated by the method
+
+# rudder of Son & Nomoto (1982) (sonnomoto.py): the flow angle at the rudder from a polynomial in v', r'
+# (their eq. for v_R), the propeller race from momentum theory; A_R, a_H, x'_H, x'_R, epsilon, kappa and f_alpha
+# are the MMG fields above
+RUDDER_SON_NOMOTO = 2
+P_SN_GAMMA = _field("gamma_R")  # flow-straightening factor of the sway velocity at the rudder, -
+P_SN_CRR = _field("c_Rr")  # v'_R per r', -
+P_SN_CRRRR = _field("c_Rrrr")  # v'_R per r'^3, -
+P_SN_CRRRV = _field("c_Rrrv")  # v'_R per r'^2 v', -
+P_SN_CRX = _field("c_RX")  # rudder drag X_R = c_RX F_N sin(delta), -
+# propeller inflow of Son & Nomoto (1982): 1 - w = 1 - w_P0 + tau ((v' + x'_P r')^2 + c_pv v' + c_pr r')
+WAKE_MMG = 0
+WAKE_SON_NOMOTO = 1
+P_WAKE_KIND = _field("wake_kind")
+P_SN_TAU = _field("tau_P")  # -
+P_SN_CPV = _field("c_pv")  # -
+P_SN_CPR = _field("c_pr")  # -
+
+# roll, the optional fourth degree of freedom (roll.py); every field 0 on a 3-DOF ship
+P_ROLL_ON = _field("has_roll")
+# inverse of the 3x3 mass matrix over (v, r, p) with rigid body and added mass, row-major (pack time)
+P_ROLL_MINV = _field("roll_Minv", 9)
+P_ROLL_GM = _field("rho_g_nabla_GM")  # hydrostatic restoring rho g nabla GM, N m/rad (times sin phi)
+# righting-lever curve GZ(phi) where the ship file gives one (replaces GM sin phi): a count, the heel
+# breakpoints (rad, from 0, increasing) and GZ there (m); the restoring is rho g nabla GZ(|phi|) sign(phi)
+MAX_GZ_POINTS = 16
+P_ROLL_MG = _field("rho_g_nabla")  # N
+P_ROLL_GZ_N = _field("GZ_points")
+P_ROLL_GZ_PHI = _field("GZ_heel", MAX_GZ_POINTS)
+P_ROLL_GZ = _field("GZ", MAX_GZ_POINTS)
+P_ROLL_KP1 = _field("K_p_linear")  # linear roll damping, N m s/rad
+P_ROLL_KP2 = _field("K_p_quadratic")  # quadratic roll damping, N m s^2/rad^2
+P_ROLL_ZR = _field("z_R")  # rudder's centre of effort below the roll axis (through G), m
+# shaft torque reaction on the hull, K = P_ROLL_QSIGN Q_P: -1 right-handed propeller, +1 left-handed, 0 off
+P_ROLL_QSIGN = _field("propeller_torque_sign")
+# hull roll terms in the SNAME prime system (1/2 rho L^2 U^2, times L for K and N), merged by monomial
+# u'^a v'^b r'^c p'^d phi^e: a count and MAX_ROLL_MONOMIALS x (a, b, c, d, e, c_X, c_Y, c_K, c_N)
+MAX_ROLL_MONOMIALS = 40
+ROLL_STRIDE = 9
+P_ROLL_NM = _field("roll_n_monomials")
+P_ROLL_M = _field("roll_monomials", ROLL_STRIDE * MAX_ROLL_MONOMIALS)
 
 NP = len(_names)
 PARAM_NAMES = tuple(_names)

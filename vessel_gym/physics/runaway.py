@@ -7,6 +7,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.roll import HEEL_RANGE_DEG
 from vessel_gym.physics.shipfile import Ship
 
 # Runaway detection: a state a ship cannot physically reach means the model left its valid range, even when
@@ -20,12 +21,16 @@ RUNAWAY_SPEED_FACTOR = 3.0  # speed through the water / U_full, -
 RUNAWAY_RATE_PRIME = 2.0  # -
 # the governor holds rated speed, and the overspeed trip acts at no more than 1.2 x rated (IACS UR M3)
 RUNAWAY_SHAFT_FACTOR = 1.5  # |shaft speed| / rated shaft speed, -
-RUNAWAY_OK, RUNAWAY_NONFINITE, RUNAWAY_SPEED, RUNAWAY_RATE, RUNAWAY_SHAFT = 0, 1, 2, 3, 4
+# heel of a 4-DOF ship beyond the roll model's range (roll.HEEL_RANGE_DEG): the run stops there rather than
+# report a capsize the model cannot describe
+RUNAWAY_HEEL_DEG = HEEL_RANGE_DEG  # deg
+RUNAWAY_OK, RUNAWAY_NONFINITE, RUNAWAY_SPEED, RUNAWAY_RATE, RUNAWAY_SHAFT, RUNAWAY_HEEL = 0, 1, 2, 3, 4, 5
+_HEEL_MAX = math.radians(RUNAWAY_HEEL_DEG)  # rad
 
 
 @njit(cache=True)
 def flag_runaway(X, ship_index, limits, alive, why):
-    """Mark dead every alive vessel whose speed through the water, rate of turn or shaft speed is beyond its
+    """Mark dead every alive vessel whose speed through the water, rate of turn, shaft speed or heel is beyond its
     ship's bounds ``limits[ship] = (U_max m/s, r_max rad/s, n_max rev/s)``, with the reason in ``why``
     (RUNAWAY_*); a vessel the integrator stopped on a non-finite state gets RUNAWAY_NONFINITE. The state is
     kept as it was when flagged. Returns the number of vessels alive."""
@@ -45,6 +50,8 @@ def flag_runaway(X, ship_index, limits, alive, why):
             code = RUNAWAY_RATE
         elif abs(X[b, lo.X_REV]) > lim[2]:
             code = RUNAWAY_SHAFT
+        elif abs(X[b, lo.X_PHI]) > _HEEL_MAX:  # 0 on a 3-DOF ship
+            code = RUNAWAY_HEEL
         why[b] = code
         if code == RUNAWAY_OK:
             count += 1

@@ -13,6 +13,7 @@ from pathlib import Path
 from vessel_gym.physics.crossflow import LargeDrift
 from vessel_gym.physics.crossflow import check as check_large_drift
 from vessel_gym.physics.propeller4q import TABLE_NAMES
+from vessel_gym.physics.roll import Roll, check_roll
 from vessel_gym.physics.schema import (
     SpecError,
     build,
@@ -197,12 +198,21 @@ class Propeller:
         choices=("",) + TABLE_NAMES,
         doc="published Wageningen four-quadrant curves outside quadrant 1 ('': the astern_* approximation)",
     )
+    wake_model: str = param(
+        "mmg",
+        choices=("mmg", "son_nomoto"),
+        doc="wake in manoeuvres: MMG C_1, C_2 or Son & Nomoto (1982) tau_P, c_pv, c_pr (sonnomoto.py)",
+    )
+    tau_P: float = param(0.0, unit="-", lo=0.0, hi=5.0, doc="Son & Nomoto wake change with drift and yaw")
+    c_pv: float = param(0.0, unit="-", lo=-1.0, hi=1.0, doc="Son & Nomoto wake change per v'")
+    c_pr: float = param(0.0, unit="-", lo=-1.0, hi=1.0, doc="Son & Nomoto wake change per r'")
 
 
 @dataclass(frozen=True, kw_only=True)
 class Rudder:
     model: str = param(
-        choices=("mmg", "derivatives"), doc="'derivatives': rudder forces are hull delta-terms"
+        choices=("mmg", "derivatives", "son_nomoto"),
+        doc="'derivatives': rudder forces are hull delta-terms; 'son_nomoto': Son & Nomoto (1982)",
     )
     A_R_m2: float = param(1.0, unit="m^2", lo=1e-4, hi=500.0)
     H_R_m: float = param(1.0, unit="m", lo=0.01, hi=30.0, doc="rudder span")
@@ -216,6 +226,12 @@ class Rudder:
     epsilon: float = param(1.0, unit="-", lo=0.3, hi=2.0)
     kappa: float = param(0.5, unit="-", lo=0.0, hi=1.5)
     f_alpha: float = param(2.7, unit="1/rad", lo=0.5, hi=7.0)
+    # Son & Nomoto (1982) rudder only (sonnomoto.py): v'_R polynomial and drag factor
+    gamma_R: float = param(0.0, unit="-", lo=-2.0, hi=2.0, doc="Son & Nomoto: v'_R per v'")
+    c_Rr: float = param(0.0, unit="-", lo=-2.0, hi=2.0, doc="Son & Nomoto: v'_R per r'")
+    c_Rrrr: float = param(0.0, unit="-", lo=-5.0, hi=5.0, doc="Son & Nomoto: v'_R per r'^3")
+    c_Rrrv: float = param(0.0, unit="-", lo=-10.0, hi=10.0, doc="Son & Nomoto: v'_R per r'^2 v'")
+    c_RX: float = param(1.0, unit="-", lo=0.0, hi=2.0, doc="Son & Nomoto: X_R = c_RX F_N sin(delta)")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -323,6 +339,7 @@ class Ship:
     windage: Windage | None = None
     wave_drift: WaveDrift | None = None
     large_drift: LargeDrift | None = None
+    roll: Roll | None = None  # the fourth degree of freedom (roll.py); None: a 3-DOF ship
     components: tuple[ComponentEntry, ...] = ()
     path: str = ""
 
@@ -357,6 +374,7 @@ _SECTIONS = {
     "windage": Windage,
     "wave_drift": WaveDrift,
     "large_drift": LargeDrift,
+    "roll": Roll,
 }
 _REQUIRED = ("source", "particulars", "hull", "rudder", "steering_gear")
 
@@ -406,8 +424,13 @@ def parse_ship(data: dict, where: str, name: str = "") -> Ship:
         raise ShipFileError(f"{where} [particulars]: implausible proportions (B > L or T > 2 B)")
     rudder: Rudder = parts["rudder"]
     prop = parts.get("propeller")
-    if rudder.model == "mmg" and prop is None:
-        raise ShipFileError(f"{where} [rudder] model: 'mmg' needs a [propeller] table")
+    if rudder.model in ("mmg", "son_nomoto") and prop is None:
+        raise ShipFileError(f"{where} [rudder] model: {rudder.model!r} needs a [propeller] table")
+    if "roll" in parts:
+        try:
+            check_roll(parts["roll"], where)
+        except SpecError as exc:
+            raise ShipFileError(str(exc)) from None
     if prop is not None:
         for k in ("engine", "transmission"):
             if k not in parts:

@@ -49,6 +49,8 @@ from vessel_gym.physics.integrate import (
 from vessel_gym.physics.kinematics import ground_velocity, speed_over_ground
 from vessel_gym.physics.runaway import (  # noqa: F401  (RUNAWAY_* and the factors: their old home)
     FULL_POWER_SPEED_FACTOR,
+    RUNAWAY_HEEL,
+    RUNAWAY_HEEL_DEG,
     RUNAWAY_NONFINITE,
     RUNAWAY_OK,
     RUNAWAY_RATE,
@@ -419,6 +421,8 @@ class Simulation(Helm):
                 f"shaft speed {abs(x[lo.X_REV]) * 60.0:.4g} rpm exceeds {n_max * 60.0:.4g} rpm "
                 f"({RUNAWAY_SHAFT_FACTOR:g} x rated)"
             )
+        if code == RUNAWAY_HEEL:
+            return f"heel {abs(x[lo.X_PHI]) / DEG:.4g} deg exceeds {RUNAWAY_HEEL_DEG:g} deg, the roll model's end"
         return "the state became non-finite"
 
     def advance(self, duration_s: float) -> int:

@@ -1,8 +1,9 @@
 """Vessel: the composition of a ship's components, and its equations of motion.
 
 A vessel is the sum of its components' forces: hull (Abkowitz or MMG), propeller (thrust through the
-thrust-deduction factor), rudder (MMG or hull delta-terms), windage and mean wave drift, plus any forces a
-user plugs in from Python (``F_ext``). The rigid body with added mass is solved in 3 DOF (surge, sway, yaw)
+thrust-deduction factor), rudder (MMG, Son & Nomoto or hull delta-terms), windage and mean wave drift, plus
+any forces a user plugs in from Python (``F_ext``). The rigid body with added mass is solved in 3 DOF
+(surge, sway, yaw), or in 4 DOF with roll on a ship with a ``[roll]`` table (:mod:`vessel_gym.physics.roll`),
 on velocities through the water, so a uniform current only adds to the kinematics (Fossen 2011, Property
 10.1 for an irrotational constant current):
 
@@ -40,9 +41,11 @@ from vessel_gym.physics.propulsion import (
     shaft_acceleration,
     shaft_rate,
 )
+from vessel_gym.physics.roll import pack_roll, roll_forces
 from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
 from vessel_gym.physics.shallow_water import thrust_deduction
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull, abkowitz_term
+from vessel_gym.physics.sonnomoto import son_nomoto_rudder_forces, son_nomoto_wake
 from vessel_gym.physics.steering import mmg_rudder_forces_beta, steering_gear_rate
 from vessel_gym.physics.units import DEG, RPM
 
@@ -171,6 +174,9 @@ def pack(ship: Ship) -> np.ndarray:
             pr.astern_inflow_slope,
         )
         P[lo.P_PROP_4Q] = table_code(pr.four_quadrant)
+        if pr.wake_model == "son_nomoto":
+            P[lo.P_WAKE_KIND] = lo.WAKE_SON_NOMOTO
+            P[lo.P_SN_TAU], P[lo.P_SN_CPV], P[lo.P_SN_CPR] = pr.tau_P, pr.c_pv, pr.c_pr
         eng, tr = ship.engine, ship.transmission
         P[lo.P_GEAR], P[lo.P_ETA_GEAR] = tr.gear_ratio, tr.efficiency
         P[lo.P_I_SHAFT] = tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2
@@ -203,6 +209,12 @@ def pack(ship: Ship) -> np.ndarray:
         P[lo.P_GRM], P[lo.P_GRP], P[lo.P_LRP] = rd.gamma_R_minus, rd.gamma_R_plus, rd.l_R_prime
         P[lo.P_EPS], P[lo.P_KAPPA], P[lo.P_FALPHA] = rd.epsilon, rd.kappa, rd.f_alpha
         P[lo.P_ETA] = min(pr.D_m / rd.H_R_m, 1.0)  # eta = D_P / H_R
+    elif rd.model == "son_nomoto":
+        P[lo.P_RUD_KIND] = lo.RUDDER_SON_NOMOTO
+        P[lo.P_AR], P[lo.P_AH], P[lo.P_XHP], P[lo.P_XRP] = rd.A_R_m2, rd.a_H, rd.x_H_prime, rd.x_R_prime
+        P[lo.P_EPS], P[lo.P_KAPPA], P[lo.P_FALPHA] = rd.epsilon, rd.kappa, rd.f_alpha
+        P[lo.P_SN_GAMMA], P[lo.P_SN_CRR], P[lo.P_SN_CRX] = rd.gamma_R, rd.c_Rr, rd.c_RX
+        P[lo.P_SN_CRRRR], P[lo.P_SN_CRRRV] = rd.c_Rrrr, rd.c_Rrrv
     else:
         P[lo.P_RUD_KIND] = lo.RUDDER_DERIVATIVES
     sg = ship.steering_gear
@@ -226,6 +238,8 @@ def pack(ship: Ship) -> np.ndarray:
         tab_u = drift_speed_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
         P[lo.P_WAVE_TAB_U : lo.P_WAVE_TAB_U + 3 * lo.WAVE_NA] = tab_u.ravel()
     crossflow.pack(P, ship.large_drift)
+    if ship.roll is not None:
+        pack_roll(P, M, ship.roll, m, pt.L_m, pt.rho_kg_m3)
     return P
 
 
@@ -263,11 +277,16 @@ def force_terms(P, x, env):
     Qp = 0.0
     wP = P[lo.P_WP0]
     if has_prop:
-        wP = effective_wake(P, U, beta, r, H)
+        if P[lo.P_WAKE_KIND] == lo.WAKE_SON_NOMOTO:
+            wP = son_nomoto_wake(P, u, v, r)
+        else:
+            wP = effective_wake(P, U, beta, r, H)
         T, Qp = propeller_thrust_torque(P, u * (1.0 - wP), n)
     XR = YR = NR = 0.0
     if mmg_rudder:
         XR, YR, NR = mmg_rudder_forces_beta(P, u, U, beta, r, delta, wP, T, H)
+    elif P[lo.P_RUD_KIND] == lo.RUDDER_SON_NOMOTO:
+        XR, YR, NR = son_nomoto_rudder_forces(P, u, v, r, delta, u * (1.0 - wP), T)
     cn = env[lo.E_CUR_N]
     ce = env[lo.E_CUR_E]
     c = math.cos(psi)
@@ -359,13 +378,43 @@ def derivatives(P, x, inp, env, F_ext, xdot):
             ndot, cdot, gdot, _fuel, _ne, _qe = shaft_acceleration(
                 P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], inp[lo.U_REV_C], f[14]
             )
-    xdot[lo.X_U] = X / P[lo.P_M11]
-    xdot[lo.X_V] = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
-    xdot[lo.X_R] = P[lo.P_MI32] * Y + P[lo.P_MI33] * N
+    phidot = 0.0
+    pdot = 0.0
+    if P[lo.P_ROLL_ON] > 0.0:
+        # the fourth degree of freedom (roll.py): roll terms of the hull, restoring and damping, the rudder's
+        # sway force z_R below the roll axis; the 3x3 mass matrix over (v, r, p) couples sway, yaw and roll
+        phi = x[lo.X_PHI]
+        p = x[lo.X_P]
+        Xr, Yr, Kr, Nr = roll_forces(P, u, v, r, p, phi)
+        X += Xr
+        Y += Yr
+        N += Nr
+        K = Kr - P[lo.P_ROLL_ZR] * f[5] + P[lo.P_ROLL_QSIGN] * f[14]  # rudder; shaft torque reaction
+        j = lo.P_ROLL_MINV
+        udot = X / P[lo.P_M11]
+        vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K
+        rdot = P[j + 3] * Y + P[j + 4] * N + P[j + 5] * K
+        pdot = P[j + 6] * Y + P[j + 7] * N + P[j + 8] * K
+        # Euler-angle kinematics with zero pitch (Fossen 2011 eq. 2.29): the heeled body y-axis spans the
+        # horizontal by cos(phi), and the yaw rate about the heeled z-axis turns the heading by r cos(phi)
+        cphi = math.cos(phi)
+        vn, ve = ground_velocity(u, v * cphi, f[20], f[21], f[18], f[19])
+        psidot = r * cphi
+        phidot = p
+    else:
+        udot = X / P[lo.P_M11]
+        vdot = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
+        rdot = P[lo.P_MI32] * Y + P[lo.P_MI33] * N
+        psidot = r
+    xdot[lo.X_U] = udot
+    xdot[lo.X_V] = vdot
+    xdot[lo.X_R] = rdot
     xdot[lo.X_N] = vn
     xdot[lo.X_E] = ve
-    xdot[lo.X_PSI] = r
+    xdot[lo.X_PSI] = psidot
     xdot[lo.X_DELTA] = delta_dot
     xdot[lo.X_REV] = ndot
     xdot[lo.X_GOV] = gdot
     xdot[lo.X_CAM] = cdot
+    xdot[lo.X_PHI] = phidot
+    xdot[lo.X_P] = pdot

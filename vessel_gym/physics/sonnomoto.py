@@ -1,0 +1,70 @@
+"""Rudder and propeller inflow of Son & Nomoto (1982), as used by their high-speed container ship.
+
+Son, K.H. and Nomoto, K. (1982). On the coupled motion of steering and rolling of a high-speed container
+ship. Naval Architecture and Ocean Engineering 20, 73-83; as transcribed in Fossen's MSS ``container.m``.
+The two differ from the MMG standard (Yasukawa & Yoshimura 2015) in form, not in idea:
+
+* wake in a manoeuvre: 1 - w = 1 - w_P0 + tau ((v' + x'_P r')^2 + c_pv v' + c_pr r');
+* flow across the rudder: v'_R = gamma_R v' + c_Rr r' + c_Rrrr r'^3 + c_Rrrv r'^2 v' (a polynomial fitted to
+  captive tests, where MMG has gamma_R (v' + l'_R r'));
+* flow along the rudder: u_R = epsilon u_a sqrt(1 + 8 kappa K_T / (pi J^2)), i.e. momentum theory with the
+  propeller race contracted by kappa (MMG: eta, kappa, 1 + kappa (sqrt(...) - 1));
+* rudder normal force F_N = -1/2 rho A_R f_alpha (u_R^2 + v_R^2) sin(alpha_R), alpha_R = delta + atan(v_R/u_R),
+  with f_alpha = 6.13 Lambda/(Lambda + 2.25) (Fujii), and X_R = c_RX F_N sin(delta), Y_R = (1 + a_H) F_N
+  cos(delta), N_R = (x'_R + a'_H x'_H) L F_N cos(delta).
+
+Signs are vessel-gym's (and container.m's): delta > 0 turns the ship to starboard, F_N < 0 then.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from vessel_gym.physics import layout as lo
+
+
+@njit(cache=True)
+def son_nomoto_wake(P, u, v, r):
+    """Wake fraction w_P (-) in a manoeuvre: w_P0 - tau ((v' + x'_P r')^2 + c_pv v' + c_pr r') at the
+    velocities through the water u, v (m/s) and yaw rate r (rad/s); w_P0 at rest."""
+    U = math.sqrt(u * u + v * v)
+    if U < 1e-6:
+        return P[lo.P_WP0]
+    vp = v / U
+    rp = r * P[lo.P_L] / U
+    a = vp + P[lo.P_XP] * rp
+    return P[lo.P_WP0] - P[lo.P_SN_TAU] * (a * a + P[lo.P_SN_CPV] * vp + P[lo.P_SN_CPR] * rp)
+
+
+@njit(cache=True)
+def son_nomoto_rudder_forces(P, u, v, r, delta, u_a, thrust):
+    """Rudder forces (X_R, Y_R, N_R) in N, N, N m at midship for the advance speed ``u_a`` (m/s) and the
+    propeller thrust (N) of this instant.
+
+    The race speed u_R^2 = epsilon^2 (u_a^2 + 8 kappa T / (pi rho D^2)) is container.m's
+    (epsilon u_a)^2 (1 + 8 kappa K_T / (pi J^2)) written without the division by J (finite at n = 0 and
+    u_a = 0); the bracket is held at >= 0 when the propeller pulls astern.
+    """
+    U = math.sqrt(u * u + v * v)
+    Ue = max(U, P[lo.P_U_MIN])
+    L = P[lo.P_L]
+    vp = v / Ue
+    rp = r * L / Ue
+    vR = Ue * (
+        P[lo.P_SN_GAMMA] * vp
+        + P[lo.P_SN_CRR] * rp
+        + P[lo.P_SN_CRRRR] * rp * rp * rp
+        + P[lo.P_SN_CRRRV] * rp * rp * vp
+    )
+    D = P[lo.P_DP]
+    race = u_a * u_a + 8.0 * P[lo.P_KAPPA] * thrust / (math.pi * P[lo.P_RHO] * D * D)
+    uR = P[lo.P_EPS] * math.sqrt(max(race, 0.0))
+    alphaR = delta + math.atan2(vR, uR) if uR > 0.0 else delta
+    FN = -0.5 * P[lo.P_RHO] * P[lo.P_AR] * P[lo.P_FALPHA] * (uR * uR + vR * vR) * math.sin(alphaR)
+    c = math.cos(delta)
+    XR = P[lo.P_SN_CRX] * FN * math.sin(delta)
+    YR = (1.0 + P[lo.P_AH]) * FN * c
+    NR = (P[lo.P_XRP] + P[lo.P_AH] * P[lo.P_XHP]) * L * FN * c
+    return XR, YR, NR
