@@ -1,4 +1,5 @@
-"""MMG hull forces at any drift angle: the cross-flow model of Yoshimura, Nakao & Ishibashi (2009).
+"""Hull forces at any drift angle: the cross-flow model of Yoshimura, Nakao & Ishibashi (2009), for an MMG or an
+Abkowitz hull (its linear terms converted from the set, :func:`_abkowitz_linear_terms`).
 
 The MMG hull polynomial (hull.mmg_hull_forces; Yasukawa & Yoshimura 2015 eq. 8-10) is a Taylor fit to captive
 tests at small drift (|beta| <~ 20 deg) and moderate yaw rate. Outside that range its even terms run away: the
@@ -17,11 +18,12 @@ At 90 deg drift u = 0, so the surge force is X'_vr v r L only: no surge gain fro
 90 deg is -1/2 rho L d C_D v|v| (C_D is the hull's lateral drag coefficient on L d). Yaw damping N'_r r L |u|
 and the cross flow of a ship turning on the spot keep their sign in sternway, while the Munk moment N'_v v u and
 the lift Y'_r r L u reverse with u. X'_vr, Y'_v, Y'_r, N'_v, N'_r are the ship's MMG derivatives (MMG axes:
-the added-mass term (m + m_y) v r stays in the equations of motion, vessel.pack).
+the added-mass term (m + m_y) v r stays in the equations of motion, vessel.pack), or those converted from an
+Abkowitz set.
 
 Blend (our choice, documented in docs/physics.md): the published MMG set is used unchanged inside its fitted
-range and the cross-flow model outside it, with weight w = w_beta(chi) * w_r(|r'|) on the MMG forces,
-each a C1 smoothstep from 1 to 0 between two limits of the ship file ([large_drift]). A pure rotation at rest
+range and the cross-flow model outside it, with weight w = w_beta(chi) * w_r(|r'|) on the MMG forces (times w_u(|u'|) for an
+Abkowitz set in the surge perturbation u' = (u - U_ref)/U), each a C1 smoothstep from 1 to 0 between two limits of the ship file ([large_drift]). A pure rotation at rest
 (|r'| -> infinity) and any sternway (chi -> 180 deg) are pure cross-flow model. Every term is continuous through
 u = 0, v = 0 and chi = 90/180 deg, odd in (v, r) for Y and N and even for X (port/starboard mirror), and
 vanishes at rest.
@@ -41,7 +43,7 @@ from vessel_gym.physics.schema import SpecError, param
 
 @dataclass(frozen=True, kw_only=True)
 class LargeDrift:
-    """Ship-file table ``[large_drift]``: the cross-flow model for an MMG hull (docs/ship-file.md)."""
+    """Ship-file table ``[large_drift]``: the cross-flow model for an MMG or Abkowitz hull (docs/ship-file.md)."""
 
     model: str = param("yoshimura_2009", choices=("yoshimura_2009",), doc="Yoshimura, Nakao & Ishibashi (2009)")
     C_D: float = param(unit="-", lo=0.1, hi=2.0, doc="hull cross-flow drag coefficient at 90 deg drift, on 1/2 rho L d")
