@@ -237,8 +237,8 @@ def blend(P, u, v, r, X_mmg, Y_mmg, N_mmg):
 
 
 @njit(cache=True)
-def blend_abkowitz(P, u, v, r, X_p, Y_p, N_p, X_d, Y_d, N_d):
-    """An Abkowitz hull's polynomial forces (X_p, Y_p, N_p: hull, rudder terms, resistance curve and any
+def blend_abkowitz(P, u, v, r, w, X_p, Y_p, N_p, X_d, Y_d, N_d):
+    """With the polynomial's weight w (:func:`mmg_weight`, < 1), an Abkowitz hull's polynomial forces (X_p, Y_p, N_p: hull, rudder terms, resistance curve and any
     Hoerner cross-flow drag) inside its fitted range, outside it the cross-flow model plus the rudder.
 
     The rudder of a set with delta terms ([rudder] model = 'derivatives') goes with the hull polynomial; in
@@ -248,9 +248,6 @@ def blend_abkowitz(P, u, v, r, X_p, Y_p, N_p, X_d, Y_d, N_d):
     choice, as the MMG rudder does in reversed flow, docs/physics.md). Weights sum to one, so a Hoerner drag
     of the polynomial side and the model's C_D integral, the same cross-flow drag, are never added.
     Returns (X, Y, N) in N, N, N m."""
-    w = mmg_weight(P, u, v, r)
-    if w == 1.0:
-        return X_p, Y_p, N_p
     Xc, Yc, Nc = yoshimura_forces(P, u, v, r)
     L = P[lo.P_L]
     qd = P[lo.P_HULL_FNORM] * L * L * u * abs(u)

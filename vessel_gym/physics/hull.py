@@ -83,7 +83,9 @@ def abkowitz_forces(P, u, v, r, delta):
         Y += Yc
         N += Nc
     if P[lo.P_XF_ON] > 0.0:  # outside the polynomial's fitted range: cross-flow model (crossflow.py)
-        return crossflow.blend_abkowitz(P, u, v, r, X, Y, N, *_rudder_terms(P, delta))
+        w = crossflow.mmg_weight(P, u, v, r)
+        if w < 1.0:
+            return crossflow.blend_abkowitz(P, u, v, r, w, X, Y, N, *_rudder_terms(P, delta))
     return X, Y, N
 
 
