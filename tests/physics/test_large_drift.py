@@ -353,3 +353,37 @@ def test_rest_stays_rest_abkowitz(ship):
     sim.set_helm(rudder_order_rad=0.0, rev_order=0.0)
     sim.advance(600.0)
     assert abs(sim.u[0]) < 0.01 and abs(sim.v[0]) < 0.01
+
+
+@pytest.mark.parametrize("name", ["mariner", "dtc"])
+def test_abkowitz_dead_ship_in_beam_sea_drifts_to_leeward_without_headway(name):
+    """Engine stopped, rudder amidships, Hs 4 m, Tp 9 s on the port beam, 1800 s from rest: the ship drifts
+    east (leeward) at over 1 m/s; its speed along the original course (north) stays below 2 % of that (the
+    only surge force is the wave drift force's small surge component)."""
+    sim = Simulation(name, dt=0.5, environment=Environment(Hs_m=4.0, Tp_s=9.0, wave_from_deg=270.0))
+    sim.reset(speed_m_s=0.0)
+    sim.set_helm(rudder_order_rad=0.0, rev_order=0.0)
+    sim.advance(1800.0)
+    assert sim.alive[0]
+    c, s = math.cos(sim.heading[0]), math.sin(sim.heading[0])
+    east, north = sim.u[0] * s + sim.v[0] * c, sim.u[0] * c - sim.v[0] * s
+    assert sim.east[0] > 1000.0 and east > 1.0
+    assert abs(north) < 0.02 * east
+
+
+@pytest.mark.parametrize("name", ["mariner", "dtc"])
+def test_abkowitz_sternway_from_a_tiny_sway_of_either_sign_gives_mirrored_tracks(name):
+    """From rest at -60 rpm, rudder amidships, v = +-1e-6 m/s: astern the hull is pure cross-flow model (no
+    single-screw bias term, no propeller side force modelled), so the tracks mirror each other."""
+    out = []
+    for sign in (1.0, -1.0):
+        sim = Simulation(name, dt=0.5)
+        sim.reset(speed_m_s=0.0)
+        sim.state[0, lo.X_V] = sign * 1e-6
+        sim.set_helm(rudder_order_rad=0.0, rev_order=-1.0)
+        sim.advance(1800.0)
+        assert sim.alive[0] and sim.u[0] < -3.0
+        out.append((sim.north[0], sim.east[0], math.degrees(sim.heading[0]), sim.v[0], sim.r[0]))
+    (n1, e1, h1, v1, r1), (n2, e2, h2, v2, r2) = out
+    assert n2 == pytest.approx(n1, rel=1e-6)
+    assert (e2, h2, v2, r2) == pytest.approx((-e1, -h1, -v1, -r1), rel=1e-6, abs=1e-12)
