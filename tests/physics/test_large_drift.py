@@ -1,7 +1,8 @@
-"""The MMG hull at any drift angle: Yoshimura, Nakao & Ishibashi (2009) cross-flow model (physics/crossflow.py).
+"""The hull at any drift angle: Yoshimura, Nakao & Ishibashi (2009) cross-flow model (physics/crossflow.py), for
+the MMG hull (KVLCC2) and the Abkowitz hulls (Mariner, DTC).
 
 No digitised captive-test data over 0-180 deg drift with a citable table or figure could be obtained for the
-KVLCC2 or the Esso Osaka, so the oblique-towing sweep checks the formulation's published limits (straight ahead,
+KVLCC2, the Esso Osaka, the Mariner or a container ship, so the oblique-towing sweep checks the formulation's published limits (straight ahead,
 90 deg and straight astern, below) rather than measured forces; docs/physics.md says so.
 """
 
