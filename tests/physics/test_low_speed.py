@@ -133,17 +133,20 @@ def test_port_starboard_mirror_symmetry_ahead():
 @pytest.mark.parametrize("name", ["kvlcc2", "mariner", "dtc"])
 def test_dead_ship_in_beam_wind_drifts_to_leeward(name):
     """Engine stopped, rudder amidships, 20 m/s wind on the port beam (from the west, ship heading north):
-    the ship drifts to starboard (leeward) and gains no headway."""
+    the ship drifts to starboard (leeward) and gains no headway. Headway is the speed along the original course
+    (north): a bow that swings a degree or two while the ship drifts puts that share of the leeward drift into
+    the body-axis u (0.8 m/s x sin 1.5 deg = 0.02 m/s for the Mariner) without any motion ahead."""
     sim = Simulation(name, dt=0.1, environment=Environment(wind_speed_m_s=20.0, wind_from_deg=270.0))
     sim.reset(speed_m_s=0.0)
     sim.set_helm(rudder_order_rad=0.0, rev_order=0.0)
-    u = []
+    ahead = []
     for _ in range(60):
         sim.advance(10.0)
-        u.append(sim.u[0])
+        psi = sim.heading[0]
+        ahead.append(sim.u[0] * math.cos(psi) - sim.v[0] * math.sin(psi))
     assert sim.alive[0]
     assert sim.v[0] > 0.05 and sim.east[0] > 10.0
-    assert max(u) < 0.01  # m/s
+    assert max(ahead) < 0.01  # m/s
 
 
 def _broken_mariner(tmp_path: Path) -> Path:

@@ -1,4 +1,5 @@
-"""MMG hull forces at any drift angle: the cross-flow model of Yoshimura, Nakao & Ishibashi (2009).
+"""Hull forces at any drift angle: the cross-flow model of Yoshimura, Nakao & Ishibashi (2009), for an MMG or an
+Abkowitz hull (its linear terms converted from the set, :func:`_abkowitz_linear_terms`).
 
 The MMG hull polynomial (hull.mmg_hull_forces; Yasukawa & Yoshimura 2015 eq. 8-10) is a Taylor fit to captive
 tests at small drift (|beta| <~ 20 deg) and moderate yaw rate. Outside that range its even terms run away: the
@@ -17,11 +18,12 @@ At 90 deg drift u = 0, so the surge force is X'_vr v r L only: no surge gain fro
 90 deg is -1/2 rho L d C_D v|v| (C_D is the hull's lateral drag coefficient on L d). Yaw damping N'_r r L |u|
 and the cross flow of a ship turning on the spot keep their sign in sternway, while the Munk moment N'_v v u and
 the lift Y'_r r L u reverse with u. X'_vr, Y'_v, Y'_r, N'_v, N'_r are the ship's MMG derivatives (MMG axes:
-the added-mass term (m + m_y) v r stays in the equations of motion, vessel.pack).
+the added-mass term (m + m_y) v r stays in the equations of motion, vessel.pack), or those converted from an
+Abkowitz set.
 
 Blend (our choice, documented in docs/physics.md): the published MMG set is used unchanged inside its fitted
-range and the cross-flow model outside it, with weight w = w_beta(chi) * w_r(|r'|) on the MMG forces,
-each a C1 smoothstep from 1 to 0 between two limits of the ship file ([large_drift]). A pure rotation at rest
+range and the cross-flow model outside it, with weight w = w_beta(chi) * w_r(|r'|) on the MMG forces (times w_u(|u'|) for an
+Abkowitz set in the surge perturbation u' = (u - U_ref)/U), each a C1 smoothstep from 1 to 0 between two limits of the ship file ([large_drift]). A pure rotation at rest
 (|r'| -> infinity) and any sternway (chi -> 180 deg) are pure cross-flow model. Every term is continuous through
 u = 0, v = 0 and chi = 90/180 deg, odd in (v, r) for Y and N and even for X (port/starboard mirror), and
 vanishes at rest.
@@ -41,7 +43,7 @@ from vessel_gym.physics.schema import SpecError, param
 
 @dataclass(frozen=True, kw_only=True)
 class LargeDrift:
-    """Ship-file table ``[large_drift]``: the cross-flow model for an MMG hull (docs/ship-file.md)."""
+    """Ship-file table ``[large_drift]``: the cross-flow model for an MMG or Abkowitz hull (docs/ship-file.md)."""
 
     model: str = param("yoshimura_2009", choices=("yoshimura_2009",), doc="Yoshimura, Nakao & Ishibashi (2009)")
     C_D: float = param(unit="-", lo=0.1, hi=2.0, doc="hull cross-flow drag coefficient at 90 deg drift, on 1/2 rho L d")
@@ -58,14 +60,24 @@ class LargeDrift:
     cross_flow_r_prime_min: float = param(
         2.4, unit="-", lo=0.1, hi=10.0, doc="|r'| from which the cross-flow model is used alone"
     )
+    polynomial_u_prime_max: float = param(
+        0.8, unit="-", lo=0.0, hi=1.0, doc="Abkowitz hull with U_ref: |u'| up to which the polynomial is used"
+    )
+    cross_flow_u_prime_min: float = param(
+        1.0, unit="-", lo=0.05, hi=1.0, doc="Abkowitz hull with U_ref: |u'| from which the cross-flow model is used"
+    )
 
 
-def check(ld: LargeDrift, hull_model: str, where: str) -> None:
+def check(ld: LargeDrift, hull_model: str, where: str, resistance_N: float = 0.0) -> None:
     """Cross-key rules of ``[large_drift]``; a SpecError names the file and key."""
-    # a user's hull (an import path) replaces the built-in MMG hull, and with it this table, which then has no
-    # effect (a copied built-in file keeps working); an Abkowitz hull has its own nonlinear terms
-    if hull_model == "abkowitz":
-        raise SpecError(f"{where} [large_drift]: applies to [hull] model = 'mmg', not 'abkowitz'")
+    # a user's hull (an import path) replaces the built-in hull, and with it this table, which then has no
+    # effect (a copied built-in file keeps working)
+    if hull_model == "abkowitz" and resistance_N <= 0.0:
+        # the cross-flow model's surge force is the straight-ahead resistance turned with the flow angle
+        raise SpecError(
+            f"{where} [large_drift]: an Abkowitz hull needs [hull] resistance_N > 0 (the straight-ahead "
+            "resistance R'_0 of the cross-flow model)"
+        )
     if ld.cross_flow_drift_min_deg <= ld.mmg_drift_max_deg:
         raise SpecError(
             f"{where} [large_drift] cross_flow_drift_min_deg: {ld.cross_flow_drift_min_deg:g} deg must exceed "
@@ -76,10 +88,55 @@ def check(ld: LargeDrift, hull_model: str, where: str) -> None:
             f"{where} [large_drift] cross_flow_r_prime_min: {ld.cross_flow_r_prime_min:g} must exceed "
             f"mmg_r_prime_max = {ld.mmg_r_prime_max:g}"
         )
+    if ld.cross_flow_u_prime_min <= ld.polynomial_u_prime_max:
+        raise SpecError(
+            f"{where} [large_drift] cross_flow_u_prime_min: {ld.cross_flow_u_prime_min:g} must exceed "
+            f"polynomial_u_prime_max = {ld.polynomial_u_prime_max:g}"
+        )
+
+
+def _abkowitz_monomial(P: np.ndarray, e: tuple[int, int, int, int]) -> np.ndarray:
+    """(c_X, c_Y, c_N) of the Abkowitz monomial u'^e_u v'^e_v r'^e_r delta^e_d in a packed row (0 if absent)."""
+    for k in range(int(P[lo.P_ABK_NM])):
+        j = lo.P_ABK_M + lo.ABK_STRIDE * k
+        if tuple(int(x) for x in P[j : j + 4]) == e:
+            return P[j + 4 : j + 7].copy()
+    return np.zeros(3)
+
+
+def _abkowitz_linear_terms(P: np.ndarray) -> None:
+    """The cross-flow model's linear terms from a packed Abkowitz hull (its polynomial and resistance curve
+    already in ``P``), so that the two models have the same forces to first order in v and r at u = U_ref.
+
+    The Yoshimura form is written for equations of motion that carry (m + m_y) v r + x_G m r^2 in surge and
+    (m + m_x) u r, x_G m u r in sway and yaw (MMG axes). An Abkowitz set carries the rigid body's part of
+    these in its equations (coriolis = 'separate') or in its derivatives (Mariner: X_rv = m'). The surge v r
+    and sway u r terms have the form of X'_vr v r L and Y'_r r L u, so they are folded in: the converted
+    X'_vr, Y'_r are the set's total derivatives. The yaw u r term is split off: N'_r r L |u| is damping (the
+    hydrodynamic part), -x_G m u r is kinematics and reverses with u (P_XF_CNUR); likewise x_G m r^2 (P_XF_CXRR).
+    """
+    L, d = P[lo.P_L], P[lo.P_T]
+    # an Abkowitz coefficient on FNORM L^2 U^2 (L^3 for N) -> on 1/2 rho L d U^2 (L for N); rho is in FNORM
+    to_mmg = P[lo.P_HULL_FNORM] * L / (0.5 * P[lo.P_RHO] * d)
+    _, Y_v, N_v = _abkowitz_monomial(P, (0, 1, 0, 0))
+    _, Y_r, N_r = _abkowitz_monomial(P, (0, 0, 1, 0))
+    X_vr = _abkowitz_monomial(P, (0, 1, 1, 0))[0]
+    mxG = P[lo.P_MASS] * P[lo.P_XG]
+    q3 = 0.5 * P[lo.P_RHO] * L**3 * d  # turns a yaw coefficient in kg m into one on 1/2 rho L^2 d U^2, times L/U
+    P[lo.P_XF_R0] = P[lo.P_HULL_RES] / (0.5 * P[lo.P_RHO] * L * d)
+    P[lo.P_XF_XVR] = X_vr * to_mmg
+    P[lo.P_XF_YV] = Y_v * to_mmg
+    P[lo.P_XF_YR] = Y_r * to_mmg
+    P[lo.P_XF_NV] = N_v * to_mmg
+    # the set's N_r r L U holds -(x_G m - c_N,ur) u r of kinematics; the rest is hydrodynamic damping
+    P[lo.P_XF_NR] = N_r * to_mmg + (mxG - P[lo.P_CN_UR]) / q3
+    P[lo.P_XF_CNUR] = -(mxG - P[lo.P_CN_UR])
+    P[lo.P_XF_CXRR] = mxG - P[lo.P_CX_RR]
 
 
 def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
-    """Fill the ``[large_drift]`` fields of a parameter row (off when ``ld`` is None)."""
+    """Fill the ``[large_drift]`` fields of a parameter row (off when ``ld`` is None). Called after the hull
+    fields are packed: the linear terms are the MMG set's, or converted from the Abkowitz set."""
     if ld is None:
         P[lo.P_XF_ON] = 0.0
         return
@@ -88,6 +145,13 @@ def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
     P[lo.P_XF_BETA1] = math.radians(ld.mmg_drift_max_deg)
     P[lo.P_XF_BETA2] = math.radians(ld.cross_flow_drift_min_deg)
     P[lo.P_XF_RP1], P[lo.P_XF_RP2] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
+    P[lo.P_XF_UP1], P[lo.P_XF_UP2] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
+    if int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
+        _abkowitz_linear_terms(P)
+        return
+    P[lo.P_XF_R0], P[lo.P_XF_XVR] = P[lo.P_MMG_R0], P[lo.P_MMG_XVR]
+    P[lo.P_XF_YV], P[lo.P_XF_YR] = P[lo.P_MMG_YV], P[lo.P_MMG_YR]
+    P[lo.P_XF_NV], P[lo.P_XF_NR] = P[lo.P_MMG_NV], P[lo.P_MMG_NR]
 
 
 #: strips of the cross-flow integral (midpoint rule): the integrand |s| s is C1, so the error is O(1/N^2),
@@ -113,20 +177,21 @@ def cross_flow_integrals(v, rL, C_rY, C_rN):
 
 @njit(cache=True)
 def yoshimura_forces(P, u, v, r):
-    """Hull forces of the Yoshimura, Nakao & Ishibashi (2009) model (module docstring), midship origin.
-    Returns (X, Y, N) in N, N, N m."""
+    """Hull forces of the Yoshimura, Nakao & Ishibashi (2009) model (module docstring), midship origin, with the
+    linear terms :func:`pack` put in the row (and, for an Abkowitz hull, the kinematic x_G m terms its
+    equations of motion leave out). Returns (X, Y, N) in N, N, N m."""
     L = P[lo.P_L]
     U = math.sqrt(u * u + v * v)
     chi = math.atan2(abs(v), u) if U > 0.0 else 0.0
-    R0 = P[lo.P_MMG_R0]
+    R0 = P[lo.P_XF_R0]
     X0 = -(R0 + (P[lo.P_XF_R0A] - R0) * chi / math.pi)
     rL = r * L
     IY, IN = cross_flow_integrals(v, rL, P[lo.P_XF_CRY], P[lo.P_XF_CRN])
     CD = P[lo.P_XF_CD]
     q = 0.5 * P[lo.P_RHO] * L * P[lo.P_T]
-    X = q * (X0 * u * U + P[lo.P_MMG_XVR] * v * rL)
-    Y = q * (P[lo.P_MMG_YV] * v * abs(u) + P[lo.P_MMG_YR] * rL * u - CD * IY)
-    N = q * L * (P[lo.P_MMG_NV] * v * u + P[lo.P_MMG_NR] * rL * abs(u) - CD * IN)
+    X = q * (X0 * u * U + P[lo.P_XF_XVR] * v * rL) + P[lo.P_XF_CXRR] * r * r
+    Y = q * (P[lo.P_XF_YV] * v * abs(u) + P[lo.P_XF_YR] * rL * u - CD * IY)
+    N = q * L * (P[lo.P_XF_NV] * v * u + P[lo.P_XF_NR] * rL * abs(u) - CD * IN) + P[lo.P_XF_CNUR] * u * r
     return X, Y, N
 
 
@@ -143,7 +208,8 @@ def _fade(x, x1, x2):
 
 @njit(cache=True)
 def mmg_weight(P, u, v, r):
-    """Weight of the MMG polynomial in the blend (module docstring): 1 inside its fitted range."""
+    """Weight of the hull polynomial (MMG or Abkowitz) in the blend (module docstring): 1 inside its fitted
+    range."""
     U = math.sqrt(u * u + v * v)
     rL = abs(r) * P[lo.P_L]
     if U <= 0.0:
@@ -151,7 +217,12 @@ def mmg_weight(P, u, v, r):
     w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
     if w_beta == 0.0:
         return 0.0
-    return w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
+    w = w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
+    if P[lo.P_HULL_UREF] > 0.0 and int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
+        # an Abkowitz set in the surge perturbation u' = (u - U_ref)/U is fitted near U_ref (hull.abkowitz_forces)
+        Ue = max(U, P[lo.P_U_MIN])
+        w *= _fade(abs(u - P[lo.P_HULL_UREF]) / Ue, P[lo.P_XF_UP1], P[lo.P_XF_UP2])
+    return w
 
 
 @njit(cache=True)
@@ -163,3 +234,24 @@ def blend(P, u, v, r, X_mmg, Y_mmg, N_mmg):
         return X_mmg, Y_mmg, N_mmg
     Xc, Yc, Nc = yoshimura_forces(P, u, v, r)
     return w * X_mmg + (1.0 - w) * Xc, w * Y_mmg + (1.0 - w) * Yc, w * N_mmg + (1.0 - w) * Nc
+
+
+@njit(cache=True)
+def blend_abkowitz(P, u, v, r, w, X_p, Y_p, N_p, X_d, Y_d, N_d):
+    """With the polynomial's weight w (:func:`mmg_weight`, < 1), an Abkowitz hull's polynomial forces (X_p, Y_p, N_p: hull, rudder terms, resistance curve and any
+    Hoerner cross-flow drag) inside its fitted range, outside it the cross-flow model plus the rudder.
+
+    The rudder of a set with delta terms ([rudder] model = 'derivatives') goes with the hull polynomial; in
+    the cross-flow model it keeps the set's own rudder terms (X_d, Y_d, N_d: the sums of its pure delta
+    monomials, nondimensional) at the dynamic pressure of the flow along the ship, u|u| instead of U^2: a
+    rudder in reversed flow turns the ship the other way and one in pure cross flow gives no lift (our
+    choice, as the MMG rudder does in reversed flow, docs/physics.md). Weights sum to one, so a Hoerner drag
+    of the polynomial side and the model's C_D integral, the same cross-flow drag, are never added.
+    Returns (X, Y, N) in N, N, N m."""
+    Xc, Yc, Nc = yoshimura_forces(P, u, v, r)
+    L = P[lo.P_L]
+    qd = P[lo.P_HULL_FNORM] * L * L * u * abs(u)
+    Xc += qd * X_d
+    Yc += qd * Y_d
+    Nc += qd * L * N_d
+    return w * X_p + (1.0 - w) * Xc, w * Y_p + (1.0 - w) * Yc, w * N_p + (1.0 - w) * Nc

@@ -82,7 +82,27 @@ def abkowitz_forces(P, u, v, r, delta):
         Yc, Nc = cross_flow_drag(P, v, r)
         Y += Yc
         N += Nc
+    if P[lo.P_XF_ON] > 0.0:  # outside the polynomial's fitted range: cross-flow model (crossflow.py)
+        w = crossflow.mmg_weight(P, u, v, r)
+        if w < 1.0:
+            return crossflow.blend_abkowitz(P, u, v, r, w, X, Y, N, *_rudder_terms(P, delta))
     return X, Y, N
+
+
+@njit(cache=True)
+def _rudder_terms(P, delta):
+    """Sums (X, Y, N) of an Abkowitz set's pure rudder monomials c delta^e_d (no u', v', r'), nondimensional."""
+    Xd = 0.0
+    Yd = 0.0
+    Nd = 0.0
+    for k in range(int(P[lo.P_ABK_NM])):
+        j = lo.P_ABK_M + lo.ABK_STRIDE * k
+        if P[j] == 0.0 and P[j + 1] == 0.0 and P[j + 2] == 0.0 and P[j + 3] > 0.0:
+            m = delta ** int(P[j + 3])
+            Xd += P[j + 4] * m
+            Yd += P[j + 5] * m
+            Nd += P[j + 6] * m
+    return Xd, Yd, Nd
 
 
 CROSS_FLOW_STRIPS = 12

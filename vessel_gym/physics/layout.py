@@ -147,6 +147,18 @@ P_XF_BETA1 = _field("mmg_drift_max")  # flow angle up to which the MMG polynomia
 P_XF_BETA2 = _field("cross_flow_drift_min")  # flow angle from which the cross-flow model is used alone, rad
 P_XF_RP1 = _field("mmg_r_prime_max")  # |r'| up to which the MMG polynomial is used alone, -
 P_XF_RP2 = _field("cross_flow_r_prime_min")  # |r'| from which the cross-flow model is used alone, -
+# the model's linear terms on 1/2 rho L d U^2 (L for N), filled by crossflow.pack: the MMG set's, or converted
+# from an Abkowitz set; and the Coriolis terms an Abkowitz hull's equations leave to the hull forces
+P_XF_R0 = _field("xf_R_0")  # straight-ahead resistance coefficient, -
+P_XF_XVR = _field("xf_X_vr")
+P_XF_YV = _field("xf_Y_v")
+P_XF_YR = _field("xf_Y_r")
+P_XF_NV = _field("xf_N_v")
+P_XF_NR = _field("xf_N_r")
+P_XF_CXRR = _field("xf_C_X_rr")  # x_G m r^2 surge term not in the equations of motion, kg m
+P_XF_CNUR = _field("xf_C_N_ur")  # -x_G m u r yaw term not in the equations of motion, kg m
+P_XF_UP1 = _field("polynomial_u_prime_max")  # |u'| up to which an Abkowitz polynomial is used alone, -
+P_XF_UP2 = _field("cross_flow_u_prime_min")  # |u'| from which the cross-flow model is used alone, -
 
 # propeller (open water K_T, K_Q quadratics in J; wake, thrust deduction; MMG wake change in manoeuvres)
 P_PROP_ON = _field("has_propeller")

@@ -409,7 +409,7 @@ def parse_ship(data: dict, where: str, name: str = "") -> Ship:
                 f"{where} [hull] model: {model!r} is not one of 'abkowitz', 'mmg' or an import path 'pkg.module:Class'"
             )
         if "large_drift" in parts:
-            check_large_drift(parts["large_drift"], str(model), where)
+            check_large_drift(parts["large_drift"], str(model), where, getattr(hull, "resistance_N", 0.0))
         user += _component_list(data.get("components", []), where)
     except SpecError as exc:
         raise ShipFileError(str(exc)) from None
