@@ -20,9 +20,11 @@ from pathlib import Path
 
 import pytest
 from cfd_fake_foam import FakeFoam, fake_environment
-from test_cfd_pipeline import study
+from test_cfd_pipeline import DATA, study
 
-from cfd import runner
+from cfd import raycases, runner
+from cfd.cli import main
+from cfd.errors import CfdError
 from cfd.pipeline import DONE, Pipeline
 from cfd.runner import Progress
 
@@ -39,6 +41,11 @@ hang = case.parent.parent / "hang_in"  # names the case being solved when Ctrl-C
 if hang.is_file() and hang.read_text() == case.name:
     (case.parent.parent / "solver.pid").write_text(str(os.getpid()))
     time.sleep(120)
+fail = case.parent.parent / "fail_in"  # names a case whose solver crashes
+if fail.is_file() and fail.read_text() == case.name:
+    print("--> FOAM FATAL ERROR: ")
+    print("stand-in crash for the test")
+    sys.exit(3)
 FakeFoam()([{app!r}], case, {app!r})
 """
 
@@ -146,3 +153,34 @@ def test_ctrl_c_cancels_the_tasks_stops_the_solver_and_keeps_finished_cases(tmp_
     runner.STOP.clear()
     Pipeline(s, Progress(quiet=True), plots=False).run()
     assert {name for app, name in fake.calls if app == "simpleFoam"} == {"drift_b06.00"}
+
+
+def test_a_failed_task_reports_the_case_error_as_a_local_run_does(tmp_path, monkeypatch, local_ray):
+    s = study(tmp_path, tests="drift", speeds="1.0", drift_deg="3,6")
+    fake_environment(monkeypatch, HereFoam())
+    s.out.mkdir(parents=True)
+    (s.out / "fail_in").write_text("drift_b06.00")
+    with pytest.raises(CfdError) as err:
+        Pipeline(s, Progress(quiet=True), plots=False, ray="local").run()
+    text = str(err.value)
+    assert "simpleFoam (drift beta=6 deg)" in text and "exited with code 3" in text and "FOAM FATAL" in text
+
+
+def test_an_unreachable_ray_address_is_one_line_and_exit_2(tmp_path, monkeypatch, capsys):
+    def refuse(**kw):
+        raise ConnectionError("could not find any running Ray instance")
+
+    fake_environment(monkeypatch, HereFoam())
+    monkeypatch.setattr(
+        raycases,
+        "_ray",
+        lambda: type("R", (), {"is_initialized": staticmethod(lambda: False), "init": staticmethod(refuse)}),
+    )
+    args = ["run", "--hull", "wigley", "--lpp", "1", "--bwl", "0.1", "--tm", "0.0625", "--tests", "drift"]
+    args += ["--out", str(tmp_path / "out"), "--template", str(DATA / "small_ship.toml"), "--scale-to", "cfd"]
+    assert main([*args, "--ray", "nowhere:6379"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "vessel-cfd: error: ray: cannot connect to the Ray cluster at 'nowhere:6379': "
+        "could not find any running Ray instance"
+    ]
