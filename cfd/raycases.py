@@ -15,6 +15,8 @@ finished cases keep their markers and a rerun skips them.
 
 from __future__ import annotations
 
+import signal
+import threading
 import time
 from typing import TYPE_CHECKING, Any
 
@@ -41,6 +43,10 @@ def connect(address: str, procs: int) -> int:
     this process is already connected; return the cluster's CPU count."""
     ray = _ray()
     if not ray.is_initialized():
+        main = threading.current_thread() is threading.main_thread()
+        # ray.init makes SIGTERM exit the process; the CLI's own handlers (SIGTERM as Ctrl-C, which stops
+        # the solvers and keeps finished cases) are put back
+        handlers = {sig: signal.getsignal(sig) for sig in (signal.SIGINT, signal.SIGTERM)} if main else {}
         try:
             if address == "local":
                 ray.init(num_cpus=procs, include_dashboard=False, log_to_driver=True)
@@ -48,6 +54,10 @@ def connect(address: str, procs: int) -> int:
                 ray.init(address=address, include_dashboard=False, log_to_driver=True)
         except (ConnectionError, ValueError, RuntimeError) as exc:
             raise InputError("ray", f"cannot connect to the Ray cluster at {address!r}: {exc}") from None
+        finally:
+            for sig, handler in handlers.items():
+                if handler is not None:
+                    signal.signal(sig, handler)
     return max(1, int(ray.cluster_resources().get("CPU", 1)))
 
 

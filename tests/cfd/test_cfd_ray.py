@@ -184,3 +184,29 @@ def test_an_unreachable_ray_address_is_one_line_and_exit_2(tmp_path, monkeypatch
         "vessel-cfd: error: ray: cannot connect to the Ray cluster at 'nowhere:6379': "
         "could not find any running Ray instance"
     ]
+
+
+def test_joining_ray_keeps_the_signal_handlers_that_stop_the_solvers(monkeypatch):
+    def init(**kw):  # as ray.init does: SIGTERM would exit the process without stopping the solvers
+        signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(signum))
+
+    fake_ray = type(
+        "R",
+        (),
+        {
+            "is_initialized": staticmethod(lambda: False),
+            "init": staticmethod(init),
+            "cluster_resources": staticmethod(lambda: {"CPU": 3.0}),
+        },
+    )
+    monkeypatch.setattr(raycases, "_ray", lambda: fake_ray)
+
+    def as_ctrl_c(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, as_ctrl_c)
+    try:
+        assert raycases.connect("local", 1) == 3
+        assert signal.getsignal(signal.SIGTERM) is as_ctrl_c
+    finally:
+        signal.signal(signal.SIGTERM, previous)
