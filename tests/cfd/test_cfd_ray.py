@@ -74,9 +74,11 @@ def local_ray(tmp_path_factory):
     # 2 Ray CPUs (a resource count, not cores) so that the case that hangs does not hold back the others
     pythonpath = os.pathsep.join([str(TESTS), str(ROOT), os.environ.get("PYTHONPATH", "")])
     env = {"PATH": path, "PYTHONPATH": pythonpath}
+    sigterm = signal.getsignal(signal.SIGTERM)  # ray.init replaces it with an exit
     ray.init(num_cpus=2, include_dashboard=False, runtime_env={"env_vars": env})
     yield bindir
     ray.shutdown()
+    signal.signal(signal.SIGTERM, sigterm)
 
 
 @pytest.fixture(autouse=True)
