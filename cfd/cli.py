@@ -137,6 +137,7 @@ def _parser() -> _Parser:
     for opt, text in RUN_OPTIONS:
         run.add_argument(f"--{opt}", help=_run_help(opt, text))
     run.add_argument("--quiet", action="store_true", help="no progress lines")
+    run.add_argument("--ray", metavar="ADDRESS", help="run the cases as tasks on a Ray cluster (or 'local')")
     grid = sub.add_parser(
         "study", help="grid study: the study at three gradings, Richardson extrapolation and GCI"
     )
@@ -204,14 +205,11 @@ def _study(args: argparse.Namespace) -> Study:
 def _run(args: argparse.Namespace) -> int:
     raw = {opt.replace("-", "_"): getattr(args, opt.replace("-", "_")) for opt, _ in RUN_OPTIONS}
     raw = {k: v for k, v in raw.items() if v is not None}
-    if args.study:
-        study = load_study_file(args.study, raw)
-    else:
-        study = build_study(raw)
-    return _execute(study, quiet=args.quiet)
+    study = load_study_file(args.study, raw) if args.study else build_study(raw)
+    return _execute(study, quiet=args.quiet, ray=args.ray)
 
 
-def _execute(study: Study, quiet: bool = False) -> int:
+def _execute(study: Study, quiet: bool = False, ray: str | None = None) -> int:
     from .pipeline import Pipeline  # noqa: PLC0415 - keeps `vessel-cfd --help` light
     from .runner import Progress  # noqa: PLC0415
 
@@ -220,7 +218,7 @@ def _execute(study: Study, quiet: bool = False) -> int:
     except OSError as exc:
         raise InputError("out", f"cannot create directory {study.out} ({exc.strerror or exc})") from None
 
-    result = Pipeline(study, Progress(quiet=quiet)).run()
+    result = Pipeline(study, Progress(quiet=quiet), ray=ray).run()
     d = result.derivatives
     print(f"ship file: {result.ship_file}")
     print(f"report:    {result.report_dir}")

@@ -86,8 +86,12 @@ def _latest_time(case: Path) -> Path:
 class Pipeline:
     """Runs a :class:`~cfd.config.Study` end to end. ``run()`` returns a :class:`StudyResult`."""
 
-    def __init__(self, study: Study, progress: Progress | None = None, plots: bool = True) -> None:
+    def __init__(
+        self, study: Study, progress: Progress | None = None, plots: bool = True, ray: str | None = None
+    ) -> None:
         self.study = study
+        self.ray = ray  # a Ray cluster's address ("local": one on this machine) for the independent cases
+        self.cpus = study.procs  # CPUs the cases share (a Ray cluster's, with ray)
         self.plots = plots
         self.progress = progress or Progress()
         self.out = Path(study.out)
@@ -101,6 +105,16 @@ class Pipeline:
         self._count = threading.Lock()
         self._reached = 0  # cases started or found done, for "case k of n"
         self._solved: list[float] = []  # wall times of the solver cases run so far (for the ETA)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Sent to a Ray task (cfd.raycases) without its lock; it gets a new one on arrival."""
+        state = dict(self.__dict__)
+        del state["_count"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._count = threading.Lock()
 
     # ------------------------------------------------------------------ hull and mesh
     def prepare_hull(self) -> PlacedHull:
@@ -332,36 +346,36 @@ class Pipeline:
                 log,
             )
 
-    def _run_job(self, job: Job, procs: int) -> dict[str, Any]:
+    def skip(self, job: Job) -> dict[str, Any] | None:
+        """The summary of ``job`` if its case finished before with the same inputs (done marker), else None."""
         case = self.cases / job.name
         marker = case / DONE
-        key = _hash(job.key)
-        if marker.is_file():
-            try:
-                done = json.loads(marker.read_text())
-            except (OSError, json.JSONDecodeError):
-                done = {}
-            if done.get("key") == key:
-                self.progress(job.label, f"{self._case_number()} already done ({case.name}), skipped")
-                self.wall[job.name] = float(done.get("wall_s", 0.0))
-                return done.get("summary", {})
+        if not marker.is_file():
+            return None
+        try:
+            done = json.loads(marker.read_text())
+        except (OSError, json.JSONDecodeError):
+            return None
+        if done.get("key") != _hash(job.key):
+            return None
+        self.progress(job.label, f"{self.case_number()} already done ({case.name}), skipped")
+        self.wall[job.name] = float(done.get("wall_s", 0.0))
+        return done.get("summary", {})
+
+    def execute(self, job: Job, procs: int) -> tuple[dict[str, Any], float]:
+        """Run ``job`` in a fresh case folder and write its done marker: (summary, wall time in s). The whole
+        of a case's work, so that it can run in a thread here or as a task elsewhere (cfd.raycases)."""
+        case = self.cases / job.name
         if case.exists():
             shutil.rmtree(case)
         case.mkdir(parents=True)
-        number = self._case_number()
-        self.progress(job.label, f"{number} started in {case}")
         t0 = time.monotonic()
         summary = job.action(job, case, procs)
         wall = time.monotonic() - t0
-        self.wall[job.name] = wall
-        if job.kind != "mesh":
-            with self._count:
-                self._solved.append(wall)
-        self.progress(job.label, f"{number} finished in {wall:.0f} s{self._eta()}")
-        marker.write_text(
+        (case / DONE).write_text(
             json.dumps(
                 {
-                    "key": key,
+                    "key": _hash(job.key),
                     "wall_s": wall,
                     "finished": time.strftime("%Y-%m-%d %H:%M:%S"),
                     "summary": summary,
@@ -370,9 +384,27 @@ class Pipeline:
                 default=str,
             )
         )
+        return summary, wall
+
+    def finished(self, job: Job, number: str, wall: float) -> None:
+        """Book a finished case: its wall time, the ETA, the progress line."""
+        self.wall[job.name] = wall
+        if job.kind != "mesh":
+            with self._count:
+                self._solved.append(wall)
+        self.progress(job.label, f"{number} finished in {wall:.0f} s{self._eta()}")
+
+    def _run_job(self, job: Job, procs: int) -> dict[str, Any]:
+        done = self.skip(job)
+        if done is not None:
+            return done
+        number = self.case_number()
+        self.progress(job.label, f"{number} started in {self.cases / job.name}")
+        summary, wall = self.execute(job, procs)
+        self.finished(job, number, wall)
         return summary
 
-    def _case_number(self) -> str:
+    def case_number(self) -> str:
         with self._count:
             self._reached += 1
             return f"case {self._reached} of {len(self.jobs)}"
@@ -383,7 +415,7 @@ class Pipeline:
             left = len(self.jobs) - self._reached
             if not left or not self._solved:
                 return ""
-            side_by_side = max(1, self.study.procs // self.per_case_procs)
+            side_by_side = max(1, self.cpus // self.per_case_procs)
             eta = left * (sum(self._solved) / len(self._solved)) / min(side_by_side, left)
         return f"; {left} to go, ETA {eta / 60.0:.1f} min"
 
@@ -466,6 +498,11 @@ class Pipeline:
         t0 = time.monotonic()
         STOP.clear()
         check_openfoam(parallel=s.mesh_procs > 1)
+        if self.ray is not None:  # connected before the mesh: a wrong address fails at once
+            from .raycases import connect  # noqa: PLC0415 - Ray is an optional extra
+
+            self.cpus = connect(self.ray, s.procs)
+            self.progress("ray", f"connected to {self.ray}: {self.cpus} CPUs for the cases")
         self.progress("hull", f"preparing {s.hull}")
         hull = self.prepare_hull()
         h = hull.hydro
@@ -498,7 +535,11 @@ class Pipeline:
             self.progress("solver", "mpirun/decomposePar not found: cases run serially side by side")
             self.per_case_procs = 1
         base.summary = self._run_job(base, self.per_case_procs)
-        if later:
+        if later and self.ray is not None:
+            from .raycases import run_on_ray  # noqa: PLC0415
+
+            run_on_ray(self, later)
+        elif later:
             self._run_parallel(later)
         self.wall["total"] = time.monotonic() - t0
         return self.finish()
