@@ -346,3 +346,44 @@ def test_link_client_answers_the_handshake_and_commands_in_its_session():
     finally:
         link.close()
         server.close()
+
+
+def test_viewer_heels_the_container_ship_from_a_real_link():
+    """End to end without a browser: the 4-DOF container ship 30 s into a 35 deg starboard turn, its bridge
+    reading served by a real UdpLink; the viewer's link client receives roll_deg (the simulation's heel,
+    outward in the turn, to port) and the viewer places the ship node heeled by it."""
+    from types import SimpleNamespace
+
+    from vessel_gym.net.link import LinkConfig, UdpLink
+    from vessel_gym.physics.simulation import Simulation
+    from vessel_gym.ui.view3d import Viewer3D
+
+    sim = Simulation("container", dt=0.1)
+    sim.reset(speed_m_s=sim.ship(0).test_speed_m_s)
+    sim.set_helm(rudder_order_rad=math.radians(35.0))
+    sim.advance(30.0)
+    own = sim.bridge(0)
+    assert own.roll_deg < -3.0  # the outward heel of the turn (docs/manoeuvres.md: -7.9 deg at 28.9 s)
+    with UdpLink(LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=())) as link:
+        client = V.LinkClient(link.json_address, 20.0, "t", None)
+        try:
+            deadline = time.monotonic() + 5.0
+            while time.monotonic() < deadline:
+                client.poll(time.monotonic())
+                link.service(sim.t, own)
+                client.poll(time.monotonic())
+                if client.state and "roll_deg" in client.state:
+                    break
+                time.sleep(0.02)
+            st = client.state
+        finally:
+            client.close()
+    assert st["roll_deg"] == pytest.approx(own.roll_deg, abs=0.005)
+    assert st["roll_rate_dps"] == pytest.approx(own.roll_rate_dps, abs=5e-4)
+    viewer = Viewer3D.__new__(Viewer3D)
+    frame = SimpleNamespace(position=None, wxyz=None)
+    viewer._ships = {0: frame}
+    viewer._place(0, st)
+    assert frame.wxyz == pytest.approx(V.attitude_wxyz(st["hdg_deg"], st["roll_deg"]))
+    # the starboard side (ship node +x) is up: heeled to port
+    assert _rotate(frame.wxyz, (1, 0, 0))[2] == pytest.approx(math.sin(math.radians(-st["roll_deg"])), abs=1e-9)
