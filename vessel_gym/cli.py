@@ -175,6 +175,14 @@ def build_parser() -> argparse.ArgumentParser:
         "imo_<ship>.html in DIR, or the named HTML or PDF file",
     )
     imo.add_argument("--force", action="store_true", help="replace existing plot and report files")
+    imo.add_argument(
+        "--heel-limit",
+        type=_finite("--heel-limit", 0.1, 89.9),
+        default=None,
+        metavar="DEG",
+        help="also hold the largest heel of the 35 deg turning test to DEG (ships with roll only; the 2008 IS "
+        "Code Part A 3.1.3 guidance for passenger ships is 10)",
+    )
     _add_depth(imo)
 
     man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
@@ -441,14 +449,19 @@ def _cmd_imo(args) -> int:
 
     ship = load_ship(args.ship)
     env = _environment(args, ship)
+    if args.heel_limit is not None and ship.roll is None:
+        raise UsageError(
+            f"vessel-gym imo: --heel-limit: ship {ship.name!r} has no roll (no [roll] table), so no heel"
+        )
     plot_out = report_file = None
     plot_is_dir = False
     # every output is checked before the trials run, so a refusal costs nothing
     if args.plot:
-        from vessel_gym.manoeuvres.plots import REPORT_PLOTS
+        from vessel_gym.manoeuvres.plots import report_plot_names
 
         plot_out, plot_is_dir = output_target(args.plot, (".pdf",), "--plot")
-        files = [plot_out / f"{stem}.png" for stem in REPORT_PLOTS] if plot_is_dir else [plot_out]
+        stems = report_plot_names(ship)
+        files = [plot_out / f"{stem}.png" for stem in stems] if plot_is_dir else [plot_out]
         check_free(files, args.force, "--plot")
     if args.report:
         from vessel_gym.manoeuvres.report import report_name
@@ -458,7 +471,12 @@ def _cmd_imo(args) -> int:
         check_free([report_file], args.force, "--report")
         if plot_out is not None and not plot_is_dir and plot_out.resolve() == report_file.resolve():
             raise UsageError(f"vessel-gym imo: --plot and --report both name {str(report_file)!r}")
-    report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None, **env)
+    report = imo_report(
+        ship,
+        with_pull_out=plot_out is not None or report_file is not None,
+        heel_limit_deg=args.heel_limit,
+        **env,
+    )
     written = []
     if plot_out is not None or report_file is not None:
         from vessel_gym.manoeuvres.plots import plot_report, report_pngs

@@ -38,6 +38,14 @@ REPORT_PLOTS = {
     "stopping": "Full-astern stopping",
     "pull_out": "Pull-out",
 }
+# the plot a ship with roll adds to its report (file stem -> title)
+ROLL_PLOTS = {"roll": "Heel"}
+
+
+def report_plot_names(ship) -> dict[str, str]:
+    """The plot files of ``ship``'s IMO report (file stem -> title): :data:`REPORT_PLOTS`, and
+    :data:`ROLL_PLOTS` for a ship with roll."""
+    return {**REPORT_PLOTS, **(ROLL_PLOTS if ship is not None and ship.roll is not None else {})}
 
 
 def _plt():
@@ -440,7 +448,8 @@ def figure_pull_out(po: PullOut, title: str):
 
 
 def report_figures(report: ImoReport):
-    """``(stem, figure)`` for each of the report's plots whose trials ran (names of :data:`REPORT_PLOTS`)."""
+    """``(stem, figure)`` for each of the report's plots whose trials ran (names of
+    :func:`report_plot_names`)."""
     t = report.trials
     head = f"{report.ship} at {report.V_kn:.1f} kn (L = {report.L_m:g} m, L/V = {report.L_over_V_s:.1f} s)"
     sides = ("starboard", "port")
@@ -473,6 +482,40 @@ def report_figures(report: ImoReport):
             "pull_out",
             figure_pull_out(t["pull_out"], f"Pull-out, {t['pull_out'].rudder_deg:g} deg: {head}"),
         )
+    if report.spec is not None and report.spec.roll is not None:
+        names = {"turning": "35 deg turning test", "zigzag_10": "10/10 zig-zag", "zigzag_20": "20/20 zig-zag"}
+        panels = [(nm, [t[f"{k}_{s}"] for s in sides if f"{k}_{s}" in t]) for k, nm in names.items()]
+        panels = [p for p in panels if p[1]]
+        if panels:
+            crit = report.criteria_named("heel_in_turn")
+            yield "roll", figure_roll(panels, crit, f"Heel: {head}")
+
+
+def figure_roll(panels: Sequence[tuple[str, Sequence]], criteria: Sequence[Criterion], title: str):
+    """Heel against time, one panel per ``(name, trials)`` (turning circles, zig-zags), both sides; with
+    heel criteria (``heel_in_turn``), the limit drawn at +-limit on the turning panel and the verdicts."""
+    plt = _plt()
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9.0, 2.8 * len(panels)), squeeze=False)
+    for ax, (name, trials) in zip(axes[:, 0], panels):
+        for tr in trials:
+            side = _side(tr.rudder_deg)
+            colour, ls = SIDE_STYLE[side]
+            a = tr.track.arrays()
+            ax.plot(a["t"], np.degrees(a["phi"]), ls, color=colour, label=f"to {side}")
+        if isinstance(trials[0], TurningCircle) and criteria:
+            lim = criteria[0].limit
+            for y in (lim, -lim):
+                _limit_hline(ax, y, f"heel limit {lim:g} deg", 1.1)
+            _verdict_box(ax, criteria, "lower right")
+        ax.axhline(0.0, color="0.5", lw=0.6, ls=":")
+        _nice_ticks(ax)
+        ax.set_ylabel("heel (deg, stbd down +)")
+        ax.set_xlabel("time (s)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper right", fontsize=7.5, frameon=False)
+        ax.set_title(name, fontsize=9, loc="left")
+    fig.suptitle(title)
+    return fig
 
 
 def figure_for(result, title: str, ship=None):

@@ -559,6 +559,8 @@ class Simulation(Helm):
         vn, ve = ground_velocity(u, v, math.cos(psi), math.sin(psi), cur_n, cur_e)
         lat, lon = local_to_latlon(self.north[k], self.east[k], *self.reference_latlon_deg)
         e = self.environments[k]
+        x = self.state[k]
+        has_roll = self.Ps[self.ship_index[k]][lo.P_ROLL_ON] > 0.0
         return BridgeReading(
             t_s=self.t,
             x_m=float(self.north[k]),
@@ -579,6 +581,8 @@ class Simulation(Helm):
             wind_rel_speed_kn=float(f["V_rw"] / KNOT_M_S),
             wind_true_dir_deg=wrap_deg(e.wind_from_deg),
             wind_true_speed_kn=e.wind_speed_m_s / KNOT_M_S,
+            roll_deg=float(math.degrees(x[lo.X_PHI])) if has_roll else None,
+            roll_rate_dps=float(math.degrees(x[lo.X_P])) if has_roll else None,
         )
 
 
