@@ -63,7 +63,13 @@ def test_harbour_verdict_and_table() -> None:
     seeds5 = _row("ppo (5 seeds)", True, success_rate=0.9, success_rate_median=0.95, seeds=5, **extra)
     seeds5["summary"]["outcomes"] = {"success": 90, "timeout": 10}
     v = results.verdict("harbour", [pid, seeds5])
-    assert "Median success over its 5 seeds: 95 % (goal ≥ 90 %: met)" in v
+    assert "`ppo (5 seeds)` median 95 % over 5 seeds, 10.0 min wall (3.3 min CPU) per seed: **met**" in v
+    short = _row("bc (5 seeds)", True, success_rate=0.7, success_rate_median=0.75, seeds=5, **extra)
+    short["summary"]["outcomes"] = {"success": 70, "timeout": 30}
+    v = results.verdict("harbour", [pid, seeds5, short])
+    assert "`bc (5 seeds)` median 75 % over 5 seeds" in v and "**not met**, 15 points short" in v
+    seeds5["training"]["train_time_s"] = 1500.0  # 25 min: over the goal's 20-minute limit
+    assert "per seed: not met: too slow to train" in results.verdict("harbour", [pid, seeds5])
     assert "contact 15, success 5" in results.table("harbour", [pid, rl])
 
 
