@@ -168,7 +168,7 @@ def markdown(results: dict[str, Any]) -> str:
         "CPU time in brackets does not). Training budget "
         f"{budget} per run; {results['episodes']} evaluation episodes per agent from the test seed set, "
         f"episode i from `reset(seed={results['eval_seed']} + i)` for every agent. Baselines: mean ± "
-        "standard deviation over the episodes. Trained agents: one row per algorithm, mean ± standard "
+        "standard deviation over the episodes. Trained agents: one row per method, mean ± standard "
         f"deviation over the {results.get('seeds', 1)} training seeds of each seed's mean over the episodes "
         "(train steps and times: per seed). Learning curves: `curves/` next to `results.json`.",
         "",
