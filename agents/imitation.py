@@ -92,7 +92,7 @@ def _fit(policy: Any, obs: np.ndarray, act: np.ndarray, epochs: int, batch: int,
             optimizer.zero_grad()
             loss.backward()
             optimizer.step()
-            loss_sum += float(loss) * len(idx)
+            loss_sum += loss.item() * len(idx)
             count += len(idx)
         loss_sum /= max(count, 1)
     return loss_sum
