@@ -187,10 +187,10 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._reset_done = False
 
     def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
-        for k in idx:
-            self.task.reset_vessel(int(k), self._rngs[k], options)
-            self._steps[k] = 0
-            if self.render_mode is not None and k < len(self._tracks):
+        self.task.reset_vessels(idx, options)
+        self._steps[idx] = 0
+        if self.render_mode is not None:
+            for k in idx[idx < len(self._tracks)].tolist():
                 self._tracks[k] = [(float(self.sim.north[k]), float(self.sim.east[k]))]
 
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
