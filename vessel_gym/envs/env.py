@@ -134,6 +134,60 @@ class ShipEnv(_Renders, gym.Env):
         self._close_renderer()
 
 
+def _check_seeds(seeds: Sequence[int | None]) -> None:
+    """Refuse a seed that ``seeding.np_random`` refuses now, not at the generator's first use."""
+    bad = [s for s in seeds if s is not None and not (isinstance(s, int) and s >= 0)]
+    if bad:
+        seeding.np_random(bad[0])  # raises gymnasium's error for it
+        raise ValueError(f"seed must be None or an int >= 0, got {bad[0]!r}")
+
+
+class _FirstUse:
+    """Vessel k's generator, made when an attribute of it (a draw) is first asked for."""
+
+    __slots__ = ("_gens", "_k")
+
+    def __init__(self, gens: VesselGenerators, k: int) -> None:
+        self._gens, self._k = gens, k
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._gens[self._k], name)
+
+
+class VesselGenerators(Sequence):
+    """The vessels' random generators, vessel k's made from its seed (``gymnasium.utils.seeding.np_random``,
+    None: fresh entropy) when first used: a numpy Generator costs 20-100 us to make, and a reset that draws
+    nothing (a fixed start) then makes none. Nothing draws from a generator before it is made, so its stream
+    is the one a generator made at the reset gives."""
+
+    def __init__(self, seeds: Sequence[int | None]) -> None:
+        _check_seeds(seeds)
+        self._seeds = list(seeds)
+        self._made: list[np.random.Generator | None] = [None] * len(self._seeds)
+
+    def __len__(self) -> int:
+        return len(self._seeds)
+
+    def __getitem__(self, k):  # type: ignore[override]
+        g = self._made[k]
+        if g is None:
+            g = self._made[k] = seeding.np_random(self._seeds[k])[0]
+        return g
+
+    def lazy(self, k: int) -> Any:
+        """Vessel k's generator as a stand-in that makes it at its first draw (a reset that draws nothing makes
+        none)."""
+        return self._made[k] or _FirstUse(self, k)
+
+    def reseed(self, seeds: Sequence[int | None]) -> None:
+        """New generators (made when used) for the vessels whose seed is not None."""
+        _check_seeds(seeds)
+        for i, s in enumerate(seeds):
+            if s is not None:
+                self._seeds[i] = s
+                self._made[i] = None
+
+
 # --- native vector environment ---------------------------------------------------------------------------------
 class ShipVectorEnv(_Renders, VectorEnv):
     """Base of the native vector environments: N vessels in one simulation, stepped in one batched call.
@@ -178,7 +232,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.single_observation_space = self.task.layout.space()
         self.observation_space = batch_space(self.single_observation_space, num_envs)
-        self._rngs: list[np.random.Generator] | None = None
+        self._rngs: VesselGenerators | None = None
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._needs_reset = np.zeros(num_envs, dtype=np.bool_)
         self._all_reset = np.full(num_envs, PHASE_RESET, dtype=np.int8)
@@ -205,11 +259,9 @@ class ShipVectorEnv(_Renders, VectorEnv):
             if len(seeds) != n:
                 raise ValueError(f"seed list must have {n} entries, got {len(seeds)}")
         if self._rngs is None:
-            self._rngs = [seeding.np_random(s)[0] for s in seeds]
+            self._rngs = VesselGenerators(seeds)
         else:
-            for i, s in enumerate(seeds):
-                if s is not None:
-                    self._rngs[i] = seeding.np_random(s)[0]
+            self._rngs.reseed(seeds)
         self.task.rngs = self._rngs
         opts = dict(options) if options else {}
         mask = opts.pop("reset_mask", None)

@@ -139,15 +139,15 @@ class Task(abc.ABC):
         """Reset the vessels ``idx``: vessel k by :meth:`reset_vessel` with its generator ``rngs[k]``, so each
         draws exactly what a lone reset draws, and the simulation's starts (:meth:`start`) gathered into one
         batched ``Simulation.reset`` (numpy over the vessels, one steady-state solve per distinct approach)."""
-        rngs = self.rngs
+        rng = getattr(self.rngs, "lazy", self.rngs.__getitem__)  # lazy: made at a first draw (env.py)
         if len(idx) == 1:
             k = int(idx[0])
-            self.reset_vessel(k, rngs[k], options)
+            self.reset_vessel(k, rng(k), options)
             return
         self._starts = starts = ([], [], [], [], [])
         try:
             for k in idx.tolist():
-                self.reset_vessel(k, rngs[k], options)
+                self.reset_vessel(k, rng(k), options)
         finally:
             self._starts = None
         if not starts[0]:  # a task that resets the simulation itself
