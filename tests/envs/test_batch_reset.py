@@ -9,6 +9,7 @@ import pytest
 from gymnasium.utils import seeding
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
+from vessel_gym.envs.generators import VesselGenerators, pcg64_seed_words
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.simulation import Simulation
 
@@ -57,3 +58,14 @@ def test_a_bad_seed_is_refused_at_the_reset(seed):
     with pytest.raises(gym.error.Error):
         env.reset(seed=seed)
     env.close()
+
+
+def test_seed_words_hashed_at_once_equal_numpys_seed_sequence():
+    seeds = np.r_[np.arange(0, 300), np.random.default_rng(1).integers(0, 2**32, 300), 2**32 - 1]
+    words = pcg64_seed_words(seeds)
+    for s, w in zip(seeds.tolist(), words):
+        assert np.array_equal(w, np.random.SeedSequence(s).generate_state(4, np.uint64))
+    gens = VesselGenerators([3, None, 2**40, 9])  # one-word seeds hashed at once, the others by numpy
+    for k, s in ((0, 3), (2, 2**40), (3, 9)):
+        assert gens[k].bit_generator.state == seeding.np_random(s)[0].bit_generator.state
+    assert gens[1].random() != gens[1].random()

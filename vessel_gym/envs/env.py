@@ -12,11 +12,11 @@ from typing import Any, ClassVar
 
 import gymnasium as gym
 import numpy as np
-from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs.config import make_config
+from vessel_gym.envs.generators import VesselGenerators
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
 
 
@@ -132,60 +132,6 @@ class ShipEnv(_Renders, gym.Env):
 
     def close(self) -> None:
         self._close_renderer()
-
-
-def _check_seeds(seeds: Sequence[int | None]) -> None:
-    """Refuse a seed that ``seeding.np_random`` refuses now, not at the generator's first use."""
-    bad = [s for s in seeds if s is not None and not (isinstance(s, int) and s >= 0)]
-    if bad:
-        seeding.np_random(bad[0])  # raises gymnasium's error for it
-        raise ValueError(f"seed must be None or an int >= 0, got {bad[0]!r}")
-
-
-class _FirstUse:
-    """Vessel k's generator, made when an attribute of it (a draw) is first asked for."""
-
-    __slots__ = ("_gens", "_k")
-
-    def __init__(self, gens: VesselGenerators, k: int) -> None:
-        self._gens, self._k = gens, k
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._gens[self._k], name)
-
-
-class VesselGenerators(Sequence):
-    """The vessels' random generators, vessel k's made from its seed (``gymnasium.utils.seeding.np_random``,
-    None: fresh entropy) when first used: a numpy Generator costs 20-100 us to make, and a reset that draws
-    nothing (a fixed start) then makes none. Nothing draws from a generator before it is made, so its stream
-    is the one a generator made at the reset gives."""
-
-    def __init__(self, seeds: Sequence[int | None]) -> None:
-        _check_seeds(seeds)
-        self._seeds = list(seeds)
-        self._made: list[np.random.Generator | None] = [None] * len(self._seeds)
-
-    def __len__(self) -> int:
-        return len(self._seeds)
-
-    def __getitem__(self, k):  # type: ignore[override]
-        g = self._made[k]
-        if g is None:
-            g = self._made[k] = seeding.np_random(self._seeds[k])[0]
-        return g
-
-    def lazy(self, k: int) -> Any:
-        """Vessel k's generator as a stand-in that makes it at its first draw (a reset that draws nothing makes
-        none)."""
-        return self._made[k] or _FirstUse(self, k)
-
-    def reseed(self, seeds: Sequence[int | None]) -> None:
-        """New generators (made when used) for the vessels whose seed is not None."""
-        _check_seeds(seeds)
-        for i, s in enumerate(seeds):
-            if s is not None:
-                self._seeds[i] = s
-                self._made[i] = None
 
 
 # --- native vector environment ---------------------------------------------------------------------------------
