@@ -214,36 +214,54 @@ class Simulation(Helm):
         heading_deg: float | np.ndarray = 0.0,
         x_m: float | np.ndarray = 0.0,
         y_m: float | np.ndarray = 0.0,
-        k: int | None = None,
+        k: int | np.ndarray | None = None,
     ) -> None:
         """Put vessel k (all when None) in a steady straight approach at ``speed_m_s`` through the water.
+
+        ``k`` may be an array of vessel indices (a batched partial reset, O(len(k)) in numpy): then an array
+        value of ``speed_m_s``, ``heading_deg``, ``x_m`` or ``y_m`` has one entry per listed vessel.
 
         The shaft-speed order is solved for zero surge acceleration and the governor integrator is set to
         the fuel index that holds it (IMO trials start from a steady approach). Speed None: the ship's
         IMO test speed. Raises SimulationError if the engine cannot make that speed.
         """
         speed_m_s = np.nan if speed_m_s is None else speed_m_s
-        if k is not None and not self.components:  # an environment resets one ship at a time: scalar code
+        listed = k is not None and np.ndim(k) == 1
+        if k is not None and not listed and not self.components:  # one ship: scalar code
             self._reset_one(k, speed_m_s, heading_deg, x_m, y_m)
             return
-        idx = np.arange(self.n) if k is None else np.array([k])
+        idx = np.arange(self.n) if k is None else np.atleast_1d(np.asarray(k, dtype=np.int64))
         if self.components:  # user forces take part in the equilibrium: solved for all vessels at once
+            if listed:  # values per listed vessel: spread to per-vessel arrays
+                speed_m_s, heading_deg = self._spread(speed_m_s, idx), self._spread(heading_deg, idx)
             sp = self._per_vessel(speed_m_s)
             hd = self._per_vessel(heading_deg)
             self._reset_with_components(idx.tolist(), sp, hd)
         else:
-            self._reset_steady(idx, speed_m_s, heading_deg)
+            self._reset_steady(idx, self._at(speed_m_s, idx, listed), self._at(heading_deg, idx, listed))
         # every vessel's row is set above (state and inputs), position and flag here: numpy over idx, O(N)
-        self.state[idx, lo.X_PSI] = self._at(heading_deg, idx) * DEG
-        self.state[idx, lo.X_N] = self._at(x_m, idx)
-        self.state[idx, lo.X_E] = self._at(y_m, idx)
+        self.state[idx, lo.X_PSI] = self._at(heading_deg, idx, listed) * DEG
+        self.state[idx, lo.X_N] = self._at(x_m, idx, listed)
+        self.state[idx, lo.X_E] = self._at(y_m, idx, listed)
         self.alive[idx] = True
         self.why_dead[idx] = RUNAWAY_OK
         if k is None:
             self.t = 0.0
 
-    def _at(self, value: float | np.ndarray, idx: np.ndarray) -> np.ndarray:
-        """A scalar or per-vessel ``value`` as floats of the vessels ``idx``."""
+    def _spread(self, value: float | np.ndarray, idx: np.ndarray) -> float | np.ndarray:
+        """A scalar as it is; an array with one entry per vessel of ``idx`` as a per-vessel array (the others
+        zero, never read)."""
+        if np.ndim(value) == 0:
+            return value
+        full = np.zeros(self.n)
+        full[idx] = np.broadcast_to(np.asarray(value, dtype=float), idx.shape)
+        return full
+
+    def _at(self, value: float | np.ndarray, idx: np.ndarray, listed: bool = False) -> np.ndarray:
+        """A scalar or per-vessel ``value`` as floats of the vessels ``idx`` (``listed``: an array value has
+        one entry per vessel of ``idx`` already)."""
+        if listed:
+            return np.broadcast_to(np.asarray(value, dtype=float), idx.shape)
         return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))[idx]
 
     def _one(self, value: float | np.ndarray, k: int) -> float:
@@ -267,16 +285,17 @@ class Simulation(Helm):
         self.alive[k] = True
         self.why_dead[k] = RUNAWAY_OK
 
-    def _reset_steady(self, idx: np.ndarray, speed_m_s, heading_deg) -> None:
-        """Steady approaches of the vessels ``idx`` without user components, one solve per distinct approach
-        (:meth:`_steady_row`), found with numpy (O(N log N) in C) and spread over the vessels by indexing."""
+    def _reset_steady(self, idx: np.ndarray, speed_m_s: np.ndarray, heading_deg: np.ndarray) -> None:
+        """Steady approaches of the vessels ``idx`` without user components (speed NaN: the test speed;
+        headings, deg; one entry per vessel of ``idx``), one solve per distinct approach (:meth:`_steady_row`),
+        found with numpy (O(N log N) in C) and spread over the vessels by indexing."""
         si = self.ship_index[idx]
         test = np.array([s.test_speed_m_s for s in self.ships], dtype=float)
-        sp = self._at(speed_m_s, idx)
+        sp = speed_m_s
         speed = np.where(np.isnan(sp), test[si], sp)
         env = self.env[idx]
         directional = (env[:, _DIRECTIONAL_ENV] != 0.0).any(axis=1)
-        hkey = np.where(directional, self._at(heading_deg, idx), 0.0)
+        hkey = np.where(directional, heading_deg, 0.0)
         keys = np.column_stack([si.astype(float), speed, hkey, env])
         if len(idx) == 1 or (keys == keys[0]).all():
             first, inverse = np.zeros(1, dtype=np.int64), np.zeros(len(idx), dtype=np.int64)

@@ -28,6 +28,7 @@ from vessel_gym.physics.kinematics import (
     shaft_speed,
     velocity_through_water,
 )
+from vessel_gym.physics.units import DEG
 
 #: the features every task begins with: motion through the water and the helm (the shaft speed is observed
 #: only with engine control)
@@ -154,17 +155,20 @@ class OpenWaterTask(Task):
 
     def start_vessel(self, k: int, rng: np.random.Generator, heading: float, speed: float) -> np.ndarray:
         """Put vessel k on ``heading`` (deg) at ``speed`` (m/s), its disturbances drawn first; clear its task
-        state but for the original course, the approach speed and the rudder order, and return that row."""
+        state but for the original course, the approach speed and (:meth:`started`) the rudder order, and
+        return that row."""
         if self.disturbances is not None:
             self.disturbances.apply(self.sim, k, rng, heading)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
         S = self.S
         s = self.ts[k]
         s[:] = 0.0
-        s[S.psi0] = float(self.sim.heading[k])
+        s[S.psi0] = float(heading) * DEG  # the simulation's start heading, rad (Simulation.reset's product)
         s[S.U0] = speed
-        s[S.prev_order] = float(self.sim.rudder_order[k])
+        self.start(k, speed, heading)
         return s
+
+    def started(self, k: int | np.ndarray) -> None:
+        self.ts[k, self.S.prev_order] = self.sim.rudder_order[k]
 
     def kernel_args(self) -> tuple:
         return (

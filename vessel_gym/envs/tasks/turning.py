@@ -248,9 +248,12 @@ class TurningCircleTask(OpenWaterTask):
             cmd = 0.0
         cmd = float(opts.get("command", cmd))
         s = self.start_vessel(k, rng, heading, speed)
-        s[S.north0] = float(self.sim.north[k])
-        s[S.east0] = float(self.sim.east[k])
         s[S.command] = cmd
+
+    def started(self, k: int | np.ndarray) -> None:
+        super().started(k)
+        self.ts[k, S.north0] = self.sim.north[k]
+        self.ts[k, S.east0] = self.sim.east[k]
 
     def _radius(self, k: Any) -> Any:
         U = np.hypot(self.sim.u[k], self.sim.v[k])
