@@ -23,6 +23,14 @@ import numpy as np
 
 #: the heel-mesh case name for an angle in degrees
 MESH_NAME = "mesh_heel{:05.2f}"
+#: the static-heel options of ``vessel-cfd run`` (cfd.cli), keys of a study file with underscores
+RUN_OPTIONS: tuple[tuple[str, str], ...] = (
+    ("heel-deg", "static-heel angles (deg, starboard down, 0-30) of tests heel; one mesh each"),
+    ("heel-drift-deg", "drift angle of the heeled drift runs, at + and - (deg; 0: heeled tows only)"),
+    ("z-G", "height of G above the still waterline (m, model scale): the axis of the roll moment K"),
+    ("GM", "GM (m, model scale) for a new [roll] table when the template has none"),
+    ("k-xx", "roll radius of gyration (m, model scale) for a new [roll] table when the template has none"),
+)
 
 
 def heel_triangles(tris: np.ndarray, phi_deg: float) -> np.ndarray:
@@ -111,7 +119,11 @@ def heel_points(jobs: Mapping[str, Any], U: float, z_G: float) -> list[dict[str,
 
 
 def roll_results(
-    jobs: Mapping[str, Any], template: Mapping[str, Any], particulars: Mapping[str, float], study: Any, lam: float
+    jobs: Mapping[str, Any],
+    template: Mapping[str, Any],
+    particulars: Mapping[str, float],
+    study: Any,
+    lam: float,
 ) -> tuple[dict[str, Any], dict[str, Any]]:
     """The [roll] table and its provenance for a study with tests "heel": the fit of :func:`fit_roll` on the
     study's points; GM and k_xx (model scale) scaled by ``lam`` when the template has no [roll]."""
@@ -129,3 +141,22 @@ def roll_results(
         "roll_table_from": "template" if "roll" in template else "study GM and k_xx",
     }
     return table, provenance
+
+
+def summary_lines(heel: Mapping[str, Any]) -> list[str]:
+    """The static-heel section of the report's summary.md (empty without heel runs)."""
+    if not heel:
+        return []
+    lines = [
+        "",
+        "## Static heel (roll terms, SNAME prime, K about G)",
+        "",
+        "| case | v (m/s) | phi (deg) | Y (N) | N (N m) | K (N m) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for p in heel["points"]:
+        lines.append(
+            f"| {p['case']} | {p['v']:.4g} | {math.degrees(p['phi']):.3g} | {p['Y']:.4g} | {p['N']:.4g} | {p['K']:.4g} |"
+        )
+    lines += ["", ", ".join(f"{k} = {v:.4g}" for k, v in heel["derivatives"].items())]
+    return lines
