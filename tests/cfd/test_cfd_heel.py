@@ -81,6 +81,10 @@ def test_pipeline_heels_the_mesh_and_recovers_the_roll_terms(tmp_path, monkeypat
     m = ship["particulars"]["displacement_m3"] * ship["particulars"]["rho_kg_m3"]
     assert ship["roll"]["I_xG_kgm2"] == pytest.approx(m * 0.04**2)
     assert ship["source"]["provenance"]["heel"]["fit_rms_prime"]["K"] < 1e-10
+    # the heeled cases pass the verification gate's per-case checks like the upright ones
+    gate = result.verification
+    assert {"heel_p10.00_b+00.00", "heel_p10.00_b+06.00"} <= set(gate["cases"])
+    assert gate["verdict"] == "VERIFIED", gate["failures"]
     summary = (s.out / "report" / "summary.md").read_text()
     assert "## Static heel" in summary and "heel_p10.00_b-06.00" in summary
     from vessel_gym.physics.shipfile import load_ship
