@@ -123,3 +123,14 @@ def _raw(tmp_path):
         "scale_to": "cfd",
         "template": str(__import__("test_cfd_pipeline").DATA / "small_ship.toml"),
     }
+
+
+def test_resume_keeps_the_heel_cases_and_a_new_angle_meshes_again(tmp_path, monkeypatch):
+    run(study(tmp_path, **HEEL), fake_environment(monkeypatch, FakeFoam()))
+    again = fake_environment(monkeypatch, FakeFoam())
+    run(study(tmp_path, **HEEL), again)
+    assert again.calls == []  # every case, the heel mesh too, found done
+    other = fake_environment(monkeypatch, FakeFoam())
+    run(study(tmp_path, **{**HEEL, "heel_deg": "5"}), other)
+    ran = {case for _, case in other.calls}
+    assert ran == {"mesh_heel05.00", "heel_p05.00_b+00.00", "heel_p05.00_b+06.00", "heel_p05.00_b-06.00"}
