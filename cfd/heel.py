@@ -21,6 +21,8 @@ from typing import Any
 
 import numpy as np
 
+from .errors import InputError
+
 #: the heel-mesh case name for an angle in degrees
 MESH_NAME = "mesh_heel{:05.2f}"
 #: the static-heel options of ``vessel-cfd run`` (cfd.cli), keys of a study file with underscores
@@ -39,6 +41,20 @@ def heel_triangles(tris: np.ndarray, phi_deg: float) -> np.ndarray:
     c, s = math.cos(math.radians(phi_deg)), math.sin(math.radians(phi_deg))
     R = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
     return np.asarray(tris, dtype=float) @ R.T
+
+
+def check_freeboard(tris: np.ndarray, bwl: float, phi_deg: float) -> None:
+    """Refuse a heel that would immerse more than the STL has above the waterline: the waterline's edge
+    goes (B/2) tan(phi) down, so the hull must reach that high above z = 0 (the Wigley, a double body,
+    reaches T)."""
+    top = float(np.max(np.asarray(tris)[..., 2]))
+    need = 0.5 * bwl * math.tan(math.radians(phi_deg))
+    if top < need:
+        raise InputError(
+            "heel_deg",
+            f"{phi_deg:g} deg immerses the hull up to {need:.4g} m above the waterline, but the STL ends "
+            f"{top:.4g} m above it; give an STL with topsides (or a smaller heel)",
+        )
 
 
 def roll_about_G(Mx: float, Fy: float, z_G: float) -> float:

@@ -49,7 +49,7 @@ from .case import (
 from .config import Study
 from .errors import CfdError
 from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, wigley_hull_with_freeboard, write_stl
-from .heel import MESH_NAME, heel_triangles
+from .heel import MESH_NAME, check_freeboard, heel_triangles
 from .jobs import FinishedStudy, Job
 from .postprocess import body_forces, forces_settled, read_forces, read_yplus, steady_forces
 from .runner import (
@@ -142,6 +142,7 @@ class Pipeline:
         stl = self.cases / "hull.stl"
         name = "mesh"
         if phi:
+            check_freeboard(self.hull.triangles, s.bwl, phi)
             name = MESH_NAME.format(phi)
             stl = write_stl(self.cases / f"hull_heel{phi:05.2f}.stl", heel_triangles(self.hull.triangles, phi))
         stl_hash = hashlib.sha256(stl.read_bytes()).hexdigest()[:16]

@@ -13,7 +13,7 @@ from test_cfd_pipeline import run, study
 from cfd.config import TESTS, build_study, parse_tests
 from cfd.errors import InputError
 from cfd.geometry import hydrostatics, read_stl, wigley_hull
-from cfd.heel import fit_roll, heel_triangles, roll_about_G
+from cfd.heel import check_freeboard, fit_roll, heel_triangles, roll_about_G
 
 try:
     import tomllib
@@ -134,3 +134,11 @@ def test_resume_keeps_the_heel_cases_and_a_new_angle_meshes_again(tmp_path, monk
     run(study(tmp_path, **{**HEEL, "heel_deg": "5"}), other)
     ran = {case for _, case in other.calls}
     assert ran == {"mesh_heel05.00", "heel_p05.00_b+00.00", "heel_p05.00_b+06.00", "heel_p05.00_b-06.00"}
+
+
+def test_a_hull_without_topsides_is_not_heeled():
+    tris = wigley_hull(1.0, 0.1, 0.0625)
+    under = tris[np.all(tris[..., 2] <= 1e-12, axis=1)]  # the underwater half only: nothing above z = 0
+    check_freeboard(tris, 0.1, 10.0)  # the double body reaches T = 0.0625 m > 0.05 tan 10 deg
+    with pytest.raises(InputError, match="heel_deg: 10 deg immerses"):
+        check_freeboard(under, 0.1, 10.0)
