@@ -3,9 +3,10 @@
 Heel is a rotation of the hull by phi about the x-axis through the still waterline at midship (the case
 frame's x-axis; positive phi: starboard down, port up, the same angle as the standard z-down axes' roll).
 The mesh is cut at the waterline plane z = 0, a symmetry plane: what the flow sees is the heeled underwater
-body mirrored about the still waterline. For the mirrored Wigley or a mirrored STL, the part of the hull
-that the heel immerses is the mirror image of the underwater body next to the waterline; for a wall-sided
-waterline that is the true topside to first order in phi (docs/cfd.md, "Static heel"). No sinkage or trim
+body mirrored about the still waterline. The part of the hull that the heel immerses is what the STL has
+above the waterline: for the Wigley (built as a double body) the mirror image of the underwater body next to
+the waterline, for a wall-sided waterline the true topside to first order in phi (docs/cfd.md, "Static
+heel"); an STL with topsides is heeled as it is, one without enough of them is refused. No sinkage or trim
 follows the heel, and the free surface is absent (double body).
 
 Forces are measured as in every steady case (:mod:`cfd.postprocess`), plus the roll moment
