@@ -29,6 +29,7 @@ from typing import Any, NoReturn
 from . import __version__
 from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_file, parse_list, parse_number
 from .errors import CfdError, InputError
+from .heel import RUN_OPTIONS as HEEL_OPTIONS
 
 EXIT_UNVERIFIED = 3  # the run finished but its verification gate failed
 
@@ -67,7 +68,7 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
     ("bwl", "waterline breadth (m)"),
     ("tm", "mean draught (m)"),
     ("grading", "mesh grading 1-5 (1 ULTRA COARSE ... 5 ULTRA FINE)"),
-    ("tests", "tests to run: all, or a comma list of tow,drift,sway,yaw"),
+    ("tests", "tests to run: all, or a comma list of tow,drift,sway,yaw; add heel for roll (all,heel)"),
     ("out", "output directory (ship.toml, report/, cases/)"),
     ("procs", "processors for solving"),
     ("mesh-procs", "processors for meshing"),
@@ -104,7 +105,7 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
         "static-drift regression written to the ship file: abkowitz (Y_v v + Y_vvv v^3), mmg "
         "(Y_v v + Y_v|v| v|v|, written as its best cubic), linear (small angles), auto (lower residual)",
     ),
-)
+) + HEEL_OPTIONS
 
 
 # Study defaults that mean "derived from other settings"; their help text says what they become instead.
