@@ -159,6 +159,13 @@ def position(x, k):
 
 
 @njit(cache=True, inline="always")
+def roll(x, k):
+    """(phi rad, p rad/s) of vessel k: roll (heel) angle, positive starboard side down, and roll rate; both
+    exactly 0 on a 3-DOF ship (roll.py)."""
+    return x[k, lo.X_PHI], x[k, lo.X_P]
+
+
+@njit(cache=True, inline="always")
 def rudder_angle(x, k):
     """Actual rudder angle of vessel k, rad, positive to starboard."""
     return x[k, lo.X_DELTA]
