@@ -1,5 +1,6 @@
 """Kinematics in 3 DOF: rotations between body and earth axes, velocity over ground and through the
-water, apparent wind, and the Coriolis-centripetal forces of the rigid body and its added mass.
+water, apparent wind, and the Coriolis-centripetal forces of the rigid body and its added mass; and the named
+accessors of a simulation's rows (the roll accessor reads the optional fourth degree of freedom, roll.py).
 
 Each quantity has this one home. The vessel's equations of motion, the bridge readings, the captive rig and
 the task kernels call these functions; none of them derives a velocity or a rotation itself. All are compiled
