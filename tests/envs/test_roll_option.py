@@ -15,6 +15,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
+from tests.envs import test_api as api
 from tests.physics.test_roll import _effective_roll_inertia
 from vessel_gym.envs import tasks
 from vessel_gym.envs.declare import TaskSpec, Term
@@ -184,3 +185,28 @@ def test_the_optional_term_is_declared_once():
     env.close()
     with pytest.raises(ValueError, match="duplicate"):
         TaskSpec("x", (Term("heel", 1.0, ""),), (), options=(Term("heel", 0.0, ""),))
+
+
+ROLL_VARIANTS = [
+    ("vessel_gym/ZigZag-v1", {"ship": "container", "observe_roll": True, "heel_weight": 1.0}),
+    ("vessel_gym/ZigZagRandom-v1", {"ship": "container", "observe_roll": True, "leg_time_s": [2.0, 4.0]}),
+    (
+        "vessel_gym/TurningCircle-v0",
+        {"ship": "container", "observe_roll": True, "heel_weight": 0.5, "mode": "reverse"},
+    ),
+]
+API_CHECKS = (
+    "test_gymnasium_check_env_no_warnings",
+    "test_sb3_check_env_no_warnings",
+    "test_same_seed_same_rollout",
+    "test_observations_inside_space_and_finite",
+    "test_vector_equals_n_single_envs",
+)
+
+
+@pytest.mark.parametrize("check", API_CHECKS)
+@pytest.mark.parametrize("env_id,kw", ROLL_VARIANTS, ids=lambda v: v if isinstance(v, str) else "")
+def test_the_api_checks_hold_with_the_roll_options(check, env_id, kw):
+    """tests/envs/test_api.py's checks (gymnasium and SB3 env checkers, seeding, observation space, the vector
+    environment equal to N single ones) with the roll options on."""
+    getattr(api, check)(env_id, kw)
