@@ -1,8 +1,8 @@
 """What every task's kernel shares: the motion features every observation begins with, the reward terms more
 than one task uses, and the compiled steps that close a vessel's row (weighting, encoding the observation);
 and what the open-water tasks (ZigZag, TurningCircle) share on the Python side: the reset options, the side
-of a turn, the start of a vessel's episode, the rudder scale and the kernel's arguments
-(:class:`OpenWaterTask`).
+of a turn, the start of a vessel's episode, the rudder scale, the roll options (roll observed, the optional heel
+term; on a ship with roll) and the kernel's arguments (:class:`OpenWaterTask`).
 
 Every task's features begin with :data:`MOTION` (:func:`task_spec` prepends it), so :func:`motion_features`
 writes the same columns for all of them. The motion comes from the physics by name
@@ -32,6 +32,7 @@ from vessel_gym.physics.kinematics import (
 )
 from vessel_gym.physics.roll import free_roll_frequency
 from vessel_gym.physics.schema import SpecError
+from vessel_gym.physics.units import DEG
 
 #: the features every task begins with: motion through the water and the helm (the shaft speed is observed
 #: only with engine control)
@@ -225,7 +226,7 @@ class OpenWaterTask(Task):
         out = super().scales()
         if isinstance(self.config, RollOptionsConfig):
             omega = free_roll_frequency(self.sim.Ps[0])
-            ref = self.config.heel_ref_deg * math.pi / 180.0
+            ref = self.config.heel_ref_deg * DEG
             out.update({"heel ref": ref, "heel ref x omega_phi": ref * omega})
         return out
 
@@ -241,7 +242,7 @@ class OpenWaterTask(Task):
         self.term_names = self.spec.term_names_with(True)
         self.weights = np.append(self.weights, self.config.heel_weight)
         self.terms = np.zeros((self.n, len(self.term_names)))
-        self.p[i_heel_ref] = self.config.heel_ref_deg * math.pi / 180.0
+        self.p[i_heel_ref] = self.config.heel_ref_deg * DEG
 
     def kernel_args(self) -> tuple:
         return (
