@@ -2,7 +2,9 @@
 'plot' extra). Distances are in ship lengths L, times in seconds, angles in degrees.
 
 Each ``figure_*`` function builds one figure from trial results and the criteria they are evidence for
-(:mod:`vessel_gym.manoeuvres.imo`); an empty criteria list draws the trial without limits and says why.
+(:mod:`vessel_gym.manoeuvres.imo`); an empty criteria list draws the trial without limits and says why. The
+drawing style they share is :mod:`~vessel_gym.manoeuvres.plot_style`; the heel figure of a ship with roll,
+:func:`~vessel_gym.manoeuvres.plots_roll.figure_roll`, lives in :mod:`~vessel_gym.manoeuvres.plots_roll`.
 """
 
 from __future__ import annotations
@@ -20,14 +22,23 @@ from vessel_gym.manoeuvres.imo import (
     ImoReport,
     criteria_for,
 )
+from vessel_gym.manoeuvres.plot_style import (  # noqa: F401  (the style's names: their old home)
+    FAIL_COLOUR,
+    LIMIT_COLOUR,
+    NO_LIMIT,
+    PASS_COLOUR,
+    SIDE_STYLE,
+    _limit_hline,
+    _limit_vline,
+    _nice_ticks,
+    _plt,
+    _side,
+    _verdict_box,
+    _verdict_lines,
+)
+from vessel_gym.manoeuvres.plots_roll import ROLL_PLOTS, figure_roll
 from vessel_gym.manoeuvres.trials import InitialTurning, PullOut, Stopping, TurningCircle, ZigZag
 from vessel_gym.physics.units import KNOT_M_S
-
-PASS_COLOUR = "#1a7f37"
-FAIL_COLOUR = "#c62828"
-LIMIT_COLOUR = "#c62828"
-SIDE_STYLE = {"starboard": ("#1f5fa8", "-"), "port": ("#d9730d", "--")}
-NO_LIMIT = "not run in the MSC.137(76) condition: no IMO limit drawn"
 
 # the plot files of an IMO report, in report order (file stem -> title)
 REPORT_PLOTS = {
@@ -38,96 +49,12 @@ REPORT_PLOTS = {
     "stopping": "Full-astern stopping",
     "pull_out": "Pull-out",
 }
-# the plot a ship with roll adds to its report (file stem -> title)
-ROLL_PLOTS = {"roll": "Heel"}
 
 
 def report_plot_names(ship) -> dict[str, str]:
     """The plot files of ``ship``'s IMO report (file stem -> title): :data:`REPORT_PLOTS`, and
     :data:`ROLL_PLOTS` for a ship with roll."""
     return {**REPORT_PLOTS, **(ROLL_PLOTS if ship is not None and ship.roll is not None else {})}
-
-
-def _plt():
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover - depends on the install
-        raise RuntimeError("plots need matplotlib: pip install 'vessel-gym[plot]'") from exc
-    return plt
-
-
-def _nice_ticks(ax, x: bool = True, y: bool = True) -> None:
-    from matplotlib.ticker import MaxNLocator
-
-    loc = dict(nbins=8, steps=[1, 2, 2.5, 5, 10])
-    if x:
-        ax.xaxis.set_major_locator(MaxNLocator(**loc))
-    if y:
-        ax.yaxis.set_major_locator(MaxNLocator(**loc))
-
-
-def _verdict_lines(criteria: Sequence[Criterion]) -> list[tuple[str, bool]]:
-    out = []
-    for c in criteria:
-        name = c.name.replace("zigzag_10_", "").replace("zigzag_20_", "").replace("_", " ")
-        val = "n/a" if c.value is None else f"{c.value:.2f}"
-        op = "<=" if c.passed else ">"
-        if c.value is None:
-            op = "vs"
-        unit = " deg" if c.unit == "deg" else f" {c.unit}"
-        out.append(
-            (
-                f"{c.side} {name}: {val}{unit} {op} {c.limit:.2f}{unit}  {'PASS' if c.passed else 'FAIL'}",
-                c.passed,
-            )
-        )
-    return out
-
-
-def _verdict_box(ax, criteria: Sequence[Criterion], loc: str = "upper right", extra: str = "") -> None:
-    """The verdict of each criterion as a coloured box on ``ax`` (green all pass, red any fail)."""
-    if not criteria:
-        ax.text(
-            0.5, 0.02, NO_LIMIT, transform=ax.transAxes, ha="center", va="bottom", fontsize=7, color="0.35"
-        )
-        return
-    lines = _verdict_lines(criteria)
-    ok = all(p for _, p in lines)
-    text = "\n".join(t for t, _ in lines) + (f"\n{extra}" if extra else "")
-    x, ha = (0.98, "right") if "right" in loc else (0.02, "left")
-    y, va = (0.98, "top") if "upper" in loc else (0.02, "bottom")
-    ax.text(
-        x,
-        y,
-        text,
-        transform=ax.transAxes,
-        ha=ha,
-        va=va,
-        fontsize=7.5,
-        family="monospace",
-        color="white",
-        bbox=dict(boxstyle="round,pad=0.4", fc=PASS_COLOUR if ok else FAIL_COLOUR, ec="none", alpha=0.9),
-        zorder=10,
-    )
-
-
-def _limit_hline(ax, y: float, label: str, lw: float, ls: str = "-.", fontsize: float = 8) -> None:
-    """A criterion's limit drawn across the axes at ``y``, labelled above the line at x = 0."""
-    ax.axhline(y, color=LIMIT_COLOUR, lw=lw, ls=ls)
-    ax.text(0.0, y, label, color=LIMIT_COLOUR, fontsize=fontsize, ha="center", va="bottom")
-
-
-def _limit_vline(ax, x: float, y: float, label: str, lw: float, va: str) -> None:
-    """A criterion's limit drawn up the axes at ``x``, labelled along its left side from ``y``."""
-    ax.axvline(x, color=LIMIT_COLOUR, lw=lw, ls="-.")
-    ax.text(x, y, label, color=LIMIT_COLOUR, fontsize=8, rotation=90, ha="right", va=va)
-
-
-def _side(rudder_deg: float) -> str:
-    return "starboard" if rudder_deg > 0 else "port"
 
 
 def _path_L(tr: dict, L: float) -> np.ndarray:
@@ -489,33 +416,6 @@ def report_figures(report: ImoReport):
         if panels:
             crit = report.criteria_named("heel_in_turn")
             yield "roll", figure_roll(panels, crit, f"Heel: {head}")
-
-
-def figure_roll(panels: Sequence[tuple[str, Sequence]], criteria: Sequence[Criterion], title: str):
-    """Heel against time, one panel per ``(name, trials)`` (turning circles, zig-zags), both sides; with
-    heel criteria (``heel_in_turn``), the limit drawn at +-limit on the turning panel and the verdicts."""
-    plt = _plt()
-    fig, axes = plt.subplots(len(panels), 1, figsize=(9.0, 2.8 * len(panels)), squeeze=False)
-    for ax, (name, trials) in zip(axes[:, 0], panels):
-        for tr in trials:
-            side = _side(tr.rudder_deg)
-            colour, ls = SIDE_STYLE[side]
-            a = tr.track.arrays()
-            ax.plot(a["t"], np.degrees(a["phi"]), ls, color=colour, label=f"to {side}")
-        if isinstance(trials[0], TurningCircle) and criteria:
-            lim = criteria[0].limit
-            for y in (lim, -lim):
-                _limit_hline(ax, y, f"heel limit {lim:g} deg", 1.1)
-            _verdict_box(ax, criteria, "lower right")
-        ax.axhline(0.0, color="0.5", lw=0.6, ls=":")
-        _nice_ticks(ax)
-        ax.set_ylabel("heel (deg, stbd down +)")
-        ax.set_xlabel("time (s)")
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize=7.5, frameon=False)
-        ax.set_title(name, fontsize=9, loc="left")
-    fig.suptitle(title)
-    return fig
 
 
 def figure_for(result, title: str, ship=None):
