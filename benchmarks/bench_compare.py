@@ -7,7 +7,8 @@ driver is compared and load on the other core does not enter through thread wait
 each child prints the CPU time (``time.process_time``) per vessel-step of ``Simulation.step`` for a few cases
 (median of its repeats). CPU time rather than wall time: on a shared machine another process stretches the
 wall clock of both trees alike but leaves the CPU time of each nearly untouched. The figures printed are the
-medians over the rounds and the ratio this/other per case; the ratio of the round medians is what to quote.
+medians over the rounds, their ratio this/other, and the median of the round-by-round ratios ("paired"),
+which is what to quote: a drift of the machine's speed between rounds cancels in it.
 The kernels are compiled (and cached) in a warm-up child per tree before the rounds.
 """
 
@@ -82,11 +83,14 @@ def main() -> int:
     except OSError:
         load = float("nan")
     print(f"CPU ns per vessel-step (median of {args.rounds} rounds; load average {load:.1f})")
-    print(f"{'case':<16} {'this':>8} {'other':>8} {'this/other':>11}   rounds this / other")
+    print(f"{'case':<16} {'this':>8} {'other':>8} {'this/other':>11} {'paired':>7}   rounds this / other")
     for case in a:
         ma, mb = statistics.median(a[case]), statistics.median(b[case])
+        # the median of the round-by-round ratios: each pair ran back to back, so a drift of the machine's
+        # speed between rounds cancels in it (the ratio of the medians does not cancel it)
+        paired = statistics.median(x / y for x, y in zip(a[case], b[case]))
         spread = ", ".join(f"{x:.0f}" for x in a[case]) + " / " + ", ".join(f"{x:.0f}" for x in b[case])
-        print(f"{case:<16} {ma:>8.0f} {mb:>8.0f} {ma / mb:>11.2f}   {spread}")
+        print(f"{case:<16} {ma:>8.0f} {mb:>8.0f} {ma / mb:>11.2f} {paired:>7.2f}   {spread}")
     return 0
 
 
