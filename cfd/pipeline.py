@@ -247,8 +247,11 @@ class Pipeline:
                 "K_Nm": sf.K,  # about the waterline axis (cfd.heel moves it to G)
                 "Fy_case_N": sf.Fy,
                 "iterations": sf.iterations,
-                "converged": sf.iterations < s.steady_iterations,
+                # converged: residualControl ended the run, or the forces settled (request_stop
+                # may take effect some iterations later, so the cap is judged on settled_at)
+                "converged": bool(stopped) or sf.iterations < s.steady_iterations,
                 "stopped_on_settled_forces": bool(stopped),
+                "settled_at": stopped[0] if stopped else None,
                 "band": sf.band,
             }
             yplus = read_yplus(case, HULL_PATCH)

@@ -125,11 +125,14 @@ def _steady_checks(p: FinishedStudy, job: Job, case: Path) -> list[Check]:
     s = p.study
     checks = []
     its = int(job.summary.get("iterations", 0))
-    cap = its >= s.steady_iterations
+    settled_at = job.summary.get("settled_at")
+    # a settled-force stop is honoured a few iterations after it is asked for: judge it where it was asked
+    ended_at = int(settled_at) if settled_at is not None else its
+    cap = ended_at >= s.steady_iterations
     checks.append(
         Check(
             "converged before the iteration cap",
-            its,
+            ended_at,
             f"< {s.steady_iterations} iterations (residualControl or settled-force stop)",
             not cap,
         )

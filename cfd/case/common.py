@@ -7,8 +7,10 @@ solver to stop.
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
+import time
 from pathlib import Path
 from typing import Any
 
@@ -151,12 +153,30 @@ def link_mesh(case: Path, mesh_case: Path) -> None:
     shutil.copytree(mesh_case / "constant" / "polyMesh", dst)
 
 
+# s: OpenFOAM's default ``fileModificationSkew`` (etc/controlDict). With runTimeModifiable and
+# timeStamp checking, a solver re-reads a file only when its mtime is newer than the mtime it last
+# read by more than this skew, so an edit made within 10 s of writing the case was never seen.
+FILE_MODIFICATION_SKEW_S = 10.0
+
+
+def make_stoppable(case: Path) -> None:
+    """Backdate the case's controlDict so that request_stop()'s edit is newer by more than the skew."""
+    path = case / "system" / "controlDict"
+    old = time.time() - 6.0 * FILE_MODIFICATION_SKEW_S
+    os.utime(path, (old, old))
+
+
 def request_stop(case: Path) -> bool:
-    """Ask a running solver to write its fields and stop (``stopAt writeNow``); False if already asked."""
+    """Ask a running solver to write its fields and stop (``stopAt writeNow``); False if already asked.
+
+    The case must have been written with make_stoppable(), or the solver may not notice the edit.
+    """
     path = case / "system" / "controlDict"
     text = path.read_text()
     new = re.sub(r"^(stopAt\s+)endTime;", r"\1writeNow;", text, count=1, flags=re.M)
     if new == text:
         return False
     path.write_text(new)
+    now = time.time()
+    os.utime(path, (now, now))
     return True

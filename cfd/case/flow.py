@@ -18,6 +18,7 @@ from .common import (
     decompose_dict,
     function_objects,
     link_mesh,
+    make_stoppable,
     symmetry_plane,
     write_constant,
     write_schemes,
@@ -158,3 +159,4 @@ def write_steady_case(case: Path, mesh_case: Path, flow: FlowSpec, iterations: i
     foamdict.write(system / "decomposeParDict", decompose_dict(procs))
     for name, (body, cls) in flow_fields(flow).items():
         foamdict.write(case / "0" / name, body, foam_class=cls)
+    make_stoppable(case)
