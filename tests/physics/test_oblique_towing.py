@@ -4,11 +4,12 @@ in OCIMF MEG3 (2008) Annex A, Figures A5-A11 (tests/physics/ocimf_reference.py: 
 digitisation). The hull forces come from the public captive rig (constraints.static_drift), i.e. the MMG
 polynomial inside its fitted range and the Yoshimura, Nakao & Ishibashi (2009) cross-flow model outside it.
 
-Tolerance: 20 % of each curve's peak over 0-180 deg (ocimf_reference.TOLERANCE_FRACTION = 0.199): the scatter
+Tolerance, as a fraction of each curve's peak over 0-180 deg (ocimf_reference.TOLERANCE_FRACTION): the scatter
 band OCIMF draws about its curves (MEG3 Fig. A12, half-width 16.7 % of the peak; the KVLCC2 is not one of the
-tested hulls, so it cannot be expected closer) plus the digitising error (3.2 %: half the largest difference
-between two independent readings of the same published curve). Both are derived from the published data, not
-from the model. X' is compared with the band between OCIMF's conventional-bow and cylindrical-bow curves, since
+tested hulls, so it cannot be expected closer) plus the digitising error of that coefficient (half the largest
+difference between two independent readings of the published curves: 3.2 % in X', 6.8 % in Y', 5.4 % in N'),
+so 19.9 %, 23.5 % and 22.1 % (0.0095, 0.138, 0.0176). Both parts come from the published data, not from the
+model. X' is compared with the band between OCIMF's conventional-bow and cylindrical-bow curves, since
 which one the KVLCC2's bulbous bow belongs to is not established.
 
 The sweep is cut into ranges by the model's structure (not by the results): the published MMG polynomial
@@ -72,7 +73,7 @@ GAPS = {
     ),
     ("N", "beam"): (
         "OCIMF has a yaw moment beam-on (N' = +0.018, lateral centre of pressure 0.03 L aft of midships); the "
-        "symmetric cross-flow integral has none: gap 0.018"
+        "symmetric cross-flow integral has none: gap 0.0179, at the edge of the tolerance (0.0176)"
     ),
 }
 
@@ -97,7 +98,8 @@ def sweep():
         "N": np.abs(model["N"] - N_data),
     }
     tol = {
-        k: ref.TOLERANCE_FRACTION * np.abs(d).max() for k, d in (("X", X_data), ("Y", Y_data), ("N", N_data))
+        k: ref.TOLERANCE_FRACTION[k] * np.abs(d).max()
+        for k, d in (("X", X_data), ("Y", Y_data), ("N", N_data))
     }
     return chi, gap, tol
 
@@ -121,8 +123,8 @@ def test_oblique_towing_forces_against_ocimf(sweep, coef, name):
 def test_reference_data_convention_and_digitisation():
     """The OCIMF curves read as documented (ocimf_reference): drag along the current at 0 and 180 deg, the
     lateral centre of pressure at the leading end at small angles (the Munk moment, as the KVLCC2's published
-    N'_v/Y'_v > 0 has it moving ahead), two independent readings of the same published curves agree to a few
-    per cent of their peak, and the scatter band is the 17 % the tolerance uses. The UFC 4-159-03 formula
+    N'_v/Y'_v > 0 has it moving ahead), two independent readings of the same published curves agree to within
+    16 % of their peak, and the scatter band is the 17 % the tolerance uses. The UFC 4-159-03 formula
     (other model tests) gives OCIMF's beam-on lateral force for the KVLCC2 within the tolerance."""
     chi, X, Y, N = ref.ship_axes(ref.THETA_DEG)
     ahead, astern = int(np.flatnonzero(chi == 0.0)[0]), int(np.flatnonzero(chi == 180.0)[0])
@@ -132,11 +134,11 @@ def test_reference_data_convention_and_digitisation():
         assert sign * N[i] / Y[i] > 0.1, c  # centre of pressure at least 0.1 L towards the leading end
     hull = load_ship("kvlcc2").hull
     assert hull.N_v / hull.Y_v > 0.0
-    assert ref.digitising_fraction() < 0.05
+    assert all(ref.digitising_fraction(k) < 0.08 for k in ("X", "Y", "N"))
     assert 0.1 < ref.fleet_spread_fraction() < 0.2
     p = load_ship("kvlcc2").particulars
     ufc = ref.ufc_deep_water_lateral(
         p.L_m, p.B_m, p.T_m, p.displacement_m3, ref.KVLCC2_L_WL_M, ref.KVLCC2_C_M
     )
     beam = int(np.flatnonzero(chi == 90.0)[0])
-    assert abs(ufc - (-Y[beam])) <= ref.TOLERANCE_FRACTION * np.abs(Y).max()
+    assert abs(ufc - (-Y[beam])) <= ref.TOLERANCE_FRACTION["Y"] * np.abs(Y).max()
