@@ -15,7 +15,7 @@ Source. Oil Companies International Marine Forum (1994), "Prediction of Wind and
 
 the prime system of the MMG hull (1/2 rho L d U^2, 1/2 rho L^2 d U^2), so the coefficients compare directly.
 
-Convention (1994 edition onwards; MEG2 2nd ed. p. 2-8 note to Fig. 2.8, MEG3 Annex A "Sign convention and
+Convention (1994 edition onwards; the MEG2 note to its Fig. 2.8, MEG3 Annex A section A1 "Sign convention and
 coordinate system", and the OPTIMOOR Users Guide App. C-1.2, which records that the 1994 edition moved the zero
 from the bow to the stern and reversed the angle sense): theta is measured anticlockwise (seen from above) from
 the stern, theta = 0 is a current flowing from stern to bow; x is forward, y to port, the moment positive
@@ -158,8 +158,9 @@ KVLCC2_C_M = 0.998
 
 def ufc_deep_water_lateral(L_pp_m, B_m, T_m, displacement_m3, L_wL_m, C_M):
     """Deep-water lateral current force coefficient at 90 deg on L_pp T, from UFC 4-159-03 (2005), "Design:
-    Moorings", eq. 4-12 and 4-13 (after NFESC TR-6004-OCN): C_0 = 0.22 sqrt(chi_s) on L_wL T with
-    chi_s = L_wL^2 A_m / (B V) and A_m = C_M B T the midship section area; converted to L_pp T."""
+    Moorings", section 4-5.1, equations 11-13: C_0 = 0.22 sqrt(chi_s) on L_wL T with chi_s = L_wL^2 A_m / (B V)
+    and A_m = C_M B T the midship section area (the square root, lost in some text copies of the document, is
+    what its FFG-7 example, Table 4-6, needs); converted to L_pp T."""
     chi_s = L_wL_m**2 * C_M * B_m * T_m / (B_m * displacement_m3)
     return 0.22 * np.sqrt(chi_s) * L_wL_m / L_pp_m
 
