@@ -127,7 +127,7 @@ def ship_axes(theta_deg):
     return 180.0 - np.asarray(theta_deg, dtype=float), X, -C_YC_DEEP[i], -C_XYC_DEEP[i]
 
 
-def fleet_spread_fraction() -> float:
+def scatter_band_fraction() -> float:
     """Half-width of the max/min envelope of MEG3 Fig. A12 over the peak of its mean curve: the scatter of the
     measurements about the curve OCIMF draws through them, the only scatter band OCIMF publishes, as a fraction
     of the curve's peak. A particular VLCC (not among the tested hulls) cannot be expected closer."""
@@ -168,4 +168,4 @@ def ufc_deep_water_lateral(L_pp_m, B_m, T_m, displacement_m3, L_wL_m, C_M):
 #: tolerance of the comparison of each coefficient, as a fraction of its curve's peak over 0-180 deg: the
 #: published scatter of the OCIMF data plus the error of the digitisation (each derived from the published
 #: curves above, not from the model)
-TOLERANCE_FRACTION = {k: fleet_spread_fraction() + digitising_fraction(k) for k in ("X", "Y", "N")}
+TOLERANCE_FRACTION = {k: scatter_band_fraction() + digitising_fraction(k) for k in ("X", "Y", "N")}

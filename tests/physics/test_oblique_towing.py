@@ -135,7 +135,7 @@ def test_reference_data_convention_and_digitisation():
     hull = load_ship("kvlcc2").hull
     assert hull.N_v / hull.Y_v > 0.0
     assert all(ref.digitising_fraction(k) < 0.08 for k in ("X", "Y", "N"))
-    assert 0.1 < ref.fleet_spread_fraction() < 0.2
+    assert 0.1 < ref.scatter_band_fraction() < 0.2
     p = load_ship("kvlcc2").particulars
     ufc = ref.ufc_deep_water_lateral(
         p.L_m, p.B_m, p.T_m, p.displacement_m3, ref.KVLCC2_L_WL_M, ref.KVLCC2_C_M
