@@ -1,9 +1,9 @@
 """The hull at any drift angle: Yoshimura, Nakao & Ishibashi (2009) cross-flow model (physics/crossflow.py), for
 the MMG hull (KVLCC2) and the Abkowitz hulls (Mariner, DTC).
 
-No digitised captive-test data over 0-180 deg drift with a citable table or figure could be obtained for the
-KVLCC2, the Esso Osaka, the Mariner or a container ship, so the oblique-towing sweep checks the formulation's published limits (straight ahead,
-90 deg and straight astern, below) rather than measured forces; docs/physics.md says so.
+The oblique-towing sweep here checks the formulation's published limits (straight ahead, 90 deg and straight
+astern, below); the KVLCC2's forces over 0-180 deg against measured ones (OCIMF current loads on a loaded VLCC)
+are in test_oblique_towing.py.
 """
 
 from __future__ import annotations
