@@ -152,3 +152,14 @@ def test_pilot_arrives_with_the_cross_flow_hull_in_deep_water():
         if env_id == ID:
             v2_times = times
     assert np.allclose(v2_times, times, atol=1.0)
+
+
+def test_docs_list_every_v2_config_key():
+    from pathlib import Path
+
+    from vessel_gym.envs.harbour import HarbourApproachV2Config
+
+    doc = (Path(__file__).parents[2] / "docs" / "envs.md").read_text()
+    assert "### HarbourApproach-v2 (`HarbourApproachV2Config`)" in doc
+    for f in dataclasses.fields(HarbourApproachV2Config):
+        assert f"`{f.name}`" in doc, f.name
