@@ -57,6 +57,9 @@ def test_registers_and_runs_single_and_vector():
     venv = gym.make_vec(ID, num_envs=3, vectorization_mode="vector_entry_point")
     assert isinstance(venv, HarbourApproachV2VectorEnv)
     vobs, _ = venv.reset(seed=[0, 1, 2])
+    np.testing.assert_array_equal(  # set by the reset's task update, before any step
+        venv.depth_m, [sc.depth_at(float(venv.sim.north[k]), float(venv.sim.east[k])) for k in range(3)]
+    )
     for _ in range(5):
         vobs, vr, _te, _tr, _info = venv.step(venv.action_space.sample())
     assert vobs.shape == (3, env.observation_space.shape[0]) and np.all(np.isfinite(vr))
