@@ -81,8 +81,12 @@ class HarbourApproachV2Task(HarbourApproachV1Task):
         super().__init__(config, n, scenario=scenario)
         try:  # the chart's depth is finite: the ship's hull must be one the corrections are for
             check_hull(self.ship, self.scenario.water_depth_m)
-        except ValueError as exc:
-            raise SpecError(f"HarbourApproach-v2 config ship: {exc}") from None
+        except ValueError:
+            raise SpecError(
+                f"HarbourApproach-v2 config ship: {self.ship.name!r} has a {self.ship.hull.model!r} hull; v2 applies "
+                "the chart's depth through the shallow-water corrections of the MMG hull (Taimuri et al. 2020): "
+                "choose an MMG ship (default kvlcc2_l7_harbour) or HarbourApproach-v1"
+            ) from None
         self.depth_verts, self.depth_areas, self.depth_area = depth_tables(self.scenario)
         #: charted depth under each ship's midship point (m), as the physics sees it from the next control
         #: step on (before the clamp to 1.2 T)
