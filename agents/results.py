@@ -3,6 +3,7 @@
     python agents/results.py                                  # everything, real budgets (hours)
     python agents/results.py --envs ZigZag-v0 --algos ppo --timesteps 300000 --seeds 5
     python agents/results.py --skip-train                     # re-evaluate the saved models
+    python agents/results.py --resume                         # train only the models not yet in --out
 
 For each environment and algorithm and each training seed ``--seed .. --seed + --seeds - 1`` (default 0..4):
 ``train`` with the hyperparameter file's block for ``--timesteps`` environment steps (default the block's
@@ -12,8 +13,10 @@ are the learning curves), then evaluate the final model and the ``pid`` and ``sc
 ``--episodes`` episodes of the test seed set (the same starts for every agent, never used in training or
 model selection; ``agents/seeds.py``) with the block's ``eval_env_kwargs``. An algorithm's row gives the
 mean and standard deviation OVER SEEDS of the per-seed test means (success rate: mean over seeds; the
-median is in the JSON). Extra evaluations (``EXTRA_EVALS``) run the same agents on other configurations of
-the environment.
+median is in the JSON). Where ``BC_PLAN`` names the environment, a row of the method that starts from the
+classical pilot follows (``bc``: the PPO network cloned from the pilot by DAgger, ``agents/imitation.py``;
+one model per training seed too; ``--no-bc`` leaves it out). Extra evaluations (``EXTRA_EVALS``) run the
+same agents on other configurations of the environment.
 
 Writes ``<out>/results.json`` (every seed's test summary too), the learning curves
 ``<out>/curves/<env>_<algo>.png`` (mean over seeds of the validation return and its 95 % Student-t interval
@@ -60,24 +63,34 @@ from agents.common import (  # noqa: E402
     run_record,
     train,
 )
+from agents.results_doc import (  # noqa: E402, F401  (table, verdict, markers: re-exported)
+    BEGIN,
+    END,
+    HARBOUR_GOAL,
+    markdown,
+    table,
+    verdict,
+    write_doc,
+)
 
 #: ZigZagRandom-v1 is the course-changing comparison task (overshoot per course change, unfinished included)
-DEFAULT_ENVS = ("ZigZagRandom-v1", "HarbourApproach-v0", "TurningCircle-v0")
+DEFAULT_ENVS = ("ZigZagRandom-v1", "HarbourApproach-v1", "TurningCircle-v0")
 #: algorithms trained per environment unless --algos is given (SAC only where its update rate fits the
 #: budget on a 2-core machine; see docs/results.md)
 PLAN: dict[str, tuple[str, ...]] = {
     "vessel_gym/ZigZagRandom-v1": ("ppo", "sac"),
     "vessel_gym/ZigZag-v0": ("ppo", "sac"),
     "vessel_gym/HarbourApproach-v0": ("ppo",),
+    "vessel_gym/HarbourApproach-v1": ("ppo",),
     "vessel_gym/TurningCircle-v0": ("ppo",),
 }
+#: environments with a row of the method that starts from the classical pilot: behaviour cloning by DAgger
+#: (agents/imitation.py, settings in agents/hyperparams/bc.yml), models in <out>/bc/, shipped to <ship-dir>/bc/
+BC_PLAN = ("vessel_gym/HarbourApproach-v1",)
 #: further evaluations of the same agents: env id -> [(label, env kwargs)]
 EXTRA_EVALS: dict[str, list[tuple[str, dict[str, Any]]]] = {
     "vessel_gym/ZigZag-v0": [("IMO 10/10 schedule (registered default)", {})],
 }
-#: HarbourApproach goal: median success rate over the training seeds at least this (docs/results.md)
-HARBOUR_GOAL = 0.9
-BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
 REPO = Path(__file__).resolve().parents[1]
 
 
@@ -124,6 +137,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="runs/results", help="models, logs and results.json")
     p.add_argument("--doc", default=str(REPO / "docs" / "results.md"))
     p.add_argument("--skip-train", action="store_true", help="evaluate the models already in --out")
+    p.add_argument(
+        "--resume", action="store_true", help="train only the models not yet in --out, evaluate all"
+    )
+    p.add_argument("--no-bc", action="store_true", help="no behaviour-cloning rows (BC_PLAN)")
     p.add_argument("--threads", type=positive(int, "--threads"), default=1, help="torch threads")
     p.add_argument(
         "--eval-freq",
@@ -132,173 +149,6 @@ def build_parser() -> argparse.ArgumentParser:
         help="periodic evaluation on the validation seeds during training (steps; the learning curves)",
     )
     return p
-
-
-# --- formatting ------------------------------------------------------------------------------------------------
-def _num(x: float | None, fmt: str = ".1f") -> str:
-    return "—" if x is None or (isinstance(x, float) and not math.isfinite(x)) else format(x, fmt)
-
-
-def _pm(s: dict[str, Any], key: str, fmt: str = ".1f") -> str:
-    m, d = s.get(f"{key}_mean"), s.get(f"{key}_std")
-    return "—" if m is None else f"{format(m, fmt)} ± {format(d, fmt)}"
-
-
-def _agent_cells(row: dict[str, Any]) -> list[str]:
-    tr = row.get("training")
-    if tr is None:
-        return [row["agent"], "—", "—"]
-    steps = f"{tr['num_timesteps'] / 1000:.0f}k" + (" (budget)" if tr.get("budget_hit") else "")
-    if tr.get("selected_at_timesteps") is not None:
-        steps = f"best at {tr['selected_at_timesteps'] / 1000:.0f}k of {steps}"
-    if tr.get("seeds"):
-        steps += f" × {tr['seeds']} seeds"
-    return [row["agent"], steps, f"{tr['train_time_s'] / 60:.1f} ({tr['cpu_time_s'] / 60:.1f})"]
-
-
-def table(kind: str, rows: list[dict[str, Any]]) -> str:
-    """Markdown table of evaluated agents of one environment configuration."""
-    head = ["agent", "train steps", "train wall (CPU) min", "return"]
-    zz_success = kind == "zigzag" and all("success_rate" in r["summary"] for r in rows)
-    if kind == "zigzag":
-        head += ["mean \\|heading error\\| deg", "overshoot / course change deg", "max overshoot deg"]
-        head += ["targets reached %"] + (["success %"] if zz_success else [])
-    elif kind == "harbour":
-        head += ["success %", "outcomes", "min clearance m", "time s"]
-    elif kind == "turning":
-        head += ["mean \\|rate error\\| %"]
-    head += ["mean \\|rudder\\| deg", "rudder rate deg/s"]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    for row in rows:
-        s = row["summary"]
-        cells = _agent_cells(row) + [_pm(s, "return")]
-        if kind == "zigzag":
-            cells += [
-                _pm(s, "heading_error_deg"),
-                _pm(s, "overshoot_deg", ".2f"),
-                _pm(s, "max_overshoot_deg", ".1f"),
-                _pm(s, "reached_pct", ".0f"),
-            ]
-            if zz_success:
-                cells.append(_num(100.0 * s["success_rate"], ".0f"))
-        elif kind == "harbour":
-            outcomes = ", ".join(f"{k} {v}" for k, v in sorted(s.get("outcomes", {}).items()))
-            cells += [
-                _num(100.0 * s["success_rate"], ".0f"),
-                outcomes,
-                _pm(s, "min_clearance_m"),
-                _pm(s, "time_s", ".0f"),
-            ]
-        elif kind == "turning":
-            cells += [_pm(s, "rate_error_pct")]
-        cells += [_pm(s, "rudder_deg"), _pm(s, "rudder_rate_deg_s", ".2f")]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
-
-
-def verdict(kind: str, rows: list[dict[str, Any]]) -> str:
-    """One sentence: does the best trained agent beat the PID baseline by the goal's criterion?"""
-    pid = next((r for r in rows if r["agent"] == "pid"), None)
-    rl = [r for r in rows if r.get("training") is not None]
-    if pid is None or not rl:
-        return ""
-    P = pid["summary"]
-    if kind == "zigzag":
-        parts, wins = [], []
-        for r in rl:
-            S = r["summary"]
-            he = S["heading_error_deg_mean"] < P["heading_error_deg_mean"]
-            os_ok = S["overshoot_deg_mean"] <= P["overshoot_deg_mean"]
-            rud = S["rudder_deg_mean"] / max(P["rudder_deg_mean"], 1e-9)
-            rate = S["rudder_rate_deg_s_mean"] / max(P["rudder_rate_deg_s_mean"], 1e-9)
-            if he and os_ok and rud <= 1.5 and rate <= 1.5:
-                wins.append(r["agent"])
-            parts.append(
-                f"`{r['agent']}`: heading error {S['heading_error_deg_mean']:.1f} vs "
-                f"{P['heading_error_deg_mean']:.1f} deg ({'lower' if he else 'not lower'}), overshoot per course "
-                f"change {S['overshoot_deg_mean']:.2f} vs {P['overshoot_deg_mean']:.2f} deg "
-                f"({'not larger' if os_ok else 'larger'}), rudder {rud:.1f}x and rudder rate {rate:.1f}x the PID's"
-            )
-        head = (
-            f"**Beats the PID baseline** ({', '.join(wins)})"
-            if wins
-            else "**Does not beat the PID baseline**"
-        )
-        return (
-            f"{head} by the criterion (lower mean heading error, overshoot not larger, rudder effort and "
-            "rudder rate within 1.5x): " + "; ".join(parts) + "."
-        )
-    if kind == "harbour":
-        best = max(rl, key=lambda r: (r["summary"]["success_rate"], r["summary"]["return_mean"]))
-        s_rl, s_pid = best["summary"]["success_rate"], P["success_rate"]
-        text = (
-            f"**{'Beats' if s_rl > s_pid else 'Does not beat'} the PID baseline** (higher success rate): best "
-            f"agent `{best['agent']}` succeeds in {100 * s_rl:.0f} % of the episodes, the PID pilot in "
-            f"{100 * s_pid:.0f} %."
-        )
-        med = best["summary"].get("success_rate_median")
-        if med is not None:
-            met = "met" if med >= HARBOUR_GOAL else f"not met, {100 * (HARBOUR_GOAL - med):.0f} points short"
-            text += (
-                f" Median success over its {best['summary']['seeds']} seeds: {100 * med:.0f} % "
-                f"(goal ≥ {100 * HARBOUR_GOAL:.0f} %: {met})."
-            )
-        return text
-    if kind == "turning":
-        best = min(rl, key=lambda r: r["summary"].get("rate_error_pct_mean") or math.inf)
-        e_rl, e_pid = best["summary"].get("rate_error_pct_mean"), P.get("rate_error_pct_mean")
-        if e_rl is None or e_pid is None:
-            return ""
-        return (
-            f"Best agent `{best['agent']}`: mean rate error {e_rl:.1f} % vs {e_pid:.1f} % for the PI baseline "
-            f"({'lower' if e_rl < e_pid else 'not lower'})."
-        )
-    return ""
-
-
-def markdown(results: dict[str, Any]) -> str:
-    """The generated part of docs/results.md."""
-    m = results["machine"]
-    steps = results.get("timesteps")
-    budget = "each block's `n_timesteps`" if steps is None else f"{steps:,} environment steps"
-    out = [
-        BEGIN,
-        "",
-        f"Generated by `python agents/results.py {' '.join(results['argv'])}`".rstrip()
-        + f" on {results['date']}: "
-        f"{m['cpu_count']} CPUs, Python {m['python']}, torch {m['torch']} (threads {m['torch_threads']}), "
-        f"stable-baselines3 {m['sb3']}; load average {m['load_start']:.1f} at the start and "
-        f"{m['load_end']:.1f} at the end (a shared machine: wall times include waiting for the CPU, the "
-        "CPU time in brackets does not). Training budget "
-        f"{budget} per run; {results['episodes']} evaluation episodes per agent from the test seed set, "
-        f"episode i from `reset(seed={results['eval_seed']} + i)` for every agent. Baselines: mean ± "
-        "standard deviation over the episodes. Trained agents: one row per algorithm, mean ± standard "
-        f"deviation over the {results.get('seeds', 1)} training seeds of each seed's mean over the episodes "
-        "(train steps and times: per seed). Learning curves: `curves/` next to `results.json`.",
-        "",
-    ]
-    for sec in results["sections"]:
-        kw = sec["env_kwargs"]
-        cfg = ", ".join(f"{k}={json.dumps(v)}" for k, v in kw.items()) if kw else "registered defaults"
-        out += [f"### {sec['env_id']} — {sec['label']} ({cfg})", "", table(sec["kind"], sec["rows"]), ""]
-        v = verdict(sec["kind"], sec["rows"]) if sec.get("main") else ""
-        if v:
-            out += [v, ""]
-    out.append(END)
-    return "\n".join(out)
-
-
-def write_doc(path: Path, generated: str) -> None:
-    """Replace the generated part of ``path`` (between the markers), or write a new page."""
-    text = path.read_text() if path.is_file() else ""
-    if BEGIN in text and END in text:
-        head, rest = text.split(BEGIN, 1)
-        tail = rest.split(END, 1)[1]
-        text = head + generated + tail
-    else:
-        text = "# Results\n\n" + generated + "\n"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text)
 
 
 # --- running ---------------------------------------------------------------------------------------------------
@@ -450,6 +300,28 @@ def _test_eval(
     return ev
 
 
+#: table row names of methods that are not a plain SB3 algorithm
+ROW_NAMES = {"bc": "bc (PPO network, DAgger from the pilot)"}
+
+
+def _cloned(env_id: str, train_seeds: list[int], out: Path, args: argparse.Namespace) -> list[Path]:
+    """The behaviour-cloning models of ``env_id`` for each training seed (cloned unless they exist and
+    --skip-train or --resume says so)."""
+    from agents.imitation import clone
+
+    paths = []
+    for seed in train_seeds:
+        path = out / f"{model_stem('ppo', env_id, seed)}.zip"
+        if not args.skip_train and not (args.resume and path.is_file()):
+            _log(f"behaviour cloning on {env_id}, seed {seed}")
+            res = clone(env_id, seed, out=out, threads=args.threads)
+            _log(f"  {res.n_timesteps} steps in {res.wall_time_s / 60:.1f} min -> {res.model_path}")
+        if not path.is_file():
+            raise UsageError(f"no model {path} (train first, without --skip-train)")
+        paths.append(path)
+    return paths
+
+
 def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     import stable_baselines3 as sb3
     import torch
@@ -476,7 +348,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
             paths = []
             for seed in train_seeds:
                 path = out / f"{model_stem(algo, env_id, seed)}.zip"
-                if not args.skip_train:
+                if not args.skip_train and not (args.resume and path.is_file()):
                     steps = args.timesteps or cfg.n_timesteps
                     _log(f"train {algo} on {env_id}, seed {seed} ({steps} steps)")
                     res = train(
@@ -502,6 +374,8 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                 png = out / "curves" / f"{env_short_name(env_id)}_{algo}.png"
                 title = f"{algo} on {env_id}: validation episodes, {len(paths)} seeds"
                 curves_out[f"{env_id}:{algo}"] = {**curves, "png": str(plot_curves(curves, png, title))}
+        if env_id in BC_PLAN and not args.no_bc:
+            trained.append(("bc", _cloned(env_id, train_seeds, out / "bc", args)))
         configs = [("training configuration", eval_kwargs or {}, True)]
         configs += [(label, kw, False) for label, kw in EXTRA_EVALS.get(env_id, []) if kw != eval_kwargs]
         for label, kw, main in configs:
@@ -527,10 +401,12 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                         meta = shipped.make_sidecar(
                             {**rec, "test": json_safe(ev["summary"])}, args.eval_episodes, args.episodes
                         )
-                        shipped_files.append(str(shipped.ship(p, meta, args.ship_dir)))
+                        meta["test_episodes"] = json_safe(ev["episodes"])  # per episode, for re-checks
+                        dest = Path(args.ship_dir) / ("bc" if algo == "bc" else "")
+                        shipped_files.append(str(shipped.ship(p, meta, dest)))
                 rows.append(
                     {
-                        "agent": f"{algo} ({len(paths)} seeds)",
+                        "agent": f"{ROW_NAMES.get(algo, algo)} ({len(paths)} seeds)",
                         "summary": aggregate([r["summary"] for r in per_seed]),
                         "training": _training([r["record"] for r in per_seed]),
                         "per_seed": [{k: v for k, v in r.items() if k != "record"} for r in per_seed],

@@ -10,7 +10,12 @@ short env id with its version, then the training seed. Next to it ``<same stem>.
   ``num_timesteps`` (steps trained), ``n_envs``;
 * ``validation_seeds`` / ``test_seeds`` (the episode seed ranges of :mod:`agents.seeds` used for model
   selection and for the final numbers), ``test`` (the test-set summary, when evaluated);
-* ``vessel_gym_version``, ``stable_baselines3``, ``torch``, ``created`` (UTC date).
+* ``vessel_gym_version``, ``stable_baselines3``, ``torch``, ``created`` (UTC date);
+* ``train_time_s`` / ``cpu_time_s`` (wall-clock and CPU time of training), and for a model made by another
+  method than training with its algorithm (shipped in a subdirectory named after it, e.g. ``bc/``):
+  ``method``, ``method_detail`` and the method's settings and log (``bc``, ``bc_rounds``);
+* ``test_episodes`` (written by ``results.py``): the per-episode test figures, so a re-evaluation of a few
+  episodes can be compared with what was recorded.
 
 ``<stem>_vecnormalize.pkl`` is shipped too when training normalised observations. :func:`read_sidecar`
 is what ``evaluate.py`` uses to find the environment arguments of a shipped agent.
@@ -91,6 +96,9 @@ def make_sidecar(record: Mapping[str, Any], validation_episodes: int, test_episo
         "torch": str(torch.__version__),
         "created": dt.datetime.now(dt.timezone.utc).date().isoformat(),
     }
+    for key in ("train_time_s", "cpu_time_s", "method", "method_detail", "bc", "bc_rounds"):
+        if record.get(key) is not None:  # training times; how a model not trained by its algo was made
+            out[key] = record[key]
     if record.get("test") is not None:
         out["test"] = record["test"]
     return out
@@ -113,12 +121,35 @@ def ship(
     target = dest / f"{shipped_stem(meta['algo'], meta['env_id'], meta['seed'])}.zip"
     if target.exists() and not overwrite:
         raise UsageError(f"{target} exists (not overwritten)")
-    shutil.copyfile(model_path, target)
+    without_optimizer_state(model_path, target)
     vn = sidecar(model_path, "_vecnormalize.pkl")
     if vn.is_file():
         shutil.copyfile(vn, sidecar(target, "_vecnormalize.pkl"))
     sidecar(target, ".json").write_text(json.dumps(json_safe(dict(meta)), indent=1, sort_keys=False) + "\n")
     return target
+
+
+def without_optimizer_state(src: str | Path, dst: str | Path) -> Path:
+    """Copy the SB3 zip ``src`` to ``dst`` with the optimiser's running state (Adam's moment estimates, twice
+    the size of the network) left out: the policy is unchanged, the file about a third of the size, and
+    continued training starts with fresh moments. The optimiser entry itself stays (SB3 loads a model only
+    with all its parts), with its hyperparameters (``param_groups``)."""
+    import io
+    import zipfile
+
+    import torch
+
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w", zipfile.ZIP_DEFLATED) as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename.endswith("optimizer.pth"):
+                state = torch.load(io.BytesIO(data), map_location="cpu", weights_only=False)
+                state["state"] = {}
+                buf = io.BytesIO()
+                torch.save(state, buf)
+                data = buf.getvalue()
+            zout.writestr(item, data)
+    return Path(dst)
 
 
 def read_sidecar(model_path: str | Path) -> dict[str, Any]:
@@ -133,11 +164,12 @@ def read_sidecar(model_path: str | Path) -> dict[str, Any]:
 
 
 def list_shipped(directory: str | Path = TRAINED_DIR) -> list[Path]:
-    """The shipped agent zips of ``directory`` that follow the naming convention and have a sidecar."""
+    """The shipped agent zips of ``directory`` and its subdirectories (one per method that is not plain
+    training by the algorithm, e.g. ``bc/``) that follow the naming convention and have a sidecar."""
     d = Path(directory)
     if not d.is_dir():
         return []
-    return sorted(p for p in d.glob("*.zip") if NAME_RE.match(p.stem) and sidecar(p, ".json").is_file())
+    return sorted(p for p in d.rglob("*.zip") if NAME_RE.match(p.stem) and sidecar(p, ".json").is_file())
 
 
 __all__ = [
@@ -150,4 +182,5 @@ __all__ = [
     "read_sidecar",
     "ship",
     "shipped_stem",
+    "without_optimizer_state",
 ]

@@ -9,12 +9,15 @@ interleaved so that all see the same machine load; medians over the repeats are 
 CartPole and each figure's goal (GOALS: single env ZigZag and TurningCircle >= 1.0 x CartPole-v1,
 HarbourApproach >= 0.8 x; vector env >= 0.25 x and 0.15 x CartPole's vector env, and >= 0.1 x with a
 busy-loop process on the machine). ``--load`` repeats the vector figures with a busy-loop process running;
-``--setup`` times building and resetting vector envs up to 262144 ships (goal < 5 s).
+``--setup N`` times building and resetting vector envs up to N ships (goal: 262144 in < 5 s, <= 2 kB per
+ship); ``--setup-only`` prints only those, ``--setup-sizes`` chooses the sizes.
 """
 
 from __future__ import annotations
 
 import argparse
+import gc
+import os
 import statistics
 import subprocess
 import sys
@@ -42,6 +45,7 @@ GOALS = {
 }
 SETUP_SIZES = (1024, 16384, 262144)
 TARGET_SETUP_S = 5.0  # s, a vector env of 262144 ships built and reset
+TARGET_BYTES_PER_SHIP = 2048  # B, resident memory of a vector env per ship
 
 
 def _single_block(env: gym.Env, actions: list, steps: int) -> float:
@@ -107,24 +111,41 @@ def _report(title: str, rates: dict[str, float], ids: tuple[str, ...], which: in
         print(f"  {k:32s} {rates[k]:12.0f}   {r:5.3f} x CartPole   goal {target:.2f} {verdict}")
 
 
-def bench_setup(ids: tuple[str, ...], max_n: int) -> None:
-    """Wall time to build a vector env of N ships and reset it (one run each, after a warm-up build)."""
+def _rss_bytes() -> int:
+    """Resident set size of this process, bytes (Linux /proc; 0 elsewhere)."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError):
+        return 0
+
+
+def bench_setup(ids: tuple[str, ...], max_n: int, sizes: tuple[int, ...] = SETUP_SIZES) -> None:
+    """Wall time to build a vector env of N ships and reset it (one run each, after a warm-up build), and the
+    growth of the resident set per ship (goal <= 2 kB)."""
     print(
-        f"vector env set-up: build + reset(seed=0), wall, one run; goal N = 262144 in < {TARGET_SETUP_S:g} s"
+        f"vector env set-up: build + reset(seed=0), wall, one run; goal N = 262144 in < {TARGET_SETUP_S:g} s, "
+        f"<= {TARGET_BYTES_PER_SHIP} B per ship (resident set growth)"
     )
-    print(f"  {'id':32s} {'N':>7s} {'build s':>8s} {'reset s':>8s} {'us/ship':>8s}")
+    print(f"  {'id':32s} {'N':>7s} {'build s':>8s} {'reset s':>8s} {'us/ship':>8s} {'B/ship':>8s}")
     for env_id in ids:
         gym.make_vec(env_id, num_envs=2, vectorization_mode="vector_entry_point").reset(seed=0)
-        for n in (n for n in SETUP_SIZES if n <= max_n):
+        for n in (n for n in sizes if n <= max_n):
+            gc.collect()
+            rss0 = _rss_bytes()
             t0 = time.perf_counter()
             env = gym.make_vec(env_id, num_envs=n, vectorization_mode="vector_entry_point")
             t1 = time.perf_counter()
             env.reset(seed=0)
             t2 = time.perf_counter()
+            per_ship = (_rss_bytes() - rss0) / n
             goal = ""
             if n == 262144:
                 goal = "meets" if t2 - t0 < TARGET_SETUP_S else "MISSES"
-            print(f"  {env_id:32s} {n:7d} {t1 - t0:8.2f} {t2 - t1:8.2f} {(t2 - t0) / n * 1e6:8.1f}  {goal}")
+            print(
+                f"  {env_id:32s} {n:7d} {t1 - t0:8.2f} {t2 - t1:8.2f} {(t2 - t0) / n * 1e6:8.1f} "
+                f"{per_ship:8.0f}  {goal}"
+            )
             env.close()
             del env
 
@@ -138,8 +159,13 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--ids", nargs="*", default=list(IDS))
     ap.add_argument("--load", action="store_true", help="vector figures again with a busy-loop process")
     ap.add_argument("--setup", type=int, default=0, metavar="N", help="time build + reset up to N ships")
+    ap.add_argument("--setup-only", action="store_true", help="only the set-up figures (with --setup)")
+    ap.add_argument("--setup-sizes", type=int, nargs="*", default=list(SETUP_SIZES), metavar="N")
     args = ap.parse_args(argv)
     ids = tuple(args.ids)
+    if args.setup_only:
+        bench_setup(ids, args.setup or max(args.setup_sizes), tuple(args.setup_sizes))
+        return {}
     single = bench_single(ids, args.repeats, args.steps)
     vector = bench_vector(ids, args.repeats, args.vector_steps, args.num_envs)
     _report(f"single env: env.step/s through gymnasium.make (median of {args.repeats})", single, ids, 0)
@@ -157,7 +183,7 @@ def main(argv: list[str] | None = None) -> dict:
             hog.wait()
         _report(f"{title}, with a busy-loop process", out["vector_loaded"], ids, 2)
     if args.setup:
-        bench_setup(ids, args.setup)
+        bench_setup(ids, args.setup, tuple(args.setup_sizes))
     return out
 
 

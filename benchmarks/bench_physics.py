@@ -52,6 +52,11 @@ SHIPS = ("kvlcc2", "mariner")
 CASES = ((1, 1000), (1, 1), (1024, 100), (1024, 1), (16384, 10), (16384, 1))
 
 
+def driver_args(sim, nsteps: int) -> tuple:
+    """The arguments of the compiled drivers (run_serial / run_parallel) for ``nsteps`` RK4 steps of ``sim``."""
+    return (sim.Ps, sim.ship_index, sim.state, sim.inputs, sim.env, sim.F_ext, sim.dt, nsteps, RK4, sim.alive)
+
+
 def make_sim(ship: str, n: int) -> Simulation:
     """n copies of ``ship`` at their test speed, headings spread, 10 deg rudder to starboard, in wind."""
     sim = Simulation(ship, n=n, dt=0.1, environment=WIND)
@@ -175,18 +180,7 @@ def bench_drivers(repeats: int) -> None:
         for nsteps in (1, 10, 100):
             if n * nsteps > 100_000:
                 continue
-            args = (
-                sim.Ps,
-                sim.ship_index,
-                sim.state,
-                sim.inputs,
-                sim.env,
-                sim.F_ext,
-                sim.dt,
-                nsteps,
-                RK4,
-                sim.alive,
-            )
+            args = driver_args(sim, nsteps)
             work = n * nsteps
             ts, _ = time_calls(lambda a=args: run_serial(*a), repeats)
             tp, _ = time_calls(lambda a=args: run_parallel(*a), repeats)
@@ -276,18 +270,7 @@ def bench_load(repeats: int) -> None:
             )
             for n, nsteps in LOAD_CASES:
                 sim = make_sim("kvlcc2", n)
-                args = (
-                    sim.Ps,
-                    sim.ship_index,
-                    sim.state,
-                    sim.inputs,
-                    sim.env,
-                    sim.F_ext,
-                    sim.dt,
-                    nsteps,
-                    RK4,
-                )
-                args += (sim.alive,)
+                args = driver_args(sim, nsteps)
                 calls = {
                     "serial": lambda a=args: run_serial(*a),
                     "threaded": lambda a=args: run_parallel(*a),

@@ -32,6 +32,7 @@ from .fitting import (
     nondimensionalise,
 )
 from .friction import ittc57
+from .heel import roll_results
 from .jobs import FinishedStudy
 from .pmm_sweep import dependence
 from .postprocess import body_forces, read_forces
@@ -498,6 +499,9 @@ def analyse(p: FinishedStudy, plots: bool = True) -> StudyResult:
         "derivatives": derivatives,
     }
     ship = build_ship(template, name=name, source=source, particulars=particulars, hull=hull_table)
+    if "heel" in s.tests:  # the roll terms of a 4-DOF ship (cfd.heel)
+        ship["roll"], provenance["heel"] = roll_results(p.jobs, template, particulars, s, lam)
+        ship["source"]["provenance"]["heel"] = _clean(provenance["heel"])
     ship_file = write_ship(
         p.out / "ship.toml", ship, header=f"Ship file written by vessel-cfd {__version__}."
     )

@@ -29,6 +29,7 @@ from typing import Any, NoReturn
 from . import __version__
 from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_file, parse_list, parse_number
 from .errors import CfdError, InputError
+from .heel import RUN_OPTIONS as HEEL_OPTIONS
 
 EXIT_UNVERIFIED = 3  # the run finished but its verification gate failed
 
@@ -67,7 +68,7 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
     ("bwl", "waterline breadth (m)"),
     ("tm", "mean draught (m)"),
     ("grading", "mesh grading 1-5 (1 ULTRA COARSE ... 5 ULTRA FINE)"),
-    ("tests", "tests to run: all, or a comma list of tow,drift,sway,yaw"),
+    ("tests", "tests to run: all, or a comma list of tow,drift,sway,yaw; add heel for roll (all,heel)"),
     ("out", "output directory (ship.toml, report/, cases/)"),
     ("procs", "processors for solving"),
     ("mesh-procs", "processors for meshing"),
@@ -104,7 +105,7 @@ RUN_OPTIONS: tuple[tuple[str, str], ...] = (
         "static-drift regression written to the ship file: abkowitz (Y_v v + Y_vvv v^3), mmg "
         "(Y_v v + Y_v|v| v|v|, written as its best cubic), linear (small angles), auto (lower residual)",
     ),
-)
+) + HEEL_OPTIONS
 
 
 # Study defaults that mean "derived from other settings"; their help text says what they become instead.
@@ -137,6 +138,7 @@ def _parser() -> _Parser:
     for opt, text in RUN_OPTIONS:
         run.add_argument(f"--{opt}", help=_run_help(opt, text))
     run.add_argument("--quiet", action="store_true", help="no progress lines")
+    run.add_argument("--ray", metavar="ADDRESS", help="run the cases as tasks on a Ray cluster (or 'local')")
     grid = sub.add_parser(
         "study", help="grid study: the study at three gradings, Richardson extrapolation and GCI"
     )
@@ -204,14 +206,11 @@ def _study(args: argparse.Namespace) -> Study:
 def _run(args: argparse.Namespace) -> int:
     raw = {opt.replace("-", "_"): getattr(args, opt.replace("-", "_")) for opt, _ in RUN_OPTIONS}
     raw = {k: v for k, v in raw.items() if v is not None}
-    if args.study:
-        study = load_study_file(args.study, raw)
-    else:
-        study = build_study(raw)
-    return _execute(study, quiet=args.quiet)
+    study = load_study_file(args.study, raw) if args.study else build_study(raw)
+    return _execute(study, quiet=args.quiet, ray=args.ray)
 
 
-def _execute(study: Study, quiet: bool = False) -> int:
+def _execute(study: Study, quiet: bool = False, ray: str | None = None) -> int:
     from .pipeline import Pipeline  # noqa: PLC0415 - keeps `vessel-cfd --help` light
     from .runner import Progress  # noqa: PLC0415
 
@@ -220,7 +219,7 @@ def _execute(study: Study, quiet: bool = False) -> int:
     except OSError as exc:
         raise InputError("out", f"cannot create directory {study.out} ({exc.strerror or exc})") from None
 
-    result = Pipeline(study, Progress(quiet=quiet)).run()
+    result = Pipeline(study, Progress(quiet=quiet), ray=ray).run()
     d = result.derivatives
     print(f"ship file: {result.ship_file}")
     print(f"report:    {result.report_dir}")

@@ -37,7 +37,7 @@ def decomposition(cells: int, n: int) -> dict[str, Any]:
 def pending_cases(cases: Path) -> list[tuple[Path, str]]:
     """Written but unfinished solver cases of a study's ``cases`` folder: (folder, application)."""
     out = []
-    for case in sorted(p for p in cases.iterdir() if p.is_dir() and p.name != "mesh"):
+    for case in sorted(p for p in cases.iterdir() if p.is_dir() and not p.name.startswith("mesh")):
         control = case / "system" / "controlDict"
         if (case / DONE).is_file() or not control.is_file():
             continue

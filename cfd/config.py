@@ -26,6 +26,8 @@ from .regression import CHOICES as DRIFT_FORMS
 from .regression import DEFAULT as DRIFT_FORM_DEFAULT
 
 TESTS = ("tow", "drift", "sway", "yaw")
+#: tests run only when named: "heel" (static heel, for the roll derivatives of a 4-DOF ship; cfd.heel)
+OPTIONAL_TESTS = ("heel",)
 GRADINGS = {1: "ULTRA COARSE", 2: "COARSE", 3: "MEDIUM", 4: "FINE", 5: "ULTRA FINE"}
 SIMULATION_TYPES = {
     1: ("Steady Straight Ahead Towing", ("tow",)),
@@ -79,6 +81,11 @@ class Study:
     k_zz: float = 0.0  # m; 0 -> from the template's k_zz/L, else 0.25 L
     form_factor: float = -1.0  # k of (1+k) for full-scale resistance; < 0 -> from the CFD (double body)
     drift_form: str = DRIFT_FORM_DEFAULT  # static-drift regression written to the ship file (cfd.regression)
+    heel_deg: tuple[float, ...] = (10.0,)  # static-heel angles (deg, starboard down); one mesh each
+    heel_drift_deg: float = 6.0  # drift angle of the heeled drift runs, at + and - this angle (0: none)
+    z_G: float = 0.0  # m, model scale: height of G above the still waterline (the roll axis of K)
+    GM: float = 0.0  # m, model scale: GM for a new [roll] table (the template has none); scaled with the hull
+    k_xx: float = 0.0  # m, model scale: roll radius of gyration for a new [roll] table; scaled with the hull
 
     @property
     def U_ref(self) -> float:
@@ -177,12 +184,13 @@ def parse_tests(value: Any) -> tuple[str, ...]:
         items = [str(s).strip() for s in value]
     else:
         raise InputError("tests", f"must be 'all' or a comma-separated subset of {','.join(TESTS)}")
-    if items == ["all"]:
-        return TESTS
-    bad = [s for s in items if s not in TESTS]
+    if items and items[0] == "all" and set(items[1:]) <= set(OPTIONAL_TESTS):
+        return TESTS + tuple(t for t in OPTIONAL_TESTS if t in items)
+    known = TESTS + OPTIONAL_TESTS
+    bad = [s for s in items if s not in known]
     if bad or not items:
-        raise InputError("tests", f"must be 'all' or a subset of {','.join(TESTS)} (got {value!r})")
-    return tuple(t for t in TESTS if t in items)
+        raise InputError("tests", f"must be 'all' or a subset of {','.join(known)} (got {value!r})")
+    return tuple(t for t in known if t in items)
 
 
 KEYS = (
@@ -224,6 +232,11 @@ KEYS = (
     "k_zz",
     "form_factor",
     "drift_form",
+    "heel_deg",
+    "heel_drift_deg",
+    "z_G",
+    "GM",
+    "k_xx",
 )
 
 
@@ -362,6 +375,7 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
         kw["drift_form"] = _choice("drift_form", raw["drift_form"], DRIFT_FORMS)
     if raw.get("form_factor") not in (None, ""):
         kw["form_factor"] = parse_number("form_factor", raw["form_factor"], 0.0, 1.0)
+    _heel_keys(raw, kw, lpp, tm)
     re_l = pmm * lpp / kw.get("nu", Study.nu)
     if re_l < 1e4:
         raise InputError(
@@ -370,6 +384,31 @@ def build_study(raw: Mapping[str, Any], base_dir: Path | None = None) -> Study:
             "a turbulent flow (raise the speed or the length)",
         )
     return Study(**kw)
+
+
+def _heel_keys(raw: Mapping[str, Any], kw: dict[str, Any], lpp: float, tm: float) -> None:
+    """The static-heel settings; with tests "heel" the ship file needs a [roll] table: the template's or
+    one made from GM and k_xx."""
+    if "heel_deg" in raw:
+        # 30 deg: a double-body hull heeled further has lost the wall-sided waterline the mirror assumes
+        kw["heel_deg"] = parse_list("heel_deg", raw["heel_deg"], 0.0, 30.0, max_count=4)
+    if "heel_drift_deg" in raw:
+        kw["heel_drift_deg"] = parse_number("heel_drift_deg", raw["heel_drift_deg"], 0.0, 20.0)
+    if raw.get("z_G") not in (None, ""):
+        kw["z_G"] = parse_number("z_G", raw["z_G"], -tm, lpp)
+    for k in ("GM", "k_xx"):
+        if raw.get(k) not in (None, ""):
+            kw[k] = parse_number(k, raw[k], 0.0, lpp, lo_open=True)
+    if "heel" not in kw.get("tests", TESTS):
+        return
+    if "drift" not in kw.get("tests", TESTS):
+        raise InputError("tests", "'heel' needs 'drift' too: K_v and the drift part of the heeled drift fit")
+    template = kw.get("template")
+    has_roll = template is not None and "roll" in tomllib.loads(Path(template).read_text())
+    if not has_roll and not (kw.get("GM") and kw.get("k_xx")):
+        raise InputError(
+            "GM", "with tests 'heel' and a template without [roll], GM and k_xx (m, model scale) are required"
+        )
 
 
 def load_study_file(path: str | Path, overrides: Mapping[str, Any] | None = None) -> Study:

@@ -20,6 +20,9 @@ class InputError(ValueError):
         self.message = message
         super().__init__(f"{key}: {message}")
 
+    def __reduce__(self):  # rebuilt from its fields when it crosses a process boundary (Ray tasks)
+        return type(self), (self.key, self.message)
+
 
 class CfdError(RuntimeError):
     """A step of the CFD pipeline failed.
@@ -36,3 +39,6 @@ class CfdError(RuntimeError):
         if self.log is not None:
             text += f" (log: {self.log})"
         super().__init__(text)
+
+    def __reduce__(self):  # rebuilt from its fields in the process that started a Ray task
+        return type(self), (self.step, self.message, self.log)

@@ -10,6 +10,8 @@ Layout of ``out/``::
     cases/drift_b06.00/      simpleFoam static drift at 6 deg
     cases/sway_a0.03000/     pimpleFoam pure sway, amplitude 0.03 m
     cases/yaw_p05.00/        pimpleFoam pure yaw, yaw amplitude 5 deg
+    cases/mesh_heel10.00/    the mesh of the hull heeled 10 deg (tests "heel", cfd.heel)
+    cases/heel_p10.00_b+06.00/  simpleFoam heeled drift, heel 10 deg, drift 6 deg
 
 Every finished case holds a marker ``vessel-cfd.done.json`` with a hash of its inputs. A rerun
 skips cases whose marker matches and redoes the others (a changed mesh redoes everything).
@@ -47,6 +49,7 @@ from .case import (
 from .config import Study
 from .errors import CfdError
 from .geometry import PlacedHull, place_hull, read_stl, wigley_hull, wigley_hull_with_freeboard, write_stl
+from .heel import MESH_NAME, check_freeboard, heel_triangles
 from .jobs import FinishedStudy, Job
 from .postprocess import body_forces, forces_settled, read_forces, read_yplus, steady_forces
 from .runner import (
@@ -86,8 +89,12 @@ def _latest_time(case: Path) -> Path:
 class Pipeline:
     """Runs a :class:`~cfd.config.Study` end to end. ``run()`` returns a :class:`StudyResult`."""
 
-    def __init__(self, study: Study, progress: Progress | None = None, plots: bool = True) -> None:
+    def __init__(
+        self, study: Study, progress: Progress | None = None, plots: bool = True, ray: str | None = None
+    ) -> None:
         self.study = study
+        self.ray = ray  # a Ray cluster's address ("local": one on this machine) for the independent cases
+        self.cpus = study.procs  # CPUs the cases share (a Ray cluster's, with ray)
         self.plots = plots
         self.progress = progress or Progress()
         self.out = Path(study.out)
@@ -95,12 +102,23 @@ class Pipeline:
         self.hull: PlacedHull | None = None
         self.spec: MeshSpec | None = None
         self.mesh_key = ""
+        self.mesh_keys: dict[str, str] = {}  # mesh case name -> its key hash (the upright and each heel)
         self.per_case_procs = 1
         self.jobs: dict[str, Job] = {}
         self.wall: dict[str, float] = {}
         self._count = threading.Lock()
         self._reached = 0  # cases started or found done, for "case k of n"
         self._solved: list[float] = []  # wall times of the solver cases run so far (for the ETA)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Sent to a Ray task (cfd.raycases) without its lock; it gets a new one on arrival."""
+        state = dict(self.__dict__)
+        del state["_count"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._count = threading.Lock()
 
     # ------------------------------------------------------------------ hull and mesh
     def prepare_hull(self) -> PlacedHull:
@@ -116,16 +134,25 @@ class Pipeline:
         self.hull = placed
         return placed
 
-    def _mesh_job(self) -> Job:
+    def _mesh_job(self, phi: float = 0.0) -> Job:
+        """The mesh of the upright hull, or with ``phi`` (deg) of the hull heeled by phi (cfd.heel)."""
         s = self.study
         spec = self.spec
         assert spec is not None and self.hull is not None
-        stl_hash = hashlib.sha256((self.cases / "hull.stl").read_bytes()).hexdigest()[:16]
+        stl = self.cases / "hull.stl"
+        name = "mesh"
+        if phi:
+            check_freeboard(self.hull.triangles, s.bwl, phi)
+            name = MESH_NAME.format(phi)
+            stl = write_stl(self.cases / f"hull_heel{phi:05.2f}.stl", heel_triangles(self.hull.triangles, phi))
+        stl_hash = hashlib.sha256(stl.read_bytes()).hexdigest()[:16]
         key = {"stl": stl_hash, "spec": repr(spec), "mesh_procs": s.mesh_procs, "version": __version__}
-        self.mesh_key = _hash(key)
+        self.mesh_keys[name] = _hash(key)
+        if not phi:
+            self.mesh_key = self.mesh_keys[name]
 
         def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
-            write_mesh_case(case, spec, self.cases / "hull.stl", procs=s.mesh_procs)
+            write_mesh_case(case, spec, stl, procs=s.mesh_procs)
             run_app(["blockMesh"], case, "blockMesh (mesh)", progress=self.progress)
             run_app(["surfaceFeatureExtract"], case, "surfaceFeatureExtract (mesh)", progress=self.progress)
             if s.mesh_procs > 1:
@@ -178,18 +205,25 @@ class Pipeline:
                 "patches": sorted(patches),
             }
 
-        return Job("mesh", "mesh", "mesh", key, action)
+        label = f"mesh heel {phi:g} deg" if phi else "mesh"
+        return Job(name, "mesh", label, key, action, params={"phi": phi})
 
     # ------------------------------------------------------------------ cases
-    def _steady_job(self, kind: str, U: float, beta: float) -> Job:
+    def _steady_job(self, kind: str, U: float, beta: float, phi: float = 0.0) -> Job:
+        """A straight tow, a static drift or (kind "heel") a heeled tow or drift on the heel-``phi`` mesh."""
         s = self.study
         name = f"tow_U{U:.4f}" if kind == "tow" else f"drift_b{beta:05.2f}"
         label = f"tow U={U:g} m/s" if kind == "tow" else f"drift beta={beta:g} deg"
+        mesh = "mesh"
+        if kind == "heel":
+            mesh = MESH_NAME.format(phi)
+            name = f"heel_p{phi:05.2f}_b{beta:+06.2f}"
+            label = f"heel phi={phi:g} deg beta={beta:g} deg"
         flow = FlowSpec(U=U, beta_deg=beta, rho=s.rho, nu=s.nu)
-        key = {"mesh": self.mesh_key, "flow": repr(flow), "iterations": s.steady_iterations}
+        key = {"mesh": self.mesh_keys[mesh], "flow": repr(flow), "iterations": s.steady_iterations}
 
         def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
-            write_steady_case(case, self.cases / "mesh", flow, s.steady_iterations, procs=procs)
+            write_steady_case(case, self.cases / mesh, flow, s.steady_iterations, procs=procs)
             stopped: list[int] = []
 
             def settle() -> None:
@@ -210,6 +244,8 @@ class Pipeline:
                 "X_N": sf.X,
                 "Y_N": sf.Y,
                 "N_Nm": sf.N,
+                "K_Nm": sf.K,  # about the waterline axis (cfd.heel moves it to G)
+                "Fy_case_N": sf.Fy,
                 "iterations": sf.iterations,
                 "converged": sf.iterations < s.steady_iterations,
                 "stopped_on_settled_forces": bool(stopped),
@@ -220,7 +256,7 @@ class Pipeline:
                 summary["yplus_min_max_mean"] = list(yplus)
             return summary
 
-        return Job(name, kind, label, key, action, params={"U": U, "beta": beta})
+        return Job(name, kind, label, key, action, params={"U": U, "beta": beta, "phi": phi})
 
     def _pmm_job(self, kind: str, amplitude: float, base: Job, omega_prime: float | None = None) -> Job:
         """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw).
@@ -332,36 +368,36 @@ class Pipeline:
                 log,
             )
 
-    def _run_job(self, job: Job, procs: int) -> dict[str, Any]:
+    def skip(self, job: Job) -> dict[str, Any] | None:
+        """The summary of ``job`` if its case finished before with the same inputs (done marker), else None."""
         case = self.cases / job.name
         marker = case / DONE
-        key = _hash(job.key)
-        if marker.is_file():
-            try:
-                done = json.loads(marker.read_text())
-            except (OSError, json.JSONDecodeError):
-                done = {}
-            if done.get("key") == key:
-                self.progress(job.label, f"{self._case_number()} already done ({case.name}), skipped")
-                self.wall[job.name] = float(done.get("wall_s", 0.0))
-                return done.get("summary", {})
+        if not marker.is_file():
+            return None
+        try:
+            done = json.loads(marker.read_text())
+        except (OSError, json.JSONDecodeError):
+            return None
+        if done.get("key") != _hash(job.key):
+            return None
+        self.progress(job.label, f"{self.case_number()} already done ({case.name}), skipped")
+        self.wall[job.name] = float(done.get("wall_s", 0.0))
+        return done.get("summary", {})
+
+    def execute(self, job: Job, procs: int) -> tuple[dict[str, Any], float]:
+        """Run ``job`` in a fresh case folder and write its done marker: (summary, wall time in s). The whole
+        of a case's work, so that it can run in a thread here or as a task elsewhere (cfd.raycases)."""
+        case = self.cases / job.name
         if case.exists():
             shutil.rmtree(case)
         case.mkdir(parents=True)
-        number = self._case_number()
-        self.progress(job.label, f"{number} started in {case}")
         t0 = time.monotonic()
         summary = job.action(job, case, procs)
         wall = time.monotonic() - t0
-        self.wall[job.name] = wall
-        if job.kind != "mesh":
-            with self._count:
-                self._solved.append(wall)
-        self.progress(job.label, f"{number} finished in {wall:.0f} s{self._eta()}")
-        marker.write_text(
+        (case / DONE).write_text(
             json.dumps(
                 {
-                    "key": key,
+                    "key": _hash(job.key),
                     "wall_s": wall,
                     "finished": time.strftime("%Y-%m-%d %H:%M:%S"),
                     "summary": summary,
@@ -370,9 +406,27 @@ class Pipeline:
                 default=str,
             )
         )
+        return summary, wall
+
+    def finished(self, job: Job, number: str, wall: float) -> None:
+        """Book a finished case: its wall time, the ETA, the progress line."""
+        self.wall[job.name] = wall
+        if job.kind != "mesh":
+            with self._count:
+                self._solved.append(wall)
+        self.progress(job.label, f"{number} finished in {wall:.0f} s{self._eta()}")
+
+    def _run_job(self, job: Job, procs: int) -> dict[str, Any]:
+        done = self.skip(job)
+        if done is not None:
+            return done
+        number = self.case_number()
+        self.progress(job.label, f"{number} started in {self.cases / job.name}")
+        summary, wall = self.execute(job, procs)
+        self.finished(job, number, wall)
         return summary
 
-    def _case_number(self) -> str:
+    def case_number(self) -> str:
         with self._count:
             self._reached += 1
             return f"case {self._reached} of {len(self.jobs)}"
@@ -383,7 +437,7 @@ class Pipeline:
             left = len(self.jobs) - self._reached
             if not left or not self._solved:
                 return ""
-            side_by_side = max(1, self.study.procs // self.per_case_procs)
+            side_by_side = max(1, self.cpus // self.per_case_procs)
             eta = left * (sum(self._solved) / len(self._solved)) / min(side_by_side, left)
         return f"; {left} to go, ETA {eta / 60.0:.1f} min"
 
@@ -445,6 +499,11 @@ class Pipeline:
             later += [self._steady_job("drift", s.U_ref, b) for b in s.drift_deg]
         if "tow" in s.tests:
             later += [self._steady_job("tow", u, 0.0) for u in s.speeds if not math.isclose(u, s.U_ref)]
+        if "heel" in s.tests:  # one mesh per heel angle, then the heeled tow and the heeled drift at ±angle
+            for phi in s.heel_deg:
+                later.append(self._mesh_job(phi))
+                betas = (0.0, s.heel_drift_deg, -s.heel_drift_deg) if s.heel_drift_deg else (0.0,)
+                later += [self._steady_job("heel", s.U_ref, b, phi) for b in betas]
         return jobs + later
 
     def wake_angles(self) -> tuple[float, ...]:
@@ -453,6 +512,8 @@ class Pipeline:
         in sway; the heading amplitude ψ0 in yaw, where the wake trails along the curved path)."""
         s = self.study
         drift = list(s.drift_deg) if "drift" in s.tests else []
+        if "heel" in s.tests and s.heel_drift_deg:
+            drift += [s.heel_drift_deg, -s.heel_drift_deg]
         pmm = []
         if "sway" in s.tests:
             omegas = [s.sway_omega()] + [w * s.U_ref / s.lpp for w in s.sweep_omega_prime]
@@ -466,6 +527,11 @@ class Pipeline:
         t0 = time.monotonic()
         STOP.clear()
         check_openfoam(parallel=s.mesh_procs > 1)
+        if self.ray is not None:  # connected before the mesh: a wrong address fails at once
+            from .raycases import connect  # noqa: PLC0415 - Ray is an optional extra
+
+            self.cpus = connect(self.ray, s.procs)
+            self.progress("ray", f"connected to {self.ray}: {self.cpus} CPUs for the cases")
         self.progress("hull", f"preparing {s.hull}")
         hull = self.prepare_hull()
         h = hull.hydro
@@ -498,7 +564,14 @@ class Pipeline:
             self.progress("solver", "mpirun/decomposePar not found: cases run serially side by side")
             self.per_case_procs = 1
         base.summary = self._run_job(base, self.per_case_procs)
-        if later:
+        for m in [j for j in later if j.kind == "mesh"]:  # the heel meshes, before their cases
+            m.summary = self._run_job(m, s.mesh_procs)
+        later = [j for j in later if j.kind != "mesh"]
+        if later and self.ray is not None:
+            from .raycases import run_on_ray  # noqa: PLC0415
+
+            run_on_ray(self, later)
+        elif later:
             self._run_parallel(later)
         self.wall["total"] = time.monotonic() - t0
         return self.finish()

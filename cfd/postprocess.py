@@ -82,6 +82,8 @@ class SteadyForces:
     N: float
     iterations: int
     band: dict  # (max − min) over the averaging window, per force
+    K: float = 0.0  # roll moment Mx about the case origin's x-axis (the still waterline), N·m (cfd.heel)
+    Fy: float = 0.0  # case-frame side force (= −Y), for moving K to another axis height
 
 
 def steady_forces(history: ForceHistory, window: float = 0.1) -> SteadyForces:
@@ -101,6 +103,8 @@ def steady_forces(history: ForceHistory, window: float = 0.1) -> SteadyForces:
         float(N.mean()),
         int(history.t[-1]),
         {"X": float(np.ptp(X)), "Y": float(np.ptp(Y)), "N": float(np.ptp(N))},
+        float(history.M[-k:, 0].mean()),
+        float(history.F[-k:, 1].mean()),
     )
 
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from .fitting import FitResult, harmonic_fit
 from .friction import ittc57
+from .heel import summary_lines as heel_summary
 from .jobs import FinishedStudy
 from .pmm_sweep import summary_lines
 from .postprocess import read_forces
@@ -292,6 +293,7 @@ def _summary(
     if regression:
         lines += _regression_lines(regression)
     lines += summary_lines(provenance.get("pmm_dependence", {}), s.normalisation)
+    lines += heel_summary(provenance.get("heel", {}))
     if verification:
         lines += _verification_lines(verification)
     lines += ["", "## Fit residuals (rms residual / rms force)", ""]

@@ -86,6 +86,13 @@ class Progress:
         self.t0 = time.monotonic()
         self._lock = threading.Lock()
 
+    def __getstate__(self) -> dict:
+        """Sent to a Ray task without stream and lock: there it writes to the task's stderr (Ray forwards it)."""
+        return {k: v for k, v in self.__dict__.items() if k not in ("stream", "_lock")}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state, stream=sys.stderr, _lock=threading.Lock())
+
     def __call__(self, step: str, message: str) -> None:
         if self.quiet:
             return

@@ -192,7 +192,7 @@ def _case_checks(p: FinishedStudy, job: Job) -> list[Check]:
             bool(re_L >= LIMITS["reynolds_min"]),
         ),
     ]
-    steady = job.kind in ("tow", "drift")
+    steady = job.kind in ("tow", "drift", "heel")
     if steady:
         its = int(job.summary.get("iterations", 0))
         window_start = its - max(20, math.ceil(LIMITS["settling_window_fraction"] * its))
@@ -276,7 +276,7 @@ def verify(p: FinishedStudy, origin: dict[str, str]) -> dict[str, Any]:
     cases = {
         name: _case_checks(p, job)
         for name, job in p.jobs.items()
-        if job.kind in ("tow", "drift", "sway", "yaw")
+        if job.kind in ("tow", "drift", "heel", "sway", "yaw")
     }
     base = next(
         (n for n, j in p.jobs.items() if j.kind == "tow" and j.params.get("U") == p.study.U_ref), None

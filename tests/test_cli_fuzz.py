@@ -91,7 +91,12 @@ for _manoeuvre in [k for k in VESSEL_GYM if k.startswith("manoeuvre ")]:  # ever
 POSITIONAL = {"imo": SHIP, "play": SCENARIO, "serve": SCENARIO, **{k: SHIP for k in VESSEL_GYM if " " in k}}
 
 VESSEL_CFD = {
-    "run": {**{f"--{opt}": VALUE for opt, _ in cfd_cli.RUN_OPTIONS}, "--study": PATHISH, "--quiet": None},
+    "run": {
+        **{f"--{opt}": VALUE for opt, _ in cfd_cli.RUN_OPTIONS},
+        "--study": PATHISH,
+        "--quiet": None,
+        "--ray": VALUE,
+    },
     "study": {
         **{f"--{opt}": VALUE for opt, _ in cfd_cli.RUN_OPTIONS if opt != "grading"},
         "--gradings": st.one_of(st.sampled_from(["1,2,3", "3,2,1", "1,2", "0,1,2", "1,1,2"]), TEXT),
@@ -162,7 +167,7 @@ def immediate_exits(monkeypatch, tmp_path):
         return 0
 
     class PipelineStub:
-        def __init__(self, study, progress):
+        def __init__(self, study, progress, ray=None):
             pass
 
         def run(self):

@@ -5,20 +5,27 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
-import os
 import sys
 from collections.abc import Sequence
+
+from vessel_gym.cli_args import (  # noqa: F401  (UsageError, SEED_MAX, TOKEN_ENV: their old home)
+    SEED_MAX,
+    TOKEN_ENV,
+    UsageError,
+    _finite,
+    _int_in,
+    add_token_option,
+    check_bindable,
+    host_port,
+    resolve_address,
+    token_arg,
+)
 
 
 def _error_line(message: str) -> None:
     """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
     text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
     print(text, file=sys.stderr)
-
-
-class UsageError(Exception):
-    """Bad command-line input (exit code 2)."""
 
 
 class _DefaultsFormatter(argparse.HelpFormatter):
@@ -42,41 +49,6 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # one line, exit 2 (argparse prints usage lines by default)
         raise UsageError(f"{self.prog}: {message}")
-
-
-def _finite(kind: str, lo: float | None = None, hi: float | None = None):
-    def conv(text: str) -> float:
-        try:
-            x = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{kind} must be a number, got {text!r}") from None
-        if not math.isfinite(x):
-            raise argparse.ArgumentTypeError(f"{kind} must be finite, got {text!r}")
-        if (lo is not None and x < lo) or (hi is not None and x > hi):
-            raise argparse.ArgumentTypeError(f"{kind} {x:g} outside [{lo:g}, {hi:g}]")
-        return x
-
-    return conv
-
-
-def _int_in(kind: str, lo: int, hi: int | None = None):
-    """argparse type: an integer in [lo, hi] (hi None: no upper bound)."""
-
-    def conv(text: str) -> int:
-        try:
-            x = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{kind} must be an integer, got {text!r}") from None
-        if hi is None and x < lo:
-            raise argparse.ArgumentTypeError(f"{kind} must be >= {lo}, got {x}")
-        if hi is not None and not lo <= x <= hi:
-            raise argparse.ArgumentTypeError(f"{kind} {x} outside [{lo}, {hi}]")
-        return x
-
-    return conv
-
-
-SEED_MAX = 2**32 - 1  # the seed range of numpy's legacy generators, which every seeded part accepts
 
 
 def _add_ship(sp: argparse.ArgumentParser) -> None:
@@ -175,6 +147,14 @@ def build_parser() -> argparse.ArgumentParser:
         "imo_<ship>.html in DIR, or the named HTML or PDF file",
     )
     imo.add_argument("--force", action="store_true", help="replace existing plot and report files")
+    imo.add_argument(
+        "--heel-limit",
+        type=_finite("--heel-limit", 0.1, 89.9),
+        default=None,
+        metavar="DEG",
+        help="also hold the largest heel of the 35 deg turning test to DEG (ships with roll only; the 2008 IS "
+        "Code Part A 3.1.3 guidance for passenger ships is 10)",
+    )
     _add_depth(imo)
 
     man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
@@ -326,68 +306,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-TOKEN_ENV = "VESSEL_GYM_TOKEN"
-
-
-def add_token_option(parser: argparse.ArgumentParser) -> None:
-    """``--token`` of the JSON channel's commands (read with :func:`token_arg`)."""
-    parser.add_argument(
-        "--token",
-        default=None,
-        help=f"shared secret of the JSON channel, 1-128 characters (default: ${TOKEN_ENV}, else none)",
-    )
-
-
-def token_arg(args: argparse.Namespace) -> str | None:
-    """The token of ``--token`` or of ``$VESSEL_GYM_TOKEN`` (which keeps it out of the process list)."""
-    token = args.token if args.token is not None else os.environ.get(TOKEN_ENV) or None
-    if token is not None and not 1 <= len(token) <= 128:
-        where = "--token" if args.token is not None else f"${TOKEN_ENV}"
-        raise UsageError(f"vessel-gym {args.command}: {where} must be 1-128 characters, got {len(token)}")
-    return token
-
-
-def host_port(text: str, what: str) -> tuple[str, int]:
-    """'HOST:PORT' -> (host, port); raises UsageError naming the option."""
-    host, sep, port = text.rpartition(":")
-    if not sep or not host:
-        raise UsageError(f"vessel-gym: {what}: expected HOST:PORT, got {text!r}")
-    try:
-        p = int(port)
-    except ValueError:
-        raise UsageError(f"vessel-gym: {what}: port must be an integer, got {port!r}") from None
-    if not 0 <= p <= 65535:
-        raise UsageError(f"vessel-gym: {what}: port {p} outside [0, 65535]")
-    return host, p
-
-
-def resolve_address(addr: tuple[str, int], what: str) -> tuple[str, int]:
-    """Resolve the host of a UDP address to IPv4 (as the link's sockets use it); UsageError naming the
-    option if the name does not resolve."""
-    import socket
-
-    try:
-        return socket.gethostbyname(addr[0]), addr[1]
-    except (OSError, UnicodeError) as exc:
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise UsageError(f"vessel-gym: {what}: cannot resolve host {addr[0]!r} ({reason})") from None
-
-
-def check_bindable(addr: tuple[str, int], what: str) -> None:
-    """UsageError naming the option unless a UDP socket can bind ``addr`` on this machine."""
-    import socket
-
-    host, port = resolve_address(addr, what)
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as sock:
-        try:
-            sock.bind((host, port))
-        except OSError as exc:
-            raise UsageError(
-                f"vessel-gym: {what}: cannot listen on {addr[0]}:{addr[1]} ({exc.strerror or exc}); "
-                "give an address of this machine and a free port"
-            ) from None
-
-
 def _ship_name(args) -> str:
     """The ship named by the positional SHIP or --ship (one of them, or both the same)."""
     pos, opt = args.ship, args.ship_option
@@ -441,14 +359,19 @@ def _cmd_imo(args) -> int:
 
     ship = load_ship(args.ship)
     env = _environment(args, ship)
+    if args.heel_limit is not None and ship.roll is None:
+        raise UsageError(
+            f"vessel-gym imo: --heel-limit: ship {ship.name!r} has no roll (no [roll] table), so no heel"
+        )
     plot_out = report_file = None
     plot_is_dir = False
     # every output is checked before the trials run, so a refusal costs nothing
     if args.plot:
-        from vessel_gym.manoeuvres.plots import REPORT_PLOTS
+        from vessel_gym.manoeuvres.plots import report_plot_names
 
         plot_out, plot_is_dir = output_target(args.plot, (".pdf",), "--plot")
-        files = [plot_out / f"{stem}.png" for stem in REPORT_PLOTS] if plot_is_dir else [plot_out]
+        stems = report_plot_names(ship)
+        files = [plot_out / f"{stem}.png" for stem in stems] if plot_is_dir else [plot_out]
         check_free(files, args.force, "--plot")
     if args.report:
         from vessel_gym.manoeuvres.report import report_name
@@ -458,7 +381,12 @@ def _cmd_imo(args) -> int:
         check_free([report_file], args.force, "--report")
         if plot_out is not None and not plot_is_dir and plot_out.resolve() == report_file.resolve():
             raise UsageError(f"vessel-gym imo: --plot and --report both name {str(report_file)!r}")
-    report = imo_report(ship, with_pull_out=plot_out is not None or report_file is not None, **env)
+    report = imo_report(
+        ship,
+        with_pull_out=plot_out is not None or report_file is not None,
+        heel_limit_deg=args.heel_limit,
+        **env,
+    )
     written = []
     if plot_out is not None or report_file is not None:
         from vessel_gym.manoeuvres.plots import plot_report, report_pngs

@@ -23,7 +23,7 @@ from .. import foamdict
 from ..foamdict import Named, Words
 from .common import HULL_PATCH, decompose_dict, link_mesh, write_solution
 from .flow import FlowSpec
-from .mesh import MESH_QUALITY, _snappy, block_mesh_dict
+from .mesh import MESH_QUALITY, SURFACE_FEATURES, _snappy, block_mesh_dict
 from .sizing import Box, MeshSpec
 
 AIR_HEIGHT = 0.5  # Lpp of air above the waterline (the DTCHull tutorial: about 0.7 Lpp)
@@ -94,17 +94,7 @@ def write_free_surface_mesh(case: Path, fs: MeshSpec, stl: Path, procs: int = 1)
     tri.mkdir(parents=True, exist_ok=True)
     shutil.copyfile(stl, tri / "hull.stl")
     foamdict.write(system / "blockMeshDict", _block_mesh(fs))
-    foamdict.write(
-        system / "surfaceFeatureExtractDict",
-        {
-            "hull.stl": {
-                "extractionMethod": "extractFromSurface",
-                "extractFromSurfaceCoeffs": {"includedAngle": 150},
-                "subsetFeatures": {"nonManifoldEdges": False, "openEdges": True},
-                "writeObj": False,
-            }
-        },
-    )
+    foamdict.write(system / "surfaceFeatureExtractDict", SURFACE_FEATURES)
     snappy = _snappy(fs)
     # Castellated hull: every snapped hull mesh we tried (feature snapping on or off, tighter tolerances,
     # prism layers) blew up within 10-30 interFoam iterations in v1912 (also single-phase, also without

@@ -11,6 +11,18 @@ from ..foamdict import Named, Words
 from .common import HULL_PATCH, decompose_dict, write_schemes, write_solution
 from .sizing import MeshSpec
 
+#: surfaceFeatureExtractDict of the hull STL (one home for the double-body and free-surface meshes): edges where
+#: the faces meet at less than 150 deg (normals over 30 deg apart) and the open edges are features, so that
+#: snappyHexMesh snaps the keel, stem and transom corners instead of rounding them
+SURFACE_FEATURES: dict[str, Any] = {
+    "hull.stl": {
+        "extractionMethod": "extractFromSurface",
+        "extractFromSurfaceCoeffs": {"includedAngle": 150},
+        "subsetFeatures": {"nonManifoldEdges": False, "openEdges": True},
+        "writeObj": False,
+    }
+}
+
 
 def block_mesh_dict(spec: MeshSpec) -> dict[str, Any]:
     (x0, y0, z0), (x1, y1, z1) = spec.lo, spec.hi
@@ -151,17 +163,7 @@ def write_mesh_case(case: Path, spec: MeshSpec, stl: Path, procs: int = 1) -> No
         },
     )
     foamdict.write(system / "blockMeshDict", block_mesh_dict(spec))
-    foamdict.write(
-        system / "surfaceFeatureExtractDict",
-        {
-            "hull.stl": {
-                "extractionMethod": "extractFromSurface",
-                "extractFromSurfaceCoeffs": {"includedAngle": 150},
-                "subsetFeatures": {"nonManifoldEdges": False, "openEdges": True},
-                "writeObj": False,
-            }
-        },
-    )
+    foamdict.write(system / "surfaceFeatureExtractDict", SURFACE_FEATURES)
     foamdict.write(system / "snappyHexMeshDict", _snappy(spec))
     foamdict.write(system / "meshQualityDict", MESH_QUALITY)
     foamdict.write(system / "decomposeParDict", decompose_dict(procs))

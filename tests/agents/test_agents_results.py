@@ -63,7 +63,13 @@ def test_harbour_verdict_and_table() -> None:
     seeds5 = _row("ppo (5 seeds)", True, success_rate=0.9, success_rate_median=0.95, seeds=5, **extra)
     seeds5["summary"]["outcomes"] = {"success": 90, "timeout": 10}
     v = results.verdict("harbour", [pid, seeds5])
-    assert "Median success over its 5 seeds: 95 % (goal ≥ 90 %: met)" in v
+    assert "`ppo (5 seeds)` median 95 % over 5 seeds, 10.0 min wall (3.3 min CPU) per seed: **met**" in v
+    short = _row("bc (5 seeds)", True, success_rate=0.7, success_rate_median=0.75, seeds=5, **extra)
+    short["summary"]["outcomes"] = {"success": 70, "timeout": 30}
+    v = results.verdict("harbour", [pid, seeds5, short])
+    assert "`bc (5 seeds)` median 75 % over 5 seeds" in v and "**not met**, 15 points short" in v
+    seeds5["training"]["train_time_s"] = 1500.0  # 25 min: over the goal's 20-minute limit
+    assert "per seed: not met: too slow to train" in results.verdict("harbour", [pid, seeds5])
     assert "contact 15, success 5" in results.table("harbour", [pid, rl])
 
 
@@ -81,10 +87,15 @@ def test_write_doc_keeps_the_discussion(tmp_path: Path) -> None:
 @pytest.mark.slow
 def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     """A whole results.py run on one environment, 2 seeds x 256 steps with a validation evaluation every 128:
-    curves, table, JSON, shipped agents with sidecars; then a --skip-train rerun."""
-    from agents import shipped
+    curves, table, JSON, shipped agents with sidecars, the behaviour-cloning row; then --skip-train and --resume."""
+    from agents import imitation, shipped
 
     monkeypatch.setattr(results, "EXTRA_EVALS", {})
+    # the behaviour-cloning row too, on this environment, with two tiny DAgger rounds
+    monkeypatch.setattr(results, "BC_PLAN", ("vessel_gym/ZigZag-v0",))
+    bc_file = tmp_path / "bc.yml"
+    bc_file.write_text("vessel_gym/ZigZag-v0: {rounds: 2, steps_per_round: 64, epochs: 1, n_envs: 2}\n")
+    monkeypatch.setattr(imitation, "BC_FILE", bc_file)
     doc = tmp_path / "results.md"
     ship_dir = tmp_path / "trained"
     argv = ["--envs", "ZigZag-v0", "--algos", "ppo", "--timesteps", "256", "--episodes", "1"]
@@ -93,7 +104,8 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     assert results.main(argv) == 0
     data = json.loads((tmp_path / "out" / "results.json").read_text())
     rows = data["sections"][0]["rows"]
-    assert [r["agent"] for r in rows] == ["pid", "scripted", "ppo (2 seeds)"]
+    assert [r["agent"] for r in rows] == ["pid", "scripted", "ppo (2 seeds)", f"{results.ROW_NAMES['bc']} (2 seeds)"]
+    assert rows[3]["training"]["num_timesteps"] == 128 and rows[3]["summary"]["seeds"] == 2
     rl = rows[2]
     assert [p["seed"] for p in rl["per_seed"]] == [0, 1] and rl["summary"]["seeds"] == 2
     assert rl["summary"]["return_std"] is not None and rl["training"]["seeds"] == 2
@@ -109,12 +121,26 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     assert "### vessel_gym/ZigZag-v0" in text and "256 environment steps per run" in text
     assert "over the 2 training seeds" in text
     assert data["eval_seed"] == seeds.TEST_START and data["training_seeds"] == [0, 1]
-    names = sorted(p.name for p in shipped.list_shipped(ship_dir))
-    assert names == ["ppo_ZigZag-v0_seed0.zip", "ppo_ZigZag-v0_seed1.zip"]
+    names = sorted(str(p.relative_to(ship_dir)) for p in shipped.list_shipped(ship_dir))
+    assert names == [
+        "bc/ppo_ZigZag-v0_seed0.zip",
+        "bc/ppo_ZigZag-v0_seed1.zip",
+        "ppo_ZigZag-v0_seed0.zip",
+        "ppo_ZigZag-v0_seed1.zip",
+    ]
+    assert shipped.read_sidecar(ship_dir / names[0])["method"] == "bc"
     meta = shipped.read_sidecar(ship_dir / names[1])
     assert set(shipped.REQUIRED_KEYS) <= set(meta) and meta["seed"] == 1 and meta["env_version"] == 0
     assert meta["test_seeds"] == f"{seeds.TEST_START}..{seeds.TEST_START}"
     assert results.main([*argv, "--skip-train", "--no-ship"]) == 0
+    # --resume trains only what is missing: one PPO and one cloned model
+    (tmp_path / "out" / "ppo_ZigZag-v0_s1.zip").unlink()
+    (tmp_path / "out" / "bc" / "ppo_ZigZag-v0_s0.zip").unlink()
+    kept = (tmp_path / "out" / "ppo_ZigZag-v0_s0.zip").stat().st_mtime_ns
+    assert results.main([*argv, "--resume", "--no-ship"]) == 0
+    assert (tmp_path / "out" / "ppo_ZigZag-v0_s1.zip").is_file()
+    assert (tmp_path / "out" / "bc" / "ppo_ZigZag-v0_s0.zip").is_file()
+    assert (tmp_path / "out" / "ppo_ZigZag-v0_s0.zip").stat().st_mtime_ns == kept
 
 
 def test_interval95_and_aggregate() -> None:

@@ -11,6 +11,7 @@ pipeline's frame conversions are exercised too.
 
 from __future__ import annotations
 
+import hashlib
 import re
 import shutil
 from pathlib import Path
@@ -35,6 +36,21 @@ TRUE_PRIME = {  # rho_L2_U2
     "Y_rdot": -0.0001,
     "N_rdot": -0.00034,
     "X_rr": 0.00005,
+}
+# roll terms of the fake hull (SNAME prime, 1/2 rho L^2 U^2 and 1/2 rho L^3 U^2; K about the waterline
+# axis): the heel-induced Y and N and the roll moment of the static-heel cases (cfd.heel)
+TRUE_ROLL = {
+    "Y_phi": 0.0021,
+    "Y_vvphi": -0.04,
+    "Y_vphiphi": 0.013,
+    "N_phi": -0.0013,
+    "N_vvphi": 0.011,
+    "N_vphiphi": -0.007,
+    "K_v": 0.0031,
+    "K_vvv": 0.02,
+    "K_phi": -0.0009,
+    "K_vvphi": 0.006,
+    "K_vphiphi": -0.004,
 }
 C_R = 0.35  # resistance R = C_R U^2 (N)
 _SQUARE = ((0, 0), (1, 0), (1, 1), (0, 1))
@@ -133,7 +149,8 @@ class FakeFoam:
         )
         faces = "".join(f"4({4 * i} {4 * i + 1} {4 * i + 2} {4 * i + 3})\n" for i in range(n))
         head = "FoamFile\n{{\n    format ascii;\n    class {};\n}}\n\n"
-        (poly / "points").write_text(head.format("vectorField") + f"{4 * n}\n(\n{pts})\n")
+        stl = hashlib.sha256((case / "constant" / "triSurface" / "hull.stl").read_bytes()).hexdigest()
+        (poly / "points").write_text(head.format("vectorField") + f"// hull.stl {stl}\n{4 * n}\n(\n{pts})\n")
         (poly / "faces").write_text(head.format("faceList") + f"{n}\n(\n{faces})\n")
         asked = re.search(r"nSurfaceLayers\s+(\d+);", (case / "system" / "snappyHexMeshDict").read_text())
         if asked and int(asked.group(1)) > 0 and self.hull_faces:  # snappyHexMesh's layer table
@@ -170,13 +187,25 @@ class FakeFoam:
         X = -C_R * U**2 + _coef("X_vv", U) * v**2
         Y = _coef("Y_v", U) * v + _coef("Y_vvv", U) * v**3
         N = _coef("N_v", U) * v + _coef("N_vvv", U) * v**3
+        heel = re.match(r"heel_p([0-9.]+)_", case.name)
+        phi = np.radians(float(heel.group(1))) if heel else 0.0
+        q, vp, T = 0.5 * RHO * U**2, v / U, TRUE_ROLL
+        Y += q * L**2 * (T["Y_phi"] * phi + T["Y_vvphi"] * vp**2 * phi + T["Y_vphiphi"] * vp * phi**2)
+        N += q * L**3 * (T["N_phi"] * phi + T["N_vvphi"] * vp**2 * phi + T["N_vphiphi"] * vp * phi**2)
+        K = q * L**3 * (
+            T["K_v"] * vp
+            + T["K_vvv"] * vp**3
+            + T["K_phi"] * phi
+            + T["K_vvphi"] * vp**2 * phi
+            + T["K_vphiphi"] * vp * phi**2
+        )
         n = 100
         it = np.arange(1, n + 1, dtype=float)
         relax = (
             1.0 - np.exp(-it / 3.0) if self.settle else 0.5 + 0.5 * it / n
         )  # drifting: 5 % over the last 10
         F = np.column_stack([X * relax, -Y * relax, np.zeros(n)])
-        M = np.column_stack([np.zeros(n), np.zeros(n), -N * relax])
+        M = np.column_stack([K * relax, np.zeros(n), -N * relax])
         if self.nan_in and case.name.startswith(self.nan_in):
             F[-5:] = np.nan
         self._write_forces(case, it, F, M)

@@ -22,7 +22,7 @@ from vessel_gym.net import protocol as P
 from vessel_gym.net.link import LinkConfig, UdpLink
 from vessel_gym.physics.units import KNOT_M_S
 
-from .helpers import free_tcp_port, free_udp_port, make_reading
+from .helpers import free_tcp_port, free_udp_port, make_reading, moved
 
 pytestmark = pytest.mark.gpsd
 
@@ -218,3 +218,37 @@ def test_gpsd_ignores_he_heading_talker(gpsd):
         assert headings == []
     else:  # gpsd >= 3.23.1 accepts $HE
         assert headings
+
+
+def test_gpsd_reports_the_heel_of_a_ship_with_roll(gpsd):
+    """A ship with roll: gpsd's ATT report carries the heel as ``roll`` (from $PASHR on gpsd 3.22, which
+    ignores XDR; newer gpsd also decodes the XDR ROLL transducer), sign kept (+ = starboard side down).
+    The first cycles are a 3-DOF ship's: their ATT reports have a heading and no roll."""
+    heel = [None, None, -2.5, 1.25, 7.89, -7.89]
+    config = LinkConfig(
+        json_bind=("127.0.0.1", 0),
+        nmea_destinations=[("127.0.0.1", gpsd.udp_port)],
+        nmea_rate_hz=RATE_HZ,
+        utc_epoch=EPOCH,
+    )
+    with UdpLink(config) as link:
+        for k, phi in enumerate(heel):
+            rate = None if phi is None else 0.1
+            link.service(k / RATE_HZ, moved(_own(k), roll_deg=phi, roll_rate_dps=rate))
+            gpsd.read_until(lambda r, k=k: r.get("class") == "TPV" and r.get("time") == _time(k), 0.5)
+        gpsd.read_until(lambda r: r.get("class") == "ATT" and r.get("roll") == heel[-1], 2.0)
+    att: dict[int, dict] = {}
+    times = {_time(k): k for k in range(len(heel))}
+    current = None
+    for r in gpsd.reports:
+        if r.get("class") == "TPV" and r.get("time") in times:
+            current = times[r["time"]]
+        elif r.get("class") == "ATT" and current is not None:
+            att.setdefault(current, {}).update(r)
+    for k, phi in enumerate(heel):
+        assert k in att, f"no ATT for cycle {k}: {gpsd.reports[-6:]}"
+        assert att[k]["heading"] == pytest.approx(round(_own(k).hdg_deg, 1), abs=0.01)
+        if phi is None:
+            assert "roll" not in att[k]
+        else:
+            assert att[k].get("roll") == pytest.approx(phi, abs=1e-6), [r for r in gpsd.reports if r.get("class") in ("TPV", "ATT")]

@@ -250,3 +250,24 @@ def test_pack_datagrams_rejects_unterminated_or_oversized():
         nmea.pack_datagrams(["$IIHDT,1.0,T*00"])
     with pytest.raises(ValueError, match="does not fit"):
         nmea.pack_datagrams(["$IIHDT,123.4,T*26\r\n"], max_bytes=10)
+
+
+def test_heel_goes_out_as_xdr_roll_and_pashr_only_for_a_ship_with_roll():
+    """A 3-DOF reading (roll None) keeps the nine-sentence cycle; with roll, PASHR and XDR (A, D, ROLL) join it,
+    both read back by pynmea2 with the heel's sign (+ = starboard side down)."""
+    assert len(nmea.own_ship_sentences(make_reading(), UTC)) == 9
+    lines = nmea.own_ship_sentences(make_reading(roll_deg=-2.5, roll_rate_dps=0.4), UTC)
+    heads = [line[1:6] for line in lines]
+    # PASHR just before HDT (gpsd 3.22 reports the heel with HDT's ATT), XDR last
+    assert heads == ["GPRMC", "GPGGA", "GPVTG", "PASHR", "IIHDT", "IIROT", "IIRSA", "IIRPM", "IIVHW", "IIMWV", "IIXDR"]
+    assert lines[3] == "$PASHR,123456.78,123.40,T,-2.50,,,,,,1,*19\r\n"
+    assert lines[10] == "$IIXDR,A,-2.50,D,ROLL*62\r\n"
+    for line in lines:
+        assert nmea.verify(line) and len(line) <= 82
+    x = pynmea2.parse(lines[10].strip(), check=True)
+    assert x.sentence_type == "XDR" and x.get_transducer(0) == ("A", "-2.50", "D", "ROLL")
+    p = pynmea2.parse(lines[3].strip(), check=True)
+    assert type(p).__name__ == "ASHRATT" and p.is_true_heading == "T"
+    assert (p.true_heading, p.roll, p.pitch) == (123.4, -2.5, None)  # the model has no pitch: empty
+    starboard_down = nmea.own_ship_sentences(make_reading(roll_deg=7.891, roll_rate_dps=0.0), UTC)
+    assert starboard_down[10].startswith("$IIXDR,A,7.89,D,ROLL*")

@@ -287,3 +287,27 @@ def test_client_encoders_validate():
         P.encode_hello("pilot")
     with pytest.raises(ValueError):  # non-finite never leaves a client either
         P.encode_helm(1, math.nan, telegraph=0)
+
+
+def test_state_carries_roll_only_for_a_ship_with_roll():
+    """The bridge of a ship with roll gives the heel and roll rate (deg, deg/s, + = starboard side down), and
+    the state sends them as roll_deg and roll_rate_dps after the other own-ship fields; a 3-DOF ship sends
+    neither (a viewer draws it upright)."""
+    from vessel_gym.physics import layout as lo
+    from vessel_gym.physics.simulation import Simulation
+
+    sim = Simulation("container", 1, dt=0.1)
+    sim.state[0, lo.X_PHI] = math.radians(-3.5)
+    sim.state[0, lo.X_P] = math.radians(0.25)
+    own = sim.bridge(0)
+    assert own.roll_deg == pytest.approx(-3.5) and own.roll_rate_dps == pytest.approx(0.25)
+    (data,) = P.encode_state(7, own, True)
+    msg = P.parse_server_datagram(data)
+    assert list(msg) == STATE_KEYS[: STATE_KEYS.index("helm_ok")] + ["roll_deg", "roll_rate_dps"] + STATE_KEYS[
+        STATE_KEYS.index("helm_ok") :
+    ]
+    assert msg["roll_deg"] == -3.5 and msg["roll_rate_dps"] == 0.25
+    flat = Simulation("kvlcc2", 1, dt=0.1).bridge(0)
+    assert flat.roll_deg is None and flat.roll_rate_dps is None
+    (data,) = P.encode_state(8, flat, True)
+    assert list(P.parse_server_datagram(data)) == STATE_KEYS

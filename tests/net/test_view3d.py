@@ -59,6 +59,50 @@ def test_heading_quaternion_turns_the_bow_clockwise_from_north():
         assert fwd == pytest.approx(expected, abs=1e-12)
 
 
+def _rotate(q, v):
+    """Vector v rotated by the unit quaternion q = (w, x, y, z)."""
+    w, x, y, z = q
+    u = np.array([x, y, z])
+    v = np.asarray(v, dtype=float)
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def test_attitude_quaternion_heels_the_starboard_side_down_and_keeps_the_heading():
+    """Ship frame: x starboard, y forward, z up. A heel of +10 deg (starboard side down) on heading 90 deg:
+    the bow still points east, the starboard side (ship +x, pointing south) dips by sin 10 deg, the mast
+    leans to starboard; zero heel is the heading quaternion."""
+    for hdg in (0.0, 33.0, 90.0, 225.0):
+        assert V.attitude_wxyz(hdg, 0.0) == pytest.approx(V.heading_wxyz(hdg), abs=1e-15)
+    q = V.attitude_wxyz(90.0, 10.0)
+    assert sum(c * c for c in q) == pytest.approx(1.0)
+    s10, c10 = math.sin(math.radians(10.0)), math.cos(math.radians(10.0))
+    assert _rotate(q, (0, 1, 0)) == pytest.approx((1.0, 0.0, 0.0), abs=1e-12)  # bow east
+    assert _rotate(q, (1, 0, 0)) == pytest.approx((0.0, -c10, -s10), abs=1e-12)  # starboard side south, down
+    assert _rotate(q, (0, 0, 1)) == pytest.approx((0.0, -s10, c10), abs=1e-12)  # mast leans to starboard
+    # heel to port lifts the starboard side
+    assert _rotate(V.attitude_wxyz(0.0, -5.0), (1, 0, 0))[2] == pytest.approx(math.sin(math.radians(5.0)))
+
+
+def test_viewer_places_the_own_ship_heeled_by_the_state_roll():
+    """The ship node takes the state's heading and roll_deg; a state without roll (3-DOF ship) is upright."""
+    from types import SimpleNamespace
+
+    from vessel_gym.ui.view3d import Viewer3D
+
+    viewer = Viewer3D.__new__(Viewer3D)  # the placement only needs the ship nodes
+    frame = SimpleNamespace(position=None, wxyz=None)
+    viewer._ships = {0: frame}
+    viewer._place(0, {"x_m": 10.0, "y_m": 20.0, "hdg_deg": 45.0, "roll_deg": -7.89})
+    assert frame.position == (20.0, 10.0, 0.0)
+    assert frame.wxyz == pytest.approx(V.attitude_wxyz(45.0, -7.89))
+    viewer._place(0, {"x_m": 10.0, "y_m": 20.0, "hdg_deg": 45.0})
+    assert frame.wxyz == pytest.approx(V.heading_wxyz(45.0))
+    assert "| Heel | -7.9°" in viewer._hud_text.__func__(
+        SimpleNamespace(link=SimpleNamespace(owner=None, helm=False, scene=None, events=[])),
+        {"roll_deg": -7.89, "hdg_deg": 45.0},
+    )
+
+
 def test_wave_number_limits_of_linear_theory():
     omega = 2.0 * math.pi / 8.0
     # deep water: wavelength g T^2 / (2 pi) = 99.89 m for T = 8 s
@@ -302,3 +346,44 @@ def test_link_client_answers_the_handshake_and_commands_in_its_session():
     finally:
         link.close()
         server.close()
+
+
+def test_viewer_heels_the_container_ship_from_a_real_link():
+    """End to end without a browser: the 4-DOF container ship 30 s into a 35 deg starboard turn, its bridge
+    reading served by a real UdpLink; the viewer's link client receives roll_deg (the simulation's heel,
+    outward in the turn, to port) and the viewer places the ship node heeled by it."""
+    from types import SimpleNamespace
+
+    from vessel_gym.net.link import LinkConfig, UdpLink
+    from vessel_gym.physics.simulation import Simulation
+    from vessel_gym.ui.view3d import Viewer3D
+
+    sim = Simulation("container", dt=0.1)
+    sim.reset(speed_m_s=sim.ship(0).test_speed_m_s)
+    sim.set_helm(rudder_order_rad=math.radians(35.0))
+    sim.advance(30.0)
+    own = sim.bridge(0)
+    assert own.roll_deg < -3.0  # the outward heel of the turn (docs/manoeuvres.md: -7.9 deg at 28.9 s)
+    with UdpLink(LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=())) as link:
+        client = V.LinkClient(link.json_address, 20.0, "t", None)
+        try:
+            deadline = time.monotonic() + 5.0
+            while time.monotonic() < deadline:
+                client.poll(time.monotonic())
+                link.service(sim.t, own)
+                client.poll(time.monotonic())
+                if client.state and "roll_deg" in client.state:
+                    break
+                time.sleep(0.02)
+            st = client.state
+        finally:
+            client.close()
+    assert st["roll_deg"] == pytest.approx(own.roll_deg, abs=0.005)
+    assert st["roll_rate_dps"] == pytest.approx(own.roll_rate_dps, abs=5e-4)
+    viewer = Viewer3D.__new__(Viewer3D)
+    frame = SimpleNamespace(position=None, wxyz=None)
+    viewer._ships = {0: frame}
+    viewer._place(0, st)
+    assert frame.wxyz == pytest.approx(V.attitude_wxyz(st["hdg_deg"], st["roll_deg"]))
+    # the starboard side (ship node +x) is up: heeled to port
+    assert _rotate(frame.wxyz, (1, 0, 0))[2] == pytest.approx(math.sin(math.radians(-st["roll_deg"])), abs=1e-9)

@@ -119,9 +119,11 @@ def test_ship_file_rejects_firing_above_air_braking():
         parse_ship(data, "x.toml")
 
 
-def test_reversing_gear_state_is_last_in_the_row():
-    """The new state is appended, so the indices the kernels and saved data use stay where they were."""
-    assert lo.X_CAM == lo.NX - 1 and lo.STATE_NAMES[lo.X_CAM] == "reversing_gear"
+def test_reversing_gear_state_is_appended_after_the_3dof_states():
+    """The reversing gear was appended after the governor (and roll after it), so the indices the kernels and
+    saved data use stay where they were."""
+    assert lo.X_CAM == lo.X_GOV + 1 == 9 and lo.STATE_NAMES[lo.X_CAM] == "reversing_gear"
+    assert (lo.X_PHI, lo.X_P) == (lo.X_CAM + 1, lo.X_CAM + 2) and lo.NX == lo.X_P + 1
     assert np.all(np.array([lo.X_U, lo.X_V, lo.X_R, lo.X_N, lo.X_E, lo.X_PSI]) == np.arange(6))
 
 

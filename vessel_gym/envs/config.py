@@ -82,6 +82,29 @@ class OpenWaterConfig(ShipEnvConfig):
     )
 
 
+@dataclass(frozen=True, kw_only=True)
+class RollOptionsConfig:
+    """The roll options of a task on a ship with roll (a 4-DOF ship such as ``container``); refused on a 3-DOF
+    ship. Off by default: the observation, the reward and the ``info`` keys are then those without roll."""
+
+    observe_roll: bool = param(
+        False, doc="append roll angle phi / heel_ref and roll rate p / (heel_ref omega_phi) to the observation"
+    )
+    heel_weight: float = param(
+        0.0,
+        lo=WEIGHT_RANGE[0],
+        hi=WEIGHT_RANGE[1],
+        doc="weight of the heel reward term -(phi / heel_ref)^2; 0: no heel term (and no info key)",
+    )
+    heel_ref_deg: float = param(
+        10.0,
+        unit="deg",
+        lo=0.1,
+        hi=40.0,
+        doc="heel scale of the roll observation and the heel term (default: the IS Code's heel-in-turn 10 deg)",
+    )
+
+
 def _as_table(value: Any) -> Any:
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         return {f.name: _as_table(getattr(value, f.name)) for f in dataclasses.fields(value) if f.init}

@@ -6,7 +6,10 @@ A task module declares
 * its reward terms, a tuple of :class:`Term` (name, default weight, what the term is per step);
 * its features, a tuple of :class:`FeatureSpec` (name, unit, scale, meaning): every quantity the task computes
   per vessel, of which the configuration observes a subset;
-* the columns of its per-vessel task state and of its parameter row, with :func:`columns`.
+* the columns of its per-vessel task state and of its parameter row, with :func:`columns`;
+* optionally, a block of reward terms that a configuration option switches on (``options``, e.g. the heel of a
+  ship with roll): their kernel columns follow the terms (``spec.OPT.heel``), their weights are configuration
+  fields of their own, and they are absent (no column, no ``info`` key) unless switched on.
 
 From the one declaration :class:`TaskSpec` derives the kernel's column indices (``spec.TERM.heading_error``,
 ``spec.FEAT.sog``: namedtuples of ints, which numba folds to constants when a kernel reads them as module
@@ -101,16 +104,28 @@ class TaskSpec:
     """The declaration of one task: reward terms and features, and what is derived from them.
 
     ``TERM``: namedtuple term name -> column of the kernel's reward-term rows. ``FEAT``: feature name -> column of
-    the feature rows (a repeated feature: its first column; its copies follow to the end of the row).
+    the feature rows (a repeated feature: its first column; its copies follow to the end of the row). ``OPT``:
+    optional term name -> its column, after the terms; the optional block is switched on as a whole
+    (:meth:`term_names_with`).
     """
 
-    def __init__(self, title: str, terms: Sequence[Term], features: Sequence[FeatureSpec]) -> None:
+    def __init__(
+        self,
+        title: str,
+        terms: Sequence[Term],
+        features: Sequence[FeatureSpec],
+        options: Sequence[Term] = (),
+    ) -> None:
         self.title = title
         self.terms = tuple(terms)
         self.features = tuple(features)
+        self.options = tuple(options)
         self.term_names = tuple(_identifier(t.name) for t in self.terms)
+        self.option_names = tuple(_identifier(t.name) for t in self.options)
         self.feature_names = tuple(_identifier(f.name) for f in self.features)
         self.TERM = columns(*self.term_names, typename="Terms")
+        columns(*self.term_names, *self.option_names, typename="Terms")  # an option may not reuse a term's name
+        self.OPT = columns(*self.option_names, start=len(self.term_names), typename="Options")
         self.FEAT = columns(*self.feature_names, typename="Features")
         repeated = [i for i, f in enumerate(self.features) if f.repeat is not None]
         if repeated and repeated != [len(self.features) - 1]:
@@ -125,7 +140,12 @@ class TaskSpec:
         for name, term in terms.items():
             if name not in self.term_names or term.name != name:
                 raise ValueError(f"{title}: {name!r} replaces no term of {self.title} of that name")
-        return TaskSpec(title, tuple(terms.get(t.name, t) for t in self.terms), self.features)
+        return TaskSpec(title, tuple(terms.get(t.name, t) for t in self.terms), self.features, self.options)
+
+    def term_names_with(self, options_on: bool) -> tuple[str, ...]:
+        """The reward-term columns (and ``info["reward_terms"]`` keys) of a task: the terms, then the optional
+        block if it is switched on."""
+        return self.term_names + (self.option_names if options_on else ())
 
     # --- reward -------------------------------------------------------------------------------------------
     def weights_class(self, name: str, module: str, doc: str, base: type | None = None) -> type:
@@ -194,6 +214,7 @@ class TaskSpec:
         """Markdown table of the reward terms (docs/envs.md carries it)."""
         rows = ["| term | default weight | value per step |", "|---|---|---|"]
         rows += [f"| `{t.name}` | {t.weight:g} | {_md(t.doc)} |" for t in self.terms]
+        rows += [f"| `{t.name}` (option) | {t.weight:g} | {_md(t.doc)} |" for t in self.options]
         return "\n".join(rows)
 
     def feature_table(self) -> str:

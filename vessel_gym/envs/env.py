@@ -12,11 +12,11 @@ from typing import Any, ClassVar
 
 import gymnasium as gym
 import numpy as np
-from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs.config import make_config
+from vessel_gym.envs.generators import VesselGenerators
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
 
 
@@ -178,7 +178,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self.action_space = batch_space(self.single_action_space, num_envs)
         self.single_observation_space = self.task.layout.space()
         self.observation_space = batch_space(self.single_observation_space, num_envs)
-        self._rngs: list[np.random.Generator] | None = None
+        self._rngs: VesselGenerators | None = None
         self._steps = np.zeros(num_envs, dtype=np.int64)
         self._needs_reset = np.zeros(num_envs, dtype=np.bool_)
         self._all_reset = np.full(num_envs, PHASE_RESET, dtype=np.int8)
@@ -187,10 +187,10 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._reset_done = False
 
     def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
-        for k in idx:
-            self.task.reset_vessel(int(k), self._rngs[k], options)
-            self._steps[k] = 0
-            if self.render_mode is not None and k < len(self._tracks):
+        self.task.reset_vessels(idx, options)
+        self._steps[idx] = 0
+        if self.render_mode is not None:
+            for k in idx[idx < len(self._tracks)].tolist():
                 self._tracks[k] = [(float(self.sim.north[k]), float(self.sim.east[k]))]
 
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
@@ -205,11 +205,9 @@ class ShipVectorEnv(_Renders, VectorEnv):
             if len(seeds) != n:
                 raise ValueError(f"seed list must have {n} entries, got {len(seeds)}")
         if self._rngs is None:
-            self._rngs = [seeding.np_random(s)[0] for s in seeds]
+            self._rngs = VesselGenerators(seeds)
         else:
-            for i, s in enumerate(seeds):
-                if s is not None:
-                    self._rngs[i] = seeding.np_random(s)[0]
+            self._rngs.reseed(seeds)
         self.task.rngs = self._rngs
         opts = dict(options) if options else {}
         mask = opts.pop("reset_mask", None)

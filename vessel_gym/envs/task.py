@@ -114,6 +114,7 @@ class Task(abc.ABC):
         self.terminated = np.zeros(n, dtype=np.bool_)
         self.phase = np.full(n, PHASE_STEP, dtype=np.int8)
         self.rngs: Sequence[np.random.Generator] = ()  # per-vessel generators, set by the environment
+        self._starts: tuple[list, ...] | None = None  # the starts gathered by reset_vessels, else None
         self.enc = np.stack(
             [
                 self.layout.columns.astype(np.float64),
@@ -133,6 +134,44 @@ class Task(abc.ABC):
     @abc.abstractmethod
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         """Put vessel k at a new start drawn with ``rng`` (``options`` as the environment's reset)."""
+
+    def reset_vessels(self, idx: np.ndarray, options: Mapping | None) -> None:
+        """Reset the vessels ``idx``: vessel k by :meth:`reset_vessel` with its generator ``rngs[k]``, so each
+        draws exactly what a lone reset draws, and the simulation's starts (:meth:`start`) gathered into one
+        batched ``Simulation.reset`` (numpy over the vessels, one steady-state solve per distinct approach)."""
+        rng = getattr(self.rngs, "lazy", self.rngs.__getitem__)  # lazy: made at a first draw (env.py)
+        if len(idx) == 1:
+            k = int(idx[0])
+            self.reset_vessel(k, rng(k), options)
+            return
+        self._starts = starts = ([], [], [], [], [])
+        try:
+            for k in idx.tolist():
+                self.reset_vessel(k, rng(k), options)
+        finally:
+            self._starts = None
+        if not starts[0]:  # a task that resets the simulation itself
+            return
+        ks = np.array(starts[0], dtype=np.int64)
+        sp, hd, xs, ys = (np.array(v, dtype=float) for v in starts[1:])
+        self.sim.reset(speed_m_s=sp, heading_deg=hd, x_m=xs, y_m=ys, k=ks)
+        self.started(ks)
+
+    def start(self, k: int, speed: float, heading: float, x_m: float = 0.0, y_m: float = 0.0) -> None:
+        """Vessel k in a steady straight approach (``Simulation.reset``) at ``speed`` (m/s) on ``heading`` (deg)
+        at (``x_m``, ``y_m``), then :meth:`started`: at once, or with the others of a :meth:`reset_vessels`
+        batch (the simulation's state of vessel k is then new only after the task's ``reset_vessel``)."""
+        starts = self._starts
+        if starts is None:
+            self.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=x_m, y_m=y_m, k=k)
+            self.started(k)
+            return
+        for column, value in zip(starts, (k, speed, heading, x_m, y_m)):
+            column.append(value)
+
+    def started(self, k: int | np.ndarray) -> None:  # noqa: B027 (a task that keeps nothing has nothing to do)
+        """Copy what the task keeps of the vessels' start states (``k`` one index or an array of them) once
+        the simulation has them (:meth:`start`)."""
 
     def scales(self) -> dict[str, float]:
         """What each scale name of the declared features is worth for this task's ship (extend in a task)."""

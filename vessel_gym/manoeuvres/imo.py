@@ -10,6 +10,12 @@ All trials to port and starboard at the test speed in deep, calm water.
 
 The pull-out test (MSC/Circ.1053 §3.4.4, Burcher 1972) has no IMO limit; the report runs it on request as
 evidence of course stability.
+
+Optional, for ships with roll only: the heel in a turn against the Intact Stability Code's guidance, 2008 IS
+Code (Res. MSC.267(85)) Part A §3.1.3: for passenger ships the angle of heel on account of turning should not
+exceed 10 deg. The Code estimates that heel from a steady-turn heeling moment; a simulation has the heel itself,
+so the criterion is the largest |heel| of the 35 deg turning test to each side (the transient outward heel
+exceeds the steady one, so this is the stricter reading). The limit is the caller's (``heel_limit_deg``).
 """
 
 from __future__ import annotations
@@ -55,6 +61,8 @@ INITIAL_TURNING_LIMIT_L = 2.5  # MSC.137(76) §5.3.2
 ZIGZAG20_FIRST_LIMIT_DEG = 25.0  # MSC.137(76) §5.3.3.3
 STOPPING_LIMIT_L = 15.0  # MSC.137(76) §5.3.4
 STOPPING_LARGE_SHIP_LIMIT_L = 20.0  # §5.3.4: the most an Administration may accept for large displacement
+IS_CODE_PASSENGER_HEEL_LIMIT_DEG = 10.0  # 2008 IS Code Part A §3.1.3: heel on account of turning, passenger ships
+IS_CODE_HEEL_REF = "2008 IS Code (MSC.267(85)) Part A §3.1.3"
 
 
 @dataclass
@@ -212,6 +220,15 @@ def stopping_criteria(st: Stopping) -> list[Criterion]:
     return [Criterion("stopping_track_reach", "ahead", reach, STOPPING_LIMIT_L, "L", note)]
 
 
+def heel_criteria(tc: TurningCircle, limit_deg: float) -> list[Criterion]:
+    """The largest |heel| of a 35 deg turning test against ``limit_deg`` (the IS Code's heel-in-turn
+    guidance, see the module text); empty for a 3-DOF ship, which has no heel."""
+    if tc.max_heel_deg is None:
+        return []
+    side = _side(tc.rudder_deg)
+    return [Criterion("heel_in_turn", side, abs(tc.max_heel_deg), limit_deg, "deg", IS_CODE_HEEL_REF)]
+
+
 def criteria_for(result, ship: str | Ship) -> list[Criterion]:
     """The MSC.137(76) criteria a single trial result is evidence for: empty unless the trial was run in the
     standard's condition (test speed; 35 deg or the maximum rudder for turning, 10 deg for initial turning,
@@ -238,17 +255,30 @@ def _missing(name: str, side: str, limit: float, unit: str, exc: ManoeuvreIncomp
     return Criterion(name, side, None, limit, unit, str(exc), isinstance(exc, ManoeuvreDiverged))
 
 
-def imo_report(ship: str | Ship, with_pull_out: bool = False, environment: Environment = CALM) -> ImoReport:
+def imo_report(
+    ship: str | Ship,
+    with_pull_out: bool = False,
+    environment: Environment = CALM,
+    heel_limit_deg: float | None = None,
+) -> ImoReport:
     """Run every MSC.137(76) trial to both sides at the ship's test speed and evaluate the criteria;
     ``with_pull_out`` adds the pull-out test (no IMO limit) to the report's trials. Every trial runs in
-    ``environment`` (default calm deep water); a finite ``depth_m`` there runs them in shallow water."""
+    ``environment`` (default calm deep water); a finite ``depth_m`` there runs them in shallow water.
+    ``heel_limit_deg`` adds the heel-in-turn criterion (IS Code guidance, see the module text) for a ship with
+    roll; a 3-DOF ship with a heel limit is refused (ValueError)."""
     s = load_ship(ship)
+    if heel_limit_deg is not None:
+        if s.roll is None:
+            raise ValueError(f"ship {s.name!r} has no roll (no [roll] table): no heel to hold to a heel limit")
+        if not 0.0 < heel_limit_deg < 90.0:
+            raise ValueError(f"heel limit {heel_limit_deg:g} deg: allowed 0 < limit < 90")
     env = environment
     L = s.particulars.L_m
     V = s.particulars.test_speed_kn
     LV = L / (V * KNOT_M_S)
     turn_rudder = min(35.0, s.steering_gear.max_angle_deg)
     crit: list[Criterion] = []
+    heel: list[Criterion] = []  # listed after the MSC.137(76) criteria
     trials: dict = {}
     sides = (("starboard", 1.0), ("port", -1.0))
 
@@ -257,9 +287,13 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False, environment: Envir
             tc = turning_circle(s, sg * turn_rudder, until_deg=360.0, environment=env)
             trials[f"turning_{side}"] = tc
             crit += turning_criteria(tc)
+            if heel_limit_deg is not None:
+                heel.append(heel_criteria(tc, heel_limit_deg)[0])
         except ManoeuvreIncomplete as exc:
             crit.append(_missing("advance", side, ADVANCE_LIMIT_L, "L", exc))
             crit.append(_missing("tactical_diameter", side, TACTICAL_DIAMETER_LIMIT_L, "L", exc))
+            if heel_limit_deg is not None:
+                heel.append(_missing("heel_in_turn", side, heel_limit_deg, "deg", exc))
     for side, sg in sides:
         try:
             it = initial_turning(s, sg * 10.0, environment=env)
@@ -289,4 +323,4 @@ def imo_report(ship: str | Ship, with_pull_out: bool = False, environment: Envir
             trials["pull_out"] = pull_out(s, environment=env)
         except ManoeuvreIncomplete:
             pass  # no criterion depends on it; the report says the trial is missing
-    return ImoReport(s.name, L, V, crit, trials, s, environment.depth_m)
+    return ImoReport(s.name, L, V, crit + heel, trials, s, environment.depth_m)

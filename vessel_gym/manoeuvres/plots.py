@@ -2,7 +2,9 @@
 'plot' extra). Distances are in ship lengths L, times in seconds, angles in degrees.
 
 Each ``figure_*`` function builds one figure from trial results and the criteria they are evidence for
-(:mod:`vessel_gym.manoeuvres.imo`); an empty criteria list draws the trial without limits and says why.
+(:mod:`vessel_gym.manoeuvres.imo`); an empty criteria list draws the trial without limits and says why. The
+drawing style they share is :mod:`~vessel_gym.manoeuvres.plot_style`; the heel figure of a ship with roll,
+:func:`~vessel_gym.manoeuvres.plots_roll.figure_roll`, lives in :mod:`~vessel_gym.manoeuvres.plots_roll`.
 """
 
 from __future__ import annotations
@@ -20,14 +22,23 @@ from vessel_gym.manoeuvres.imo import (
     ImoReport,
     criteria_for,
 )
+from vessel_gym.manoeuvres.plot_style import (  # noqa: F401  (the style's names: their old home)
+    FAIL_COLOUR,
+    LIMIT_COLOUR,
+    NO_LIMIT,
+    PASS_COLOUR,
+    SIDE_STYLE,
+    _limit_hline,
+    _limit_vline,
+    _nice_ticks,
+    _plt,
+    _side,
+    _verdict_box,
+    _verdict_lines,
+)
+from vessel_gym.manoeuvres.plots_roll import ROLL_PLOTS, figure_roll
 from vessel_gym.manoeuvres.trials import InitialTurning, PullOut, Stopping, TurningCircle, ZigZag
 from vessel_gym.physics.units import KNOT_M_S
-
-PASS_COLOUR = "#1a7f37"
-FAIL_COLOUR = "#c62828"
-LIMIT_COLOUR = "#c62828"
-SIDE_STYLE = {"starboard": ("#1f5fa8", "-"), "port": ("#d9730d", "--")}
-NO_LIMIT = "not run in the MSC.137(76) condition: no IMO limit drawn"
 
 # the plot files of an IMO report, in report order (file stem -> title)
 REPORT_PLOTS = {
@@ -40,86 +51,10 @@ REPORT_PLOTS = {
 }
 
 
-def _plt():
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError as exc:  # pragma: no cover - depends on the install
-        raise RuntimeError("plots need matplotlib: pip install 'vessel-gym[plot]'") from exc
-    return plt
-
-
-def _nice_ticks(ax, x: bool = True, y: bool = True) -> None:
-    from matplotlib.ticker import MaxNLocator
-
-    loc = dict(nbins=8, steps=[1, 2, 2.5, 5, 10])
-    if x:
-        ax.xaxis.set_major_locator(MaxNLocator(**loc))
-    if y:
-        ax.yaxis.set_major_locator(MaxNLocator(**loc))
-
-
-def _verdict_lines(criteria: Sequence[Criterion]) -> list[tuple[str, bool]]:
-    out = []
-    for c in criteria:
-        name = c.name.replace("zigzag_10_", "").replace("zigzag_20_", "").replace("_", " ")
-        val = "n/a" if c.value is None else f"{c.value:.2f}"
-        op = "<=" if c.passed else ">"
-        if c.value is None:
-            op = "vs"
-        unit = " deg" if c.unit == "deg" else f" {c.unit}"
-        out.append(
-            (
-                f"{c.side} {name}: {val}{unit} {op} {c.limit:.2f}{unit}  {'PASS' if c.passed else 'FAIL'}",
-                c.passed,
-            )
-        )
-    return out
-
-
-def _verdict_box(ax, criteria: Sequence[Criterion], loc: str = "upper right", extra: str = "") -> None:
-    """The verdict of each criterion as a coloured box on ``ax`` (green all pass, red any fail)."""
-    if not criteria:
-        ax.text(
-            0.5, 0.02, NO_LIMIT, transform=ax.transAxes, ha="center", va="bottom", fontsize=7, color="0.35"
-        )
-        return
-    lines = _verdict_lines(criteria)
-    ok = all(p for _, p in lines)
-    text = "\n".join(t for t, _ in lines) + (f"\n{extra}" if extra else "")
-    x, ha = (0.98, "right") if "right" in loc else (0.02, "left")
-    y, va = (0.98, "top") if "upper" in loc else (0.02, "bottom")
-    ax.text(
-        x,
-        y,
-        text,
-        transform=ax.transAxes,
-        ha=ha,
-        va=va,
-        fontsize=7.5,
-        family="monospace",
-        color="white",
-        bbox=dict(boxstyle="round,pad=0.4", fc=PASS_COLOUR if ok else FAIL_COLOUR, ec="none", alpha=0.9),
-        zorder=10,
-    )
-
-
-def _limit_hline(ax, y: float, label: str, lw: float, ls: str = "-.", fontsize: float = 8) -> None:
-    """A criterion's limit drawn across the axes at ``y``, labelled above the line at x = 0."""
-    ax.axhline(y, color=LIMIT_COLOUR, lw=lw, ls=ls)
-    ax.text(0.0, y, label, color=LIMIT_COLOUR, fontsize=fontsize, ha="center", va="bottom")
-
-
-def _limit_vline(ax, x: float, y: float, label: str, lw: float, va: str) -> None:
-    """A criterion's limit drawn up the axes at ``x``, labelled along its left side from ``y``."""
-    ax.axvline(x, color=LIMIT_COLOUR, lw=lw, ls="-.")
-    ax.text(x, y, label, color=LIMIT_COLOUR, fontsize=8, rotation=90, ha="right", va=va)
-
-
-def _side(rudder_deg: float) -> str:
-    return "starboard" if rudder_deg > 0 else "port"
+def report_plot_names(ship) -> dict[str, str]:
+    """The plot files of ``ship``'s IMO report (file stem -> title): :data:`REPORT_PLOTS`, and
+    :data:`ROLL_PLOTS` for a ship with roll."""
+    return {**REPORT_PLOTS, **(ROLL_PLOTS if ship is not None and ship.roll is not None else {})}
 
 
 def _path_L(tr: dict, L: float) -> np.ndarray:
@@ -440,7 +375,8 @@ def figure_pull_out(po: PullOut, title: str):
 
 
 def report_figures(report: ImoReport):
-    """``(stem, figure)`` for each of the report's plots whose trials ran (names of :data:`REPORT_PLOTS`)."""
+    """``(stem, figure)`` for each of the report's plots whose trials ran (names of
+    :func:`report_plot_names`)."""
     t = report.trials
     head = f"{report.ship} at {report.V_kn:.1f} kn (L = {report.L_m:g} m, L/V = {report.L_over_V_s:.1f} s)"
     sides = ("starboard", "port")
@@ -473,6 +409,13 @@ def report_figures(report: ImoReport):
             "pull_out",
             figure_pull_out(t["pull_out"], f"Pull-out, {t['pull_out'].rudder_deg:g} deg: {head}"),
         )
+    if report.spec is not None and report.spec.roll is not None:
+        names = {"turning": "35 deg turning test", "zigzag_10": "10/10 zig-zag", "zigzag_20": "20/20 zig-zag"}
+        panels = [(nm, [t[f"{k}_{s}"] for s in sides if f"{k}_{s}" in t]) for k, nm in names.items()]
+        panels = [p for p in panels if p[1]]
+        if panels:
+            crit = report.criteria_named("heel_in_turn")
+            yield "roll", figure_roll(panels, crit, f"Heel: {head}")
 
 
 def figure_for(result, title: str, ship=None):

@@ -11,7 +11,7 @@ import textwrap
 from pathlib import Path
 
 from vessel_gym.manoeuvres.imo import ImoReport
-from vessel_gym.manoeuvres.plots import REPORT_PLOTS, report_pngs
+from vessel_gym.manoeuvres.plots import report_plot_names, report_pngs
 
 _CSS = """
 body { font-family: "DejaVu Sans", Helvetica, Arial, sans-serif; max-width: 60em; margin: 2em auto;
@@ -41,6 +41,7 @@ _CRITERION_TEXT = {
     "zigzag_10_second_overshoot": "10/10 zig-zag, second overshoot (§5.3.3.2)",
     "zigzag_20_first_overshoot": "20/20 zig-zag, first overshoot (§5.3.3.3)",
     "stopping_track_reach": "Track reach, full-astern stopping test (§5.3.4)",
+    "heel_in_turn": "Largest heel, 35 deg turning test (2008 IS Code Part A §3.1.3 guidance)",
 }
 
 _CAPTIONS = {
@@ -56,6 +57,9 @@ _CAPTIONS = {
     "the 20 L an Administration may accept for ships of large displacement; surge speed and shaft speed.",
     "pull_out": "Pull-out test from both sides (MSC/Circ.1053 §3.4.4; Burcher 1972): rate of turn after the "
     "rudder is returned to midships. No IMO limit; converging rates indicate course stability.",
+    "roll": "Heel (positive: starboard side down) against time in the 35 deg turning test and the zig-zags, "
+    "both sides; dash-dotted, when a heel limit was asked for: that limit (2008 IS Code Part A §3.1.3 "
+    "guidance, 10 deg for passenger ships).",
 }
 
 
@@ -142,15 +146,24 @@ def report_html(report: ImoReport, pngs: dict[str, bytes] | None = None) -> str:
         "20/20 zig-zag first overshoot 25 deg; stopping track reach 15 L (an Administration may accept up "
         f"to 20 L for ships of large displacement). With L/V = {report.L_over_V_s:.2f} s here.</p>"
     )
+    heel = report.criteria_named("heel_in_turn")
+    if heel:
+        parts.append(
+            '<p class="note">Heel in a turn (2008 IS Code, Res. MSC.267(85), Part A §3.1.3: for passenger ships '
+            "the angle of heel on account of turning should not exceed 10 deg; the Code estimates it from a "
+            "steady-turn heeling moment): here the largest simulated heel of the 35 deg turning test, held "
+            f"to the {heel[0].limit:g} deg asked for.</p>"
+        )
     parts.append("<h2>Manoeuvres</h2>")
     pngs = report_pngs(report) if pngs is None else pngs
+    plot_names = report_plot_names(s)
     for stem, png in pngs.items():
         b64 = base64.b64encode(png).decode("ascii")
         parts.append(
-            f'<figure><img alt="{_e(REPORT_PLOTS[stem])}" src="data:image/png;base64,{b64}">'
-            f"<figcaption><b>{_e(REPORT_PLOTS[stem])}.</b> {_e(_CAPTIONS[stem])}</figcaption></figure>"
+            f'<figure><img alt="{_e(plot_names[stem])}" src="data:image/png;base64,{b64}">'
+            f"<figcaption><b>{_e(plot_names[stem])}.</b> {_e(_CAPTIONS[stem])}</figcaption></figure>"
         )
-    missing = [REPORT_PLOTS[k] for k in REPORT_PLOTS if k not in pngs]
+    missing = [title for k, title in plot_names.items() if k not in pngs]
     if missing:
         parts.append(
             f'<p class="note">Not completed (see the notes in the criteria table): '

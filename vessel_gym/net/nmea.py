@@ -21,7 +21,13 @@ VHW       II     heading (deg T), longitudinal speed through water (kn, km/h)
 MWV       II     apparent wind angle from the bow (deg), apparent wind speed (kn)
 GLL       GP     position, UTC (optional)
 ZDA       GP     UTC date and time (optional)
+PASHR     -      heading and heel as an attitude sentence (proprietary, no talker; before HDT); ships with roll only
+XDR       II     heel: angular-displacement transducer ROLL (deg, + = starboard side down); ships with roll only
 ========  =====  =====================================================================
+
+Heel goes out twice because no one sentence reaches every reader: XDR (type A, unit D, name ROLL) is the standard
+transducer sentence that chartplotter dashboards and newer gpsd read, while gpsd 3.22 (Debian 12) ignores XDR but
+turns ``$PASHR`` into an ATT report with ``roll``. A 3-DOF ship has no heel and sends neither.
 """
 
 from __future__ import annotations
@@ -295,6 +301,21 @@ def mwv(reading: BridgeReading, talker: str = "II") -> str:
     return sentence(talker, "MWV", [angle, "R", speed, "N", "A" if angle and speed else "V"])
 
 
+def xdr_roll(reading: BridgeReading, talker: str = "II") -> str:
+    """XDR: one angular-displacement (A) transducer in degrees (D) named ROLL, the heel (2 dp, + = starboard
+    side down, i.e. clockwise seen from astern, as XDR angles are signed)."""
+    return sentence(talker, "XDR", ["A", fmt_num(reading.roll_deg, 2), "D", "ROLL"])
+
+
+def pashr(reading: BridgeReading, utc: datetime) -> str:
+    """PASHR attitude: UTC, true heading (2 dp) and T, roll (2 dp, + = port side up, i.e. starboard side down,
+    as the heel), then pitch, heave and the three accuracies empty (the model has no pitch or heave), GNSS
+    quality 1 as in GGA, alignment status empty."""
+    fields = [fmt_time(utc), fmt_num(reading.hdg_deg, 2), "T", fmt_num(reading.roll_deg, 2)]
+    # proprietary: P + manufacturer ASH + R; framed as talker "PA" and formatter "SHR", which gives the same text
+    return sentence("PA", "SHR", fields + ["", "", "", "", "", "1", ""])
+
+
 def gll(reading: BridgeReading, utc: datetime, talker: str = "GP") -> str:
     """GLL: position, UTC, status A, mode S."""
     return _gll(_fix(reading, utc), talker)
@@ -318,8 +339,11 @@ def own_ship_sentences(
 ) -> list[str]:
     """One full cycle of own-ship sentences for ``reading`` at time ``utc`` (CRLF-terminated strings).
 
-    Order: RMC, GGA, [GLL], VTG, [ZDA], HDT, ROT, RSA, RPM, VHW, MWV. Position sentences come first so that a
-    receiver that learns the cycle end from the first sentence type sees the full fix.
+    Order: RMC, GGA, [GLL], VTG, [ZDA], [PASHR], HDT, ROT, RSA, RPM, VHW, MWV, [XDR] (the bracketed PASHR and
+    XDR only for a ship with roll). Position sentences come first so that a receiver that learns the cycle end
+    from the first sentence type sees the full fix. PASHR goes just before HDT: gpsd 3.22 sends its ATT report
+    on HDT, which then carries this cycle's heel (after HDT the heel waits a cycle and is cleared), and a timed
+    PASHR at the end of the cycle would become gpsd's cycle ender and stop its TPV reports (probed).
     """
     f = _fix(reading, utc)
     out = [_rmc(reading, f, talkers.gnss), _gga(f, talkers.gnss)]
@@ -328,14 +352,18 @@ def own_ship_sentences(
     out.append(vtg(reading, talkers.gnss))
     if zda_sentence:
         out.append(zda(utc, talkers.gnss))
+    if reading.roll_deg is not None:
+        out.append(pashr(reading, utc))
+    out.append(hdt(reading, talkers.heading))
     out += [
-        hdt(reading, talkers.heading),
         rot(reading, talkers.heading),
         rsa(reading, talkers.steering),
         rpm(reading, talkers.engine),
         vhw(reading, talkers.log),
         mwv(reading, talkers.wind),
     ]
+    if reading.roll_deg is not None:
+        out.append(xdr_roll(reading, talkers.heading))
     return out
 
 

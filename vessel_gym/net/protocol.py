@@ -221,7 +221,11 @@ class Target:
 
 
 def own_state_fields(own: BridgeReading) -> dict[str, float | int | None]:
-    """The own-ship part of a ``state`` message (edge units, rounded to what a viewer can use)."""
+    """The own-ship part of a ``state`` message (edge units, rounded to what a viewer can use); a ship with
+    roll adds ``roll_deg`` and ``roll_rate_dps`` (a 3-DOF ship, which has no roll, leaves them out)."""
+    roll = {}
+    if own.roll_deg is not None:
+        roll = {"roll_deg": num(own.roll_deg, 2), "roll_rate_dps": num(own.roll_rate_dps, 3)}
     return {
         "t_s": num(own.t_s, 3),
         "lat_deg": num(own.lat_deg, 7),
@@ -237,6 +241,7 @@ def own_state_fields(own: BridgeReading) -> dict[str, float | int | None]:
         "rudder_order_deg": num(own.rudder_order_deg, 2),
         "rpm": num(own.rpm, 1),
         "telegraph": int(own.telegraph),
+        **roll,
     }
 
 

@@ -53,3 +53,7 @@ class BridgeReading:
     wind_true_dir_deg: float  # true wind direction (from), deg [0, 360)
     wind_true_speed_kn: float  # true wind speed, kn
     depth_m: float | None = None  # water depth under the keel reference, m (None: deep/unknown)
+    # heel (roll) angle and roll rate, deg and deg/s, positive starboard side down / rolling to starboard;
+    # None on a 3-DOF ship, which has no roll
+    roll_deg: float | None = None
+    roll_rate_dps: float | None = None

@@ -1,5 +1,6 @@
 """Kinematics in 3 DOF: rotations between body and earth axes, velocity over ground and through the
-water, apparent wind, and the Coriolis-centripetal forces of the rigid body and its added mass.
+water, apparent wind, and the Coriolis-centripetal forces of the rigid body and its added mass; and the named
+accessors of a simulation's rows (the roll accessor reads the optional fourth degree of freedom, roll.py).
 
 Each quantity has this one home. The vessel's equations of motion, the bridge readings, the captive rig and
 the task kernels call these functions; none of them derives a velocity or a rotation itself. All are compiled
@@ -156,6 +157,13 @@ def heading(x, k):
 def position(x, k):
     """(north m, east m) of vessel k's midship point."""
     return x[k, lo.X_N], x[k, lo.X_E]
+
+
+@njit(cache=True, inline="always")
+def roll(x, k):
+    """(phi rad, p rad/s) of vessel k: roll (heel) angle, positive starboard side down, and roll rate; both
+    exactly 0 on a 3-DOF ship (roll.py)."""
+    return x[k, lo.X_PHI], x[k, lo.X_P]
 
 
 @njit(cache=True, inline="always")

@@ -170,6 +170,13 @@ def pack_roll(P: np.ndarray, M3: np.ndarray, roll: Roll, mass: float, L: float, 
     P[lo.P_ROLL_NM] = len(monomials)
 
 
+def free_roll_frequency(P: np.ndarray) -> float:
+    """Upright free-roll natural frequency omega_phi = sqrt(rho g nabla GM / I_eff), rad/s, of a packed
+    parameter row ``P``; I_eff is the roll inertia the equations integrate, added mass included, with sway and
+    yaw free (1 / the (p, p) entry of the inverse sway-yaw-roll mass matrix). 0 on a 3-DOF ship."""
+    return math.sqrt(max(P[lo.P_ROLL_GM] * P[lo.P_ROLL_MINV + 8], 0.0))
+
+
 @njit(cache=True)
 def _powers(x):
     return (1.0, x, x * x, x * x * x, x * x * x * x)

@@ -8,8 +8,9 @@ N = 16384 run the same compiled code.
 
 Its jobs live beside it: the steady approach a reset starts from (:mod:`~vessel_gym.physics.steady`), runaway
 detection (:mod:`~vessel_gym.physics.runaway`), the helm and its override (:mod:`~vessel_gym.physics.helm`),
-the choice of batch driver (:mod:`~vessel_gym.physics.drivers`) and the evaluation of a user's Python
-components (:mod:`~vessel_gym.physics.components.batch`).
+the choice of batch driver (:mod:`~vessel_gym.physics.drivers`), the evaluation of a user's Python
+components (:mod:`~vessel_gym.physics.components.batch`), and the named quantities, forces and instrument
+readings of the vessels (:mod:`~vessel_gym.physics.readings`).
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from typing import Protocol
 import numpy as np
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.bridge import BridgeReading
+from vessel_gym.physics.bridge import BridgeReading  # noqa: F401  (what Simulation.bridge returns)
 from vessel_gym.physics.components import ForceRecord
 from vessel_gym.physics.components.batch import ComponentBatch
 from vessel_gym.physics.components.compose import compose, named_forces
@@ -35,18 +36,27 @@ from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old hom
     PARALLEL_MIN_WORK,
     _DriverChoice,
 )
-from vessel_gym.physics.environment import CALM, Environment, wrap_deg
-from vessel_gym.physics.geodesy import local_to_latlon
+from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.helm import Helm
 from vessel_gym.physics.integrate import (
     EULER,
     RK4,
-    forces_batch,
     run_parallel,
     run_serial,
     run_with_components,
 )
-from vessel_gym.physics.kinematics import ground_velocity, speed_over_ground
+from vessel_gym.physics.readings import (  # noqa: F401  (imported here before the readings moved out)
+    FORCE_NAMES,
+    KNOT_M_S,
+    N_OUT,
+    Readings,
+    forces,
+    forces_batch,
+    ground_velocity,
+    local_to_latlon,
+    speed_over_ground,
+    wrap_deg,
+)
 from vessel_gym.physics.runaway import (  # noqa: F401  (RUNAWAY_* and the factors: their old home)
     FULL_POWER_SPEED_FACTOR,
     RUNAWAY_HEEL,
@@ -70,8 +80,8 @@ from vessel_gym.physics.steady import (  # noqa: F401  (SimulationError: its old
     _SteadyApproach,
     steady_state,
 )
-from vessel_gym.physics.units import DEG, KNOT_M_S
-from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, forces, pack
+from vessel_gym.physics.units import DEG
+from vessel_gym.physics.vessel import pack
 
 # steady approaches cached per simulation (each two rows of NX and NU floats)
 STEADY_CACHE_SIZE = 1024  # entries
@@ -96,7 +106,7 @@ class ForceComponent(Protocol):
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
 
 
-class Simulation(Helm):
+class Simulation(Readings, Helm):
     """N vessels integrated together with a fixed step.
 
     Args:
@@ -214,36 +224,54 @@ class Simulation(Helm):
         heading_deg: float | np.ndarray = 0.0,
         x_m: float | np.ndarray = 0.0,
         y_m: float | np.ndarray = 0.0,
-        k: int | None = None,
+        k: int | np.ndarray | None = None,
     ) -> None:
         """Put vessel k (all when None) in a steady straight approach at ``speed_m_s`` through the water.
+
+        ``k`` may be an array of vessel indices (a batched partial reset, O(len(k)) in numpy): then an array
+        value of ``speed_m_s``, ``heading_deg``, ``x_m`` or ``y_m`` has one entry per listed vessel.
 
         The shaft-speed order is solved for zero surge acceleration and the governor integrator is set to
         the fuel index that holds it (IMO trials start from a steady approach). Speed None: the ship's
         IMO test speed. Raises SimulationError if the engine cannot make that speed.
         """
         speed_m_s = np.nan if speed_m_s is None else speed_m_s
-        if k is not None and not self.components:  # an environment resets one ship at a time: scalar code
+        listed = k is not None and np.ndim(k) == 1
+        if k is not None and not listed and not self.components:  # one ship: scalar code
             self._reset_one(k, speed_m_s, heading_deg, x_m, y_m)
             return
-        idx = np.arange(self.n) if k is None else np.array([k])
+        idx = np.arange(self.n) if k is None else np.atleast_1d(np.asarray(k, dtype=np.int64))
         if self.components:  # user forces take part in the equilibrium: solved for all vessels at once
+            if listed:  # values per listed vessel: spread to per-vessel arrays
+                speed_m_s, heading_deg = self._spread(speed_m_s, idx), self._spread(heading_deg, idx)
             sp = self._per_vessel(speed_m_s)
             hd = self._per_vessel(heading_deg)
             self._reset_with_components(idx.tolist(), sp, hd)
         else:
-            self._reset_steady(idx, speed_m_s, heading_deg)
+            self._reset_steady(idx, self._at(speed_m_s, idx, listed), self._at(heading_deg, idx, listed))
         # every vessel's row is set above (state and inputs), position and flag here: numpy over idx, O(N)
-        self.state[idx, lo.X_PSI] = self._at(heading_deg, idx) * DEG
-        self.state[idx, lo.X_N] = self._at(x_m, idx)
-        self.state[idx, lo.X_E] = self._at(y_m, idx)
+        self.state[idx, lo.X_PSI] = self._at(heading_deg, idx, listed) * DEG
+        self.state[idx, lo.X_N] = self._at(x_m, idx, listed)
+        self.state[idx, lo.X_E] = self._at(y_m, idx, listed)
         self.alive[idx] = True
         self.why_dead[idx] = RUNAWAY_OK
         if k is None:
             self.t = 0.0
 
-    def _at(self, value: float | np.ndarray, idx: np.ndarray) -> np.ndarray:
-        """A scalar or per-vessel ``value`` as floats of the vessels ``idx``."""
+    def _spread(self, value: float | np.ndarray, idx: np.ndarray) -> float | np.ndarray:
+        """A scalar as it is; an array with one entry per vessel of ``idx`` as a per-vessel array (the others
+        zero, never read)."""
+        if np.ndim(value) == 0:
+            return value
+        full = np.zeros(self.n)
+        full[idx] = np.broadcast_to(np.asarray(value, dtype=float), idx.shape)
+        return full
+
+    def _at(self, value: float | np.ndarray, idx: np.ndarray, listed: bool = False) -> np.ndarray:
+        """A scalar or per-vessel ``value`` as floats of the vessels ``idx`` (``listed``: an array value has
+        one entry per vessel of ``idx`` already)."""
+        if listed:
+            return np.broadcast_to(np.asarray(value, dtype=float), idx.shape)
         return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))[idx]
 
     def _one(self, value: float | np.ndarray, k: int) -> float:
@@ -267,16 +295,17 @@ class Simulation(Helm):
         self.alive[k] = True
         self.why_dead[k] = RUNAWAY_OK
 
-    def _reset_steady(self, idx: np.ndarray, speed_m_s, heading_deg) -> None:
-        """Steady approaches of the vessels ``idx`` without user components, one solve per distinct approach
-        (:meth:`_steady_row`), found with numpy (O(N log N) in C) and spread over the vessels by indexing."""
+    def _reset_steady(self, idx: np.ndarray, speed_m_s: np.ndarray, heading_deg: np.ndarray) -> None:
+        """Steady approaches of the vessels ``idx`` without user components (speed NaN: the test speed;
+        headings, deg; one entry per vessel of ``idx``), one solve per distinct approach (:meth:`_steady_row`),
+        found with numpy (O(N log N) in C) and spread over the vessels by indexing."""
         si = self.ship_index[idx]
         test = np.array([s.test_speed_m_s for s in self.ships], dtype=float)
-        sp = self._at(speed_m_s, idx)
+        sp = speed_m_s
         speed = np.where(np.isnan(sp), test[si], sp)
         env = self.env[idx]
         directional = (env[:, _DIRECTIONAL_ENV] != 0.0).any(axis=1)
-        hkey = np.where(directional, self._at(heading_deg, idx), 0.0)
+        hkey = np.where(directional, heading_deg, 0.0)
         keys = np.column_stack([si.astype(float), speed, hkey, env])
         if len(idx) == 1 or (keys == keys[0]).all():
             first, inverse = np.zeros(1, dtype=np.int64), np.zeros(len(idx), dtype=np.int64)
@@ -398,33 +427,6 @@ class Simulation(Helm):
         self.t += nsteps * self.dt
         return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))
 
-    def divergence(self, k: int = 0) -> str | None:
-        """Why vessel k stopped integrating, as one sentence with the value and its bound, or None while it
-        runs: a non-finite state, or a physically impossible speed, rate of turn or shaft speed."""
-        code = int(self.why_dead[k])
-        if self.alive[k] and code == RUNAWAY_OK:
-            return None
-        U_max, r_max, n_max = self._runaway_limits[self.ship_index[k]]
-        x = self.state[k]
-        if code == RUNAWAY_SPEED:
-            return (
-                f"speed through the water {math.hypot(x[lo.X_U], x[lo.X_V]) / KNOT_M_S:.4g} kn exceeds "
-                f"{U_max / KNOT_M_S:.4g} kn ({RUNAWAY_SPEED_FACTOR:g} x the speed at full power)"
-            )
-        if code == RUNAWAY_RATE:
-            return (
-                f"rate of turn {abs(x[lo.X_R]) / DEG:.4g} deg/s exceeds {r_max / DEG:.4g} deg/s "
-                f"(r' = {RUNAWAY_RATE_PRIME:g} at the speed at full power)"
-            )
-        if code == RUNAWAY_SHAFT:
-            return (
-                f"shaft speed {abs(x[lo.X_REV]) * 60.0:.4g} rpm exceeds {n_max * 60.0:.4g} rpm "
-                f"({RUNAWAY_SHAFT_FACTOR:g} x rated)"
-            )
-        if code == RUNAWAY_HEEL:
-            return f"heel {abs(x[lo.X_PHI]) / DEG:.4g} deg exceeds {RUNAWAY_HEEL_DEG:g} deg, the roll model's end"
-        return "the state became non-finite"
-
     def advance(self, duration_s: float) -> int:
         """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""
         return self.step(steps_for(duration_s, self.dt))
@@ -458,128 +460,6 @@ class Simulation(Helm):
     def _ext(self, x: np.ndarray) -> np.ndarray:
         """All external forces (N, 3) at the states ``x``: ``F_ext`` plus the user components'."""
         return self.F_ext + self._component_forces(x)
-
-    # --- named quantities (tasks ask these, never index raw state) ----------------------------------------
-    @property
-    def u(self) -> np.ndarray:
-        """Surge velocity through the water, m/s."""
-        return self.state[:, lo.X_U]
-
-    @property
-    def v(self) -> np.ndarray:
-        """Sway velocity through the water at midship, m/s (positive starboard)."""
-        return self.state[:, lo.X_V]
-
-    @property
-    def r(self) -> np.ndarray:
-        """Yaw rate, rad/s (positive to starboard)."""
-        return self.state[:, lo.X_R]
-
-    @property
-    def north(self) -> np.ndarray:
-        return self.state[:, lo.X_N]
-
-    @property
-    def east(self) -> np.ndarray:
-        return self.state[:, lo.X_E]
-
-    @property
-    def heading(self) -> np.ndarray:
-        """Heading, rad, unwrapped (continuous through a turn)."""
-        return self.state[:, lo.X_PSI]
-
-    @property
-    def rudder(self) -> np.ndarray:
-        """Actual rudder angle, rad."""
-        return self.state[:, lo.X_DELTA]
-
-    @property
-    def rudder_order(self) -> np.ndarray:
-        return self.inputs[:, lo.U_DELTA_C]
-
-    @property
-    def rev(self) -> np.ndarray:
-        """Propeller shaft speed, rev/s."""
-        return self.state[:, lo.X_REV]
-
-    @property
-    def rev_order(self) -> np.ndarray:
-        return self.inputs[:, lo.U_REV_C]
-
-    @property
-    def speed_through_water(self) -> np.ndarray:
-        return np.hypot(self.u, self.v)
-
-    def ground_velocity(self) -> tuple[np.ndarray, np.ndarray]:
-        """Velocity over ground (north, east), m/s."""
-        psi = self.heading
-        return ground_velocity(
-            self.u, self.v, np.cos(psi), np.sin(psi), self.env[:, lo.E_CUR_N], self.env[:, lo.E_CUR_E]
-        )
-
-    def forces(self) -> dict[str, np.ndarray]:
-        """Component forces at the current state (N, N m; see vessel.FORCE_NAMES)."""
-        out = np.zeros((self.n, N_OUT))
-        forces_batch(self.Ps, self.ship_index, self.state, self.inputs, self.env, out)
-        return {name: out[:, i] for i, name in enumerate(FORCE_NAMES)}
-
-    def engine(self, k: int = 0) -> dict[str, float]:
-        """Engine readings of vessel k: fuel index, engine rpm, torque (N m), shaft power (kW). With a user's
-        engine: its torque at the propeller shaft and the power, fuel index and engine rpm NaN (its own)."""
-        from vessel_gym.physics.propulsion import engine_drive
-
-        P = self.Ps[self.ship_index[k]]
-        if P[lo.P_PROP_ON] == 0.0:
-            return {"fuel_index": 0.0, "engine_rpm": 0.0, "torque_Nm": 0.0, "power_kW": 0.0}
-        x = self.state[k]
-        if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its torque at the propeller shaft; its fuel unknown here
-            q = float(self._batch.shaft_torque(self, self.state, self.component_states)[k])
-            return {
-                "fuel_index": math.nan,
-                "engine_rpm": math.nan,
-                "torque_Nm": q,
-                "power_kW": 2 * math.pi * x[lo.X_REV] * q / 1e3,
-            }
-        order = self.rev_order[k]
-        _qd, _dc, _di, fuel, n_e, q, _ph = engine_drive(P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], order)
-        return {
-            "fuel_index": fuel,
-            "engine_rpm": n_e * 60.0,
-            "torque_Nm": q,
-            "power_kW": 2 * math.pi * n_e * q / 1e3,
-        }
-
-    def bridge(self, k: int = 0, telegraph: int = 0) -> BridgeReading:
-        """Instrument readings of vessel k (Bridge & Navigation)."""
-        out = np.zeros(N_OUT)
-        forces(self.Ps[self.ship_index[k]], self.state[k], self.inputs[k], self.env[k], out)  # vessel k only
-        f = {"gamma_rw": out[FORCE_NAMES.index("gamma_rw")], "V_rw": out[FORCE_NAMES.index("V_rw")]}
-        psi, u, v = float(self.heading[k]), float(self.u[k]), float(self.v[k])
-        cur_n, cur_e = float(self.env[k, lo.E_CUR_N]), float(self.env[k, lo.E_CUR_E])
-        vn, ve = ground_velocity(u, v, math.cos(psi), math.sin(psi), cur_n, cur_e)
-        lat, lon = local_to_latlon(self.north[k], self.east[k], *self.reference_latlon_deg)
-        e = self.environments[k]
-        return BridgeReading(
-            t_s=self.t,
-            x_m=float(self.north[k]),
-            y_m=float(self.east[k]),
-            lat_deg=lat,
-            lon_deg=lon,
-            hdg_deg=wrap_deg(math.degrees(self.heading[k])),
-            cog_deg=wrap_deg(math.degrees(math.atan2(ve, vn))),
-            sog_kn=float(speed_over_ground(vn, ve) / KNOT_M_S),
-            stw_kn=float(self.u[k] / KNOT_M_S),
-            stw_transverse_kn=float(self.v[k] / KNOT_M_S),
-            rot_dpm=float(math.degrees(self.r[k]) * 60.0),
-            rudder_deg=float(math.degrees(self.rudder[k])),
-            rudder_order_deg=float(math.degrees(self.rudder_order[k])),
-            rpm=float(self.rev[k] * 60.0),
-            telegraph=int(telegraph),
-            wind_rel_angle_deg=wrap_deg(math.degrees(f["gamma_rw"])),
-            wind_rel_speed_kn=float(f["V_rw"] / KNOT_M_S),
-            wind_true_dir_deg=wrap_deg(e.wind_from_deg),
-            wind_true_speed_kn=e.wind_speed_m_s / KNOT_M_S,
-        )
 
 
 class _Repeat:

@@ -41,6 +41,7 @@ from vessel_gym.ui.view3d_scene import (
     SEA_CELLS,
     TELEGRAPH_NAMES,
     _ship_meshes,
+    attitude_wxyz,
     chart_to_scene,
     heading_wxyz,
     prism,
@@ -349,7 +350,9 @@ class Viewer3D:
             return
         if all(isinstance(v, (int, float)) for v in (x, y, h)):
             frame.position = (x, y, 0.0)
-            frame.wxyz = heading_wxyz(h)
+            # the heel of a ship with roll (state roll_deg); a 3-DOF ship's state has none: upright
+            phi = s.get("roll_deg")
+            frame.wxyz = attitude_wxyz(h, phi) if isinstance(phi, (int, float)) else heading_wxyz(h)
 
     def _track_update(self, st: dict) -> None:
         t, x, y = st.get("t_s"), st.get("y_m"), st.get("x_m")
@@ -459,6 +462,7 @@ class Viewer3D:
             f"| Heading | {f('hdg_deg', '05.1f')}° |",
             f"| SOG | {f('sog_kn', '.2f')} kn |",
             f"| ROT | {f('rot_dpm', '+.1f')} °/min |",
+            *([f"| Heel | {f('roll_deg', '+.1f')}° (+ starboard down) |"] if "roll_deg" in st else []),
             f"| Rudder order / actual | {f('rudder_order_deg', '+.1f')}° / {f('rudder_deg', '+.1f')}° |",
             f"| Shaft | {f('rpm', '.0f')} rpm |",
             f"| Telegraph | {TELEGRAPH_NAMES.get(tg, '–') if isinstance(tg, int) else '–'} |",

@@ -125,6 +125,18 @@ def heading_wxyz(hdg_deg: float) -> tuple[float, float, float, float]:
     return (math.cos(half), 0.0, 0.0, math.sin(half))
 
 
+def attitude_wxyz(hdg_deg: float, roll_deg: float = 0.0) -> tuple[float, float, float, float]:
+    """Quaternion of heading and heel: the heel (roll, + = starboard side down) about the ship frame's forward
+    axis (+y), then the heading about the scene's z (up) axis. A right-handed turn about +y lowers +x, the
+    starboard side, so the heel angle is the rotation angle. The ship frame's origin is on the waterline, so the
+    hull heels about it (the drawing's roll axis; the model's is at its centre of gravity)."""
+    yw, _, _, yz = heading_wxyz(hdg_deg)
+    half = 0.5 * math.radians(roll_deg)
+    rw, ry = math.cos(half), math.sin(half)
+    # Hamilton product (yw, 0, 0, yz) * (rw, 0, ry, 0)
+    return (yw * rw, -yz * ry, yw * ry, yz * rw)
+
+
 def wave_number(omega: float, depth_m: float) -> float:
     """Wave number k (rad/m) of angular frequency omega (rad/s) in water of depth h: omega^2 = g k tanh(k h)
     (linear wave theory), solved by Newton iteration from the deep-water value."""

@@ -1,8 +1,8 @@
 """What every task's kernel shares: the motion features every observation begins with, the reward terms more
 than one task uses, and the compiled steps that close a vessel's row (weighting, encoding the observation);
 and what the open-water tasks (ZigZag, TurningCircle) share on the Python side: the reset options, the side
-of a turn, the start of a vessel's episode, the rudder scale and the kernel's arguments
-(:class:`OpenWaterTask`).
+of a turn, the start of a vessel's episode, the rudder scale, the roll options (roll observed, the optional heel
+term; on a ship with roll) and the kernel's arguments (:class:`OpenWaterTask`).
 
 Every task's features begin with :data:`MOTION` (:func:`task_spec` prepends it), so :func:`motion_features`
 writes the same columns for all of them. The motion comes from the physics by name
@@ -18,16 +18,21 @@ from typing import Any, ClassVar
 import numpy as np
 from numba import njit
 
+from vessel_gym.envs.config import RollOptionsConfig
 from vessel_gym.envs.declare import FeatureSpec, TaskSpec, Term, columns
 from vessel_gym.envs.task import Task, _uniform
 from vessel_gym.physics.kinematics import (
     heading,
     helm_orders,
     position,
+    roll,
     rudder_angle,
     shaft_speed,
     velocity_through_water,
 )
+from vessel_gym.physics.roll import free_roll_frequency
+from vessel_gym.physics.schema import SpecError
+from vessel_gym.physics.units import DEG
 
 #: the features every task begins with: motion through the water and the helm (the shaft speed is observed
 #: only with engine control)
@@ -41,14 +46,27 @@ MOTION = (
 )
 M = columns(*(f.name for f in MOTION), typename="Motion")
 
+#: the roll features of the open-water tasks (observed with ``observe_roll``, on a ship with roll). A harmonic
+#: roll of amplitude heel_ref at the ship's upright free-roll frequency omega_phi has the peak rate
+#: heel_ref x omega_phi: the two scales describe the same motion
+ROLL_FEATURES = (
+    FeatureSpec("phi", "rad", (1.0, "heel ref"), "roll (heel) angle, + starboard down (observe_roll)"),
+    FeatureSpec("p", "rad/s", (1.0, "heel ref x omega_phi"), "roll rate, + rolling to starboard (observe_roll)"),
+)
+#: the optional heel term of the open-water tasks (on with heel_weight != 0, a ship with roll)
+HEEL_TERM = Term("heel", 0.0, "heel_weight != 0: -(phi / heel ref)^2")
+
 #: the reward terms of the same name in several tasks
 RUDDER_ACTIVITY_DOC = "-|change of rudder order| / (2 rudder limit)"
 SPEED_LOSS_DOC = "-max(0, U0 - U) / U0"
 
 
-def task_spec(title: str, terms: Sequence[Term], features: Sequence[FeatureSpec]) -> TaskSpec:
-    """The declaration of a task whose features are :data:`MOTION` followed by ``features``."""
-    return TaskSpec(title, terms, MOTION + tuple(features))
+def task_spec(
+    title: str, terms: Sequence[Term], features: Sequence[FeatureSpec], options: Sequence[Term] = ()
+) -> TaskSpec:
+    """The declaration of a task whose features are :data:`MOTION` followed by ``features`` (optional reward
+    terms ``options``)."""
+    return TaskSpec(title, terms, MOTION + tuple(features), options)
 
 
 @njit(cache=True)
@@ -70,6 +88,22 @@ def motion_features(f, u, v, r, delta, delta_c, rev):
     f[M.rudder] = delta
     f[M.rudder_order] = delta_c
     f[M.rev] = rev
+
+
+@njit(cache=True)
+def roll_features(feat, x, k, i_phi, i_p):
+    """Write vessel k's roll angle and roll rate into its feature row at columns ``i_phi``, ``i_p``."""
+    phi, p = roll(x, k)
+    feat[k, i_phi] = phi
+    feat[k, i_p] = p
+
+
+@njit(cache=True)
+def heel(x, k, heel_ref):
+    """Reward term -(phi / heel_ref)^2 of vessel k (heel_ref rad): 0 upright, -1 at the reference heel."""
+    phi, _p = roll(x, k)
+    h = phi / heel_ref
+    return -h * h
 
 
 @njit(cache=True)
@@ -154,17 +188,64 @@ class OpenWaterTask(Task):
 
     def start_vessel(self, k: int, rng: np.random.Generator, heading: float, speed: float) -> np.ndarray:
         """Put vessel k on ``heading`` (deg) at ``speed`` (m/s), its disturbances drawn first; clear its task
-        state but for the original course, the approach speed and the rudder order, and return that row."""
+        state but for the original course, the approach speed and (:meth:`started`) the rudder order, and
+        return that row."""
         if self.disturbances is not None:
             self.disturbances.apply(self.sim, k, rng, heading)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, k=k)
         S = self.S
         s = self.ts[k]
         s[:] = 0.0
-        s[S.psi0] = float(self.sim.heading[k])
+        s[S.psi0] = float(heading) * DEG  # the simulation's start heading, rad (Simulation.reset's product)
         s[S.U0] = speed
-        s[S.prev_order] = float(self.sim.rudder_order[k])
+        self.start(k, speed, heading)
         return s
+
+    def started(self, k: int | np.ndarray) -> None:
+        self.ts[k, self.S.prev_order] = self.sim.rudder_order[k]
+
+    # --- the roll options (tasks whose config is a RollOptionsConfig) ------------------------------------------
+    def observation_features(self) -> list[Any]:
+        # the first point of the construction at which the ship is known: the roll options are checked here,
+        # before the observation layout or anything else uses them
+        if isinstance(self.config, RollOptionsConfig):
+            self.check_roll_options()
+        return super().observation_features()
+
+    def check_roll_options(self) -> None:
+        """Refuse the roll options on a 3-DOF ship, with a one-line error naming the option."""
+        c = self.config
+        asked = [name for name, on in (("observe_roll", c.observe_roll), ("heel_weight", c.heel_weight != 0.0)) if on]
+        if asked and self.ship.roll is None:
+            raise SpecError(
+                f"{type(c).__name__}: {asked[0]} needs a ship with roll (a [roll] table, e.g. ship = "
+                f"'container'); ship {self.ship.name!r} is 3-DOF"
+            )
+
+    def scales(self) -> dict[str, float]:
+        """The shared scale names and, with the roll options, those of :data:`ROLL_FEATURES`: the heel
+        reference, rad, and that times the ship's upright free-roll frequency omega_phi, 1/s
+        (:func:`~vessel_gym.physics.roll.free_roll_frequency`): the peak rate of a harmonic roll of amplitude
+        heel_ref."""
+        out = super().scales()
+        if isinstance(self.config, RollOptionsConfig):
+            omega = free_roll_frequency(self.sim.Ps[0])
+            ref = self.config.heel_ref_deg * DEG
+            out.update({"heel ref": ref, "heel ref x omega_phi": ref * omega})
+        return out
+
+    def roll_observed(self) -> tuple[str, ...]:
+        """The roll features the observation ends with: both with ``observe_roll``, else none."""
+        return tuple(f.name for f in ROLL_FEATURES) if self.config.observe_roll else ()
+
+    def switch_on_heel(self, i_heel_ref: int) -> None:
+        """With ``heel_weight`` != 0: the spec's optional block (the heel term) joins the reward terms, and the
+        parameter row's column ``i_heel_ref`` gets the heel reference (rad; 0 leaves the term off)."""
+        if self.config.heel_weight == 0.0:
+            return
+        self.term_names = self.spec.term_names_with(True)
+        self.weights = np.append(self.weights, self.config.heel_weight)
+        self.terms = np.zeros((self.n, len(self.term_names)))
+        self.p[i_heel_ref] = self.config.heel_ref_deg * DEG
 
     def kernel_args(self) -> tuple:
         return (

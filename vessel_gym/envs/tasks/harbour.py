@@ -451,13 +451,15 @@ class HarbourApproachTask(Task):
                 "speed_m_s, environment)"
             )
         self.sim.set_environment(env, k)
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=n0, y_m=e0, k=k)
         s = self.ts[k]
         s[:] = 0.0
         s[S.d_prev] = math.hypot(self.p[P.goal_north] - n0, self.p[P.goal_east] - e0)
         s[S.prev_north], s[S.prev_east] = n0, e0
-        s[S.prev_order] = float(self.sim.rudder_order[k])
         self.flags[k] = OK
+        self.start(k, speed, heading, n0, e0)
+
+    def started(self, k: int | np.ndarray) -> None:
+        self.ts[k, S.prev_order] = self.sim.rudder_order[k]
 
     def kernel_args(self) -> tuple:
         return (

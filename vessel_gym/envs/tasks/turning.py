@@ -22,10 +22,13 @@ from vessel_gym.control.turning import (
     course_axes,
     crossing_fraction,
 )
+from vessel_gym.envs.config import RollOptionsConfig
 from vessel_gym.envs.declare import FeatureSpec, Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
+    HEEL_TERM,
+    ROLL_FEATURES,
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
     OpenWaterTask,
@@ -33,9 +36,11 @@ from vessel_gym.envs.tasks.common import (
     draw_side,
     encode_row,
     finish,
+    heel,
     motion,
     motion_features,
     reset_options,
+    roll_features,
     rudder_activity,
     speed_loss,
     task_spec,
@@ -67,10 +72,13 @@ SPEC = task_spec(
         FeatureSpec("heading_change", "rad", (2.0, "pi"), "heading - original course (unwrapped)"),
         FeatureSpec("advance", "m", (10.0, "L"), "displacement along the original course"),
         FeatureSpec("transfer", "m", (10.0, "L"), "displacement across it (+ starboard)"),
+        *ROLL_FEATURES,
     ),
+    options=(HEEL_TERM,),
 )
 TERM = SPEC.TERM
 FEAT = SPEC.FEAT
+OPT = SPEC.OPT
 #: the features each mode observes after the motion
 MODE_FEATURES = {
     "rate": ("commanded_rate", "rate_error"),
@@ -105,6 +113,7 @@ P = columns(
     "L",  # ship length, m
     "rudder_max",  # rudder scale (limit), rad
     "dt",  # control interval, s
+    "heel_ref",  # heel reference of the heel term, rad; 0: the term is off (no column)
     typename="TurningParams",
 )
 
@@ -116,7 +125,7 @@ TurningCircleReward = SPEC.weights_class(
 
 
 @dataclass(frozen=True, kw_only=True)
-class TurningCircleConfig(DisturbedOpenWaterConfig):
+class TurningCircleConfig(RollOptionsConfig, DisturbedOpenWaterConfig):
     """TurningCircle-v0 configuration (see :class:`~vessel_gym.envs.turning.TurningCircleEnv`)."""
 
     mode: str = param("rate", choices=MODES, doc="task: hold a rate of turn, a radius, or reverse course")
@@ -193,6 +202,8 @@ def turning_update(
             s[S.max_transfer] = mt
             terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
             terms[k, TERM.speed_loss] = speed_loss(U, U0)
+            if p[P.heel_ref] > 0.0:
+                terms[k, OPT.heel] = heel(x, k, p[P.heel_ref])
         if not alive[k]:
             done[k] = True
             clear_row(terms, k)
@@ -210,6 +221,7 @@ def turning_update(
         f[FEAT.heading_change] = psik - s[S.psi0]
         f[FEAT.advance] = adv
         f[FEAT.transfer] = trf
+        roll_features(feat, x, k, FEAT.phi, FEAT.p)
         encode_row(feat, k, enc, obs)
 
 
@@ -232,9 +244,14 @@ class TurningCircleTask(OpenWaterTask):
         p[P.rudder_max] = self.rudder_scale()
         p[P.dt] = config.control_interval_s
         self.p = p
+        self.switch_on_heel(P.heel_ref)
 
     def observed(self) -> tuple[str, ...]:
-        return self.motion_observed(rev=self.config.engine_control) + MODE_FEATURES[self.config.mode]
+        return (
+            self.motion_observed(rev=self.config.engine_control)
+            + MODE_FEATURES[self.config.mode]
+            + self.roll_observed()
+        )
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
@@ -248,9 +265,12 @@ class TurningCircleTask(OpenWaterTask):
             cmd = 0.0
         cmd = float(opts.get("command", cmd))
         s = self.start_vessel(k, rng, heading, speed)
-        s[S.north0] = float(self.sim.north[k])
-        s[S.east0] = float(self.sim.east[k])
         s[S.command] = cmd
+
+    def started(self, k: int | np.ndarray) -> None:
+        super().started(k)
+        self.ts[k, S.north0] = self.sim.north[k]
+        self.ts[k, S.east0] = self.sim.east[k]
 
     def _radius(self, k: Any) -> Any:
         U = np.hypot(self.sim.u[k], self.sim.v[k])

@@ -23,16 +23,21 @@ from vessel_gym.control.zigzag import (
     target_reached,
     zigzag_execute,
 )
+from vessel_gym.envs.config import RollOptionsConfig
 from vessel_gym.envs.declare import Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
+    HEEL_TERM,
+    ROLL_FEATURES,
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
     clear_row,
     draw_side,
+    heel,
     motion,
     reset_options,
+    roll_features,
     rudder_activity,
     speed_loss,
     task_spec,
@@ -79,10 +84,12 @@ SPEC = task_spec(
         Term("rudder_activity", 0.1, RUDDER_ACTIVITY_DOC),
         Term("speed_loss", 0.1, SPEED_LOSS_DOC),
     ),
-    features=ZIGZAG_FEATURES,
+    features=ZIGZAG_FEATURES + ROLL_FEATURES,
+    options=(HEEL_TERM,),
 )
 TERM = SPEC.TERM
 FEAT = SPEC.FEAT
+OPT = SPEC.OPT
 
 # One schedule for both target kinds: a course change starts when its start time comes (the first after the
 # seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
@@ -125,6 +132,7 @@ P = columns(
     "dt",  # control interval, s
     "leg_limit",  # IMO schedule: the next change starts at the latest this long after the last, s
     "reach",  # target_reached term per radian of course change, 1/rad
+    "heel_ref",  # heel reference of the heel term, rad; 0: the term is off (no column)
     typename="ZigZagV1Params",
 )
 
@@ -134,7 +142,7 @@ ZigZagV1Reward = SPEC.weights_class(
 
 
 @dataclass(frozen=True, kw_only=True)
-class ZigZagV1Config(DisturbedOpenWaterConfig):
+class ZigZagV1Config(RollOptionsConfig, DisturbedOpenWaterConfig):
     """ZigZag-v1 configuration (see :class:`ZigZagV1Env`)."""
 
     schedule: str = schedule_param()
@@ -257,6 +265,9 @@ def zigzag_v1_update(
             terms[k, TERM.heading_error] = -abs(wrap_pi(s[S.target] - psik)) / PI
             terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
             terms[k, TERM.speed_loss] = speed_loss(speed_through_water(uk, vk), s[S.U0])
+            if p[P.heel_ref] > 0.0:
+                terms[k, OPT.heel] = heel(x, k, p[P.heel_ref])
+        roll_features(feat, x, k, FEAT.phi, FEAT.p)
         close_row(k, s, S.psi0, S.target, S.prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done)
 
 
@@ -291,6 +302,10 @@ class ZigZagV1Task(ZigZagCommon):
         p[P.os_ref] = self.overshoot_ref
         p[P.leg_limit] = self.leg_time_limit
         p[P.reach] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
+        self.switch_on_heel(P.heel_ref)
+
+    def observed(self) -> tuple[str, ...]:
+        return super().observed() + self.roll_observed()
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         c = self.config
