@@ -76,6 +76,8 @@ def chart_depth(north, east, verts, areas, area, water_depth, T, depth, env):
 
 class HarbourApproachV2Task(HarbourApproachV1Task):
     Config = HarbourApproachV2Config
+    #: the physics sees the charted depth under each ship (a pilot policy adapts to it: envs.policies)
+    depth_from_chart = True
 
     def __init__(self, config: HarbourApproachV2Config, n: int, scenario: Scenario | None = None) -> None:
         super().__init__(config, n, scenario=scenario)
