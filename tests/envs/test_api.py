@@ -28,6 +28,7 @@ def test_ids_registered_with_vector_entry_points():
     assert ENV_IDS == [
         "vessel_gym/HarbourApproach-v0",
         "vessel_gym/HarbourApproach-v1",
+        "vessel_gym/HarbourApproach-v2",
         "vessel_gym/TurningCircle-v0",
         "vessel_gym/ZigZag-v0",
         "vessel_gym/ZigZag-v1",
@@ -36,8 +37,8 @@ def test_ids_registered_with_vector_entry_points():
     for env_id in ENV_IDS:
         spec = gym.spec(env_id)
         assert isinstance(spec.entry_point, str) and isinstance(spec.vector_entry_point, str)
-        # HarbourApproach-v1 truncates itself after time_limit_s (a limit in seconds, not steps)
-        assert spec.max_episode_steps or env_id == "vessel_gym/HarbourApproach-v1"
+        # HarbourApproach-v1 and -v2 truncate themselves after time_limit_s (a limit in seconds, not steps)
+        assert spec.max_episode_steps or env_id.endswith(("HarbourApproach-v1", "HarbourApproach-v2"))
 
 
 def test_registration_idempotent_without_warnings():

@@ -1,5 +1,5 @@
 """Gymnasium environments: ZigZag (``-v1``; ``-v0`` deprecated), ZigZagRandom (``-v1``), TurningCircle and
-HarbourApproach (``-v1``; ``-v0`` deprecated), all as ``vessel_gym/<Name>-v<N>``.
+HarbourApproach (``-v2``, ``-v1``; ``-v0`` deprecated), all as ``vessel_gym/<Name>-v<N>``.
 
 Importing this package registers the ids (cheaply: entry points are strings); the environment classes,
 configs and policies load on first attribute access.
@@ -39,6 +39,9 @@ _LAZY = {
     "HarbourApproachV1VectorEnv": "harbour",
     "HarbourApproachV1Config": "harbour",
     "HarbourApproachV1Reward": "harbour",
+    "HarbourApproachV2Env": "harbour",
+    "HarbourApproachV2VectorEnv": "harbour",
+    "HarbourApproachV2Config": "harbour",
     "ShipEnvConfig": "config",
     "ObservationLayout": "observation",
     "Feature": "declare",

@@ -1,8 +1,9 @@
 """HarbourApproach environments: from outside a harbour, through the entrance, to a stop in the goal area.
 
 The environment classes and their spec sheets. The task's declaration, configuration, reset and compiled step are
-in :mod:`vessel_gym.envs.tasks.harbour` (v0) and :mod:`vessel_gym.envs.tasks.harbour_v1` (v1), the chart geometry
-in :mod:`vessel_gym.envs.tasks.chart`; their names are re-exported here.
+in :mod:`vessel_gym.envs.tasks.harbour` (v0), :mod:`vessel_gym.envs.tasks.harbour_v1` (v1) and
+:mod:`vessel_gym.envs.tasks.harbour_v2` (v2), the chart geometry in :mod:`vessel_gym.envs.tasks.chart`; their names
+are re-exported here.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from vessel_gym.envs.tasks.harbour_v1 import (
     HarbourApproachV1Task,
     difficulty_level,
 )
+from vessel_gym.envs.tasks.harbour_v2 import HarbourApproachV2Config, HarbourApproachV2Task
 
 __all__ = [
     "ACROSS_SPREAD_L",
@@ -53,6 +55,10 @@ __all__ = [
     "HarbourApproachV1Reward",
     "HarbourApproachV1Task",
     "HarbourApproachV1VectorEnv",
+    "HarbourApproachV2Config",
+    "HarbourApproachV2Env",
+    "HarbourApproachV2Task",
+    "HarbourApproachV2VectorEnv",
     "HarbourApproachVectorEnv",
     "difficulty_level",
 ]
@@ -284,3 +290,57 @@ class HarbourApproachV1VectorEnv(HarbourApproachVectorEnv):
         attr = getattr(self, name)
         out = attr(*args, **kwargs) if callable(attr) else attr
         return (out,) * self.num_envs
+
+
+class HarbourApproachV2Env(HarbourApproachV1Env):
+    """Bring a ship from outside a harbour through the entrance to a stop in the goal area (v2: harbour physics).
+
+    ## Description
+
+    The task of :class:`HarbourApproachV1Env` (actions, observations, rewards, start, episode end, ``info``,
+    arguments and curriculum hook unchanged), with two changes of the dynamics:
+
+    * the default ship ``kvlcc2_l7_harbour``: ``kvlcc2_l7_windage`` plus the cross-flow hull at large drift
+      (``[large_drift]``, Yoshimura et al. 2009): at large drift, in sternway and turning on the spot the hull
+      forces stay physical where the MMG polynomial runs away;
+    * the water depth under each ship from the scenario's chart (``Scenario.depth_at`` of the midship point:
+      the shallowest depth area containing it, else ``water_depth_m``), with the Taimuri et al. (2020)
+      shallow-water corrections of the MMG hull, propeller and rudder. The depth is read after every reset and
+      control step and acts over the next control step; depths between the draught and 1.2 T (the method's
+      range ends at h/T = 1.2) act as h/T = 1.2. The chart's depth replaces that of an ``environment`` reset
+      option. Grounding is v1's rule. The ship must have an MMG hull (others raise ``SpecError``).
+
+    ``env.unwrapped.depth_m`` (vector env: ``venv.depth_m``, one per ship): the charted depth under each ship.
+
+    ## Version History
+
+    * v2: the cross-flow hull at large drift (default ship ``kvlcc2_l7_harbour``) and the depth from the chart
+      with the shallow-water corrections; v1 and v0 are unchanged.
+    * v1: control interval and time limit from the ship's time scale, time charged per ship time scale,
+      success 50, difficulty levels, wind with force, three built-in harbours and procedural layouts.
+    * v0: initial version (deprecated).
+    """
+
+    Task = HarbourApproachV2Task
+    env_name = "HarbourApproach-v2"
+
+    @classmethod
+    def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
+        return make_task(cls, config, overrides, n, HarbourApproachV2Task)
+
+    @property
+    def depth_m(self) -> float:
+        """Charted depth under the ship's midship point (m), as the physics sees it over the next control step
+        (before the clamp to 1.2 x draught)."""
+        return float(self.task.depth_m[0])
+
+
+class HarbourApproachV2VectorEnv(HarbourApproachV1VectorEnv):
+    """Native vector version of :class:`HarbourApproachV2Env`."""
+
+    Env = HarbourApproachV2Env
+
+    @property
+    def depth_m(self) -> Any:
+        """Charted depth under each ship's midship point (m), a copy (see :attr:`HarbourApproachV2Env.depth_m`)."""
+        return self.task.depth_m.copy()

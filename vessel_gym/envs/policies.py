@@ -146,6 +146,7 @@ class PIDHeadingAutopilot(HelmPolicy):
 
     def rudder(self, obs: np.ndarray) -> np.ndarray:
         e = self.heading_error(obs)
+        self.error = e  # the last heading error the rudder answered (rad)
         self.integral = pid_integral_batch(self.integral, e, self.dt, 1.0, np.inf)
         r = self.get(obs, "r")
         return pid_rudder_batch(e, self.integral, r, self.Kp, self.Ki, self.Kd, self.rudder_limit_rad)
@@ -159,7 +160,16 @@ class HarbourPilot(PIDHeadingAutopilot):
     (turning to the goal heading in the last ship lengths), with speed ordered by the distance to go and
     astern to stop in the goal area. Its own position and heading it reconstructs from the observed goal
     bearing and heading error and the charted goal point (a pilot with local knowledge). Guidance: pursuit
-    of the next waypoint, passed within ``accept_L`` ship lengths (:mod:`vessel_gym.control.guidance`)."""
+    of the next waypoint, passed within ``accept_L`` ship lengths (:mod:`vessel_gym.control.guidance`).
+
+    Kick ahead (``kick_ahead``, a fraction of full ahead): when the rudder is hard over, the heading error
+    exceeds ``kick_error_deg`` and the ship does not answer (it turns toward the wanted heading at less than
+    ``answer_rate`` U_T / L), the engine order is raised to at least ``kick_ahead`` for that control step, so
+    that the propeller's race over the rudder gives the steering the speed through the water cannot (a
+    harbour pilot's kick ahead). Default: on (0.5, half ahead) in an environment whose physics takes the
+    water depth from the chart (HarbourApproach-v2), where the shallow basin changes the ship's yaw response
+    and the swing that the slow ship's rudder cannot check in the wake alone; off (0) otherwise, which leaves
+    the pilot of HarbourApproach-v0/v1 as it was (docs/envs.md, HarbourApproach-v2)."""
 
     def __init__(
         self,
@@ -171,6 +181,9 @@ class HarbourPilot(PIDHeadingAutopilot):
         approach: float = 0.6,
         accept_L: float = 2.0,
         speed_gain: float = 4.0,
+        kick_ahead: float | None = None,
+        kick_error_deg: float = 10.0,
+        answer_rate: float = 0.01,
     ) -> None:
         super().__init__(env, Kp, Ki, Kd)
         sc = env.unwrapped.task.scenario
@@ -182,6 +195,13 @@ class HarbourPilot(PIDHeadingAutopilot):
         self.approach = approach
         self.accept = accept_L * self.L
         self.speed_gain = speed_gain
+        if kick_ahead is None:
+            kick_ahead = 0.5 if getattr(env.unwrapped.task, "depth_from_chart", False) else 0.0
+        if not 0.0 <= kick_ahead <= 1.0:
+            raise ValueError(f"kick_ahead: {kick_ahead:g} must be in [0, 1] (fraction of full ahead)")
+        self.kick_ahead = float(kick_ahead)
+        self.kick_error = math.radians(kick_error_deg)
+        self.answer_rate = answer_rate * self.U_T / self.L  # rad/s
         self.wp: np.ndarray | int = 0
 
     def reset(self, mask: np.ndarray | None = None) -> None:
@@ -229,7 +249,17 @@ class HarbourPilot(PIDHeadingAutopilot):
         want = np.maximum(self.U_T * self.approach * np.clip(d / self.slow, 0.0, 1.0), 0.5 * self.goal_speed)
         want = np.where(self.get(obs, "goal_x") < 0.0, 0.0, want)  # goal point abeam or astern: stop
         eng = np.clip(0.85 * want / self.U_T + self.speed_gain * (want - sog) / self.U_T, -1.0, 1.0)
-        return self.action(self.rudder(obs), eng if self.engine else None)
+        rudder = self.rudder(obs)
+        if self.kick_ahead > 0.0:
+            eng = self.kick(obs, rudder, eng)
+        return self.action(rudder, eng if self.engine else None)
+
+    def kick(self, obs: np.ndarray, rudder: np.ndarray, eng: np.ndarray) -> np.ndarray:
+        """The engine order with the kick ahead (class docstring) where the ship does not answer its rudder."""
+        e = self.error
+        hard_over = np.abs(rudder) >= self.rudder_limit_rad * (1.0 - 1e-9)
+        answering = self.get(obs, "r") * np.sign(e) > self.answer_rate
+        return np.where(hard_over & (np.abs(e) > self.kick_error) & ~answering, np.maximum(eng, self.kick_ahead), eng)
 
 
 def is_batch(space: spaces.Space, obs: np.ndarray) -> bool:

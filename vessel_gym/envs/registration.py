@@ -35,6 +35,12 @@ ENVIRONMENTS: dict[str, tuple[str, str, int | None]] = {
         "vessel_gym.envs.harbour:HarbourApproachV1VectorEnv",
         None,
     ),
+    # v1's task with the harbour physics (cross-flow hull, depth from the chart); its own time limit as v1
+    "vessel_gym/HarbourApproach-v2": (
+        "vessel_gym.envs.harbour:HarbourApproachV2Env",
+        "vessel_gym.envs.harbour:HarbourApproachV2VectorEnv",
+        None,
+    ),
 }
 
 

@@ -172,6 +172,17 @@ def depth_ratio(depth_m: float, T_m: float) -> float:
     return T_m / depth_m
 
 
+@njit(cache=True, inline="always")
+def set_charted_depth(env, k, depth_m, T_m):
+    """Set the draught-to-depth ratio of vessel k's environment row ``env[k]`` (``Simulation.env``) for a depth
+    read from a chart under a moving ship of draught ``T_m`` (m): H = T / max(depth_m, H_OVER_T_MIN T), 0 for an
+    infinite depth. Unlike :func:`depth_ratio` (a depth the user sets, refused below the method's range) a
+    charted depth between the draught and 1.2 T is taken as h/T = 1.2, the shallowest the method covers: the
+    ship sails on into it and the chart's own rule (grounding below the draught) decides what happens there.
+    The ship's hull must be one the corrections are for (:func:`check_hull`)."""
+    env[k, lo.E_T_OVER_H] = 0.0 if math.isinf(depth_m) else T_m / max(depth_m, H_OVER_T_MIN * T_m)
+
+
 def check_hull(ship, depth_m: float) -> None:
     """Refuse a finite depth for a ship whose hull is not the MMG model: the corrections are factors on the
     MMG coefficients and on the MMG propeller and rudder, with no counterpart for an Abkowitz polynomial or a
