@@ -10,6 +10,7 @@ service speed; and how its turning circle compares with the published MMG figure
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 
 import numpy as np
@@ -17,8 +18,9 @@ import pytest
 
 from cfd.analysis import SEA_WATER_NU, full_scale_resistance
 from cfd.friction import ittc57
-from vessel_gym.manoeuvres import turning_circle
-from vessel_gym.manoeuvres.imo import ADVANCE_LIMIT_L, TACTICAL_DIAMETER_LIMIT_L
+from vessel_gym.cli import main
+from vessel_gym.manoeuvres import stopping, turning_circle
+from vessel_gym.manoeuvres.imo import ADVANCE_LIMIT_L, STOPPING_LIMIT_L, TACTICAL_DIAMETER_LIMIT_L
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.propulsion import propeller_thrust_torque
 from vessel_gym.physics.shipfile import load_ship
@@ -142,3 +144,24 @@ def test_turning_circle_against_the_published_mmg_figures():
     for value, published in zip(got, MMG_SIM_TURN_L):
         assert published - 0.1 <= value <= published / f + 0.1, (value, published, f)
     assert got[0] <= ADVANCE_LIMIT_L and got[1] <= TACTICAL_DIAMETER_LIMIT_L
+
+
+@pytest.mark.slow
+def test_the_command_line_runs_the_imo_trials_and_the_crash_stop(capsys):
+    """`vessel-gym imo kvlcc2_full` and `vessel-gym manoeuvre stopping --ship kvlcc2_full`: every turning,
+    initial-turning and zig-zag criterion of MSC.137(76) passes; the stopping criterion is evaluated against
+    its 15 L and fails, as App. 3 expects of a large tanker (test_stopping.py for the references), with the
+    figure the stopping command reports."""
+    assert main(["imo", "kvlcc2_full", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    by_name = {}
+    for c in report["criteria"]:
+        by_name.setdefault(c["name"], []).append(c)
+    stop = by_name.pop("stopping_track_reach")
+    assert all(c["pass"] for cs in by_name.values() for c in cs) and len(by_name) == 6
+    assert [c["limit"] for c in stop] == [STOPPING_LIMIT_L] and not stop[0]["pass"]
+    assert main(["manoeuvre", "stopping", "--ship", "kvlcc2_full", "--json"]) == 0
+    reach = json.loads(capsys.readouterr().out)["track_reach_L"]
+    assert reach == pytest.approx(stop[0]["value"], abs=0.01)
+    st = stopping("kvlcc2_full")
+    assert reach == pytest.approx(st.track_reach_m / st.L_m, abs=0.001)
