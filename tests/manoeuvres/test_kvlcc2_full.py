@@ -33,7 +33,8 @@ from vessel_gym.physics.vessel import pack
 KRISO_L_M = 5.5172  # model L_pp, m (scale 58)
 KRISO_FN = 0.142  # Froude number
 KRISO_RE = 4.6e6  # model Reynolds number
-KRISO_C_T = 4.110e-3  # total resistance coefficient on the wetted surface
+KRISO_C_T = 4.110e-3  # total resistance coefficient on the wetted surface (the quoted benchmark value; the
+# workshop table itself was not retrieved, as the ship file says)
 WETTED_SURFACE_M2 = 27194.0  # full scale, without rudder (Gothenburg 2010 / NMRI KVLCC2 geometry)
 # the L7 model of the MMG tests (Yasukawa & Yoshimura 2015): its wake w_P0 = 0.40 is scaled to full scale
 L7_RE = 1.179 * 7.0 / 1.1386e-6  # 1.179 m/s, 7.0 m, fresh water at 15 C (ITTC 7.5-02-01-03)
