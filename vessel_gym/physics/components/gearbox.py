@@ -144,7 +144,8 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     i_g = P[lo.P_GEAR]
     eta = P[lo.P_ETA_GEAR]
     d = clutch_direction(P, n_order)
-    along = c * d > 0.0
+    # applied (beyond the last few per cent, which a fixed step may overshoot through 0) in the ordered direction
+    along = c * d >= CLUTCH_SET
     # the interlock: a clutch is applied only with the engine near idle and the propeller nearly stopped
     permit = -d * n <= C[C_ENGAGE_REV] and n_E <= C[C_SHIFT_REV]
     target = d if (d != 0.0 and (along or permit)) else 0.0
