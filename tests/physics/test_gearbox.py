@@ -23,6 +23,7 @@ from vessel_gym.physics.components.gearbox import (
     C_IDLE_REV,
     C_LOCK_T,
     C_SHIFT_REV,
+    CLUTCH_SET,
     PHASE_ENGAGING,
     PHASE_LOCKED,
     PHASE_SLIPPING,
@@ -161,10 +162,15 @@ def test_crash_stop_sequence():
     sim.set_helm(rev_order=ASTERN)
     t_applied = None
     n_E_min = np.inf
+    allowed = False  # the interlock has been satisfied (at the end of a step)
     for step in range(300):
         sim.advance(0.1)
         n_E, _gov, c = sim.component_states[0]
         n_E_min = min(n_E_min, n_E)
+        # speeds fall monotonically until the clutch is applied: allowed at the step's end if within it
+        allowed = allowed or (sim.rev[0] <= C[C_ENGAGE_REV] and n_E <= C[C_SHIFT_REV])
+        if not allowed:
+            assert c > -CLUTCH_SET  # no astern clutch before the interlock allows it
         if t_applied is None and c <= -0.95:
             t_applied = (step + 1) * 0.1
     params = SHIP.components[0].params
