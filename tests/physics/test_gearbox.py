@@ -20,6 +20,7 @@ from vessel_gym.physics.components.gearbox import (
     C_CAP,
     C_ENGAGE_REV,
     C_ENGAGE_T,
+    C_I_E,
     C_IDLE_REV,
     C_LOCK_T,
     C_SHIFT_REV,
@@ -221,3 +222,27 @@ def test_idle_speed_below_the_declutch_threshold_is_refused():
     with pytest.raises(ValueError, match="idle_rpm_fraction") as exc:
         ReversingGearbox(ship, params)
     assert "\n" not in str(exc.value)
+
+
+def test_a_slipping_clutch_opposes_the_slip():
+    """Friction dissipates: beyond the stick band (K |w| > Q_cap + |Q_lock|, K the stabilising stiffness) the
+    clutch transmits its full capacity against the slip, Q_c w > 0, for either train, either sign of slip and
+    any load."""
+    rng = np.random.default_rng(3)
+    a = 1.0 / C[C_I_E] + ETA * I_G**2 / I_S
+    K = 2.0 * math.pi / (C[C_LOCK_T] * a)
+    checked = 0
+    for _ in range(400):
+        c = rng.choice([-1.0, 1.0]) * rng.uniform(0.1, 1.0)
+        s = math.copysign(1.0, c)
+        n = rng.uniform(-1.0, 1.0) * N_PROP_RATED
+        n_E = rng.uniform(0.25, 1.0) * P[lo.P_ENG_NRATED]
+        Q_load = rng.uniform(-3e5, 3e5)
+        order = AHEAD if c > 0 else ASTERN
+        *_, Q_E, Q_c, slip, _phase = gearbox_drive(P, C, n, n_E, rng.uniform(0, 1), c, order, Q_load)
+        Q_cap = abs(c) * C[C_CAP] * Q_RATED
+        Q_lock = (Q_E / C[C_I_E] + s * I_G * Q_load / I_S) / a
+        if K * abs(slip) > Q_cap + abs(Q_lock):
+            assert Q_c * slip > 0.0 and abs(Q_c) == pytest.approx(Q_cap, rel=1e-12)
+            checked += 1
+    assert checked >= 50
