@@ -154,18 +154,21 @@ def test_steady_approach_is_held():
     assert sim.component_states[0] == pytest.approx(z0, abs=1e-5)
 
 
-def test_crash_stop_sequence():
+@pytest.mark.parametrize("dt", [0.1, 0.82])  # 0.82 s: the HarbourApproach env's step for this ship
+def test_crash_stop_sequence(dt):
     """Full astern from the steady approach: the engine never stalls or reverses, the astern clutch is applied
     within a few seconds (release, run-down below the interlock speeds, engagement time), and the shaft then
-    turns astern near the full-astern order (limited by the engine's torque with the ship's headway)."""
-    sim = Simulation("supply", dt=0.1)
+    turns astern near the full-astern order (limited by the engine's torque with the ship's headway). The same
+    at the longest step the environments take for this ship: the released clutch does not overshoot into the
+    other train before the interlock allows it."""
+    sim = Simulation("supply", dt=dt)
     sim.reset()
     sim.set_helm(rev_order=ASTERN)
     t_applied = None
     n_E_min = np.inf
     allowed = False  # the interlock has been satisfied (at the end of a step)
-    for step in range(300):
-        sim.advance(0.1)
+    for step in range(int(30.0 / dt)):
+        sim.advance(dt)
         n_E, _gov, c = sim.component_states[0]
         n_E_min = min(n_E_min, n_E)
         # speeds fall monotonically until the clutch is applied: allowed at the step's end if within it
@@ -173,7 +176,7 @@ def test_crash_stop_sequence():
         if not allowed:
             assert c > -CLUTCH_SET  # no astern clutch before the interlock allows it
         if t_applied is None and c <= -0.95:
-            t_applied = (step + 1) * 0.1
+            t_applied = (step + 1) * dt
     params = SHIP.components[0].params
     assert n_E_min > 0.5 * C[C_IDLE_REV]  # no stall
     assert t_applied is not None
@@ -246,3 +249,19 @@ def test_a_slipping_clutch_opposes_the_slip():
             assert Q_c * slip > 0.0 and abs(Q_c) == pytest.approx(Q_cap, rel=1e-12)
             checked += 1
     assert checked >= 50
+
+
+@pytest.mark.parametrize("dt", [0.1, 0.82])
+def test_stop_order_releases_the_clutch(dt):
+    """Stop ordered while driving astern: the clutch is released completely (no residue of a fixed step's
+    oscillation) and the engine idles; the propeller is then turned by the water alone."""
+    sim = Simulation("supply", dt=dt)
+    sim.reset()
+    sim.set_helm(rev_order=ASTERN)
+    sim.advance(round(30.0 / dt) * dt)
+    assert sim.component_states[0][2] < -0.95
+    sim.set_helm(rev_order=0.0)
+    sim.advance(round(20.0 / dt) * dt)
+    n_E, _gov, c = sim.component_states[0]
+    assert abs(c) < 1e-3
+    assert n_E == pytest.approx(C[C_IDLE_REV], rel=0.02)

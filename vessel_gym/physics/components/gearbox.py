@@ -26,7 +26,8 @@ The clutch torque is the friction model of Karnopp (1985, J. Dyn. Syst. Meas. Co
 torque that keeps engine and shaft together (Q_lock, from both equations with dw/dt = 0) as long as that is
 within the capacity, otherwise the capacity against the slip. For a fixed integration step the stick is
 stabilised: Q_c = clip(Q_lock + K w, -Q_cap, Q_cap) with K chosen so that a residual slip decays with the time
-constant ``lock_time_s`` (the exact stick would need a step far below the clutch's slip dynamics).
+constant ``lock_time_s``, or the physics step if that is longer (the exact stick would need a step far below the
+clutch's slip dynamics); the clutch's fill and release end in an exponential approach of the same kind.
 
 The one function is :func:`gearbox_drive` (compiled; runs un-jitted with NUMBA_DISABLE_JIT=1); the component
 :class:`ReversingGearbox` evaluates it on the whole batch once per integration stage.
@@ -97,7 +98,7 @@ class ReversingGearboxParams:
         lo=0.01,
         hi=5.0,
         doc="time constant with which a residual clutch slip decays once the clutch holds (stick "
-        "stabilisation for a fixed step; keep it above about 2 physics steps)",
+        "stabilisation for a fixed step; a longer physics step takes its place)",
     )
 
 
@@ -110,7 +111,10 @@ C_SHIFT_REV = 4  # engine speed at or below which a clutch may be applied, rev/s
 C_IDLE_REV = 5  # engine idle speed, rev/s
 C_LOCK_T = 6  # s
 C_I_E = 7  # engine rotating inertia (engine side), kg m^2
-NC = 8
+#: the simulation's step, s: the numerical time constants (the clutch's fill tail, the stick) are at least one
+#: step, so that RK4 follows them without overshoot at any step the vessel's own dynamics allow (0: exact)
+C_DT = 8
+NC = 9
 
 #: share of a clutch's fill or release time spent in its final exponential approach, so that the pressure's rate
 #: is continuous for RK4 (as the direct-reversing engine's reversing gear, propulsion.CAM_TAU_FRACTION), -
@@ -152,7 +156,7 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     filling = target * c >= 0.0 and abs(target) > abs(c)
     T_fill = C[C_ENGAGE_T] if filling else C[C_RELEASE_T]
     rate = 1.0 / T_fill
-    dc = max(-rate, min(rate, (target - c) / (CLUTCH_TAU_FRACTION * T_fill)))
+    dc = max(-rate, min(rate, (target - c) / max(CLUTCH_TAU_FRACTION * T_fill, C[C_DT])))
     # governor: the ordered engine speed once the clutch of the ordered direction is applied, idle otherwise
     n_idle = C[C_IDLE_REV]
     n_Eo = max(i_g * abs(n_order), n_idle) if c * d >= 1.0 - CLUTCH_SET else n_idle
@@ -166,7 +170,7 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     Q_cap = abs(c) * C[C_CAP] * P[lo.P_ENG_QRATED]
     slip = n_E - s * i_g * n
     Q_lock = (Q_E / I_E + s * i_g * Q_load / I_s) / a
-    Q_hold = Q_lock + 2.0 * math.pi * slip / (C[C_LOCK_T] * a)
+    Q_hold = Q_lock + 2.0 * math.pi * slip / (max(C[C_LOCK_T], C[C_DT]) * a)
     Q_c = max(-Q_cap, min(Q_cap, Q_hold))
     dn_E = (Q_E - Q_c) / (2.0 * math.pi * I_E)
     if target == 0.0:
@@ -251,6 +255,7 @@ class ReversingGearbox(Engine):
     def evaluate(self, sim, x, s) -> np.ndarray:
         """(N, N_RESULT) of :func:`gearbox_drive` at the stage states ``x`` and plant states ``s``."""
         out = np.empty((x.shape[0], N_RESULT))
+        self.constants[C_DT] = sim.dt
         Z = np.ascontiguousarray(s, dtype=float)
         gearbox_batch(sim.Ps, sim.ship_index, np.ascontiguousarray(x), sim.inputs, sim.env, Z, self.constants, out)
         return out
