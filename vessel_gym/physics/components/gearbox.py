@@ -166,7 +166,7 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     s = 1.0 if c > 0.0 else (-1.0 if c < 0.0 else 0.0)
     I_E = C[C_I_E]
     I_s = P[lo.P_I_SHAFT]
-    a = 1.0 / I_E + eta * i_g * i_g / I_s  # 1/(kg m^2): slip acceleration per unit clutch torque, times 2 pi
+    a = 1.0 / I_E + eta * i_g * i_g / I_s  # 1/(kg m^2): 2 pi x the slip deceleration per unit clutch torque
     Q_cap = abs(c) * C[C_CAP] * P[lo.P_ENG_QRATED]
     slip = n_E - s * i_g * n
     Q_lock = (Q_E / I_E + s * i_g * Q_load / I_s) / a
