@@ -265,3 +265,23 @@ def test_stop_order_releases_the_clutch(dt):
     n_E, _gov, c = sim.component_states[0]
     assert abs(c) < 1e-3
     assert n_E == pytest.approx(C[C_IDLE_REV], rel=0.02)
+
+
+def test_drive_torque_is_continuous_through_neutral_and_the_stick_edge():
+    """The drive torque has no jump where the engaged train changes (c through 0: the capacity vanishes on both
+    sides) nor where the clutch passes from holding to slipping (the clip of a continuous torque)."""
+    n, n_E = 0.2 * N_PROP_RATED, C[C_IDLE_REV]
+    eps = 1e-9
+    q_ahead = gearbox_drive(P, C, n, n_E, 0.3, eps, ASTERN, 1e5)[0]
+    q_astern = gearbox_drive(P, C, n, n_E, 0.3, -eps, ASTERN, 1e5)[0]
+    assert abs(q_ahead - q_astern) < 1e-6 * Q_RATED
+    # along the slip, the clutch torque of a half-applied clutch has no jump: its steps stay within the stick's
+    # slope K (plus the engine torque's own change with speed) from full slip one way to full slip the other
+    a = 1.0 / C[C_I_E] + ETA * I_G**2 / I_S
+    K = 2.0 * math.pi / (C[C_LOCK_T] * a)
+    n = 0.5 * N_PROP_RATED
+    slips = np.linspace(-6.0, 6.0, 12001)  # rev/s, engine side
+    dw = slips[1] - slips[0]
+    Q_c = [gearbox_drive(P, C, n, I_G * n + w, 0.3, 0.5, AHEAD, 1e5)[6] for w in slips]
+    assert np.max(np.abs(np.diff(Q_c))) <= 1.1 * K * dw
+    assert min(Q_c) == pytest.approx(-0.5 * C[C_CAP] * Q_RATED) and max(Q_c) == pytest.approx(0.5 * C[C_CAP] * Q_RATED)
