@@ -27,9 +27,13 @@ THROUGH_WATER = [lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA, lo.X_REV, lo.X_GO
 
 
 def _state_derivative(sim: Simulation, k: int = 0) -> np.ndarray:
+    """The vessel's state derivative with what the components of its ship file give the kernel (a plant in
+    the engine slot, such as the supply vessel's, drives the shaft through layout.F_Q_SHAFT)."""
     xd = np.zeros(lo.NX)
     P = sim.Ps[sim.ship_index[k]]
-    derivatives(P, sim.state[k], sim.inputs[k], sim.env[k], sim.F_ext[k], xd)
+    F, _ = sim._evaluate_components(sim.state, sim.component_states)
+    F[:, :3] += sim.F_ext
+    derivatives(P, sim.state[k], sim.inputs[k], sim.env[k], F[k], xd)
     return xd
 
 
