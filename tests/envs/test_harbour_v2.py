@@ -129,6 +129,16 @@ def test_a_ship_without_an_mmg_hull_is_refused():
 
 
 @pytest.mark.slow
+def _pilot_episode(env, pilot, seed: int) -> dict:
+    """Run one episode with the pilot at the helm; the last step's info."""
+    pilot.reset()
+    obs, _ = env.reset(seed=seed)
+    while True:
+        obs, _r, te, tr, info = env.step(pilot(obs))
+        if te or tr:
+            return info
+
+
 def test_pilot_arrives_with_the_cross_flow_hull_in_deep_water():
     """The harbour pilot (tuned on v1) with v2's ship on the built-in chart made deep (water 10 km, only the
     areas shallower than the draught kept, as grounding): arrives on 3 seeds at the default difficulty, each
@@ -144,12 +154,7 @@ def test_pilot_arrives_with_the_cross_flow_hull_in_deep_water():
         pilot = HarbourPilot(env, kick_ahead=0.0)  # v1's pilot in both: the hull alone is compared
         times = []
         for seed in (0, 1, 2):
-            pilot.reset()
-            obs, _ = env.reset(seed=seed)
-            while True:
-                obs, _r, te, tr, info = env.step(pilot(obs))
-                if te or tr:
-                    break
+            info = _pilot_episode(env, pilot, seed)
             assert info["outcome"] == "success", (env_id, seed, info["outcome"])
             times.append(info["time_s"])
         if env_id == ID:
@@ -214,15 +219,7 @@ def test_pilot_arrives_in_the_documented_v2_episodes():
     docs/envs.md): at least 5 of 6 arrivals (measured: 6 of 6; without the kick ahead 0 of 6)."""
     env = gym.make(ID)
     pilot = HarbourPilot(env)
-    outcomes = []
-    for seed in range(6):
-        pilot.reset()
-        obs, _ = env.reset(seed=seed)
-        while True:
-            obs, _r, te, tr, info = env.step(pilot(obs))
-            if te or tr:
-                break
-        outcomes.append(info["outcome"])
+    outcomes = [_pilot_episode(env, pilot, seed)["outcome"] for seed in range(6)]
     assert outcomes.count("success") >= 5, outcomes
 
 
