@@ -27,6 +27,11 @@ Abkowitz set in the surge perturbation u' = (u - U_ref)/U), each a C1 smoothstep
 (|r'| -> infinity) and any sternway (chi -> 180 deg) are pure cross-flow model. Every term is continuous through
 u = 0, v = 0 and chi = 90/180 deg, odd in (v, r) for Y and N and even for X (port/starboard mirror), and
 vanishes at rest.
+
+Shallow water (an MMG hull at draught-to-depth ratio H = T/h > 0, the ratio the MMG polynomial gets, clipped
+where shallow_water.py clips it): the linear terms take the factors of the same MMG coefficients
+(shallow_water.hull_factors) and C_D that of the lateral current force of UFC 4-159-03 eq. 11-13
+(shallow_water.cross_flow_drag_factor), in Y and N alike; X'_0 is not corrected (:func:`yoshimura_forces_at_depth`).
 """
 
 from __future__ import annotations

@@ -20,6 +20,10 @@ so that deep water is recovered exactly. The flow-straightening regression switc
 published branches at H = 0.581 - 0.332 T/B (h/T ~ 2.2 for a VLCC) and is discontinuous there, as
 published. R'_0, the added masses and l'_R are not corrected by the method (docs/physics.md).
 
+The cross-flow hull that takes over from the polynomial at large drift (crossflow.py) reads the same H: its
+linear terms take the factors above, its cross-flow drag coefficient C_D the lateral current force factor of
+UFC 4-159-03 (2005), "Design: Moorings", eq. 11-13 (:func:`cross_flow_drag_factor`).
+
 Validity: the regressions of Kijima et al. rest on captive tests down to h/T = 1.2, and Ankudinov's factors
 grow without bound as h/T -> 1; the kernel evaluates no H beyond ``H_MAX`` (h/T = 1.2), and
 :class:`~vessel_gym.physics.environment.Environment` refuses a depth below that. The corrections apply to
