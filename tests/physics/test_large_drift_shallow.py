@@ -14,7 +14,9 @@ Fig. A12, half-width 16.7 % of the peak; one curve per depth serves every loaded
 among the tested hulls) plus the digitising error of the lateral curves (6.8 %, from two independent readings of
 the h/T = 1.1 curve). At 90 deg the lateral curves peak, so the fraction of the peak is the fraction of the value.
 Both parts come from the published data, not from the model. OCIMF's deep-water curve is for h/T > 6 and is
-taken as infinitely deep water.
+taken as infinitely deep water. The same ratio over the other drift angles, in the ranges of the deep-water
+comparison, has the same tolerance; ranges that miss are strict expected failures with their measured gaps
+(docs/physics.md, "Shallow water in the cross-flow model").
 """
 
 from __future__ import annotations
@@ -156,3 +158,60 @@ def test_harbour_v2_ship_gets_the_factor_through_the_env_path():
     deep = _beam_on_Y(Pr, 0.0, v=0.05)
     assert Y == pytest.approx(deep * cross_flow_drag_factor(Pr, H), rel=1e-12)
     assert Y / deep == pytest.approx(1.0 + (3.2 / (0.22 * math.sqrt(320.0 / 58.0 / 0.81)) - 1.0) * H * H, rel=0.01)
+
+
+#: flow angle chi from the bow (deg) of each range, cut where the model changes form, as in the deep-water
+#: comparison (test_oblique_towing.RANGES) without 0 and 180 deg, where the lateral force and its ratio vanish
+RANGES = {
+    "ahead_mmg_polynomial": (10.0, 20.0),
+    "bow_leading": (30.0, 40.0, 50.0, 60.0, 70.0, 80.0),
+    "beam": (90.0,),
+    "stern_leading": (100.0, 110.0, 120.0, 130.0, 140.0, 150.0),
+    "sternway": (160.0, 170.0),
+}
+
+#: measured gaps beyond the tolerance, as of this commit (docs/physics.md, "Shallow water in the cross-flow model")
+_POLY = "the MMG polynomial's factors (Kijima et al. 1990 on Y'_v) grow Y' less than OCIMF at small drift"
+_BLEND = "the blend of polynomial and cross-flow model (22-35 deg) carries the polynomial's smaller growth"
+_ASTERN = "at small drift astern the linear term Y'_v v|u|, with Kijima's factor, carries half the force"
+GAPS: dict[tuple[float, str], str] = {
+    (3.0, "ahead_mmg_polynomial"): f"{_POLY}: 1.10 against 1.95 at 10 deg (43 %)",
+    (3.0, "bow_leading"): f"{_BLEND}: 1.28 against 1.72 at 30 deg (26 %)",
+    (3.0, "stern_leading"): f"{_ASTERN}: 1.36 against 1.89 at 150 deg (28 %)",
+    (3.0, "sternway"): f"{_ASTERN}: 1.32 against 1.90 at 160 deg (31 %)",
+    (1.5, "ahead_mmg_polynomial"): f"{_POLY}: 2.01 against 4.43 at 10 deg (55 %)",
+    (1.5, "bow_leading"): f"{_BLEND}: 2.43 against 4.07 at 30 deg (40 %)",
+    (1.5, "stern_leading"): f"{_ASTERN}: 2.67 against 3.96 at 150 deg (33 %)",
+    (1.5, "sternway"): f"{_ASTERN}: 2.56 against 4.18 at 160 deg (39 %)",
+    (1.2, "ahead_mmg_polynomial"): f"{_POLY}: 4.04 against 6.25 at 20 deg (35 %)",
+    (1.2, "bow_leading"): f"{_BLEND}: 4.11 against 5.61 at 30 deg (27 %)",
+    (1.2, "sternway"): f"{_ASTERN}: 4.19 against 6.69 at 160 deg (37 %)",
+}
+
+
+def _ratio_case(h_over_T, name):
+    reason = GAPS.get((h_over_T, name))
+    marks = [pytest.mark.xfail(strict=True, reason=reason)] if reason else []
+    return pytest.param(h_over_T, name, marks=marks, id=f"hT{h_over_T:g}-{name}")
+
+
+@pytest.mark.parametrize("h_over_T, name", [_ratio_case(h, n) for h in (3.0, 1.5, 1.2) for n in RANGES])
+def test_lateral_force_ratio_over_the_drift_angle_against_ocimf(h_over_T, name):
+    """Y' shallow over deep at every drift angle of a range (ship moving to starboard, hull forces as the
+    simulation computes them: the polynomial, the blend or the cross-flow model), against OCIMF Figure A10's
+    C_Yc at that depth over its deep curve; the tolerance of the beam-on test, 23.5 % of OCIMF's ratio."""
+    H = 1.0 / h_over_T
+    worst = (0.0, 0.0, 0.0, 0.0)
+    for chi in RANGES[name]:
+        i = int(np.flatnonzero(ref.THETA_DEG == 180.0 - chi)[0])
+        published = ref.C_YC_BY_DEPTH[h_over_T][i] / ref.C_YC_DEEP[i]
+        c = math.radians(chi)
+        u, v = math.cos(c), math.sin(c)
+        model = hull_forces_at_depth(P, u, v, 0.0, 0.0, H)[1] / hull_forces_at_depth(P, u, v, 0.0, 0.0, 0.0)[1]
+        gap = abs(model / published - 1.0)
+        worst = max(worst, (gap, chi, model, published))
+    gap, chi, model, published = worst
+    assert gap <= ref.TOLERANCE_FRACTION["Y"], (
+        f"h/T = {h_over_T}: Y(shallow)/Y(deep) {model:.2f} against OCIMF {published:.2f} at chi = {chi:g} deg "
+        f"({100 * gap:.1f} %, tolerance {100 * ref.TOLERANCE_FRACTION['Y']:.1f} %)"
+    )
