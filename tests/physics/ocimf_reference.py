@@ -86,6 +86,23 @@ C_XYC_WDT11 = np.array(
      0.0084, 0.1081, 0.1813, 0.2165, 0.2648, 0.3044, 0.2707, 0.1476, 0.0004]
 )  # fmt: skip
 
+#: MEG3 Fig. A10, loaded tanker, water depth/draught 1.2, 1.5 and 3.0: C_Yc (the shallow-water validation of the
+#: cross-flow hull, tests/physics/test_large_drift_shallow.py; same digitisation, same pixel grid)
+C_YC_WDT12 = np.array(
+    [0.0031, 0.4737, 1.0557, 1.1672, 1.3901, 1.5944, 1.8421, 2.0402, 2.2136, 2.3189,
+     2.2941, 2.1455, 1.9536, 1.7802, 1.6068, 1.3034, 0.9876, 0.4118, 0.0031]
+)  # fmt: skip
+C_YC_WDT15 = np.array(
+    [0.0031, 0.2632, 0.6594, 0.9690, 1.2291, 1.3963, 1.5201, 1.6006, 1.6563, 1.6687,
+     1.6440, 1.5882, 1.4954, 1.3653, 1.1796, 0.9443, 0.6161, 0.2879, 0.0031]
+)  # fmt: skip
+C_YC_WDT30 = np.array(
+    [0.0031, 0.1207, 0.3003, 0.4613, 0.6099, 0.7276, 0.8328, 0.9133, 0.9690, 0.9876,
+     0.9690, 0.9009, 0.8019, 0.6718, 0.5418, 0.3994, 0.2570, 0.1269, 0.0031]
+)  # fmt: skip
+#: C_Yc of Fig. A10 by water depth/draught (the deep-water curve is for > 6)
+C_YC_BY_DEPTH = {1.1: C_YC_WDT11, 1.2: C_YC_WDT12, 1.5: C_YC_WDT15, 3.0: C_YC_WDT30}
+
 #: MEG3 Fig. A12, ballasted tanker: C_Xc mean curve and the max/min envelope the figure draws around it
 C_XC_BALLAST_MEAN = np.array(
     [0.0562, 0.0597, 0.0623, 0.0623, 0.0537, 0.0398, 0.0220, 0.0140, 0.0096, 0.0072,

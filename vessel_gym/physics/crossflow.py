@@ -27,6 +27,11 @@ Abkowitz set in the surge perturbation u' = (u - U_ref)/U), each a C1 smoothstep
 (|r'| -> infinity) and any sternway (chi -> 180 deg) are pure cross-flow model. Every term is continuous through
 u = 0, v = 0 and chi = 90/180 deg, odd in (v, r) for Y and N and even for X (port/starboard mirror), and
 vanishes at rest.
+
+Shallow water (an MMG hull at draught-to-depth ratio H = T/h > 0, the ratio the MMG polynomial gets, clipped
+where shallow_water.py clips it): the linear terms take the factors of the same MMG coefficients
+(shallow_water.hull_factors) and C_D that of the lateral current force of UFC 4-159-03 eq. 11-13
+(shallow_water.cross_flow_drag_factor), in Y and N alike; X'_0 is not corrected (:func:`yoshimura_forces_at_depth`).
 """
 
 from __future__ import annotations
@@ -39,6 +44,7 @@ from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.schema import SpecError, param
+from vessel_gym.physics.shallow_water import cross_flow_drag_factor, hull_factors
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -176,10 +182,17 @@ def cross_flow_integrals(v, rL, C_rY, C_rN):
 
 
 @njit(cache=True)
-def yoshimura_forces(P, u, v, r):
+def yoshimura_forces_at_depth(P, u, v, r, H):
     """Hull forces of the Yoshimura, Nakao & Ishibashi (2009) model (module docstring), midship origin, with the
     linear terms :func:`pack` put in the row (and, for an Abkowitz hull, the kinematic x_G m terms its
-    equations of motion leave out). Returns (X, Y, N) in N, N, N m."""
+    equations of motion leave out), at draught-to-depth ratio H = T/h (0: deep water).
+
+    In shallow water (H > 0, an MMG hull: shallow_water.check_hull refuses a depth for any other) the linear
+    terms X'_vr, Y'_v, Y'_r, N'_v, N'_r take the factors the MMG polynomial gives the same coefficients
+    (shallow_water.hull_factors: Kijima et al. 1990, Ankudinov), and C_D that of the lateral current force
+    (shallow_water.cross_flow_drag_factor: UFC 4-159-03 eq. 11), in the sway force and the yaw moment alike.
+    The surge resistance X'_0 is not corrected, as R'_0 is not in the polynomial. At H = 0 nothing is evaluated.
+    Returns (X, Y, N) in N, N, N m."""
     L = P[lo.P_L]
     U = math.sqrt(u * u + v * v)
     chi = math.atan2(abs(v), u) if U > 0.0 else 0.0
@@ -188,11 +201,22 @@ def yoshimura_forces(P, u, v, r):
     rL = r * L
     IY, IN = cross_flow_integrals(v, rL, P[lo.P_XF_CRY], P[lo.P_XF_CRN])
     CD = P[lo.P_XF_CD]
+    X_vr, Y_v, Y_r, N_v, N_r = P[lo.P_XF_XVR], P[lo.P_XF_YV], P[lo.P_XF_YR], P[lo.P_XF_NV], P[lo.P_XF_NR]
+    if H > 0.0:
+        f = hull_factors(P, H)  # the order of hull_factors: X_vr 2, Y_v 5, Y_r 6, N_v 11, N_r 12
+        X_vr, Y_v, Y_r, N_v, N_r = X_vr * f[2], Y_v * f[5], Y_r * f[6], N_v * f[11], N_r * f[12]
+        CD = CD * cross_flow_drag_factor(P, H)
     q = 0.5 * P[lo.P_RHO] * L * P[lo.P_T]
-    X = q * (X0 * u * U + P[lo.P_XF_XVR] * v * rL) + P[lo.P_XF_CXRR] * r * r
-    Y = q * (P[lo.P_XF_YV] * v * abs(u) + P[lo.P_XF_YR] * rL * u - CD * IY)
-    N = q * L * (P[lo.P_XF_NV] * v * u + P[lo.P_XF_NR] * rL * abs(u) - CD * IN) + P[lo.P_XF_CNUR] * u * r
+    X = q * (X0 * u * U + X_vr * v * rL) + P[lo.P_XF_CXRR] * r * r
+    Y = q * (Y_v * v * abs(u) + Y_r * rL * u - CD * IY)
+    N = q * L * (N_v * v * u + N_r * rL * abs(u) - CD * IN) + P[lo.P_XF_CNUR] * u * r
     return X, Y, N
+
+
+@njit(cache=True)
+def yoshimura_forces(P, u, v, r):
+    """:func:`yoshimura_forces_at_depth` in deep water. Returns (X, Y, N) in N, N, N m."""
+    return yoshimura_forces_at_depth(P, u, v, r, 0.0)
 
 
 @njit(cache=True)
@@ -226,13 +250,13 @@ def mmg_weight(P, u, v, r):
 
 
 @njit(cache=True)
-def blend(P, u, v, r, X_mmg, Y_mmg, N_mmg):
-    """The MMG forces (X_mmg, Y_mmg, N_mmg) inside their fitted range, the cross-flow model outside, blended.
-    Returns (X, Y, N) in N, N, N m."""
+def blend(P, u, v, r, X_mmg, Y_mmg, N_mmg, H):
+    """The MMG forces (X_mmg, Y_mmg, N_mmg, at draught-to-depth ratio H = T/h) inside their fitted range, the
+    cross-flow model at the same H outside, blended. Returns (X, Y, N) in N, N, N m."""
     w = mmg_weight(P, u, v, r)
     if w == 1.0:
         return X_mmg, Y_mmg, N_mmg
-    Xc, Yc, Nc = yoshimura_forces(P, u, v, r)
+    Xc, Yc, Nc = yoshimura_forces_at_depth(P, u, v, r, H)
     return w * X_mmg + (1.0 - w) * Xc, w * Y_mmg + (1.0 - w) * Yc, w * N_mmg + (1.0 - w) * Nc
 
 

@@ -189,7 +189,7 @@ def hull_forces_at_depth(P, u, v, r, delta, H):
     if kind == lo.HULL_MMG:
         X, Y, N = mmg_hull_forces(P, u, v, r, H)
         if P[lo.P_XF_ON] > 0.0:  # outside the polynomial's fitted range: cross-flow model (crossflow.py)
-            return crossflow.blend(P, u, v, r, X, Y, N)
+            return crossflow.blend(P, u, v, r, X, Y, N, H)
         return X, Y, N
     return 0.0, 0.0, 0.0
 

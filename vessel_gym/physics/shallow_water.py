@@ -20,6 +20,10 @@ so that deep water is recovered exactly. The flow-straightening regression switc
 published branches at H = 0.581 - 0.332 T/B (h/T ~ 2.2 for a VLCC) and is discontinuous there, as
 published. R'_0, the added masses and l'_R are not corrected by the method (docs/physics.md).
 
+The cross-flow hull that takes over from the polynomial at large drift (crossflow.py) reads the same H: its
+linear terms take the factors above, its cross-flow drag coefficient C_D the lateral current force factor of
+UFC 4-159-03 (2005), "Design: Moorings", eq. 11-13 (:func:`cross_flow_drag_factor`).
+
 Validity: the regressions of Kijima et al. rest on captive tests down to h/T = 1.2, and Ankudinov's factors
 grow without bound as h/T -> 1; the kernel evaluates no H beyond ``H_MAX`` (h/T = 1.2), and
 :class:`~vessel_gym.physics.environment.Environment` refuses a depth below that. The corrections apply to
@@ -111,6 +115,28 @@ def hull_factors(P, H):
     )
 
 
+#: lateral current force coefficient of a ship at T/h = 1 (UFC 4-159-03 eq. 11, recommended for currents of
+#: 1.5 m/s or less), on L T, -
+C_YC_SHALLOW = 3.2
+#: exponent of T/h in UFC 4-159-03 eq. 11: 2 fits "a wide range of ship and barge tests", -
+K_YC_SHALLOW = 2.0
+
+
+@njit(cache=True)
+def cross_flow_drag_factor(P, H):
+    """Factor (-) on the cross-flow drag coefficient C_D of the large-drift hull (crossflow.py) at H = T/h:
+    the lateral current force coefficient of UFC 4-159-03 (2005), "Design: Moorings", section 4-5.1, eq. 11,
+    C_yc = C_0 + (C_1 - C_0) (T/h)^k with C_1 = 3.2 and k = 2, divided by its deep-water value C_0 of eq. 12-13,
+    C_0 = 0.22 sqrt(L_wL^2 A_m / (B V)); with L_wL = L and A_m = B T (neither is in a ship file) that is
+    0.22 sqrt(L / (C_b B)). 1 at H = 0; H is clipped to [0, H_MAX] like every factor here."""
+    H = min(max(H, 0.0), H_MAX)
+    if H == 0.0:
+        return 1.0
+    Cb, _BT, _LT, LB = hull_proportions(P)
+    C0 = 0.22 * math.sqrt(LB / Cb)
+    return 1.0 + (C_YC_SHALLOW / C0 - 1.0) * H**K_YC_SHALLOW
+
+
 @njit(cache=True)
 def wake_fraction(P, H):
     """Straight-running wake fraction w_P0 (-) at H = T/h: Taimuri et al. (2020) eq. 40,
@@ -187,9 +213,9 @@ def check_hull(ship, depth_m: float) -> None:
     """Refuse a finite depth for a ship whose hull is not the MMG model: the corrections are factors on the
     MMG coefficients and on the MMG propeller and rudder, with no counterpart for an Abkowitz polynomial or a
     user's hull (ValueError, one line naming the ship and its hull model)."""
-    from vessel_gym.physics.shipfile import MMGHull  # the ship-file schema, only needed for the check
-
-    if math.isinf(depth_m) or isinstance(ship.hull, MMGHull):
+    # the [hull] model key: "mmg" only for the MMG table (a user's hull is an import path "pkg.module:Class");
+    # read by name so that this module, which the cross-flow hull imports, does not import the ship-file schema
+    if math.isinf(depth_m) or ship.hull.model == "mmg":
         return
     raise ValueError(
         f"{ship.name}: depth_m = {depth_m:g} m, but the shallow-water corrections (Taimuri et al. 2020) are "
