@@ -2,8 +2,8 @@
 
     SDL_VIDEODRIVER=dummy python docs/img/make_images.py
 
-- ``chart_harbour.png``: the pygame chart view (``render_mode="rgb_array"``) of HarbourApproach-v0 (seed 0)
-  after 400 control steps under the PID harbour pilot (``vessel_gym.policy.load_policy("pid", env)``).
+- ``chart_harbour.png``: the pygame chart view (``render_mode="rgb_array"``) of HarbourApproach-v2 (seed 0)
+  after 100 control steps (about 100 s) under the PID harbour pilot (``vessel_gym.policy.load_policy("pid", env)``).
 - ``imo_turning_circle.png``: the turning-circle plot of ``vessel-gym imo kvlcc2 --plot DIR``.
 
 Both are scaled to 640 px wide to keep the repository small.
@@ -21,7 +21,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 OUT = Path(__file__).resolve().parent
 WIDTH_PX = 640  # px, width of the committed pictures
-STEPS = 400  # control steps before the chart is drawn (the ship is under way in the approach channel)
+STEPS = 100  # control steps (about 100 s) before the chart is drawn (the ship is under way in the approach channel)
 
 
 def _save_scaled(surface, path: Path) -> None:
@@ -48,7 +48,7 @@ def chart() -> Path:
     import vessel_gym  # noqa: F401  (registers the ids)
     from vessel_gym.policy import load_policy
 
-    env = gym.make("vessel_gym/HarbourApproach-v0", render_mode="rgb_array")
+    env = gym.make("vessel_gym/HarbourApproach-v2", render_mode="rgb_array")
     obs, _ = env.reset(seed=0)
     pilot = load_policy("pid", env)
     for _ in range(STEPS):
