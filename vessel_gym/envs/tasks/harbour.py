@@ -487,16 +487,18 @@ class HarbourApproachTask(Task):
             self.n,
         )
 
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
-        f = int(self.flags[k])
+    def info_snapshot(self, k: int) -> tuple:
+        return (self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), int(self.flags[k]))
+
+    def info_from(self, snap: tuple) -> dict[str, Any]:
+        s, terms, feat, f = snap
         success = f == SUCCESS
         return {
-            "reward_terms": self.weighted_terms(k),
+            "reward_terms": self.terms_dict(terms),
             "outcome": OUTCOMES[f],
             "success": success,
             "is_success": success,
-            **self._state_info(f, s, math.degrees(self.feat[k, FEAT.goal_heading_error])),
+            **self._state_info(f, s, math.degrees(feat[FEAT.goal_heading_error])),
         }
 
     def batch_info(self) -> dict[str, Any]:
