@@ -66,8 +66,8 @@ class Task(abc.ABC):
     Subclasses define ``spec`` (their :class:`~vessel_gym.envs.declare.TaskSpec`: reward terms and features by
     name), ``Config`` (a :class:`ShipEnvConfig` subclass whose ``reward`` table is ``spec``'s weights class),
     their compiled ``kernel`` and its ``kernel_args()``, ``observed()`` (the names of the observed features),
-    ``reset_vessel()`` and ``info_from()``; ``scales()`` and ``feature_counts()`` when their features need more than
-    the shared scale names.
+    ``reset_vessel()``, ``info_from()`` (or ``info()``) and ``batch_info()``; ``scales()`` and
+    ``feature_counts()`` when their features need more than the shared scale names.
     """
 
     Config: ClassVar[type[ShipEnvConfig]] = ShipEnvConfig
@@ -233,6 +233,8 @@ class Task(abc.ABC):
     def lazy_info(self, k: int) -> LazyInfo:
         """Vessel k's ``info`` as the one-ship environment returns it: :meth:`info_snapshot` copied now, the
         dict built from it when first read (:class:`~vessel_gym.envs.info.LazyInfo`); equal to :meth:`info`."""
+        if type(self).info is not Task.info:  # a task that builds its info itself, in info(k)
+            return self.info(k)
         snap = self.info_snapshot(k)
         keys = self._info_keys
         if keys is None:
@@ -244,9 +246,11 @@ class Task(abc.ABC):
         lists of floats, and whether it is alive (a task that needs more adds to the tuple)."""
         return (self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), bool(self.sim.alive[k]))
 
-    @abc.abstractmethod
     def info_from(self, snap: tuple) -> dict[str, Any]:
-        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot`."""
+        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot`.
+
+        A task defines this, or else :meth:`info` itself (then built at every step)."""
+        raise NotImplementedError(f"{type(self).__name__} defines neither info_from(snapshot) nor info(k)")
 
     @abc.abstractmethod
     def batch_info(self) -> dict[str, Any]:
