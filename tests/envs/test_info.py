@@ -22,7 +22,9 @@ def _built() -> dict:
 
 
 def _lazy() -> LazyInfo:
-    return LazyInfo(lambda snap: dict(snap), _built(), dict.fromkeys(_built()))
+    info = LazyInfo(dict.fromkeys(_built()))
+    info._src = (dict, _built())
+    return info
 
 
 def test_lazy_info_reads_as_the_dict_it_builds():

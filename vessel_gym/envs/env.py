@@ -91,7 +91,7 @@ class ShipEnv(_Renders, gym.Env):
             self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
             if self.render_mode == "human":
                 self.render()
-        return task.obs[0].copy(), float(task.reward[0]), bool(task.terminated[0]), False, task.lazy_info(0)
+        return task.obs[0].copy(), task.reward.item(), task.terminated.item(), False, task.lazy_info(0)
 
     def render(self):
         if self.render_mode is None:

@@ -20,32 +20,27 @@ dict for its size sees the right one). ``copy.copy``, ``copy.deepcopy``, ``pickl
 from __future__ import annotations
 
 import copy
-from collections.abc import Callable
 from typing import Any
 
 
 class LazyInfo(dict):
     """A dict of ``build(snapshot)``'s entries, built at the first read (see the module docstring).
 
-    ``keys`` is a dict whose keys are those ``build`` returns, in order (values ignored): they are in the dict
-    from the start, with None for values until it is built.
+    Made as ``info = LazyInfo(keys); info._src = (build, snapshot)``: ``keys`` is a dict whose keys are those
+    ``build`` returns, in order (values ignored), so that they are in the dict from the start (with None for
+    values until it is built); dict's own constructor takes them, with no Python-level ``__init__`` to run (this
+    is made once per environment step). Without ``_src`` it is a plain dict of what it was made with.
     """
 
-    __slots__ = ("_build", "_snap")
-
-    def __init__(self, build: Callable[[Any], dict] | None = None, snap: Any = None, keys: dict | None = None):
-        if keys is not None:
-            dict.update(self, keys)
-        self._build = build
-        self._snap = snap
+    __slots__ = ("_src",)
 
     def _fill(self) -> None:
-        build = self._build
-        if build is None:
+        src = getattr(self, "_src", None)
+        if src is None:
             return
-        self._build = None
-        built = build(self._snap)
-        self._snap = None
+        self._src = None
+        build, snap = src
+        built = build(snap)
         if built.keys() != dict.keys(self):  # keys other than announced: take the built dict's, in its order
             dict.clear(self)
         dict.update(self, built)
@@ -159,7 +154,7 @@ class LazyInfo(dict):
         return dict.popitem(self)
 
     def clear(self) -> None:
-        self._build = self._snap = None
+        self._src = None
         dict.clear(self)
 
 

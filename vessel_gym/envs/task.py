@@ -233,17 +233,20 @@ class Task(abc.ABC):
     def lazy_info(self, k: int) -> LazyInfo:
         """Vessel k's ``info`` as the one-ship environment returns it: :meth:`info_snapshot` copied now, the
         dict built from it when first read (:class:`~vessel_gym.envs.info.LazyInfo`); equal to :meth:`info`."""
-        if type(self).info is not Task.info:  # a task that builds its info itself, in info(k)
-            return self.info(k)
-        snap = self.info_snapshot(k)
         keys = self._info_keys
         if keys is None:
-            keys = self._info_keys = dict.fromkeys(self.info_from(snap))
-        return LazyInfo(self.info_from, snap, keys)
+            if type(self).info is not Task.info:  # a task that builds its info itself, in info(k)
+                return self.info(k)
+            keys = self._info_keys = dict.fromkeys(self.info(k))
+        info = LazyInfo(keys)
+        info._src = (self.info_from, self.info_snapshot(k))
+        return info
 
     def info_snapshot(self, k: int) -> tuple:
         """What vessel k's ``info`` is made of, copied: its task state, weighted reward terms and features as
         lists of floats, and whether it is alive (a task that needs more adds to the tuple)."""
+        if self.n == 1:  # the one-ship environment: a (1, m) array's tolist is cheaper than a row view's
+            return self.ts.tolist()[0], self.terms.tolist()[0], self.feat.tolist()[0], bool(self.sim.alive[0])
         return (self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), bool(self.sim.alive[k]))
 
     def info_from(self, snap: tuple) -> dict[str, Any]:

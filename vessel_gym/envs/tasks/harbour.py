@@ -488,6 +488,8 @@ class HarbourApproachTask(Task):
         )
 
     def info_snapshot(self, k: int) -> tuple:
+        if self.n == 1:
+            return self.ts.tolist()[0], self.terms.tolist()[0], self.feat.tolist()[0], int(self.flags[0])
         return (self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), int(self.flags[k]))
 
     def info_from(self, snap: tuple) -> dict[str, Any]:
