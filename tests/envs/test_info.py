@@ -128,3 +128,19 @@ def test_wrappers_that_add_to_or_copy_infos():
     assert infos[0]["episode"]["is_success"] is False and infos[0]["TimeLimit.truncated"] is True
     json.dumps({k: v for k, v in infos[0].items() if k != "terminal_observation"})
     venv.close()
+
+
+def test_gymnasiums_sync_vector_env_batches_lazy_infos():
+    sync = gym.make_vec("vessel_gym/ZigZag-v1", num_envs=2, vectorization_mode="sync")
+    native = gym.make_vec("vessel_gym/ZigZag-v1", num_envs=2, vectorization_mode="vector_entry_point")
+    _o, a = sync.reset(seed=3)
+    _o, b = native.reset(seed=3)
+    acts = np.array([[0.5], [-0.5]], dtype=np.float32)
+    for _ in range(3):
+        *_x, a = sync.step(acts)
+        *_y, b = native.step(acts)
+    for key in ("time_s", "heading_error_deg", "course_changes", "is_success"):
+        np.testing.assert_array_equal(a[key], b[key], err_msg=key)
+    np.testing.assert_array_equal(a["reward_terms"]["heading_error"], b["reward_terms"]["heading_error"])
+    sync.close()
+    native.close()
