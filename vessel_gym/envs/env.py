@@ -78,7 +78,7 @@ class ShipEnv(_Renders, gym.Env):
             self._track = [(float(self.sim.north[0]), float(self.sim.east[0]))]
             if self.render_mode == "human":
                 self.render()
-        return self.task.obs[0].copy(), self.task.info(0)
+        return self.task.obs[0].copy(), self.task.lazy_info(0)
 
     def step(self, action: Any):
         if not self._reset_done:
@@ -91,7 +91,7 @@ class ShipEnv(_Renders, gym.Env):
             self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
             if self.render_mode == "human":
                 self.render()
-        return task.obs[0].copy(), float(task.reward[0]), bool(task.terminated[0]), False, task.info(0)
+        return task.obs[0].copy(), task.reward.item(), task.terminated.item(), False, task.lazy_info(0)
 
     def render(self):
         if self.render_mode is None:
@@ -232,31 +232,38 @@ class ShipVectorEnv(_Renders, VectorEnv):
         n = self.num_envs
         a = task.helm.batch(actions, n)
         done_prev = self._needs_reset
-        if self.autoreset_mode == AutoresetMode.DISABLED and done_prev.any():
+        resets = bool(done_prev.any())
+        if self.autoreset_mode == AutoresetMode.DISABLED and resets:
             raise RuntimeError("autoreset disabled: reset the finished sub-environments (options reset_mask)")
         task.helm.apply(a)
         task.advance()
-        if done_prev.any():
+        if resets:
             self._reset_vessels(np.flatnonzero(done_prev), None)
             phase = np.where(done_prev, PHASE_RESET, PHASE_STEP).astype(np.int8)
         else:
             phase = task.phase
         task.update(phase)
-        stepped = ~done_prev
-        self._steps[stepped] += 1
-        terminated = task.terminated & stepped
-        truncated = (
-            stepped & ~terminated & (self._steps >= self.max_episode_steps)
-            if self.max_episode_steps
-            else np.zeros(n, dtype=np.bool_)
-        )
+        if resets:  # the vessels reset now took no step
+            stepped = ~done_prev
+            self._steps[stepped] += 1
+            terminated = task.terminated & stepped
+        else:  # every vessel stepped: no masks
+            stepped = None
+            self._steps += 1
+            terminated = task.terminated.copy()
+        if self.max_episode_steps:
+            truncated = ~terminated & (self._steps >= self.max_episode_steps)
+            if stepped is not None:
+                truncated &= stepped
+        else:
+            truncated = np.zeros(n, dtype=np.bool_)
         rewards = task.reward.copy()
         obs = task.observe()
         info = task.batch_info()
         done = terminated | truncated
         if self.render_mode is not None:
             for k in range(len(self._tracks)):
-                if stepped[k]:
+                if stepped is None or stepped[k]:
                     self._tracks[k].append((float(self.sim.north[k]), float(self.sim.east[k])))
         if self.autoreset_mode == AutoresetMode.SAME_STEP and done.any():
             idx = np.flatnonzero(done)

@@ -18,6 +18,7 @@ import numpy as np
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.declare import Feature, TaskSpec
 from vessel_gym.envs.helm import make_helm
+from vessel_gym.envs.info import LazyInfo
 from vessel_gym.envs.observation import ObservationLayout
 from vessel_gym.physics.linear import stable_step
 from vessel_gym.physics.schema import SpecError
@@ -65,13 +66,14 @@ class Task(abc.ABC):
     Subclasses define ``spec`` (their :class:`~vessel_gym.envs.declare.TaskSpec`: reward terms and features by
     name), ``Config`` (a :class:`ShipEnvConfig` subclass whose ``reward`` table is ``spec``'s weights class),
     their compiled ``kernel`` and its ``kernel_args()``, ``observed()`` (the names of the observed features),
-    ``reset_vessel()`` and ``info()``; ``scales()`` and ``feature_counts()`` when their features need more than
-    the shared scale names.
+    ``reset_vessel()``, ``info_from()`` (or ``info()``) and ``batch_info()``; ``scales()`` and
+    ``feature_counts()`` when their features need more than the shared scale names.
     """
 
     Config: ClassVar[type[ShipEnvConfig]] = ShipEnvConfig
     spec: ClassVar[TaskSpec]
     kernel: ClassVar[Any]  # compiled update, batched over vessels: kernel(phase, *kernel_args())
+    ts: np.ndarray  # per-vessel task state (N, the task's columns), made by the task
 
     def __init__(
         self,
@@ -125,6 +127,9 @@ class Task(abc.ABC):
         )
         self.obs = np.zeros((n, len(self.layout)), dtype=np.float32)
         self._kernel_args: tuple | None = None
+        self._kernel_call: Any = None  # the kernel's compiled code for _kernel_args (compiled_entry)
+        self._call_args: tuple = ()  # _kernel_args as the compiled code takes them
+        self._info_keys: dict | None = None  # the keys of info_from's dicts, in order (lazy_info)
 
     # subclass interface
     @abc.abstractmethod
@@ -208,14 +213,47 @@ class Task(abc.ABC):
 
     def update(self, phase: np.ndarray) -> None:
         """Run the task kernel; fill ``feat``, ``terms`` and ``terminated`` for the vessels in ``phase``."""
-        args = self._kernel_args
-        if args is None:
-            args = self._kernel_args = self.kernel_args()
-        self.kernel(phase, *args)
+        call = self._kernel_call
+        if call is not None:
+            call(phase, *self._call_args)
+            return
+        args = self._kernel_args = self.kernel_args()
+        self.kernel(phase, *args)  # compiles, or loads from the cache, the kernel for these arguments
+        self._kernel_call, self._call_args = compiled_entry(self.kernel, phase, args)
 
-    @abc.abstractmethod
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_kernel_call"] = None  # a compiled entry point does not pickle; bound again at the first update
+        return state
+
     def info(self, k: int) -> dict[str, Any]:
-        """Vessel k's ``info`` dict (Python scalars; the one-ship environment's step returns it)."""
+        """Vessel k's ``info`` dict now (Python scalars), built at once."""
+        return self.info_from(self.info_snapshot(k))
+
+    def lazy_info(self, k: int) -> LazyInfo:
+        """Vessel k's ``info`` as the one-ship environment returns it: :meth:`info_snapshot` copied now, the
+        dict built from it when first read (:class:`~vessel_gym.envs.info.LazyInfo`); equal to :meth:`info`."""
+        keys = self._info_keys
+        if keys is None:
+            if type(self).info is not Task.info:  # a task that builds its info itself, in info(k)
+                return self.info(k)
+            keys = self._info_keys = dict.fromkeys(self.info(k))
+        info = LazyInfo(keys)
+        info._src = (self.info_from, self.info_snapshot(k))
+        return info
+
+    def info_snapshot(self, k: int) -> tuple:
+        """What vessel k's ``info`` is made of, copied: its task state, weighted reward terms and features as
+        lists of floats, and whether it is alive (a task that needs more adds to the tuple)."""
+        if self.n == 1:  # the one-ship environment: a (1, m) array's tolist is cheaper than a row view's
+            return self.ts.tolist()[0], self.terms.tolist()[0], self.feat.tolist()[0], bool(self.sim.alive[0])
+        return (self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), bool(self.sim.alive[k]))
+
+    def info_from(self, snap: tuple) -> dict[str, Any]:
+        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot`.
+
+        A task defines this, or else :meth:`info` itself (then built at every step)."""
+        raise NotImplementedError(f"{type(self).__name__} defines neither info_from(snapshot) nor info(k)")
 
     @abc.abstractmethod
     def batch_info(self) -> dict[str, Any]:
@@ -247,6 +285,10 @@ class Task(abc.ABC):
     def weighted_terms(self, k: int) -> dict[str, float]:
         return dict(zip(self.term_names, self.terms[k].tolist()))
 
+    def terms_dict(self, terms: list[float]) -> dict[str, float]:
+        """``info["reward_terms"]`` of one vessel from its weighted terms as a list (:meth:`info_snapshot`)."""
+        return dict(zip(self.term_names, terms))
+
     def batch_weighted_terms(self) -> dict[str, np.ndarray]:
         cols = self.terms.T.copy()  # one copy; its rows are the terms, contiguous
         return dict(zip(self.term_names, cols))
@@ -255,6 +297,27 @@ class Task(abc.ABC):
         """A new (n_columns, N) copy of the task state: row j is column j of ``ts`` for all vessels (for the
         batched ``info``: one copy instead of one per entry)."""
         return self.ts.T.copy()
+
+
+def compiled_entry(kernel: Any, phase: np.ndarray, args: tuple) -> tuple[Any, tuple]:
+    """(code, arguments): the compiled code of the numba dispatcher ``kernel`` for ``phase`` and ``args`` of these
+    types, and the arguments after ``phase`` in the form it takes them (a kernel declared ``kernel(phase, *args)``
+    takes them as one tuple). Called without the dispatcher, which works out the numba type of every argument
+    on every call (about 50 ns per array: for a task kernel's 12-22 arrays more than a one-ship update costs).
+    Later calls must pass a phase of the same type (an int8 row). ``(kernel, args)`` if the kernel is not
+    compiled (``NUMBA_DISABLE_JIT=1``) or has no code for these types."""
+    overloads = getattr(kernel, "overloads", None)
+    if not overloads:
+        return kernel, args
+    from numba import typeof
+
+    compiled = overloads.get((typeof(phase), *(typeof(a) for a in args)))
+    if compiled is not None:
+        return compiled.entry_point, args
+    compiled = overloads.get((typeof(phase), typeof(args)))  # kernel(phase, *args): the rest as a tuple
+    if compiled is not None:
+        return compiled.entry_point, (args,)
+    return kernel, args
 
 
 def _uniform(rng: np.random.Generator, rng_range: Sequence[float]) -> float:

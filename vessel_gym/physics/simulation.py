@@ -106,6 +106,22 @@ class ForceComponent(Protocol):
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
 
 
+def _compiled_small_call(args: tuple, why: np.ndarray, limits: np.ndarray) -> tuple | None:
+    """(run_serial's code, flag_runaway's code, Ps, ship_index, state, inputs, env, F_ext, alive, why_dead,
+    runaway limits) for the driver arguments ``args`` of :meth:`Simulation.step`, or None if the kernels are
+    not compiled (``NUMBA_DISABLE_JIT=1``) or have no code for these types."""
+    serial, runaway = getattr(run_serial, "overloads", None), getattr(flag_runaway, "overloads", None)
+    if not serial or not runaway:
+        return None
+    from numba import typeof
+
+    a = serial.get(tuple(typeof(x) for x in args))
+    b = runaway.get(tuple(typeof(x) for x in (args[2], args[1], limits, args[9], why)))
+    if a is None or b is None:
+        return None
+    return (a.entry_point, b.entry_point, *args[:6], args[9], why, limits)
+
+
 class Simulation(Readings, Helm):
     """N vessels integrated together with a fixed step.
 
@@ -188,6 +204,8 @@ class Simulation(Readings, Helm):
         # why each vessel stopped (RUNAWAY_*, 0 while alive) and the bounds it is held to, by ship
         self.why_dead = np.zeros(n, dtype=np.int64)
         self._runaway_limits = np.array([runaway_limits(s) for s in self.ships], dtype=float)
+        # compiled code of run_serial and flag_runaway for small calls, and the arrays it was resolved for
+        self._small_call: tuple | None = None
         # steady approaches solved so far, by (parameter row, speed, heading, environment row): environments
         # reset ships one at a time, mostly to the same approach
         self._steady_cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
@@ -392,6 +410,11 @@ class Simulation(Readings, Helm):
             return _Repeat(float(value))
         return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))
 
+    def __getstate__(self) -> dict:
+        state = self.__dict__.copy()
+        state["_small_call"] = None  # compiled code does not pickle; resolved again at the next small call
+        return state
+
     # --- integration ----------------------------------------------------------------------------------------
     def step(self, nsteps: int = 1) -> int:
         """Advance all vessels ``nsteps`` physics steps with the helm held. Returns the number alive."""
@@ -421,9 +444,33 @@ class Simulation(Readings, Helm):
                 t0 = time.perf_counter()
             else:
                 driver = -1
+                c = self._small_call
+                # a small call (one ship: an environment's step) through the compiled code of both kernels,
+                # skipping numba's dispatcher, which types all their arguments on every call (~1 us, a third
+                # of a one-ship step); only while every argument is of the types the code was compiled for
+                if (
+                    c is not None
+                    and c[2] is args[0]
+                    and c[3] is args[1]
+                    and c[4] is args[2]
+                    and c[5] is args[3]
+                    and c[6] is args[4]
+                    and c[7] is args[5]
+                    and c[8] is args[9]
+                    and c[9] is self.why_dead
+                    and c[10] is self._runaway_limits
+                    and type(args[6]) is float
+                    and type(nsteps) is int
+                    and type(args[8]) is int
+                ):
+                    c[0](*args)
+                    self.t += nsteps * self.dt
+                    return c[1](args[2], args[1], c[10], args[9], c[9])
             (run_parallel if driver == 1 else run_serial)(*args)
             if driver >= 0:
                 self._driver.record(driver, time.perf_counter() - t0, work)
+            elif self._small_call is None:
+                self._small_call = _compiled_small_call(args, self.why_dead, self._runaway_limits)
         self.t += nsteps * self.dt
         return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))
 

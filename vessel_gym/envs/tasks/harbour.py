@@ -367,6 +367,8 @@ class HarbourApproachTask(Task):
         self._beams = np.empty(config.n_beams)
         if n >= PARALLEL_MIN_SHIPS:
             self.kernel = harbour_update_parallel
+        else:  # harbour_update's loop with the chart query's scratch made once (kernel_args), not per call
+            self.kernel = _harbour_range
 
     @property
     def beam_range(self) -> float:
@@ -485,18 +487,28 @@ class HarbourApproachTask(Task):
             self.terminated,
             0,
             self.n,
-        )
+        ) + (self._scratch() if self.kernel is _harbour_range else ())
 
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
-        f = int(self.flags[k])
+    def _scratch(self) -> tuple:
+        """The chart query's scratch arrays, as :func:`harbour_update` allocates them."""
+        nb, nh = len(self.beam_dirs), len(self.hull)
+        return np.empty(nb), np.empty(nh), np.empty(nh), np.empty((2, nb))
+
+    def info_snapshot(self, k: int) -> tuple:
+        # of the features the info reads the goal heading error only (a harbour row holds the range beams too)
+        if self.n == 1:
+            return self.ts.tolist()[0], self.terms.tolist()[0], self.feat.item(FEAT.goal_heading_error), self.flags.item()
+        return self.ts[k].tolist(), self.terms[k].tolist(), float(self.feat[k, FEAT.goal_heading_error]), int(self.flags[k])
+
+    def info_from(self, snap: tuple) -> dict[str, Any]:
+        s, terms, heading_error, f = snap
         success = f == SUCCESS
         return {
-            "reward_terms": self.weighted_terms(k),
+            "reward_terms": self.terms_dict(terms),
             "outcome": OUTCOMES[f],
             "success": success,
             "is_success": success,
-            **self._state_info(f, s, math.degrees(self.feat[k, FEAT.goal_heading_error])),
+            **self._state_info(f, s, math.degrees(heading_error)),
         }
 
     def batch_info(self) -> dict[str, Any]:

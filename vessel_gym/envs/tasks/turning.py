@@ -31,6 +31,7 @@ from vessel_gym.envs.tasks.common import (
     ROLL_FEATURES,
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
+    M,
     OpenWaterTask,
     clear_row,
     draw_side,
@@ -45,7 +46,7 @@ from vessel_gym.envs.tasks.common import (
     speed_loss,
     task_spec,
 )
-from vessel_gym.physics.kinematics import speed_through_water, velocity_through_water
+from vessel_gym.physics.kinematics import speed_through_water
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.vessel import NO_REFCOUNT
 
@@ -282,16 +283,18 @@ class TurningCircleTask(OpenWaterTask):
         r = abs(r)
         return math.hypot(u, v) / r if r > 1e-9 else 0.0
 
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
+    def info_snapshot(self, k: int) -> tuple:
+        return (*super().info_snapshot(k), bool(self.terminated[k]))
+
+    def info_from(self, snap: tuple) -> dict[str, Any]:
+        s, terms, f, alive, terminated = snap
         cmd = s[S.command]
-        # the motion as the physics names it (the un-jitted accessor: one call from Python costs no dispatch)
-        u, v, r = velocity_through_water.py_func(self.sim.state, k)
-        r = float(r)
+        # the motion as the kernel asked the physics for it (velocity_through_water), kept in the features
+        u, v, r = f[M.u], f[M.v], f[M.r]
         info = {
-            "reward_terms": self.weighted_terms(k),
+            "reward_terms": self.terms_dict(terms),
             "time_s": s[S.t],
-            "heading_change_deg": math.degrees(self.feat[k, FEAT.heading_change]),
+            "heading_change_deg": math.degrees(f[FEAT.heading_change]),
             "rate_of_turn_deg_s": math.degrees(r),
             "turning_radius_m": self._radius_k(u, v, r),
             "commanded_rate_deg_s": float(math.degrees(cmd)) if self.mode == 0 else 0.0,
@@ -301,8 +304,8 @@ class TurningCircleTask(OpenWaterTask):
             "tactical_diameter_m": s[S.tactical_diameter],
             "reached_90": s[S.reached_90] > 0.0,
             "reached_180": s[S.reached_180] > 0.0,
-            "success": bool(self.terminated[k] and self.sim.alive[k]),
-            "diverged": bool(not self.sim.alive[k]),
+            "success": terminated and alive,
+            "diverged": not alive,
         }
         if self.mode == REVERSE:  # the only mode with an end state to reach
             info["is_success"] = info["success"]

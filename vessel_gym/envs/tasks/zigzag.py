@@ -255,14 +255,15 @@ class ZigZagCommon(OpenWaterTask):
     def observed(self) -> tuple[str, ...]:
         return self.motion_observed(rev=self.config.engine_control) + tuple(f.name for f in ZIGZAG_FEATURES)
 
-    def heading_info(self, k: int, s: list[float]) -> dict[str, Any]:
-        """The ``info`` entries of vessel k that both versions begin with; ``s`` its task state as a list."""
+    def heading_info(self, s: list[float], terms: list[float], f: list[float]) -> dict[str, Any]:
+        """The ``info`` entries of one vessel that both versions begin with, from its task state ``s``, weighted
+        terms and features ``f`` (:meth:`info_snapshot`)."""
         S = self.S
         return {
-            "reward_terms": self.weighted_terms(k),
+            "reward_terms": self.terms_dict(terms),
             "time_s": s[S.t],
             "target_heading_deg": math.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": math.degrees(self.feat[k, FEAT.heading_error]),
+            "heading_error_deg": math.degrees(f[FEAT.heading_error]),
         }
 
     def batch_heading_info(self, s: np.ndarray) -> dict[str, Any]:
@@ -328,16 +329,16 @@ class ZigZagTask(ZigZagCommon):
         super().update(phase)
 
     # --- info -------------------------------------------------------------------------------------------
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
+    def info_from(self, snap: tuple) -> dict[str, Any]:
+        s, terms, f, alive = snap
         return {
-            **self.heading_info(k, s),
+            **self.heading_info(s, terms, f),
             "executes": int(s[S.executes]),
             "overshoot_count": int(s[S.os_n]),
             "overshoot_1_deg": math.degrees(s[S.os1]),
             "overshoot_2_deg": math.degrees(s[S.os2]),
             "last_overshoot_deg": math.degrees(s[S.os_last]),
-            "diverged": not self.sim.alive[k],
+            "diverged": not alive,
         }
 
     def batch_info(self) -> dict[str, Any]:

@@ -349,14 +349,14 @@ class ZigZagV1Task(ZigZagCommon):
         success = (s[S.missed] == 0.0) & (s[S.n_reached] >= 1.0) & (per_change <= self.success_overshoot)
         return per_change, largest, success
 
-    def info(self, k: int) -> dict[str, Any]:
-        s = self.ts[k].tolist()
+    def info_from(self, snap: tuple) -> dict[str, Any]:
+        s, terms, f, alive = snap
         # as _metrics, on Python floats (the one-ship step should not pay for numpy scalar arithmetic)
         running = s[S.os_peak] * s[S.os_on]
         per_change = (s[S.os_sum] + running) / max(s[S.changes], 1.0)
         success = s[S.missed] == 0.0 and s[S.n_reached] >= 1.0 and per_change <= self.success_overshoot
         return {
-            **self.heading_info(k, s),
+            **self.heading_info(s, terms, f),
             "course_changes": int(s[S.changes]),
             "targets_reached": int(s[S.n_reached]),
             "targets_missed": int(s[S.missed]),
@@ -366,7 +366,7 @@ class ZigZagV1Task(ZigZagCommon):
             "overshoot_2_deg": math.degrees(s[S.os2]),
             "success": success,
             "is_success": success,
-            "diverged": not self.sim.alive[k],
+            "diverged": not alive,
         }
 
     def batch_info(self) -> dict[str, Any]:
