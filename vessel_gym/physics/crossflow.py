@@ -143,6 +143,7 @@ def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
     P[lo.P_XF_ON] = 1.0
     P[lo.P_XF_CD], P[lo.P_XF_CRY], P[lo.P_XF_CRN], P[lo.P_XF_R0A] = ld.C_D, ld.C_rY, ld.C_rN, ld.R_0_astern
     P[lo.P_XF_BETA1] = math.radians(ld.mmg_drift_max_deg)
+    P[lo.P_XF_TANB1] = math.tan(P[lo.P_XF_BETA1]) * (1.0 - DRIFT_TEST_MARGIN)
     P[lo.P_XF_BETA2] = math.radians(ld.cross_flow_drift_min_deg)
     P[lo.P_XF_RP1], P[lo.P_XF_RP2] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
     P[lo.P_XF_UP1], P[lo.P_XF_UP2] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
@@ -195,6 +196,11 @@ def yoshimura_forces(P, u, v, r):
     return X, Y, N
 
 
+#: relative margin of the atan2-free drift-range test of :func:`mmg_weight` (tan(beta_1) shortened by it), -:
+#: a flow angle that close to beta_1 (about 1e-9 rad at 22 deg) takes the atan2, so the weight is the same to the bit
+DRIFT_TEST_MARGIN = 1e-9
+
+
 @njit(cache=True)
 def _fade(x, x1, x2):
     """1 for x <= x1, 0 for x >= x2, a C1 smoothstep between."""
@@ -214,7 +220,13 @@ def mmg_weight(P, u, v, r):
     rL = abs(r) * P[lo.P_L]
     if U <= 0.0:
         return 1.0 if rL == 0.0 else 0.0  # at rest both models give 0; turning on the spot: cross flow
-    w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
+    if abs(v) < u * P[lo.P_XF_TANB1]:
+        # a flow angle inside the polynomial's drift range (chi < beta_1, where the fade is 1), tested without the
+        # atan2: |v| < u tan(beta_1) less a relative margin that no rounding of atan2 or tan comes near, so the
+        # test never decides otherwise than _fade(atan2(|v|, u)) would (u > 0 here; NaN falls through)
+        w_beta = 1.0
+    else:
+        w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
     if w_beta == 0.0:
         return 0.0
     w = w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])

@@ -38,9 +38,10 @@ from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old hom
 )
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.helm import Helm
-from vessel_gym.physics.integrate import (
+from vessel_gym.physics.integrate import (  # noqa: F401  (run_serial, run_parallel: the general drivers)
     EULER,
     RK4,
+    drivers_for,
     run_parallel,
     run_serial,
     run_with_components,
@@ -194,6 +195,8 @@ class Simulation(Readings, Helm):
         self.t = 0.0
         self.reference_latlon_deg = reference_latlon_deg
         self.environments: list[Environment] = [environment] * n
+        # the compiled batch drivers (serial, threaded) of this batch's kind: deep or shallow water, with or
+        # without roll (integrate.drivers); set_environment chooses them, step again when the kind changed
         self.set_environment(environment)
         # Ps rows as bytes, by ship, for the steady-state cache keys: one object shared by every entry of a
         # ship while its parameters are unchanged (a row is ~7.5 kB; one copy per entry would dominate)
@@ -213,7 +216,9 @@ class Simulation(Readings, Helm):
             rows = np.stack([environment.row(s.particulars.L_m, s.particulars.T_m) for s in self.ships])
             self.env[:] = rows[self.ship_index]
             self.environments[:] = [environment] * self.n
+            self._kernels = drivers_for(self.Ps, self.env)
             return
+        # one vessel: the drivers check the batch's kind themselves and :meth:`step` chooses again when needed
         s = self.ship(k)
         self.env[k] = environment.row(s.particulars.L_m, s.particulars.T_m)
         self.environments[k] = environment
@@ -421,7 +426,11 @@ class Simulation(Readings, Helm):
                 t0 = time.perf_counter()
             else:
                 driver = -1
-            (run_parallel if driver == 1 else run_serial)(*args)
+            if self._kernels[driver == 1](*args) < 0:
+                # the batch is no longer of the kind its drivers were compiled for (Ps or env written
+                # directly): nothing was integrated; choose the drivers again
+                self._kernels = drivers_for(self.Ps, self.env)
+                self._kernels[driver == 1](*args)
             if driver >= 0:
                 self._driver.record(driver, time.perf_counter() - t0, work)
         self.t += nsteps * self.dt
