@@ -146,6 +146,7 @@ def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
     P[lo.P_XF_TANB1] = math.tan(P[lo.P_XF_BETA1]) * (1.0 - DRIFT_TEST_MARGIN)
     P[lo.P_XF_BETA2] = math.radians(ld.cross_flow_drift_min_deg)
     P[lo.P_XF_RP1], P[lo.P_XF_RP2] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
+    P[lo.P_XF_RP1_IN] = ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)
     P[lo.P_XF_UP1], P[lo.P_XF_UP2] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
     if int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
         _abkowitz_linear_terms(P)
@@ -196,8 +197,9 @@ def yoshimura_forces(P, u, v, r):
     return X, Y, N
 
 
-#: relative margin of the atan2-free drift-range test of :func:`mmg_weight` (tan(beta_1) shortened by it), -:
-#: a flow angle that close to beta_1 (about 1e-9 rad at 22 deg) takes the atan2, so the weight is the same to the bit
+#: relative margin of the atan2- and division-free range tests of :func:`mmg_weight` (tan(beta_1) and r'_1
+#: shortened by it), -: a flow angle or |r'| that close to its bound takes the full test, so the weight is the same
+#: to the bit
 DRIFT_TEST_MARGIN = 1e-9
 
 
@@ -229,7 +231,10 @@ def mmg_weight(P, u, v, r):
         w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
     if w_beta == 0.0:
         return 0.0
-    w = w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
+    if rL < U * P[lo.P_XF_RP1_IN]:  # |r'| inside the fitted range (the fade is 1), tested as the drift above
+        w = w_beta
+    else:
+        w = w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
     if P[lo.P_HULL_UREF] > 0.0 and int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
         # an Abkowitz set in the surge perturbation u' = (u - U_ref)/U is fitted near U_ref (hull.abkowitz_forces)
         Ue = max(U, P[lo.P_U_MIN])

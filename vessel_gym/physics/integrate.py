@@ -9,6 +9,13 @@ of identical ships shares one cached parameter row.
 A vessel whose state would become non-finite stops integrating, keeps its last finite state and is flagged
 (divergence detection): a diverged vessel never shows a NaN.
 
+Kernels per kind of batch (:func:`drivers`): the batch drivers are compiled for what a batch can hold -- deep
+or shallow water, with or without roll, with or without a user's engine -- from the one source of the
+equations (:func:`~vessel_gym.physics.vessel.derivatives_of`), the choice reaching numba as compile-time
+constants, so a deep-water 3-DOF ship runs no shallow-water or roll instructions. A simulation chooses the
+narrowest kind that holds its vessels (:func:`drivers_for`); each kind compiles on its first use and gives the
+general kernel's results to the bit.
+
 Performance notes (figures in docs/performance.md): the drivers allocate their scratch rows once per call
 (serial) or once per thread chunk (parallel), never per vessel; the per-vessel loop takes its row views
 without reference counting (vessel.NO_REFCOUNT; ~70 ns per vessel otherwise); stage loops run over the
@@ -129,19 +136,19 @@ def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt, H
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S, depths, roll, ext, nx):
+def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S, shallow_env, roll, ext, nx):
     """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive.
 
-    ``depths`` is ``E`` in a kernel for shallow water (each vessel's draught-to-depth ratio read from its
-    environment row) and None in a deep-water kernel: numba compiles the branch on ``depths is None`` away,
+    ``shallow_env`` is ``E`` in a kernel for shallow water (each vessel's draught-to-depth ratio read from its
+    environment row) and None in a deep-water kernel: numba compiles the branch on ``shallow_env is None`` away,
     so H is the literal 0 there and the deep-water equations are compiled in (vessel.force_terms)."""
     count = 0
     for b in range(first, stop):
         if alive[b]:
-            if depths is None:
+            if shallow_env is None:
                 H = 0
             else:
-                H = depths[b, lo.E_T_OVER_H]
+                H = shallow_env[b, lo.E_T_OVER_H]
             ok = step_vessel(
                 Ps[ship_index[b]],
                 X[b],
@@ -167,11 +174,11 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
 
 
 @njit(cache=True)
-def kernel_fits(Ps, E, depths, roll, ext):
-    """Whether the kernel chosen by ``depths``, ``roll`` and ``ext`` (:func:`drivers`) holds every vessel of the
-    batch: deep water (E_T_OVER_H exactly 0) where ``depths`` is None, no ship with roll where ``roll`` is
+def kernel_fits(Ps, E, shallow_env, roll, ext):
+    """Whether the kernel chosen by ``shallow_env``, ``roll`` and ``ext`` (:func:`drivers`) holds every vessel of the
+    batch: deep water (E_T_OVER_H exactly 0) where ``shallow_env`` is None, no ship with roll where ``roll`` is
     False, no user engine or steering gear where ``ext`` is False."""
-    if depths is None:
+    if shallow_env is None:
         for b in range(E.shape[0]):
             if E[b, lo.E_T_OVER_H] != 0.0:
                 return False
@@ -184,8 +191,8 @@ def kernel_fits(Ps, E, depths, roll, ext):
 
 
 @njit(cache=True)
-def _serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, depths, roll, ext, nx):
-    if not kernel_fits(Ps, E, depths, roll, ext):
+def _serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env, roll, ext, nx):
+    if not kernel_fits(Ps, E, shallow_env, roll, ext):
         return -1
     return _run_range(
         Ps,
@@ -201,7 +208,7 @@ def _serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, depths, roll,
         0,
         X.shape[0],
         np.empty((5, lo.NX)),
-        depths,
+        shallow_env,
         roll,
         ext,
         nx,
@@ -209,8 +216,8 @@ def _serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, depths, roll,
 
 
 @njit(cache=True, parallel=True)
-def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, depths, roll, ext, nx):
-    if not kernel_fits(Ps, E, depths, roll, ext):
+def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env, roll, ext, nx):
+    if not kernel_fits(Ps, E, shallow_env, roll, ext):
         return -1
     nb = X.shape[0]
     nchunks = min(nb, MAX_CHUNKS)
@@ -231,7 +238,7 @@ def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, depths, rol
             c * nb // nchunks,
             (c + 1) * nb // nchunks,
             S,
-            depths,
+            shallow_env,
             roll,
             ext,
             nx,

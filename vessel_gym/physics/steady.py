@@ -11,7 +11,7 @@ from vessel_gym.physics.environment import CALM
 from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold, shaft_torque_to_hold
 from vessel_gym.physics.shipfile import Ship
 from vessel_gym.physics.units import KNOT_M_S
-from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces
+from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives_of, force_terms
 
 # surge balances solved again at most this many times while user component forces still change with the rpm
 STEADY_MAX_ITERATIONS = 20
@@ -21,8 +21,40 @@ class SimulationError(RuntimeError):
     """A simulation cannot be set up or continued (e.g. a requested speed the engine cannot reach)."""
 
 
+# The solvers below take the environment row twice: as ``env``, and as ``shallow_env``, which is ``env`` where the
+# water may be shallow and None in deep water (:func:`_depth`). Given None, numba compiles them for the literal
+# depth ratio 0, the deep-water kernel the batch drivers of a deep-water simulation run (integrate.drivers), so a
+# simulation in deep water compiles the equations once; the results are the same either way.
+
+
+def _depth(env: np.ndarray) -> np.ndarray | None:
+    """``shallow_env`` for the solvers below: the row ``env``, or None in deep water (E_T_OVER_H exactly 0)."""
+    return env if env[lo.E_T_OVER_H] != 0.0 else None
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _surge_acceleration(P, x, inp, env, F, shallow_env, xd):
+    """du/dt (m/s^2) at state ``x`` (vessel.derivatives, with ``xd`` a scratch row of length NX)."""
+    if shallow_env is None:
+        H = 0
+    else:
+        H = shallow_env[lo.E_T_OVER_H]
+    derivatives_of(P, x, inp, env, F, xd, H, True, True)
+    return xd[lo.X_U]
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _propeller_torque(P, x, env, shallow_env):
+    """The propeller's absorbed torque Q_P (N m) at state ``x`` (vessel.forces' "Q_prop")."""
+    if shallow_env is None:
+        H = 0
+    else:
+        H = shallow_env[lo.E_T_OVER_H]
+    return force_terms(P, x, env, H)[14]
+
+
 @njit(cache=True)
-def _surge_balance_rev(P, x, inp, env, F, hi_n):
+def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env):
     """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
 
     Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
@@ -33,8 +65,7 @@ def _surge_balance_rev(P, x, inp, env, F, hi_n):
     def surge_accel(nrev):
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
-        derivatives(P, x, inp, env, F, xd)
-        return xd[lo.X_U]
+        return _surge_acceleration(P, x, inp, env, F, shallow_env, xd)
 
     lo_n = 0.0
     if surge_accel(0.0) > 0.0:
@@ -97,9 +128,7 @@ class _SteadyApproach:
         SimulationError if not). Returns whether a surge balance is to be solved (a ship with a propeller)."""
         if self.ship.propeller is None:
             return False
-        xd = np.zeros(lo.NX)
-        derivatives(self.P, self.x, self.inp, self.env, F, xd)
-        if xd[lo.X_U] < 0.0:
+        if _surge_acceleration(self.P, self.x, self.inp, self.env, F, _depth(self.env), np.zeros(lo.NX)) < 0.0:
             raise SimulationError(
                 f"{self.ship.name}: the propeller cannot make {self.speed / KNOT_M_S:.2f} kn below "
                 f"{self.n_max * 60:.0f} rpm"
@@ -109,7 +138,7 @@ class _SteadyApproach:
 
     def balance(self, F: np.ndarray) -> None:
         """Solve the shaft speed of zero surge acceleration with the forces F (3,) (updates :attr:`x`)."""
-        self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max)
+        self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max, _depth(self.env))
 
     def finish(self) -> tuple[np.ndarray, np.ndarray]:
         """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
@@ -117,7 +146,7 @@ class _SteadyApproach:
         x, P = self.x, self.P
         if self.ship.propeller is None:
             return x.copy(), self.inp.copy()
-        Q_prop = forces(P, x, self.inp, self.env, np.zeros(N_OUT))[FORCE_NAMES.index("Q_prop")]
+        Q_prop = _propeller_torque(P, x, self.env, _depth(self.env))
         nrev = self.nrev
         self.Q_hold = shaft_torque_to_hold(P, nrev, Q_prop)
         if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)
