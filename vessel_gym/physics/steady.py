@@ -3,6 +3,8 @@ surge acceleration, and the governor's fuel index that holds it."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numba import njit
 
@@ -21,25 +23,26 @@ class SimulationError(RuntimeError):
     """A simulation cannot be set up or continued (e.g. a requested speed the engine cannot reach)."""
 
 
-# The solvers below take the environment row twice: as ``env``, and as ``shallow_env``, which is ``env`` where the
-# water may be shallow and None in deep water (:func:`_depth`). Given None, numba compiles them for the literal
-# depth ratio 0, the deep-water kernel the batch drivers of a deep-water simulation run (integrate.drivers), so a
-# simulation in deep water compiles the equations once; the results are the same either way.
+# The solvers below are compiled for the kind of vessel they solve, as the batch drivers are (integrate.drivers):
+# in deep water the draught-to-depth ratio is the literal 0 (``shallow_env`` None: numba drops the branch on it),
+# and without roll or a user's engine those parts of the equations are left out (``roll``, ``ext`` literals from
+# the closures of :func:`_solvers`). A deep-water 3-DOF simulation then compiles the right-hand side once, for
+# its drivers and its steady approach alike; the results are the same for every kind.
 
 
-def _depth(env: np.ndarray) -> np.ndarray | None:
-    """``shallow_env`` for the solvers below: the row ``env``, or None in deep water (E_T_OVER_H exactly 0)."""
-    return env if env[lo.E_T_OVER_H] != 0.0 else None
+def _kind(P: np.ndarray, env: np.ndarray) -> tuple[bool, bool, bool]:
+    """(shallow, roll, ext) of one vessel with parameter row ``P`` in environment row ``env`` (integrate.drivers)."""
+    return bool(env[lo.E_T_OVER_H] != 0.0), bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0)
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _surge_acceleration(P, x, inp, env, F, shallow_env, xd):
-    """du/dt (m/s^2) at state ``x`` (vessel.derivatives, with ``xd`` a scratch row of length NX)."""
+def _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, xd):
+    """du/dt (m/s^2) at state ``x`` (vessel.derivatives_of, with ``xd`` a scratch row of length NX)."""
     if shallow_env is None:
         H = 0
     else:
         H = shallow_env[lo.E_T_OVER_H]
-    derivatives_of(P, x, inp, env, F, xd, H, True, True)
+    derivatives_of(P, x, inp, env, F, xd, H, roll, ext)
     return xd[lo.X_U]
 
 
@@ -53,8 +56,29 @@ def _propeller_torque(P, x, env, shallow_env):
     return force_terms(P, x, env, H)[14]
 
 
+@functools.cache
+def _solvers(shallow: bool, roll: bool, ext: bool):
+    """(surge_acceleration(P, x, inp, env, F), surge_balance_rev(P, x, inp, env, F, hi_n), propeller_torque(P,
+    x, env)) compiled for one kind of vessel (:func:`_kind`)."""
+    SHALLOW, ROLL, EXT = shallow, roll, ext
+
+    @njit(cache=True)
+    def surge_acceleration(P, x, inp, env, F):
+        return _surge_acceleration(P, x, inp, env, F, env if SHALLOW else None, ROLL, EXT, np.zeros(lo.NX))
+
+    @njit(cache=True)
+    def surge_balance_rev(P, x, inp, env, F, hi_n):
+        return _surge_balance_rev(P, x, inp, env, F, hi_n, env if SHALLOW else None, ROLL, EXT)
+
+    @njit(cache=True)
+    def propeller_torque(P, x, env):
+        return _propeller_torque(P, x, env, env if SHALLOW else None)
+
+    return surge_acceleration, surge_balance_rev, propeller_torque
+
+
 @njit(cache=True)
-def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env):
+def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext):
     """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
 
     Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
@@ -65,7 +89,7 @@ def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env):
     def surge_accel(nrev):
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
-        return _surge_acceleration(P, x, inp, env, F, shallow_env, xd)
+        return _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, xd)
 
     lo_n = 0.0
     if surge_accel(0.0) > 0.0:
@@ -111,6 +135,7 @@ class _SteadyApproach:
 
     def __init__(self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float):
         self.ship, self.P, self.speed, self.env = ship, P, speed_m_s, env
+        self._solve = _solvers(*_kind(P, env))
         self.x = np.zeros(lo.NX)
         self.inp = np.zeros(lo.NU)
         self.x[lo.X_U] = speed_m_s
@@ -128,7 +153,7 @@ class _SteadyApproach:
         SimulationError if not). Returns whether a surge balance is to be solved (a ship with a propeller)."""
         if self.ship.propeller is None:
             return False
-        if _surge_acceleration(self.P, self.x, self.inp, self.env, F, _depth(self.env), np.zeros(lo.NX)) < 0.0:
+        if self._solve[0](self.P, self.x, self.inp, self.env, F) < 0.0:
             raise SimulationError(
                 f"{self.ship.name}: the propeller cannot make {self.speed / KNOT_M_S:.2f} kn below "
                 f"{self.n_max * 60:.0f} rpm"
@@ -138,7 +163,7 @@ class _SteadyApproach:
 
     def balance(self, F: np.ndarray) -> None:
         """Solve the shaft speed of zero surge acceleration with the forces F (3,) (updates :attr:`x`)."""
-        self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max, _depth(self.env))
+        self.nrev = self._solve[1](self.P, self.x, self.inp, self.env, F, self.n_max)
 
     def finish(self) -> tuple[np.ndarray, np.ndarray]:
         """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
@@ -146,7 +171,7 @@ class _SteadyApproach:
         x, P = self.x, self.P
         if self.ship.propeller is None:
             return x.copy(), self.inp.copy()
-        Q_prop = _propeller_torque(P, x, self.env, _depth(self.env))
+        Q_prop = self._solve[2](P, x, self.env)
         nrev = self.nrev
         self.Q_hold = shaft_torque_to_hold(P, nrev, Q_prop)
         if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)
