@@ -146,7 +146,8 @@ def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
     P[lo.P_XF_TANB1] = math.tan(P[lo.P_XF_BETA1]) * (1.0 - DRIFT_TEST_MARGIN)
     P[lo.P_XF_BETA2] = math.radians(ld.cross_flow_drift_min_deg)
     P[lo.P_XF_RP1], P[lo.P_XF_RP2] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
-    P[lo.P_XF_RP1_IN] = ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)
+    P[lo.P_XF_RP1_SQ] = (ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
+    P[lo.P_XF_UP1_SQ] = (ld.polynomial_u_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
     P[lo.P_XF_UP1], P[lo.P_XF_UP2] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
     if int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
         _abkowitz_linear_terms(P)
@@ -197,9 +198,8 @@ def yoshimura_forces(P, u, v, r):
     return X, Y, N
 
 
-#: relative margin of the atan2- and division-free range tests of :func:`mmg_weight` (tan(beta_1) and r'_1
-#: shortened by it), -: a flow angle or |r'| that close to its bound takes the full test, so the weight is the same
-#: to the bit
+#: relative margin of :func:`inside_polynomial_range` (its bounds shortened by it), -: a state that close to a bound
+#: takes the full weight, so the forces are the same to the bit
 DRIFT_TEST_MARGIN = 1e-9
 
 
@@ -222,24 +222,36 @@ def mmg_weight(P, u, v, r):
     rL = abs(r) * P[lo.P_L]
     if U <= 0.0:
         return 1.0 if rL == 0.0 else 0.0  # at rest both models give 0; turning on the spot: cross flow
-    if abs(v) < u * P[lo.P_XF_TANB1]:
-        # a flow angle inside the polynomial's drift range (chi < beta_1, where the fade is 1), tested without the
-        # atan2: |v| < u tan(beta_1) less a relative margin that no rounding of atan2 or tan comes near, so the
-        # test never decides otherwise than _fade(atan2(|v|, u)) would (u > 0 here; NaN falls through)
-        w_beta = 1.0
-    else:
-        w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
+    w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
     if w_beta == 0.0:
         return 0.0
-    if rL < U * P[lo.P_XF_RP1_IN]:  # |r'| inside the fitted range (the fade is 1), tested as the drift above
-        w = w_beta
-    else:
-        w = w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
+    w = w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
     if P[lo.P_HULL_UREF] > 0.0 and int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
         # an Abkowitz set in the surge perturbation u' = (u - U_ref)/U is fitted near U_ref (hull.abkowitz_forces)
         Ue = max(U, P[lo.P_U_MIN])
         w *= _fade(abs(u - P[lo.P_HULL_UREF]) / Ue, P[lo.P_XF_UP1], P[lo.P_XF_UP2])
     return w
+
+
+@njit(cache=True)
+def inside_polynomial_range(P, u, v, r):
+    """Whether (u, v, r) is clearly inside the hull polynomial's fitted range, where :func:`mmg_weight` is 1, tested
+    without square root, atan2 or division (the hull calls it on every evaluation; the blend only where False):
+    the flow angle by |v| < u tan(beta_1), |r'| by (r L)^2 < U^2 r'_1^2, an Abkowitz set's |u'| by
+    (u - U_ref)^2 < max(U^2, U_min^2) u'_1^2, each bound shortened by DRIFT_TEST_MARGIN. The margin is far beyond
+    the rounding of either form, so True implies that mmg_weight returns exactly 1; near a bound it is False and
+    mmg_weight decides (a NaN gives False)."""
+    if not abs(v) < u * P[lo.P_XF_TANB1]:
+        return False
+    rL = r * P[lo.P_L]
+    U2 = u * u + v * v
+    if not rL * rL < U2 * P[lo.P_XF_RP1_SQ]:
+        return False
+    if P[lo.P_HULL_UREF] > 0.0 and int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
+        du = u - P[lo.P_HULL_UREF]
+        Umin = P[lo.P_U_MIN]
+        return du * du < max(U2, Umin * Umin) * P[lo.P_XF_UP1_SQ]
+    return True
 
 
 @njit(cache=True)
