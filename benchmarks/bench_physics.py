@@ -38,7 +38,7 @@ import numpy as np
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import Environment
-from vessel_gym.physics.integrate import RK4, run_parallel, run_serial
+from vessel_gym.physics.integrate import RK4, drivers_for
 from vessel_gym.physics.simulation import PARALLEL_MIN_BATCH, PARALLEL_MIN_WORK, Simulation
 
 TARGET_SINGLE = 1_000_000  # vessel-RK4-steps/s, one ship
@@ -53,8 +53,13 @@ CASES = ((1, 1000), (1, 1), (1024, 100), (1024, 1), (16384, 10), (16384, 1))
 
 
 def driver_args(sim, nsteps: int) -> tuple:
-    """The arguments of the compiled drivers (run_serial / run_parallel) for ``nsteps`` RK4 steps of ``sim``."""
+    """The arguments of the compiled drivers (:func:`sim_drivers`) for ``nsteps`` RK4 steps of ``sim``."""
     return (sim.Ps, sim.ship_index, sim.state, sim.inputs, sim.env, sim.F_ext, sim.dt, nsteps, RK4, sim.alive)
+
+
+def sim_drivers(sim) -> tuple:
+    """(serial, threaded) drivers of the kind ``Simulation.step`` runs for ``sim`` (integrate.drivers_for)."""
+    return drivers_for(sim.Ps, sim.env)
 
 
 def make_sim(ship: str, n: int) -> Simulation:
@@ -181,11 +186,12 @@ def bench_drivers(repeats: int) -> None:
             if n * nsteps > 100_000:
                 continue
             args = driver_args(sim, nsteps)
+            run_serial, run_parallel = sim_drivers(sim)
             work = n * nsteps
-            ts, _ = time_calls(lambda a=args: run_serial(*a), repeats)
-            tp, _ = time_calls(lambda a=args: run_parallel(*a), repeats)
-            cs = cpu_per_call(lambda a=args: run_serial(*a), repeats) / work * 1e9
-            cp = cpu_per_call(lambda a=args: run_parallel(*a), repeats) / work * 1e9
+            ts, _ = time_calls(lambda a=args, run=run_serial: run(*a), repeats)
+            tp, _ = time_calls(lambda a=args, run=run_parallel: run(*a), repeats)
+            cs = cpu_per_call(lambda a=args, run=run_serial: run(*a), repeats) / work * 1e9
+            cp = cpu_per_call(lambda a=args, run=run_parallel: run(*a), repeats) / work * 1e9
             uses = "parallel" if n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK else "serial"
             print(
                 f"{n:6d} {nsteps:6d} {work:7d} {fmt_rate(work / ts):>10s} {fmt_rate(work / tp):>10s}  "
@@ -271,9 +277,10 @@ def bench_load(repeats: int) -> None:
             for n, nsteps in LOAD_CASES:
                 sim = make_sim("kvlcc2", n)
                 args = driver_args(sim, nsteps)
+                run_serial, run_parallel = sim_drivers(sim)
                 calls = {
-                    "serial": lambda a=args: run_serial(*a),
-                    "threaded": lambda a=args: run_parallel(*a),
+                    "serial": lambda a=args, run=run_serial: run(*a),
+                    "threaded": lambda a=args, run=run_parallel: run(*a),
                     "step": lambda sim=sim, k=nsteps: sim.step(k),
                 }
                 for call in calls.values():  # warm-up, and the choice's first timings

@@ -149,8 +149,11 @@ def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
     P[lo.P_XF_ON] = 1.0
     P[lo.P_XF_CD], P[lo.P_XF_CRY], P[lo.P_XF_CRN], P[lo.P_XF_R0A] = ld.C_D, ld.C_rY, ld.C_rN, ld.R_0_astern
     P[lo.P_XF_BETA1] = math.radians(ld.mmg_drift_max_deg)
+    P[lo.P_XF_TANB1] = math.tan(P[lo.P_XF_BETA1]) * (1.0 - DRIFT_TEST_MARGIN)
     P[lo.P_XF_BETA2] = math.radians(ld.cross_flow_drift_min_deg)
     P[lo.P_XF_RP1], P[lo.P_XF_RP2] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
+    P[lo.P_XF_RP1_SQ] = (ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
+    P[lo.P_XF_UP1_SQ] = (ld.polynomial_u_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
     P[lo.P_XF_UP1], P[lo.P_XF_UP2] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
     if int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
         _abkowitz_linear_terms(P)
@@ -213,6 +216,11 @@ def yoshimura_forces_at_depth(P, u, v, r, H):
     return X, Y, N
 
 
+#: relative margin of :func:`inside_polynomial_range` (its bounds shortened by it), -: a state that close to a bound
+#: takes the full weight, so the forces are the same to the bit
+DRIFT_TEST_MARGIN = 1e-9
+
+
 @njit(cache=True)
 def yoshimura_forces(P, u, v, r):
     """:func:`yoshimura_forces_at_depth` in deep water. Returns (X, Y, N) in N, N, N m."""
@@ -247,6 +255,27 @@ def mmg_weight(P, u, v, r):
         Ue = max(U, P[lo.P_U_MIN])
         w *= _fade(abs(u - P[lo.P_HULL_UREF]) / Ue, P[lo.P_XF_UP1], P[lo.P_XF_UP2])
     return w
+
+
+@njit(cache=True)
+def inside_polynomial_range(P, u, v, r):
+    """Whether (u, v, r) is clearly inside the hull polynomial's fitted range, where :func:`mmg_weight` is 1, tested
+    without square root, atan2 or division (the hull calls it on every evaluation; the blend only where False):
+    the flow angle by |v| < u tan(beta_1), |r'| by (r L)^2 < U^2 r'_1^2, an Abkowitz set's |u'| by
+    (u - U_ref)^2 < max(U^2, U_min^2) u'_1^2, each bound shortened by DRIFT_TEST_MARGIN. The margin is far beyond
+    the rounding of either form, so True implies that mmg_weight returns exactly 1; near a bound it is False and
+    mmg_weight decides (a NaN gives False)."""
+    if not abs(v) < u * P[lo.P_XF_TANB1]:
+        return False
+    rL = r * P[lo.P_L]
+    U2 = u * u + v * v
+    if not rL * rL < U2 * P[lo.P_XF_RP1_SQ]:
+        return False
+    if P[lo.P_HULL_UREF] > 0.0 and int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
+        du = u - P[lo.P_HULL_UREF]
+        Umin = P[lo.P_U_MIN]
+        return du * du < max(U2, Umin * Umin) * P[lo.P_XF_UP1_SQ]
+    return True
 
 
 @njit(cache=True)

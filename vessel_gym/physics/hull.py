@@ -82,7 +82,8 @@ def abkowitz_forces(P, u, v, r, delta):
         Yc, Nc = cross_flow_drag(P, v, r)
         Y += Yc
         N += Nc
-    if P[lo.P_XF_ON] > 0.0:  # outside the polynomial's fitted range: cross-flow model (crossflow.py)
+    if P[lo.P_XF_ON] > 0.0 and not crossflow.inside_polynomial_range(P, u, v, r):
+        # outside the polynomial's fitted range: cross-flow model (crossflow.py)
         w = crossflow.mmg_weight(P, u, v, r)
         if w < 1.0:
             return crossflow.blend_abkowitz(P, u, v, r, w, X, Y, N, *_rudder_terms(P, delta))
@@ -188,7 +189,8 @@ def hull_forces_at_depth(P, u, v, r, delta, H):
         return abkowitz_forces(P, u, v, r, delta)
     if kind == lo.HULL_MMG:
         X, Y, N = mmg_hull_forces(P, u, v, r, H)
-        if P[lo.P_XF_ON] > 0.0:  # outside the polynomial's fitted range: cross-flow model (crossflow.py)
+        if P[lo.P_XF_ON] > 0.0 and not crossflow.inside_polynomial_range(P, u, v, r):
+            # outside the polynomial's fitted range: cross-flow model (crossflow.py)
             return crossflow.blend(P, u, v, r, X, Y, N, H)
         return X, Y, N
     return 0.0, 0.0, 0.0

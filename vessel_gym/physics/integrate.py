@@ -9,6 +9,13 @@ of identical ships shares one cached parameter row.
 A vessel whose state would become non-finite stops integrating, keeps its last finite state and is flagged
 (divergence detection): a diverged vessel never shows a NaN.
 
+Kernels per kind of batch (:func:`drivers`): the batch drivers are compiled for what a batch can hold -- deep
+or shallow water, with or without roll, with or without a user's engine -- from the one source of the
+equations (:func:`~vessel_gym.physics.vessel.derivatives_of`), the choice reaching numba as compile-time
+constants, so a deep-water 3-DOF ship runs no shallow-water or roll instructions. A simulation chooses the
+narrowest kind that holds its vessels (:func:`drivers_for`); each kind compiles on its first use and gives the
+general kernel's results to the bit.
+
 Performance notes (figures in docs/performance.md): the drivers allocate their scratch rows once per call
 (serial) or once per thread chunk (parallel), never per vessel; the per-vessel loop takes its row views
 without reference counting (vessel.NO_REFCOUNT; ~70 ns per vessel otherwise); stage loops run over the
@@ -27,7 +34,7 @@ from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.steering import steering_gear_angle
-from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives, forces
+from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives, derivatives_of, forces
 
 # The threaded driver's worker threads sleep between calls rather than spin (GNU OpenMP spins for up to
 # ~300000 polls after a parallel region by default). Spinning buys a few microseconds per call on an idle
@@ -50,8 +57,8 @@ MAX_CHUNKS = 64
 
 
 @njit(cache=True)
-def _finite(x):
-    for i in range(lo.NX):
+def _finite(x, nx):
+    for i in range(nx):
         if not math.isfinite(x[i]):
             return False
     return True
@@ -64,92 +71,129 @@ def n_stages(method):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def stage_state(x, k, h, delta, xt):
+def stage_state(x, k, h, delta, xt, nx):
     """Fill ``xt`` with the state at which an RK4 stage evaluates the right-hand side, x + h k (h = c dt with
     c = 1/2, 1/2, 1 of the classical tableau, k the stage before's derivative), with the rudder angle
-    ``delta`` (rad) at that stage's time.
+    ``delta`` (rad) at that stage's time; the first ``nx`` states (layout.NX, or NX_3DOF in a 3-DOF kernel).
 
     The rudder angle is not integrated by the method: with the order held over the step, the steering gear's
     equation has an exact solution (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every
     stage reads at its own time (t + dt/2 for the middle stages, t + dt at the end).
     """
-    for i in range(lo.NX):
+    for i in range(nx):
         xt[i] = x[i] + h * k[i]
     xt[lo.X_DELTA] = delta
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt):
+def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
     """Combine the stage derivatives into the state one step on (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
     Euler: x + dt k1, k2..k4 unused), formed in ``xt`` with the rudder angle ``delta_end`` at t + dt, and
-    commit it to ``x`` only if finite. Returns False on divergence, with ``x`` left at the last finite
-    state."""
+    commit it to ``x`` only if finite; the first ``nx`` states (as :func:`stage_state`). Returns False on
+    divergence, with ``x`` left at the last finite state."""
     if method == EULER:
-        for i in range(lo.NX):
+        for i in range(nx):
             xt[i] = x[i] + dt * k1[i]
     else:
         sixth = dt / 6.0
-        for i in range(lo.NX):
+        for i in range(nx):
             xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
     xt[lo.X_DELTA] = delta_end
-    if not _finite(xt):
+    if not _finite(xt, nx):
         return False
-    for i in range(lo.NX):
+    for i in range(nx):
         x[i] = xt[i]
     return True
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt):
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt, H, roll, ext, nx):
     """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held.
 
-    ``k1``..``k4`` and ``xt`` are scratch rows of length NX. Returns False on divergence, with ``x`` left at
-    the last finite state. The stages are :func:`stage_state` and :func:`finish_step`, which the batch driver
-    with Python components (:func:`run_with_components`) runs as well.
+    ``k1``..``k4`` and ``xt`` are scratch rows of length NX. ``H``, ``roll`` and ``ext`` choose the kernel
+    (:func:`~vessel_gym.physics.vessel.derivatives_of`), ``nx`` how many states it integrates (layout.NX,
+    or NX_3DOF without roll: the roll states of a 3-DOF vessel have zero rates and are left as they are).
+    Returns False on divergence, with ``x`` left at the last finite state. The stages are
+    :func:`stage_state` and :func:`finish_step`, which the batch driver with Python components
+    (:func:`run_with_components`) runs as well.
     """
     half = 0.5 * dt
     D = lo.X_DELTA
     for _ in range(nsteps):
         d_end = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], dt)
-        derivatives(P, x, inp, env, F_ext, k1)
+        derivatives_of(P, x, inp, env, F_ext, k1, H, roll, ext)
         if method != EULER:
             d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
-            stage_state(x, k1, half, d_half, xt)
-            derivatives(P, xt, inp, env, F_ext, k2)
-            stage_state(x, k2, half, d_half, xt)
-            derivatives(P, xt, inp, env, F_ext, k3)
-            stage_state(x, k3, dt, d_end, xt)
-            derivatives(P, xt, inp, env, F_ext, k4)
-        if not finish_step(x, k1, k2, k3, k4, dt, method, d_end, xt):
+            stage_state(x, k1, half, d_half, xt, nx)
+            derivatives_of(P, xt, inp, env, F_ext, k2, H, roll, ext)
+            stage_state(x, k2, half, d_half, xt, nx)
+            derivatives_of(P, xt, inp, env, F_ext, k3, H, roll, ext)
+            stage_state(x, k3, dt, d_end, xt, nx)
+            derivatives_of(P, xt, inp, env, F_ext, k4, H, roll, ext)
+        if not finish_step(x, k1, k2, k3, k4, dt, method, d_end, xt, nx):
             return False
     return True
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S):
-    """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive."""
+def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S, shallow_env, roll, ext, nx):
+    """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive.
+
+    ``shallow_env`` is ``E`` in a kernel for shallow water (each vessel's draught-to-depth ratio read from its
+    environment row) and None in a deep-water kernel: numba compiles the branch on ``shallow_env is None`` away,
+    so H is the literal 0 there and the deep-water equations are compiled in (vessel.force_terms)."""
     count = 0
     for b in range(first, stop):
         if alive[b]:
+            if shallow_env is None:
+                H = 0
+            else:
+                H = shallow_env[b, lo.E_T_OVER_H]
             ok = step_vessel(
-                Ps[ship_index[b]], X[b], U[b], E[b], F[b], dt, nsteps, method, S[0], S[1], S[2], S[3], S[4]
+                Ps[ship_index[b]],
+                X[b],
+                U[b],
+                E[b],
+                F[b],
+                dt,
+                nsteps,
+                method,
+                S[0],
+                S[1],
+                S[2],
+                S[3],
+                S[4],
+                H,
+                roll,
+                ext,
+                nx,
             )
             alive[b] = ok
             count += ok
     return count
 
 
-@njit(cache=True)
-def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
-    """Integrate every alive vessel of the batch; marks diverged vessels dead. Returns the number alive."""
-    return _run_range(
-        Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0], np.empty((5, lo.NX))
-    )
+@njit(cache=True, **NO_REFCOUNT)
+def kernel_fits(Ps, E, shallow_env, roll, ext):
+    """Whether the kernel chosen by ``shallow_env``, ``roll`` and ``ext`` (:func:`drivers`) holds every vessel of the
+    batch: deep water (E_T_OVER_H exactly 0) where ``shallow_env`` is None, no ship with roll where ``roll`` is
+    False, no user engine or steering gear where ``ext`` is False."""
+    if shallow_env is None:
+        for b in range(E.shape[0]):
+            if E[b, lo.E_T_OVER_H] != 0.0:
+                return False
+    for j in range(Ps.shape[0]):
+        if not roll and Ps[j, lo.P_ROLL_ON] != 0.0:
+            return False
+        if not ext and (Ps[j, lo.P_ENGINE_EXT] != 0.0 or Ps[j, lo.P_SG_EXT] != 0.0):
+            return False
+    return True
 
 
 @njit(cache=True, parallel=True)
-def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
-    """Same as :func:`run_serial`, with contiguous chunks of vessels spread over threads (large batches)."""
+def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env, roll, ext, nx):
+    if not kernel_fits(Ps, E, shallow_env, roll, ext):
+        return -1
     nb = X.shape[0]
     nchunks = min(nb, MAX_CHUNKS)
     count = 0
@@ -169,8 +213,77 @@ def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
             c * nb // nchunks,
             (c + 1) * nb // nchunks,
             S,
+            shallow_env,
+            roll,
+            ext,
+            nx,
         )
     return count
+
+
+def _make_drivers(shallow: bool, roll: bool, ext: bool):
+    # the flags reach the compiled code as closure constants: numba types them as literals, passes them on as
+    # such, and compiles (and caches) one kernel per combination, keyed by their values
+    SHALLOW, ROLL, EXT = shallow, roll, ext
+    NXK = lo.NX if roll else lo.NX_3DOF
+
+    # the serial driver in one level: every call level counts references of its array arguments (~150 ns a call)
+    @njit(cache=True)
+    def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
+        shallow_env = E if SHALLOW else None
+        if not kernel_fits(Ps, E, shallow_env, ROLL, EXT):
+            return -1
+        S = np.empty((5, lo.NX))
+        return _run_range(
+            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0], S, shallow_env, ROLL, EXT, NXK
+        )
+
+    @njit(cache=True)
+    def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
+        return _parallel(
+            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, E if SHALLOW else None, ROLL, EXT, NXK
+        )
+
+    return run_serial, run_parallel
+
+
+_DRIVERS: dict[tuple[bool, bool, bool], tuple] = {}
+
+
+def drivers(shallow: bool = True, roll: bool = True, ext: bool = True):
+    """The batch drivers (serial, threaded) compiled for one kind of batch, each
+    ``driver(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive)``:
+
+    * ``shallow``: some vessel may be in shallow water (E_T_OVER_H > 0); False compiles the deep-water
+      equations only (the draught-to-depth ratio is the constant 0);
+    * ``roll``: some ship may have roll (P_ROLL_ON); False compiles the 3-DOF equations only and integrates
+      the first layout.NX_3DOF states;
+    * ``ext``: a ship's engine or steering gear may be a user's component (P_ENGINE_EXT, P_SG_EXT).
+
+    All True is the general kernel (:data:`run_serial`, :data:`run_parallel`). Every combination gives the
+    general kernel's results to the bit; a narrower one is only faster. A driver first checks that its kind
+    holds every vessel of the batch (:func:`kernel_fits`) and returns -1 without integrating if not, so a
+    wrong choice is never silent. Each combination compiles on its first use.
+    """
+    key = (bool(shallow), bool(roll), bool(ext))
+    if key not in _DRIVERS:
+        _DRIVERS[key] = _make_drivers(*key)
+    return _DRIVERS[key]
+
+
+def drivers_for(Ps: np.ndarray, E: np.ndarray):
+    """:func:`drivers` of the narrowest kind that holds a batch with parameter rows ``Ps`` and environment rows
+    ``E`` (numpy, O(N): call it when these change, not every step)."""
+    return drivers(
+        shallow=bool((E[:, lo.E_T_OVER_H] != 0.0).any()),
+        roll=bool((Ps[:, lo.P_ROLL_ON] != 0.0).any()),
+        ext=bool((Ps[:, lo.P_ENGINE_EXT] != 0.0).any() or (Ps[:, lo.P_SG_EXT] != 0.0).any()),
+    )
+
+
+#: the general batch drivers: integrate every alive vessel of the batch, serially or with contiguous chunks of
+#: vessels spread over threads (large batches); mark diverged vessels dead; return the number alive
+run_serial, run_parallel = drivers(True, True, True)
 
 
 @njit(cache=True)
@@ -192,7 +305,7 @@ def stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt):
             d = Xt[b, D]
         else:
             d = steering_gear_angle(P, X[b, D], U[b, lo.U_DELTA_C], h)
-        stage_state(X[b], K[b, stage - 1], h, d, Xt[b])
+        stage_state(X[b], K[b, stage - 1], h, d, Xt[b], lo.NX)
 
 
 @njit(cache=True)
@@ -226,7 +339,7 @@ def finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt):
                 d_end = steering_gear_angle(Ps[ship_index[b]], X[b, D], U[b, lo.U_DELTA_C], dt)
             else:  # stage 4's state, at t + dt
                 d_end = Xt[b, D]
-            ok = finish_step(X[b], Kb[0], Kb[1], Kb[2], Kb[3], dt, method, d_end, Xt[b])
+            ok = finish_step(X[b], Kb[0], Kb[1], Kb[2], Kb[3], dt, method, d_end, Xt[b], lo.NX)
             alive[b] = ok
             count += ok
     return count

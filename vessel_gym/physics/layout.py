@@ -31,6 +31,7 @@ X_CAM = 9
 X_PHI = 10  # roll (heel) angle, rad (positive starboard side down)
 X_P = 11  # roll rate, rad/s
 NX = 12
+NX_3DOF = X_PHI  # the states a 3-DOF kernel integrates (integrate.drivers): every column before the roll states
 
 STATE_NAMES = ("u", "v", "r", "x", "y", "psi", "delta", "n", "governor", "reversing_gear", "phi", "p")
 
@@ -159,6 +160,11 @@ P_XF_CXRR = _field("xf_C_X_rr")  # x_G m r^2 surge term not in the equations of 
 P_XF_CNUR = _field("xf_C_N_ur")  # -x_G m u r yaw term not in the equations of motion, kg m
 P_XF_UP1 = _field("polynomial_u_prime_max")  # |u'| up to which an Abkowitz polynomial is used alone, -
 P_XF_UP2 = _field("cross_flow_u_prime_min")  # |u'| from which the cross-flow model is used alone, -
+# bounds of the polynomial's range for the test without square root, atan2 or division
+# (crossflow.inside_polynomial_range), each shortened by the factor 1 - 1e-9: tan(P_XF_BETA1), P_XF_RP1^2, P_XF_UP1^2
+P_XF_TANB1 = _field("tan_mmg_drift_max")
+P_XF_RP1_SQ = _field("mmg_r_prime_max_squared")
+P_XF_UP1_SQ = _field("polynomial_u_prime_max_squared")
 
 # propeller (open water K_T, K_Q quadratics in J; wake, thrust deduction; MMG wake change in manoeuvres)
 P_PROP_ON = _field("has_propeller")

@@ -38,9 +38,10 @@ from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old hom
 )
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.helm import Helm
-from vessel_gym.physics.integrate import (
+from vessel_gym.physics.integrate import (  # noqa: F401  (run_serial, run_parallel: the general drivers)
     EULER,
     RK4,
+    drivers_for,
     run_parallel,
     run_serial,
     run_with_components,
@@ -106,11 +107,11 @@ class ForceComponent(Protocol):
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
 
 
-def _compiled_small_call(args: tuple, why: np.ndarray, limits: np.ndarray) -> tuple | None:
-    """(run_serial's code, flag_runaway's code, Ps, ship_index, state, inputs, env, F_ext, alive, why_dead,
+def _compiled_small_call(serial_driver, args: tuple, why: np.ndarray, limits: np.ndarray) -> tuple | None:
+    """(the serial driver's code, flag_runaway's code, Ps, ship_index, state, inputs, env, F_ext, alive, why_dead,
     runaway limits) for the driver arguments ``args`` of :meth:`Simulation.step`, or None if the kernels are
     not compiled (``NUMBA_DISABLE_JIT=1``) or have no code for these types."""
-    serial, runaway = getattr(run_serial, "overloads", None), getattr(flag_runaway, "overloads", None)
+    serial, runaway = getattr(serial_driver, "overloads", None), getattr(flag_runaway, "overloads", None)
     if not serial or not runaway:
         return None
     from numba import typeof
@@ -204,7 +205,7 @@ class Simulation(Readings, Helm):
         # why each vessel stopped (RUNAWAY_*, 0 while alive) and the bounds it is held to, by ship
         self.why_dead = np.zeros(n, dtype=np.int64)
         self._runaway_limits = np.array([runaway_limits(s) for s in self.ships], dtype=float)
-        # compiled code of run_serial and flag_runaway for small calls, and the arrays it was resolved for
+        # compiled code of the serial driver and flag_runaway for small calls, and the arrays it was resolved for
         self._small_call: tuple | None = None
         # steady approaches solved so far, by (parameter row, speed, heading, environment row): environments
         # reset ships one at a time, mostly to the same approach
@@ -212,6 +213,8 @@ class Simulation(Readings, Helm):
         self.t = 0.0
         self.reference_latlon_deg = reference_latlon_deg
         self.environments: list[Environment] = [environment] * n
+        # the compiled batch drivers (serial, threaded) of this batch's kind: deep or shallow water, with or
+        # without roll (integrate.drivers); set_environment chooses them, step again when the kind changed
         self.set_environment(environment)
         # Ps rows as bytes, by ship, for the steady-state cache keys: one object shared by every entry of a
         # ship while its parameters are unchanged (a row is ~7.5 kB; one copy per entry would dominate)
@@ -231,7 +234,10 @@ class Simulation(Readings, Helm):
             rows = np.stack([environment.row(s.particulars.L_m, s.particulars.T_m) for s in self.ships])
             self.env[:] = rows[self.ship_index]
             self.environments[:] = [environment] * self.n
+            self._kernels = drivers_for(self.Ps, self.env)
+            self._small_call = None  # resolved again for the new drivers at the next small call
             return
+        # one vessel: the drivers check the batch's kind themselves and :meth:`step` chooses again when needed
         s = self.ship(k)
         self.env[k] = environment.row(s.particulars.L_m, s.particulars.T_m)
         self.environments[k] = environment
@@ -462,15 +468,22 @@ class Simulation(Readings, Helm):
                     and type(args[6]) is float
                     and type(nsteps) is int
                     and type(args[8]) is int
+                    and c[0](*args) >= 0
                 ):
-                    c[0](*args)
                     self.t += nsteps * self.dt
                     return c[1](args[2], args[1], c[10], args[9], c[9])
-            (run_parallel if driver == 1 else run_serial)(*args)
+            if self._kernels[driver == 1](*args) < 0:
+                # the batch is no longer of the kind its drivers were compiled for (Ps or env written
+                # directly): nothing was integrated; choose the drivers again
+                self._kernels = drivers_for(self.Ps, self.env)
+                self._small_call = None
+                self._kernels[driver == 1](*args)
             if driver >= 0:
                 self._driver.record(driver, time.perf_counter() - t0, work)
             elif self._small_call is None:
-                self._small_call = _compiled_small_call(args, self.why_dead, self._runaway_limits)
+                self._small_call = _compiled_small_call(
+                    self._kernels[0], args, self.why_dead, self._runaway_limits
+                )
         self.t += nsteps * self.dt
         return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))
 

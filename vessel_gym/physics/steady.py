@@ -3,6 +3,8 @@ surge acceleration, and the governor's fuel index that holds it."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numba import njit
 
@@ -11,7 +13,7 @@ from vessel_gym.physics.environment import CALM
 from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold, shaft_torque_to_hold
 from vessel_gym.physics.shipfile import Ship
 from vessel_gym.physics.units import KNOT_M_S
-from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces
+from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives_of, force_terms
 
 # surge balances solved again at most this many times while user component forces still change with the rpm
 STEADY_MAX_ITERATIONS = 20
@@ -21,8 +23,62 @@ class SimulationError(RuntimeError):
     """A simulation cannot be set up or continued (e.g. a requested speed the engine cannot reach)."""
 
 
+# The solvers below are compiled for the kind of vessel they solve, as the batch drivers are (integrate.drivers):
+# in deep water the draught-to-depth ratio is the literal 0 (``shallow_env`` None: numba drops the branch on it),
+# and without roll or a user's engine those parts of the equations are left out (``roll``, ``ext`` literals from
+# the closures of :func:`_solvers`). A deep-water 3-DOF simulation then compiles the right-hand side once, for
+# its drivers and its steady approach alike; the results are the same for every kind.
+
+
+def _kind(P: np.ndarray, env: np.ndarray) -> tuple[bool, bool, bool]:
+    """(shallow, roll, ext) of one vessel with parameter row ``P`` in environment row ``env`` (integrate.drivers)."""
+    return bool(env[lo.E_T_OVER_H] != 0.0), bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, xd):
+    """du/dt (m/s^2) at state ``x`` (vessel.derivatives_of, with ``xd`` a scratch row of length NX)."""
+    if shallow_env is None:
+        H = 0
+    else:
+        H = shallow_env[lo.E_T_OVER_H]
+    derivatives_of(P, x, inp, env, F, xd, H, roll, ext)
+    return xd[lo.X_U]
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _propeller_torque(P, x, env, shallow_env):
+    """The propeller's absorbed torque Q_P (N m) at state ``x`` (vessel.forces' "Q_prop")."""
+    if shallow_env is None:
+        H = 0
+    else:
+        H = shallow_env[lo.E_T_OVER_H]
+    return force_terms(P, x, env, H)[14]
+
+
+@functools.cache
+def _solvers(shallow: bool, roll: bool, ext: bool):
+    """(surge_acceleration(P, x, inp, env, F), surge_balance_rev(P, x, inp, env, F, hi_n), propeller_torque(P,
+    x, env)) compiled for one kind of vessel (:func:`_kind`)."""
+    SHALLOW, ROLL, EXT = shallow, roll, ext
+
+    @njit(cache=True)
+    def surge_acceleration(P, x, inp, env, F):
+        return _surge_acceleration(P, x, inp, env, F, env if SHALLOW else None, ROLL, EXT, np.zeros(lo.NX))
+
+    @njit(cache=True)
+    def surge_balance_rev(P, x, inp, env, F, hi_n):
+        return _surge_balance_rev(P, x, inp, env, F, hi_n, env if SHALLOW else None, ROLL, EXT)
+
+    @njit(cache=True)
+    def propeller_torque(P, x, env):
+        return _propeller_torque(P, x, env, env if SHALLOW else None)
+
+    return surge_acceleration, surge_balance_rev, propeller_torque
+
+
 @njit(cache=True)
-def _surge_balance_rev(P, x, inp, env, F, hi_n):
+def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext):
     """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
 
     Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
@@ -33,8 +89,7 @@ def _surge_balance_rev(P, x, inp, env, F, hi_n):
     def surge_accel(nrev):
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
-        derivatives(P, x, inp, env, F, xd)
-        return xd[lo.X_U]
+        return _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, xd)
 
     lo_n = 0.0
     if surge_accel(0.0) > 0.0:
@@ -80,6 +135,7 @@ class _SteadyApproach:
 
     def __init__(self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float):
         self.ship, self.P, self.speed, self.env = ship, P, speed_m_s, env
+        self._solve = _solvers(*_kind(P, env))
         self.x = np.zeros(lo.NX)
         self.inp = np.zeros(lo.NU)
         self.x[lo.X_U] = speed_m_s
@@ -97,9 +153,7 @@ class _SteadyApproach:
         SimulationError if not). Returns whether a surge balance is to be solved (a ship with a propeller)."""
         if self.ship.propeller is None:
             return False
-        xd = np.zeros(lo.NX)
-        derivatives(self.P, self.x, self.inp, self.env, F, xd)
-        if xd[lo.X_U] < 0.0:
+        if self._solve[0](self.P, self.x, self.inp, self.env, F) < 0.0:
             raise SimulationError(
                 f"{self.ship.name}: the propeller cannot make {self.speed / KNOT_M_S:.2f} kn below "
                 f"{self.n_max * 60:.0f} rpm"
@@ -109,7 +163,7 @@ class _SteadyApproach:
 
     def balance(self, F: np.ndarray) -> None:
         """Solve the shaft speed of zero surge acceleration with the forces F (3,) (updates :attr:`x`)."""
-        self.nrev = _surge_balance_rev(self.P, self.x, self.inp, self.env, F, self.n_max)
+        self.nrev = self._solve[1](self.P, self.x, self.inp, self.env, F, self.n_max)
 
     def finish(self) -> tuple[np.ndarray, np.ndarray]:
         """(state row, input row), the governor integrator at the fuel index whose torque holds the shaft
@@ -117,7 +171,7 @@ class _SteadyApproach:
         x, P = self.x, self.P
         if self.ship.propeller is None:
             return x.copy(), self.inp.copy()
-        Q_prop = forces(P, x, self.inp, self.env, np.zeros(N_OUT))[FORCE_NAMES.index("Q_prop")]
+        Q_prop = self._solve[2](P, x, self.env)
         nrev = self.nrev
         self.Q_hold = shaft_torque_to_hold(P, nrev, Q_prop)
         if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)

@@ -253,9 +253,14 @@ NO_REFCOUNT = {"_nrt": False}
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def force_terms(P, x, env):
+def force_terms(P, x, env, H):
     """All component forces for one vessel at state ``x``, as a tuple of N_OUT + 2 floats: the N_OUT values
     of :func:`forces`, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
+
+    ``H`` is the draught-to-depth ratio T/h the vessel is in (``env[E_T_OVER_H]``; 0 in deep water). A
+    deep-water kernel passes the integer literal 0 (integrate.drivers): numba then compiles this function and
+    the hull, wake, rudder and thrust-deduction functions it calls for that constant, and their shallow-water
+    branches fold away (each returns its deep-water value exactly at H = 0, so the results are the same).
 
     A tuple, not an output array: a store into an array that the compiler cannot prove distinct from ``P``
     and ``x`` would make it load them again (see :func:`derivatives`).
@@ -266,7 +271,6 @@ def force_terms(P, x, env):
     psi = x[lo.X_PSI]
     delta = x[lo.X_DELTA]
     n = x[lo.X_REV]
-    H = env[lo.E_T_OVER_H]  # draught-to-depth ratio T/h, 0 in deep water
     XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H)
     has_prop = P[lo.P_PROP_ON] > 0.0
     mmg_rudder = P[lo.P_RUD_KIND] == lo.RUDDER_MMG
@@ -308,7 +312,7 @@ def forces(P, x, inp, env, out):
     out = [X_H, Y_H, N_H, X_P, X_R, Y_R, N_R, X_W, Y_W, N_W, X_D, Y_D, N_D, thrust, Q_prop, w_P,
            V_rw, gamma_rw, cur_n, cur_e]
     """
-    f = force_terms(P, x, env)
+    f = force_terms(P, x, env, env[lo.E_T_OVER_H])
     for i in range(N_OUT):
         out[i] = f[i]
     return out
@@ -343,13 +347,37 @@ FORCE_NAMES = (
 def derivatives(P, x, inp, env, F_ext, xdot):
     """State derivative of one vessel: fills ``xdot`` (length NX).
 
+    The general form of :func:`derivatives_of`: every part of the model tested at run time.
+    """
+    derivatives_of(P, x, inp, env, F_ext, xdot, env[lo.E_T_OVER_H], True, True)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
+    """State derivative of one vessel, :func:`derivatives` compiled for one kind of vessel: fills ``xdot``
+    (length NX; on a 3-DOF kernel the roll columns are not written).
+
+    The three last arguments choose what is compiled in; the integrators' drivers pass compile-time
+    constants (integrate.drivers), so numba builds one kernel per combination and LLVM drops the parts a
+    combination rules out:
+
+    * ``H``, the draught-to-depth ratio T/h: ``env[E_T_OVER_H]``, or the literal 0 for deep water
+      (:func:`force_terms`);
+    * ``roll``: True where a vessel may have the fourth degree of freedom (``P_ROLL_ON``, tested at run time),
+      False for 3-DOF vessels only (the roll equations are not compiled);
+    * ``ext``: True where a user's engine may drive the shaft (``P_ENGINE_EXT``, tested at run time), False
+      for the built-in engine only.
+
+    A False flag is only passed for vessels it describes, so every combination gives the results of the
+    general form to the bit.
+
     F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions), and on a vessel
     whose engine is a user's component (``P_ENGINE_EXT``) a fourth entry, its drive torque at the propeller
     shaft (N m; 0 when F_ext has three entries, as in a force-only balance). The forces
     travel from :func:`force_terms` as a tuple, not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
     out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
-    f = force_terms(P, x, env)
+    f = force_terms(P, x, env, H)
     u = x[lo.X_U]
     v = x[lo.X_V]
     r = x[lo.X_R]
@@ -369,7 +397,7 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     gdot = 0.0
     cdot = 0.0
     if P[lo.P_PROP_ON] > 0.0:
-        if P[lo.P_ENGINE_EXT] > 0.0:
+        if ext and P[lo.P_ENGINE_EXT] > 0.0:
             # a user's engine (components.compose): its drive torque arrives as F_ext[3]; the built-in
             # governor and reversing gear are not part of the vessel (their states hold still)
             Q_drive = F_ext[lo.F_Q_SHAFT] if F_ext.shape[0] > lo.F_Q_SHAFT else 0.0
@@ -380,7 +408,7 @@ def derivatives(P, x, inp, env, F_ext, xdot):
             )
     phidot = 0.0
     pdot = 0.0
-    if P[lo.P_ROLL_ON] > 0.0:
+    if roll and P[lo.P_ROLL_ON] > 0.0:
         # the fourth degree of freedom (roll.py): roll terms of the hull, restoring and damping, the rudder's
         # sway force z_R below the roll axis; the 3x3 mass matrix over (v, r, p) couples sway, yaw and roll
         phi = x[lo.X_PHI]
@@ -416,5 +444,6 @@ def derivatives(P, x, inp, env, F_ext, xdot):
     xdot[lo.X_REV] = ndot
     xdot[lo.X_GOV] = gdot
     xdot[lo.X_CAM] = cdot
-    xdot[lo.X_PHI] = phidot
-    xdot[lo.X_P] = pdot
+    if roll:
+        xdot[lo.X_PHI] = phidot
+        xdot[lo.X_P] = pdot

@@ -1,0 +1,72 @@
+"""The batch drivers compiled for one kind of batch (deep or shallow water, with or without roll, with or
+without a user's engine: integrate.drivers) give the general kernel's results to the bit, and refuse a batch
+they were not compiled for."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.environment import Environment
+from vessel_gym.physics.integrate import RK4, drivers, run_serial
+from vessel_gym.physics.shipfile import load_ship
+from vessel_gym.physics.simulation import Simulation
+from vessel_gym.physics.units import DEG
+
+# wind, a beam sea and a current: every force the kernel has is non-zero (the wave drift at speed included)
+WEATHER = dict(wind_speed_m_s=12.0, wind_from_deg=60.0, Hs_m=2.5, Tp_s=9.0, wave_from_deg=120.0)
+
+
+def _sim(ships, n, depth_m=float("inf"), ship_index=None):
+    sim = Simulation(
+        ships, n=n, ship_index=ship_index, dt=0.2, environment=Environment(depth_m=depth_m, **WEATHER)
+    )
+    sim.reset()
+    sim.set_helm(rudder_order_rad=np.linspace(-35.0, 35.0, n) * DEG)
+    sim.inputs[0, lo.U_REV_C] *= -1.0  # one crash stop: the propeller astern, the hull in sternway
+    sim.state[-1, lo.X_V] = 0.6 * sim.state[-1, lo.X_U]  # one at large drift: the cross-flow hull
+    return sim
+
+
+def _run(driver, sim, nsteps=300):
+    X, alive = sim.state.copy(), sim.alive.copy()
+    count = driver(sim.Ps, sim.ship_index, X, sim.inputs, sim.env, sim.F_ext, sim.dt, nsteps, RK4, alive)
+    return X, alive, count
+
+
+@pytest.mark.parametrize(
+    "ships, depth_factor, kind",
+    [
+        ("kvlcc2", None, (False, False, False)),  # deep water, 3 DOF: the previous release's kernel
+        ("container", None, (False, True, False)),  # roll
+        ("kvlcc2", 1.5, (True, False, False)),  # shallow water, h/T = 1.5
+        (["kvlcc2", "container"], None, (False, True, False)),  # a 3-DOF ship in a batch with roll
+    ],
+)
+def test_kind_of_batch_matches_the_general_kernel_bit_for_bit(ships, depth_factor, kind):
+    T = load_ship(ships if isinstance(ships, str) else ships[0]).particulars.T_m
+    depth = float("inf") if depth_factor is None else depth_factor * T
+    n = 4
+    sim = _sim(ships, n, depth, ship_index=None if isinstance(ships, str) else np.arange(n) % 2)
+    assert sim._kernels is drivers(*kind)  # the simulation chose the narrowest kind
+    Xk, alive_k, count_k = _run(drivers(*kind)[0], sim)
+    Xg, alive_g, count_g = _run(run_serial, sim)
+    assert count_k == count_g == n and alive_k.all()
+    assert np.array_equal(Xk, Xg)
+    assert not np.array_equal(Xk, sim.state)  # it moved
+
+
+def test_a_kernel_refuses_a_batch_not_of_its_kind_and_the_simulation_chooses_again():
+    sim = _sim("container", 2)
+    X, alive, count = _run(drivers(False, False, False)[0], sim)  # a 3-DOF kernel on a ship with roll
+    assert count == -1 and np.array_equal(X, sim.state)  # refused, nothing integrated
+    # a shallow-water row written into the environment directly, past set_environment
+    sim = _sim("kvlcc2", 2)
+    before = sim.state.copy()
+    sim.env[:, lo.E_T_OVER_H] = 1.0 / 1.5  # h/T = 1.5
+    assert _run(sim._kernels[0], sim)[2] == -1
+    ref, _, _ = _run(run_serial, sim, 50)
+    sim.step(50)
+    assert sim._kernels is drivers(True, False, False)
+    assert np.array_equal(sim.state, ref) and not np.array_equal(sim.state, before)
