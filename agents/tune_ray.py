@@ -68,7 +68,7 @@ def search_space(algo: str) -> dict[str, Any]:
     return {**common, **spaces[check_algo(algo)]}
 
 
-def _reporter(config: dict[str, Any], stem_dir: Path) -> Any:
+def _reporter(config: dict[str, Any]) -> Any:
     """SB3 callback: every ``eval_every`` steps, evaluate on the validation seeds and ``tune.report`` the
     metrics with the model as a checkpoint."""
     import tempfile
@@ -100,7 +100,10 @@ def _reporter(config: dict[str, Any], stem_dir: Path) -> Any:
         def report(self) -> None:
             import time
 
-            with tempfile.TemporaryDirectory(dir=stem_dir) as d:
+            # outside the trial directory: Ray's syncer lists that directory in the background, and a
+            # temporary directory deleted while it lists made the trial's results go missing
+            # (tune.report persists the checkpoint before it returns)
+            with tempfile.TemporaryDirectory(prefix="vessel-gym-tune-") as d:
                 # load_policy reads the algorithm from the file name
                 path = Path(d) / f"{model_stem(config['algo'], config['env_id'], config['seed'])}.zip"
                 self.model.save(str(path))
@@ -144,7 +147,7 @@ def trial(config: dict[str, Any]) -> None:
 
     work = Path(tune.get_context().get_trial_dir() or ".")
     work.mkdir(parents=True, exist_ok=True)
-    reporter = _reporter(config, work)
+    reporter = _reporter(config)
     train(
         config["algo"],
         config["env_id"],
