@@ -126,6 +126,17 @@ def _own(k: int):
     )
 
 
+def _link_config(gpsd, **kw) -> LinkConfig:
+    """A link on an ephemeral JSON port that sends NMEA to the test's gpsd at RATE_HZ, clocked from EPOCH."""
+    return LinkConfig(
+        json_bind=("127.0.0.1", 0),
+        nmea_destinations=[("127.0.0.1", gpsd.udp_port)],
+        nmea_rate_hz=RATE_HZ,
+        utc_epoch=EPOCH,
+        **kw,
+    )
+
+
 def _time(k: int) -> str:
     return (EPOCH + timedelta(seconds=k / RATE_HZ)).strftime("%Y-%m-%dT%H:%M:%S.%f")[:-3] + "Z"
 
@@ -144,12 +155,7 @@ def test_gpsd_decodes_our_nmea_and_ais(gpsd):
         draught_m=20.8,
         destination="HAMBURG",
     )
-    config = LinkConfig(
-        json_bind=("127.0.0.1", 0),
-        nmea_destinations=[("127.0.0.1", gpsd.udp_port)],
-        nmea_rate_hz=RATE_HZ,
-        utc_epoch=EPOCH,
-    )
+    config = _link_config(gpsd)
     with UdpLink(config) as link:
         for k in range(CYCLES):
             link.service(k / RATE_HZ, _own(k), [target])
@@ -199,13 +205,7 @@ def test_gpsd_decodes_our_nmea_and_ais(gpsd):
 
 def test_gpsd_ignores_he_heading_talker(gpsd):
     """Negative control: gpsd 3.22 drops $HEHDT, which is why heading defaults to the II talker."""
-    config = LinkConfig(
-        json_bind=("127.0.0.1", 0),
-        nmea_destinations=[("127.0.0.1", gpsd.udp_port)],
-        nmea_rate_hz=RATE_HZ,
-        talkers={"heading": "HE"},
-        utc_epoch=EPOCH,
-    )
+    config = _link_config(gpsd, talkers={"heading": "HE"})
     with UdpLink(config) as link:
         for k in range(3):
             link.service(k / RATE_HZ, _own(k))
@@ -225,12 +225,7 @@ def test_gpsd_reports_the_heel_of_a_ship_with_roll(gpsd):
     ignores XDR; newer gpsd also decodes the XDR ROLL transducer), sign kept (+ = starboard side down).
     The first cycles are a 3-DOF ship's: their ATT reports have a heading and no roll."""
     heel = [None, None, -2.5, 1.25, 7.89, -7.89]
-    config = LinkConfig(
-        json_bind=("127.0.0.1", 0),
-        nmea_destinations=[("127.0.0.1", gpsd.udp_port)],
-        nmea_rate_hz=RATE_HZ,
-        utc_epoch=EPOCH,
-    )
+    config = _link_config(gpsd)
     with UdpLink(config) as link:
         for k, phi in enumerate(heel):
             rate = None if phi is None else 0.1

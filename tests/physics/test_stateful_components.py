@@ -19,7 +19,7 @@ from vessel_gym.physics.components.compose import builtin_slots
 from vessel_gym.physics.propulsion import clutch_direction, engine_torque, governor
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
-from vessel_gym.physics.steady import _fuel_index_for
+from vessel_gym.physics.steady import fuel_index_for
 
 
 class BuiltinEngineInPython(Engine):
@@ -56,7 +56,7 @@ class BuiltinEngineInPython(Engine):
     def steady_states(self, sim, x, Q_hold):
         P = self.P  # the fuel index whose engine torque holds the shaft, as the built-in reset solves it
         Q_e = Q_hold / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
-        return np.array([[_fuel_index_for(P, P[lo.P_GEAR] * x[b, lo.X_REV], Q_e[b])] for b in range(len(x))])
+        return np.array([[fuel_index_for(P, P[lo.P_GEAR] * x[b, lo.X_REV], Q_e[b])] for b in range(len(x))])
 
 
 def test_user_engine_reimplementing_the_builtin_reproduces_its_crash_stop():

@@ -111,7 +111,7 @@ def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext):
 
 
 @njit(cache=True)
-def _fuel_index_for(P, n_e, Q_need):
+def fuel_index_for(P, n_e, Q_need):
     """Governor fuel index in [0, 1] whose engine torque at ``n_e`` rev/s is ``Q_need`` N m (bisection)."""
     a, b = 0.0, 1.0
     for _ in range(60):
@@ -185,7 +185,7 @@ class _SteadyApproach:
                 f"{self.speed / KNOT_M_S:.2f} kn "
                 f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
             )
-        x[lo.X_GOV] = _fuel_index_for(P, n_e, Q_need)
+        x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
         return x.copy(), self.inp.copy()
 
 

@@ -51,7 +51,7 @@ from vessel_gym.physics.propulsion import (
     shaft_friction_torque,
 )
 from vessel_gym.physics.schema import param
-from vessel_gym.physics.steady import _fuel_index_for
+from vessel_gym.physics.steady import fuel_index_for
 from vessel_gym.physics.units import RPM
 from vessel_gym.physics.vessel import force_terms
 
@@ -278,5 +278,5 @@ class ReversingGearbox(Engine):
                 n_E, Q_E = self.constants[C_IDLE_REV], 0.0
             else:
                 n_E, Q_E = d * i_g * x[k, lo.X_REV], d * Q_hold[k] / (eta * i_g)
-            Z[k] = (n_E, _fuel_index_for(P, n_E, Q_E), d)
+            Z[k] = (n_E, fuel_index_for(P, n_E, Q_E), d)
         return Z
