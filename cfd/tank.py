@@ -61,6 +61,12 @@ DTC_TANK = (
 # 5.69 %; ITTC 7.5-03-01-04 cites a few per cent as the state of the art for resistance on fine grids).
 TARGET_REL = 0.03
 SETTLE_WINDOW = 0.1  # last fraction of the LTS iterations averaged (and whose spread is reported)
+# The LTS free surface does not settle to a steady force: R_T oscillates by +-15 % with a period of ~100-200
+# iterations (DTC, grading 1). The mean over the window therefore carries a statistical uncertainty, estimated
+# by batch means: the window cut into BATCHES consecutive batches (each longer than the oscillation's
+# correlation time when the window is >= 400 iterations), 95 % Student-t half-width of their mean.
+BATCHES = 5
+T_975 = {4: 2.776}  # Student t, 97.5 % quantile, by degrees of freedom (BATCHES - 1)
 MODES = ("run", "write", "collect")  # of validate_dtc
 
 
@@ -159,21 +165,42 @@ def run_free_surface_tows(
     return {"mesh": mesh, "grading": grading, "iterations": iterations, "procs": procs, "runs": runs}
 
 
+def window_statistics(fx) -> dict[str, float]:
+    """Statistics of the last :data:`SETTLE_WINDOW` of a force history (one value per iteration): its mean,
+    the spread (max - min) relative to the mean, the 95 % half-width of the mean by batch means, relative
+    (``nan`` when the window is shorter than one iteration per batch), and the drift: the mean of the window
+    against the mean of the window before it, relative (how far the force still moves between windows)."""
+    n = max(1, math.ceil(SETTLE_WINDOW * len(fx)))
+    window = fx[-n:]
+    mean = float(window.mean())
+    half_width = drift = math.nan
+    size = n // BATCHES
+    if size >= 1 and mean:
+        batch = window[-size * BATCHES :].reshape(BATCHES, size).mean(axis=1)
+        half_width = T_975[BATCHES - 1] * float(batch.std(ddof=1)) / math.sqrt(BATCHES) / abs(mean)
+    if len(fx) >= 2 * n and mean:
+        drift = (mean - float(fx[-2 * n : -n].mean())) / mean  # relative to the signed mean: magnitude change
+    spread = float((window.max() - window.min()) / abs(mean)) if mean else math.inf
+    return {"mean": mean, "spread_rel": spread, "halfwidth_rel": half_width, "drift_rel": drift}
+
+
 def _result(case: Path, U: float, lpp: float) -> dict[str, Any]:
-    """R_T (both sides) of a finished tow: the mean x force over the last tenth of its iterations."""
+    """R_T (both sides) of a finished tow: the mean x force over the last tenth of its iterations, with the
+    uncertainty of that mean and its drift from the tenth before (:func:`window_statistics`)."""
     h = read_forces(case)
-    n = max(1, math.ceil(SETTLE_WINDOW * len(h.t)))
-    fx = h.F[-n:, 0]
-    if not all(math.isfinite(v) for v in fx):
+    fx = h.F[:, 0]
+    if not all(math.isfinite(v) for v in fx[-max(1, math.ceil(SETTLE_WINDOW * len(fx))) :]):
         raise CfdError(
             f"interFoam ({case.name})", "non-finite forces: the solution diverged", case / "log.interFoam"
         )
-    mean = float(fx.mean())
+    stats = window_statistics(fx)
     return {
         "U_m_s": U,
         "Fn": U / math.sqrt(9.81 * lpp),
-        "R_T_N": resistance_from_half(mean),
-        "spread_rel": float((fx.max() - fx.min()) / abs(mean)) if mean else math.inf,
+        "R_T_N": resistance_from_half(stats["mean"]),
+        "spread_rel": stats["spread_rel"],
+        "halfwidth_rel": stats["halfwidth_rel"],
+        "drift_rel": stats["drift_rel"],
         "iterations": int(h.t[-1]),
     }
 
@@ -235,23 +262,34 @@ def report(result: dict[str, Any], rows: list[dict[str, Any]], out: Path) -> dic
         **result,
         "runs": rows,
     }
+    iterations = sorted({r["iterations"] for r in rows})
+    per_speed = (
+        f"{result['iterations']} iterations per speed"
+        if iterations in ([], [result["iterations"]])
+        else "iterations per speed as in the table"
+    )
     lines = [
         "# Free-surface (VOF) DTC tow against the towing tank",
         "",
         f"Reference: {DTC_CITATION}.",
         "",
         f"Mesh: grading {result['grading']}, {result['mesh']['cells']} cells (half domain), hull level "
-        f"{result['mesh']['hull_level']}, castellated hull; interFoam LTS, {result['iterations']} iterations per "
-        f"speed, {result['procs']} processor(s); solver wall time {cpu / 60:.1f} min in all"
+        f"{result['mesh']['hull_level']}, castellated hull; interFoam LTS, {per_speed}, "
+        f"{result['procs']} processor(s); solver wall time {cpu / 60:.1f} min in all"
         + (" (the cases ran elsewhere)." if result["procs"] is None else "."),
         "",
-        "| U (m/s) | Fn | tank R_T (N) | CFD R_T (N) | error (%) | spread of the last 10 % (%) | iterations |",
-        "|---|---|---|---|---|---|---|",
+        "CFD R_T is the mean over the last 10 % of the iterations; ± is the 95 % half-width of that mean (batch "
+        "means), drift the change of the mean from the 10 % before.",
+        "",
+        "| U (m/s) | Fn | tank R_T (N) | CFD R_T (N) | error (%) | ± (%) | drift (%) | spread of the last 10 % (%) "
+        "| iterations |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         lines.append(
             f"| {r['U_m_s']:.3f} | {r['Fn']:.3f} | {r['tank']['R_T_N']:.2f} | {r['R_T_N']:.2f} | "
-            f"{100 * r['error_rel']:+.2f} | {100 * r['spread_rel']:.2f} | {r['iterations']} |"
+            f"{100 * r['error_rel']:+.2f} | {_pct(r.get('halfwidth_rel'))} | {_pct(r.get('drift_rel'), '+')} | "
+            f"{100 * r['spread_rel']:.2f} | {r['iterations']} |"
         )
     if errors:
         lines += [
@@ -263,6 +301,11 @@ def report(result: dict[str, Any], rows: list[dict[str, Any]], out: Path) -> dic
     (out / "validation.md").write_text("\n".join(lines) + "\n")
     (out / "validation.json").write_text(json.dumps(doc, indent=1, default=str))
     return doc
+
+
+def _pct(x: float | None, sign: str = "") -> str:
+    """A relative figure in per cent for the table; '-' when it could not be estimated."""
+    return "-" if x is None or not math.isfinite(x) else f"{100 * x:{sign}.2f}"
 
 
 def console_lines(doc: dict[str, Any], out: Path) -> list[str]:

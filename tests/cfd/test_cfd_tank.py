@@ -112,3 +112,30 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
     assert "has not been run" in capsys.readouterr().err
     assert main(argv[:-1] + ["rerun"]) == 2
     assert "mode" in capsys.readouterr().err
+
+
+def test_window_statistics_give_the_mean_its_uncertainty_and_drift():
+    import numpy as np
+
+    from cfd.tank import window_statistics
+
+    t = np.arange(1.0, 4001.0)
+    # a force oscillating by +-10 % with a period of 40 iterations: the window (400 iterations, 5 batches of
+    # 80, two periods each) averages it out exactly, so the mean is exact and the batches agree
+    s = window_statistics(-10.0 * (1 + 0.1 * np.sin(2 * np.pi * t / 40)))
+    assert s["mean"] == pytest.approx(-10.0, rel=1e-12) and s["halfwidth_rel"] < 1e-12
+    assert s["spread_rel"] == pytest.approx(0.2, rel=1e-3) and abs(s["drift_rel"]) < 1e-12
+    # a force still falling linearly by 1e-4 of its value per iteration: the window mean is 400 iterations
+    # later than the one before, so the drift is -400e-4 / (its mean); the batch means differ by 80e-4 each
+    fx = 1.0 - 1e-4 * t
+    s = window_statistics(fx)
+    mean = fx[-400:].mean()
+    assert s["drift_rel"] == pytest.approx(-0.04 / mean, rel=1e-9)
+    half = 2.776 * np.std([fx[-400 + 80 * k : -320 + 80 * k or None].mean() for k in range(5)], ddof=1)
+    assert s["halfwidth_rel"] == pytest.approx(half / np.sqrt(5) / mean, rel=1e-9)
+    # too short a history for batches (a window of one iteration) or for a window before: not estimated,
+    # never a made-up number
+    s = window_statistics(np.array([2.0, 2.0, 2.0]))
+    assert s["mean"] == 2.0 and np.isnan(s["halfwidth_rel"]) and s["drift_rel"] == 0.0
+    s = window_statistics(np.array([2.0]))
+    assert np.isnan(s["halfwidth_rel"]) and np.isnan(s["drift_rel"])
