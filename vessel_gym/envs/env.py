@@ -62,6 +62,9 @@ class ShipEnv(_Renders, gym.Env):
         self._step_phase = np.full(1, PHASE_STEP, dtype=np.int8)
         self._reset_phase = np.full(1, PHASE_RESET, dtype=np.int8)
         self._reset_done = False
+        #: steps after which an episode is truncated, counted here (0: none; Gymnasium's TimeLimit may count)
+        self._max_steps = 0
+        self._elapsed = 0
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
@@ -74,6 +77,7 @@ class ShipEnv(_Renders, gym.Env):
         self.task.reset_vessel(0, self.np_random, options)
         self.task.update(self._reset_phase)
         self._reset_done = True
+        self._elapsed = 0
         if self.render_mode is not None:
             self._track = [(float(self.sim.north[0]), float(self.sim.east[0]))]
             if self.render_mode == "human":
@@ -91,7 +95,10 @@ class ShipEnv(_Renders, gym.Env):
             self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
             if self.render_mode == "human":
                 self.render()
-        return task.obs[0].copy(), task.reward.item(), task.terminated.item(), False, task.lazy_info(0)
+        terminated = task.terminated.item()
+        self._elapsed += 1
+        truncated = 0 < self._max_steps <= self._elapsed and not terminated
+        return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.lazy_info(0)
 
     def render(self):
         if self.render_mode is None:

@@ -241,7 +241,7 @@ class HarbourApproachV1Env(HarbourApproachEnv):
 
     def __init__(self, render_mode: str | None = None, config: Any = None, **overrides: Any) -> None:
         super().__init__(render_mode, config, **overrides)
-        self._elapsed = 0
+        self._max_steps = self.task.max_steps  # truncation after time_limit_s, counted by ShipEnv.step
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
@@ -255,15 +255,6 @@ class HarbourApproachV1Env(HarbourApproachEnv):
     def set_difficulty(self, level: int | str) -> None:
         """Curriculum hook: start region of the episodes reset from now on (index 0..3 or a name)."""
         self.task.set_difficulty(level)
-
-    def reset(self, *, seed: int | None = None, options: dict | None = None):
-        self._elapsed = 0
-        return super().reset(seed=seed, options=options)
-
-    def step(self, action: Any):
-        obs, reward, terminated, _truncated, info = super().step(action)
-        self._elapsed += 1
-        return obs, reward, terminated, (not terminated) and self._elapsed >= self.task.max_steps, info
 
 
 class HarbourApproachV1VectorEnv(HarbourApproachVectorEnv):

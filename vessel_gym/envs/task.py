@@ -320,6 +320,20 @@ def compiled_entry(kernel: Any, phase: np.ndarray, args: tuple) -> tuple[Any, tu
     return kernel, args
 
 
+def compiled_call(kernel: Any, args: tuple) -> tuple[Any, tuple]:
+    """(code, arguments) of the numba dispatcher ``kernel`` for ``args`` of these types, called without the
+    dispatcher (as :func:`compiled_entry`, for a kernel without a phase); ``(kernel, args)`` if it has no
+    compiled code for them (``NUMBA_DISABLE_JIT=1``, or not called with them yet)."""
+    overloads = getattr(kernel, "overloads", None)
+    if overloads:
+        from numba import typeof
+
+        compiled = overloads.get(tuple(typeof(a) for a in args))
+        if compiled is not None:
+            return compiled.entry_point, args
+    return kernel, args
+
+
 def _uniform(rng: np.random.Generator, rng_range: Sequence[float]) -> float:
     lo, hi = float(rng_range[0]), float(rng_range[1])
     return lo if hi <= lo else float(rng.uniform(lo, hi))

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from vessel_gym.envs.task import compiled_call
 from vessel_gym.envs.tasks.chart import inside_polygon
 from vessel_gym.envs.tasks.harbour_v1 import HarbourApproachV1Config, HarbourApproachV1Task
 from vessel_gym.physics.schema import SpecError, param
@@ -94,20 +95,39 @@ class HarbourApproachV2Task(HarbourApproachV1Task):
         #: step on (before the clamp to 1.2 T)
         self.depth_m = np.full(n, float(self.scenario.water_depth_m))
         self._draught = float(self.ship.particulars.T_m)
+        self._depth_call: tuple | None = None  # chart_depth's compiled code and its arguments, bound once
 
     def update(self, phase: np.ndarray) -> None:
         """v1's task update, then the depth under every ship for the next control step (:func:`chart_depth`:
-        one compiled call over all vessels)."""
+        one compiled call over all vessels).
+
+        The depth is read once per control step, not in every physics step within it: over one
+        control step (L / U_T / 6: 0.99 s on kvlcc2_l7) the ship moves about a sixth of its length, while the
+        shallow-water corrections already take the depth at the midship point for the whole hull, and the
+        chart's depth areas change by steps at their edges: a reading per physics step would move where a
+        step in depth takes effect by at most a sixth of a ship length."""
         super().update(phase)
-        sim = self.sim
-        chart_depth(
-            sim.north,
-            sim.east,
-            self.depth_verts,
-            self.depth_areas,
-            self.depth_area,
-            float(self.scenario.water_depth_m),
-            self._draught,
-            self.depth_m,
-            sim.env,
-        )
+        call = self._depth_call
+        if call is None:
+            sim = self.sim
+            # views of the simulation's state: the simulation keeps its arrays (and the task kernel binds them)
+            args = (
+                sim.north,
+                sim.east,
+                self.depth_verts,
+                self.depth_areas,
+                self.depth_area,
+                float(self.scenario.water_depth_m),
+                self._draught,
+                self.depth_m,
+                sim.env,
+            )
+            chart_depth(*args)  # compiles, or loads from the cache, the lookup for these arguments
+            self._depth_call = compiled_call(chart_depth, args)
+            return
+        call[0](*call[1])
+
+    def __getstate__(self) -> dict:
+        state = super().__getstate__()
+        state["_depth_call"] = None  # compiled code does not pickle; a copy binds its own at its first update
+        return state
