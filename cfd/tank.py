@@ -60,6 +60,9 @@ DTC_TANK = (
 # noise is the CFD's. TARGET: the error the validation aims at, every speed (the seed report's VOF reached
 # 5.69 %; ITTC 7.5-03-01-04 cites a few per cent as the state of the art for resistance on fine grids).
 TARGET_REL = 0.03
+HISTORY_EVERY = (
+    10  # iterations between the rows of R_T_history.csv (the full history is in each case's forces)
+)
 SETTLE_WINDOW = 0.1  # last fraction of the LTS iterations averaged (and whose spread is reported)
 # The LTS free surface does not settle to a steady force: R_T oscillates by +-15 % with a period of ~100-200
 # iterations (DTC, grading 1). The mean over the window therefore carries a statistical uncertainty, estimated
@@ -202,7 +205,27 @@ def _result(case: Path, U: float, lpp: float) -> dict[str, Any]:
         "halfwidth_rel": stats["halfwidth_rel"],
         "drift_rel": stats["drift_rel"],
         "iterations": int(h.t[-1]),
+        # R_T every HISTORY_EVERY-th iteration, for R_T_history.csv (not part of the JSON record)
+        "history": (
+            h.t[HISTORY_EVERY - 1 :: HISTORY_EVERY],
+            [resistance_from_half(f) for f in fx[HISTORY_EVERY - 1 :: HISTORY_EVERY]],
+        ),
     }
+
+
+def write_history(rows: list[dict[str, Any]], path: Path) -> None:
+    """R_T of each speed every :data:`HISTORY_EVERY` iterations, one column per speed (empty where a speed
+    ran fewer iterations): how each tow settled, small enough to commit next to the report."""
+    columns = {f"{r['U_m_s']:.3f}": dict(zip(map(int, r["history"][0]), r["history"][1])) for r in rows}
+    iterations = sorted({i for c in columns.values() for i in c})
+    lines = [
+        f"# DTC free-surface tows: R_T (N, both sides) every {HISTORY_EVERY}th LTS iteration, one column per "
+        "speed (m/s) (vessel-cfd dtc-validation)",
+        ",".join(["iteration", *(f"R_T_N_U{u}" for u in columns)]),
+    ]
+    for i in iterations:
+        lines.append(",".join([str(i), *(f"{c[i]:.3f}" if i in c else "" for c in columns.values())]))
+    path.write_text("\n".join(lines) + "\n")
 
 
 def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
@@ -247,7 +270,10 @@ def compare_with_tank(
 
 
 def report(result: dict[str, Any], rows: list[dict[str, Any]], out: Path) -> dict[str, Any]:
-    """Write ``validation.md`` and ``validation.json`` in ``out``; return the JSON content."""
+    """Write ``validation.md``, ``validation.json`` and ``R_T_history.csv`` in ``out``; return the JSON
+    content."""
+    histories = [r for r in rows if "history" in r]
+    rows = [{k: v for k, v in r.items() if k != "history"} for r in rows]
     errors = [abs(r["error_rel"]) for r in rows]
     verdict = "within" if errors and max(errors) <= TARGET_REL else "NOT within"
     cpu = sum(r["wall_s"] or 0.0 for r in rows)
@@ -300,6 +326,8 @@ def report(result: dict[str, Any], rows: list[dict[str, Any]], out: Path) -> dic
     out.mkdir(parents=True, exist_ok=True)
     (out / "validation.md").write_text("\n".join(lines) + "\n")
     (out / "validation.json").write_text(json.dumps(doc, indent=1, default=str))
+    if histories:
+        write_history(histories, out / "R_T_history.csv")
     return doc
 
 

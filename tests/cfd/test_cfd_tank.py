@@ -107,6 +107,14 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
     doc = json.loads((out / "validation.json").read_text())
     assert doc["mesh"]["cells"] == 129016 and doc["iterations"] == 4000 and doc["passed"]
     assert "(the cases ran elsewhere)" in (out / "validation.md").read_text()
+    # each speed's R_T every 10th iteration, one column per speed, in the order of the rows
+    history = (out / "R_T_history.csv").read_text().splitlines()
+    assert history[1] == "iteration,R_T_N_U1.335,R_T_N_U1.668" and len(history) == 2 + 400
+    last = history[-1].split(",")
+    assert last[0] == "4000" and float(last[2]) == pytest.approx(
+        31.83 * 1.01 * (1 + 0.5 * math.exp(-4000 / 300)), abs=6e-4
+    )
+    assert "history" not in json.dumps(doc)
     # a speed not run yet, and a mode that does not exist, are bad input
     assert main(argv[:5] + ["--speeds", "1.401", "--mode", "collect"]) == 2
     assert "has not been run" in capsys.readouterr().err
