@@ -36,7 +36,14 @@ from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old hom
     PARALLEL_MIN_WORK,
     _DriverChoice,
 )
-from vessel_gym.physics.environment import CALM, Environment
+from vessel_gym.physics.environment import (
+    CALM,
+    FIELDS,
+    Environment,
+    EnvironmentList,
+    environment_rows,
+    environment_values,
+)
 from vessel_gym.physics.helm import Helm
 from vessel_gym.physics.integrate import (  # noqa: F401  (run_serial, run_parallel: the general drivers)
     EULER,
@@ -212,7 +219,7 @@ class Simulation(Readings, Helm):
         self._steady_cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.t = 0.0
         self.reference_latlon_deg = reference_latlon_deg
-        self.environments: list[Environment] = [environment] * n
+        self.environments = EnvironmentList(environment, n)
         # the compiled batch drivers (serial, threaded) of this batch's kind: deep or shallow water, with or
         # without roll (integrate.drivers); set_environment chooses them, step again when the kind changed
         self.set_environment(environment)
@@ -241,6 +248,20 @@ class Simulation(Readings, Helm):
         s = self.ship(k)
         self.env[k] = environment.row(s.particulars.L_m, s.particulars.T_m)
         self.environments[k] = environment
+
+    def set_environments(self, idx: np.ndarray, **fields: float | np.ndarray) -> None:
+        """Set the environments of the vessels ``idx`` at once: ``Environment`` fields given as arrays over
+        ``idx`` (or scalars), the others at their defaults; the same rows as :meth:`set_environment` of each,
+        computed over arrays, with no Environment object kept per vessel (``environments[k]`` makes one)."""
+        idx = np.asarray(idx, dtype=np.int64)
+        vals = environment_values(fields, len(idx))
+        si = self.ship_index[idx]
+        for s_i in np.unique(si).tolist():
+            s, mine = self.ships[s_i], si == s_i
+            for d in np.unique(vals[mine, FIELDS.index("depth_m")]).tolist():
+                check_hull(s, d)
+            self.env[idx[mine]] = environment_rows(vals[mine], s.particulars.L_m, s.particulars.T_m)
+        self.environments.set_values(idx, vals)
 
     def reset(
         self,
