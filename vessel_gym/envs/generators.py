@@ -16,6 +16,7 @@ those its numpy Generator would give (checked bit for bit in tests/envs/test_bat
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -150,6 +151,22 @@ def _check_seeds(seeds: Sequence[int | None]) -> None:
         raise ValueError(f"seed must be None or an int >= 0, got {bad[0]!r}")
 
 
+ONE_WORD, FRESH, BIG = 0, 1, 2  # a vessel's seed: below 2**32, None (fresh entropy), 2**32 or more
+
+
+@dataclass(frozen=True)
+class SeedRange:
+    """The seeds first, first + 1, ..., first + n - 1 of n vessels (a vector environment's ``reset(seed=first)``),
+    without a list of them."""
+
+    first: int
+    n: int
+
+
+def _counting(seeds: Any) -> bool:
+    return isinstance(seeds, SeedRange)
+
+
 class _FirstUse:
     """Vessel k's generator, made when an attribute of it (a draw) is first asked for."""
 
@@ -176,16 +193,19 @@ class VesselGenerators(Sequence):
     (``spawn`` is unavailable on them); their streams are numpy's.
     """
 
-    def __init__(self, seeds: Sequence[int | None]) -> None:
-        _check_seeds(seeds)
-        self._seeds = list(seeds)
-        n = len(self._seeds)
+    def __init__(self, seeds: Sequence[int | None] | SeedRange) -> None:
+        """``seeds``: one per vessel, or a :class:`SeedRange`."""
+        n = seeds.n if _counting(seeds) else len(seeds)
+        self._kind = np.full(n, FRESH, dtype=np.int8)  # how vessel k is seeded: ONE_WORD, FRESH or BIG
+        self._one_word = np.zeros(n, dtype=np.uint64)  # the seeds of the ONE_WORD vessels
+        self._big: dict[int, int] = {}  # the seeds of the BIG vessels (>= 2**32)
         self._made: list[np.random.Generator | None] = [None] * n
         self._held = np.zeros(n, dtype=np.bool_)  # vessel k's stream is in its Generator _made[k]
         self._st: np.ndarray | None = None  # (N, 4) PCG64 states, seeded at the first draw
+        self._set_seeds(seeds)
 
     def __len__(self) -> int:
-        return len(self._seeds)
+        return len(self._made)
 
     def __getitem__(self, k):  # type: ignore[override]
         g = self._made[k]
@@ -197,25 +217,48 @@ class VesselGenerators(Sequence):
             self._held[k] = True
         return g
 
+    def _set_seeds(self, seeds: Sequence[int | None] | SeedRange) -> np.ndarray:
+        """Record the seeds that are not None (checked first); returns the vessels they are for."""
+        if _counting(seeds):
+            first, n = seeds.first, seeds.n
+            _check_seeds([first])
+            m = max(min(2**32 - first, n), 0)  # the vessels whose seed is one 32-bit word
+            self._kind[:m] = ONE_WORD
+            self._one_word[:m] = first + np.arange(m, dtype=np.uint64)
+            self._kind[m:] = BIG  # numpy's hash, kept one by one
+            self._big.update({k: first + k for k in range(m, n)})
+            return np.arange(n)
+        _check_seeds(seeds)
+        rows = np.array([k for k, s in enumerate(seeds) if s is not None], dtype=np.int64)
+        for k in rows.tolist():
+            seed = seeds[k]
+            self._kind[k] = ONE_WORD if seed < 2**32 else BIG
+            if seed < 2**32:
+                self._one_word[k] = seed
+            else:
+                self._big[k] = seed
+        return rows
+
     def _states(self) -> np.ndarray:
         """The (N, 4) PCG64 state rows, seeded for all vessels on the first call."""
         if self._st is None:
-            self._st = np.zeros((len(self._seeds), 4), dtype=np.uint64)
-            self._seed_rows(np.arange(len(self._seeds)), self._seeds)
+            self._st = np.zeros((len(self), 4), dtype=np.uint64)
+            self._seed_rows(np.arange(len(self)))
         return self._st
 
-    def _seed_rows(self, rows: np.ndarray, seeds: Sequence[int | None]) -> None:
-        """Seed the rows ``rows`` from ``seeds`` (one per row): what ``seeding.np_random(seed)`` seeds PCG64 with,
-        ``SeedSequence(seed).generate_state(4, np.uint64)``; seeds None get words of one fresh SeedSequence."""
+    def _seed_rows(self, rows: np.ndarray) -> None:
+        """Seed the rows ``rows`` as ``seeding.np_random(seed)`` seeds PCG64, with the words
+        ``SeedSequence(seed).generate_state(4, np.uint64)``: one-word seeds hashed at once, FRESH vessels
+        from words of one new SeedSequence (fresh entropy), BIG seeds by numpy."""
+        kind = self._kind[rows]
         words = np.zeros((len(rows), 4), dtype=np.uint64)
-        one_word = np.array([s is not None and s < 2**32 for s in seeds], dtype=np.bool_)
-        words[one_word] = pcg64_seed_words(np.array([s for s in seeds if s is not None and s < 2**32]))
-        fresh = [j for j, s in enumerate(seeds) if s is None]
-        if fresh:  # fresh entropy: distinct streams from one entropy draw, hashed by numpy
+        one = kind == ONE_WORD
+        words[one] = pcg64_seed_words(self._one_word[rows[one]])
+        fresh = np.flatnonzero(kind == FRESH)
+        if len(fresh):  # distinct streams from one entropy draw, hashed by numpy
             words[fresh] = np.random.SeedSequence().generate_state(4 * len(fresh), np.uint64).reshape(-1, 4)
-        for j, s in enumerate(seeds):
-            if s is not None and s >= 2**32:  # more than one 32-bit word: numpy's hash
-                words[j] = np.random.SeedSequence(s).generate_state(4, np.uint64)
+        for j in np.flatnonzero(kind == BIG).tolist():
+            words[j] = np.random.SeedSequence(self._big[int(rows[j])]).generate_state(4, np.uint64)
         pcg64_seed_rows(words, self._st, np.asarray(rows, dtype=np.int64))
 
     def doubles(self, idx: np.ndarray) -> np.ndarray:
@@ -242,16 +285,17 @@ class VesselGenerators(Sequence):
         none)."""
         return self._made[k] or _FirstUse(self, k)
 
-    def reseed(self, seeds: Sequence[int | None]) -> None:
-        """New streams for the vessels whose seed is not None."""
-        _check_seeds(seeds)
-        rows = [i for i, s in enumerate(seeds) if s is not None]
-        for i in rows:
-            self._seeds[i] = seeds[i]
-            self._made[i] = None
+    def reseed(self, seeds: Sequence[int | None] | SeedRange) -> None:
+        """New streams for the vessels whose seed is not None (a :class:`SeedRange`: all of them)."""
+        rows = self._set_seeds(seeds)
+        if len(rows) == len(self):
+            self._made = [None] * len(self)
+        else:
+            for k in rows.tolist():
+                self._made[k] = None
         self._held[rows] = False
-        if self._st is not None and rows:
-            self._seed_rows(np.array(rows), [seeds[i] for i in rows])
+        if self._st is not None and len(rows):
+            self._seed_rows(rows)
 
 
 class BatchDraws:
@@ -292,6 +336,12 @@ class OneVessel:
         return low + (high - low) * self.random()
 
 
+def vessels_draws(rngs: Any, idx: np.ndarray) -> Any:
+    """The draws of the vessels ``idx`` of a task's generators: :class:`BatchDraws` of a vector environment's
+    :class:`VesselGenerators`, the one vessel's numpy Generator of a single environment."""
+    return rngs.draws(idx) if isinstance(rngs, VesselGenerators) else rngs[int(idx[0])]
+
+
 def vessel_draws(rng: Any, j: int) -> Any:
     """The draws of the j-th vessel of ``rng`` (:class:`BatchDraws`) as floats; a numpy Generator (one vessel's
     own) as it is."""
@@ -319,4 +369,4 @@ def _set_row(st: np.ndarray, k: int, state: dict) -> None:
     st[k] = (s >> 64, s & _MASK64, inc >> 64, inc & _MASK64)
 
 
-__all__ = ["BatchDraws", "OneVessel", "VesselGenerators", "pcg64_seed_words", "vessel_draws"]
+__all__ = ["BatchDraws", "OneVessel", "SeedRange", "VesselGenerators", "pcg64_seed_words", "vessel_draws", "vessels_draws"]
