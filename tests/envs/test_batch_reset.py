@@ -9,7 +9,7 @@ import pytest
 from gymnasium.utils import seeding
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
-from vessel_gym.envs.generators import VesselGenerators, pcg64_seed_words
+from vessel_gym.envs.generators import SeedRange, VesselGenerators, pcg64_seed_words
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.simulation import Simulation
 
@@ -69,3 +69,53 @@ def test_seed_words_hashed_at_once_equal_numpys_seed_sequence():
     for k, s in ((0, 3), (2, 2**40), (3, 9)):
         assert gens[k].bit_generator.state == seeding.np_random(s)[0].bit_generator.state
     assert gens[1].random() != gens[1].random()
+
+
+def test_batch_draws_are_each_vessels_numpy_stream_bit_for_bit():
+    """Numbers drawn for many vessels at once (the PCG64 step and next_double in compiled code) are those each
+    vessel's numpy Generator gives, in any mix with draws through the Generator itself (integers, normals:
+    the stream passes between the two) and after a reseed."""
+    seeds = [0, 1, None, 2**40, 2**32 - 1, 6]
+    gens = VesselGenerators(seeds)
+    refs = [seeding.np_random(s)[0] for s in seeds]
+    refs[2] = gens[2]  # fresh entropy: its own generator is the reference
+    idx = np.array([0, 1, 3, 4, 5])
+    rng = np.random.default_rng(3)
+    for _ in range(600):
+        what = rng.random()
+        if what < 0.3:
+            lo, hi = np.sort(rng.normal(size=2) * 10.0 ** rng.integers(-3, 6))
+            got, want = gens.draws(idx).uniform(lo, hi), [refs[k].uniform(lo, hi) for k in idx]
+        elif what < 0.5:
+            got, want = gens.draws(idx).random(), [refs[k].random() for k in idx]
+        elif what < 0.75:
+            k = int(rng.choice(idx))
+            got, want = [gens[k].integers(0, 7)], [refs[k].integers(0, 7)]  # 32-bit draws, buffered
+        else:
+            k = int(rng.choice(idx))
+            got, want = [gens[k].standard_normal()], [refs[k].standard_normal()]
+        assert np.array_equal(got, want)
+    for k in idx.tolist():
+        assert gens[k].bit_generator.state == refs[k].bit_generator.state
+    gens.reseed(SeedRange(2**32 - 2, 6))  # one-word seeds, then numpy's hash for the others
+    draws = gens.draws(np.arange(6))
+    assert np.array_equal(draws.random(), [seeding.np_random(2**32 - 2 + k)[0].random() for k in range(6)])
+
+
+def test_random_zigzag_legs_start_from_the_heading_after_the_reset():
+    """ZigZag-v0's random schedule: the first leg's sign compares the target with the heading the vessel was
+    reset to, in a vector environment as in a single one (it once read the heading before the batched reset)."""
+    from vessel_gym.envs.tasks.zigzag import S
+
+    kw = {"schedule": "random", "initial_heading_deg": (0.0, 360.0)}
+    env = gym.make_vec("vessel_gym/ZigZag-v0", num_envs=6, vectorization_mode="vector_entry_point", **kw)
+    env.reset(seed=20)
+    signs = env.unwrapped.task.ts[:, S.leg_sign]
+    for k in range(6):
+        single = gym.make("vessel_gym/ZigZag-v0", **kw)
+        single.reset(seed=20 + k)
+        assert single.unwrapped.task.ts[0, S.leg_sign] == signs[k]
+        single.close()
+    assert (signs < 0).any() and (signs > 0).any()  # seeds with legs to either side
+    env.close()
+

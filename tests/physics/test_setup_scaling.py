@@ -12,7 +12,8 @@ import pytest
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics import simulation as simmod
-from vessel_gym.physics.environment import CALM, Environment
+from vessel_gym.physics.environment import CALM, Environment, EnvironmentList
+from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.simulation import STEADY_CACHE_SIZE, Simulation, _DriverChoice, steady_state
 from vessel_gym.physics.units import DEG
 
@@ -49,6 +50,53 @@ def test_batch_reset_equals_per_vessel_solutions_bit_for_bit(environment):
         one.reset(speed_m_s=speeds[k], heading_deg=headings[k], x_m=3.0, k=k)
     assert np.array_equal(one.state, X)
     assert np.array_equal(one.inputs, U)
+
+
+def random_weather(rng: np.random.Generator, m: int, waves: bool = True) -> dict[str, np.ndarray]:
+    """Environment fields of m vessels drawn over their ranges (half of them with waves)."""
+    return {
+        "wind_speed_m_s": rng.uniform(0.0, 20.0, m),
+        "wind_from_deg": rng.uniform(-360.0, 360.0, m),
+        "current_speed_m_s": rng.uniform(0.0, 1.0, m),
+        "current_to_deg": rng.uniform(0.0, 360.0, m),
+        "Hs_m": np.where(rng.random(m) < 0.5, 0.0, rng.uniform(0.0, 3.0, m)) if waves else np.zeros(m),
+        "Tp_s": rng.uniform(5.0, 12.0, m),
+        "wave_from_deg": rng.uniform(0.0, 360.0, m),
+    }
+
+
+def test_environments_set_in_a_batch_equal_one_at_a_time():
+    """set_environments computes the rows over arrays: each is Environment(...).row of that vessel, to the bit,
+    and environments[k] is that Environment."""
+    rng = np.random.default_rng(4)
+    m = 40
+    weather = random_weather(rng, m)
+    batch = Simulation(["kvlcc2", "mariner"], n=2 * m, ship_index=[0, 1] * m)
+    one = Simulation(["kvlcc2", "mariner"], n=2 * m, ship_index=[0, 1] * m)
+    idx = rng.permutation(2 * m)[:m]
+    batch.set_environments(idx, **weather)
+    for j, k in enumerate(idx.tolist()):
+        env = Environment(**{key: float(v[j]) for key, v in weather.items()})
+        one.set_environment(env, k)
+        assert batch.environments[k] == env
+    assert np.array_equal(batch.env, one.env)
+    with pytest.raises(SpecError, match="wind_speed_m_s"):
+        batch.set_environments(idx, wind_speed_m_s=np.full(m, 70.0))  # beyond its range, as Environment says
+
+
+def test_many_distinct_approaches_solved_in_one_loop_equal_per_vessel_solutions():
+    """Above STEADY_BATCH_MIN distinct approaches a reset solves them in one compiled loop (steady_rows):
+    the rows equal steady_state of each vessel to the bit, two ships, random weather, speeds and headings."""
+    rng = np.random.default_rng(5)
+    n = 3 * simmod.STEADY_BATCH_MIN
+    sim = Simulation(["kvlcc2", "mariner"], n=n, ship_index=rng.integers(0, 2, n))
+    sim.set_environments(np.arange(n), **random_weather(rng, n, waves=False))
+    test_speed = np.array([s.test_speed_m_s for s in sim.ships])[sim.ship_index]
+    speeds, headings = test_speed * rng.uniform(0.5, 1.0, n), rng.uniform(0.0, 360.0, n)
+    sim.reset(speed_m_s=speeds, heading_deg=headings)
+    X, U = per_vessel_reset(sim, headings, speeds)
+    assert np.array_equal(sim.state, X)
+    assert np.array_equal(sim.inputs, U)
 
 
 def test_heading_is_keyed_only_where_the_environment_has_a_direction():
@@ -90,6 +138,8 @@ def nbytes_held(sim: Simulation) -> int:
             total += value.nbytes
         elif isinstance(value, list):
             total += 8 * len(value)  # one reference per element; the elements are shared objects
+        elif isinstance(value, EnvironmentList):
+            total += 8 * len(value) + (0 if value._vals is None else value._vals.nbytes)
     for key, (x, u) in sim._steady_cache.items():
         total += sum(len(part) for part in key if isinstance(part, bytes) and part is not key[0])
         total += x.nbytes + u.nbytes

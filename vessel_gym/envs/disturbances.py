@@ -14,6 +14,7 @@ episode, and so every episode, is exactly that of calm water.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -96,10 +97,15 @@ class Disturbances:
                 )
         self.active = self.wind or self.current or self.waves
 
-    def draw(self, rng: np.random.Generator, course_deg: float) -> Environment:
+    def draw(self, rng: Any, course_deg: Any) -> Environment:
         """This episode's environment for a ship whose original course is ``course_deg`` (compass)."""
+        return Environment(**self.draw_values(rng, course_deg))
+
+    def draw_values(self, rng: Any, course_deg: Any) -> dict[str, Any]:
+        """The drawn ``Environment`` keywords: floats from a numpy Generator, arrays over the vessels from
+        :class:`~vessel_gym.envs.generators.BatchDraws` (each vessel drawing what a lone reset draws)."""
         c = self.c
-        kw: dict[str, float] = {}
+        kw: dict[str, Any] = {}
         if self.wind:
             kw["wind_speed_m_s"] = _uniform(rng, c.wind_speed_m_s)
             kw["wind_from_deg"] = wrap_deg(course_deg + _uniform(rng, c.wind_from_rel_deg))
@@ -110,12 +116,17 @@ class Disturbances:
             kw["Hs_m"] = _uniform(rng, c.Hs_m)
             kw["Tp_s"] = _uniform(rng, c.Tp_s)
             kw["wave_from_deg"] = wrap_deg(course_deg + _uniform(rng, c.wave_from_rel_deg))
-        return Environment(**kw)
+        return kw
 
-    def apply(self, sim: Simulation, k: int, rng: np.random.Generator, course_deg: float) -> None:
-        """Set vessel k's environment for a new episode (nothing, and no draw, when all are calm)."""
-        if self.active:
+    def apply(self, sim: Simulation, k: Any, rng: Any, course_deg: Any) -> None:
+        """Set vessel k's environment for a new episode (nothing, and no draw, when all are calm); ``k`` an
+        index array: those vessels' (``rng`` their draws, ``course_deg`` a scalar or an array over them)."""
+        if not self.active:
+            return
+        if np.ndim(k) == 0:
             sim.set_environment(self.draw(rng, course_deg), k)
+            return
+        sim.set_environments(k, **self.draw_values(rng, course_deg))
 
 
 __all__ = ["DISTURBANCE_RANGES", "DisturbedOpenWaterConfig", "Disturbances"]

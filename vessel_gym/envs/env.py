@@ -16,7 +16,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs.config import make_config
-from vessel_gym.envs.generators import VesselGenerators
+from vessel_gym.envs.generators import SeedRange, VesselGenerators
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
 
 
@@ -204,9 +204,9 @@ class ShipVectorEnv(_Renders, VectorEnv):
         super().reset(seed=seed if isinstance(seed, int) else None)
         n = self.num_envs
         if seed is None:
-            seeds: list = [None] * n
+            seeds: Any = [None] * n
         elif isinstance(seed, int):
-            seeds = [seed + i for i in range(n)]
+            seeds = SeedRange(seed, n)
         else:
             seeds = list(seed)
             if len(seeds) != n:

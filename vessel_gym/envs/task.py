@@ -144,6 +144,9 @@ class Task(abc.ABC):
         """Reset the vessels ``idx``: vessel k by :meth:`reset_vessel` with its generator ``rngs[k]``, so each
         draws exactly what a lone reset draws, and the simulation's starts (:meth:`start`) gathered into one
         batched ``Simulation.reset`` (numpy over the vessels, one steady-state solve per distinct approach)."""
+        if type(self).reset_batch is not Task.reset_batch:  # a start written over arrays: all at once
+            self.reset_batch(idx, self.rngs.draws(idx), options)
+            return
         rng = getattr(self.rngs, "lazy", self.rngs.__getitem__)  # lazy: made at a first draw (env.py)
         if len(idx) == 1:
             k = int(idx[0])
@@ -162,6 +165,14 @@ class Task(abc.ABC):
         self.sim.reset(speed_m_s=sp, heading_deg=hd, x_m=xs, y_m=ys, k=ks)
         self.started(ks)
 
+    def reset_batch(self, idx: np.ndarray, rng: Any, options: Mapping | None) -> None:
+        """Reset the vessels ``idx`` (int64 array) at once, in numpy over arrays: each draw of ``rng`` gives one
+        number per vessel (:class:`~vessel_gym.envs.generators.BatchDraws`: vessel k's from its own stream) or,
+        for one vessel, a numpy Generator's number. A task that writes its start this way defines it (then
+        :meth:`reset_vessels` calls it, and its :meth:`reset_vessel` is the one-vessel case); the others start
+        one vessel at a time."""
+        raise NotImplementedError
+
     def start(self, k: int, speed: float, heading: float, x_m: float = 0.0, y_m: float = 0.0) -> None:
         """Vessel k in a steady straight approach (``Simulation.reset``) at ``speed`` (m/s) on ``heading`` (deg)
         at (``x_m``, ``y_m``), then :meth:`started`: at once, or with the others of a :meth:`reset_vessels`
@@ -173,6 +184,16 @@ class Task(abc.ABC):
             return
         for column, value in zip(starts, (k, speed, heading, x_m, y_m)):
             column.append(value)
+
+    def start_batch(self, idx: np.ndarray, speed: Any, heading: Any, x_m: Any = 0.0, y_m: Any = 0.0) -> None:
+        """:meth:`start` of the vessels ``idx`` at once (values scalars or arrays over ``idx``): one batched
+        ``Simulation.reset``, then :meth:`started` (one vessel: the simulation's scalar path)."""
+        k: Any = idx
+        if len(idx) == 1:
+            k = int(idx[0])
+            speed, heading, x_m, y_m = (float(np.ravel(v)[0]) for v in (speed, heading, x_m, y_m))
+        self.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=x_m, y_m=y_m, k=k)
+        self.started(k)
 
     def started(self, k: int | np.ndarray) -> None:  # noqa: B027 (a task that keeps nothing has nothing to do)
         """Copy what the task keeps of the vessels' start states (``k`` one index or an array of them) once
@@ -334,6 +355,8 @@ def compiled_call(kernel: Any, args: tuple) -> tuple[Any, tuple]:
     return kernel, args
 
 
-def _uniform(rng: np.random.Generator, rng_range: Sequence[float]) -> float:
+def _uniform(rng: Any, rng_range: Sequence[float]) -> Any:
+    """A number uniform in [min, max) of ``rng_range`` (min when the range is empty: no draw): a float from a
+    numpy Generator, an array of one per vessel from :class:`~vessel_gym.envs.generators.BatchDraws`."""
     lo, hi = float(rng_range[0]), float(rng_range[1])
-    return lo if hi <= lo else float(rng.uniform(lo, hi))
+    return lo if hi <= lo else rng.uniform(lo, hi)

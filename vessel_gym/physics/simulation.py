@@ -36,7 +36,14 @@ from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old hom
     PARALLEL_MIN_WORK,
     _DriverChoice,
 )
-from vessel_gym.physics.environment import CALM, Environment
+from vessel_gym.physics.environment import (
+    CALM,
+    FIELDS,
+    Environment,
+    EnvironmentList,
+    environment_rows,
+    environment_values,
+)
 from vessel_gym.physics.helm import Helm
 from vessel_gym.physics.integrate import (  # noqa: F401  (run_serial, run_parallel: the general drivers)
     EULER,
@@ -79,6 +86,7 @@ from vessel_gym.physics.steady import (  # noqa: F401  (SimulationError: its old
     STEADY_MAX_ITERATIONS,
     SimulationError,
     _SteadyApproach,
+    steady_rows,
     steady_state,
 )
 from vessel_gym.physics.units import DEG
@@ -86,6 +94,10 @@ from vessel_gym.physics.vessel import pack
 
 # steady approaches cached per simulation (each two rows of NX and NU floats)
 STEADY_CACHE_SIZE = 1024  # entries
+# distinct approaches in one reset above which they are solved in one compiled loop (steady_rows: ~40 % less
+# time per approach than one call each, but one more compiled function: resets of a few approaches keep the
+# scalar solver)
+STEADY_BATCH_MIN = 64
 # environment row entries with a direction: while all are zero no force depends on the heading
 _DIRECTIONAL_ENV = [lo.E_CUR_N, lo.E_CUR_E, lo.E_WIND_N, lo.E_WIND_E, lo.E_ZETA2]
 
@@ -212,7 +224,7 @@ class Simulation(Readings, Helm):
         self._steady_cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.t = 0.0
         self.reference_latlon_deg = reference_latlon_deg
-        self.environments: list[Environment] = [environment] * n
+        self.environments = EnvironmentList(environment, n)
         # the compiled batch drivers (serial, threaded) of this batch's kind: deep or shallow water, with or
         # without roll (integrate.drivers); set_environment chooses them, step again when the kind changed
         self.set_environment(environment)
@@ -241,6 +253,20 @@ class Simulation(Readings, Helm):
         s = self.ship(k)
         self.env[k] = environment.row(s.particulars.L_m, s.particulars.T_m)
         self.environments[k] = environment
+
+    def set_environments(self, idx: np.ndarray, **fields: float | np.ndarray) -> None:
+        """Set the environments of the vessels ``idx`` at once: ``Environment`` fields given as arrays over
+        ``idx`` (or scalars), the others at their defaults; the same rows as :meth:`set_environment` of each,
+        computed over arrays, with no Environment object kept per vessel (``environments[k]`` makes one)."""
+        idx = np.asarray(idx, dtype=np.int64)
+        vals = environment_values(fields, len(idx))
+        si = self.ship_index[idx]
+        for s_i in np.unique(si).tolist():
+            s, mine = self.ships[s_i], si == s_i
+            for d in np.unique(vals[mine, FIELDS.index("depth_m")]).tolist():
+                check_hull(s, d)
+            self.env[idx[mine]] = environment_rows(vals[mine], s.particulars.L_m, s.particulars.T_m)
+        self.environments.set_values(idx, vals)
 
     def reset(
         self,
@@ -337,10 +363,40 @@ class Simulation(Readings, Helm):
             _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
         rows_x = np.empty((len(first), lo.NX))
         rows_u = np.empty((len(first), lo.NU))
-        for q, f in enumerate(first):
-            rows_x[q], rows_u[q] = self._steady_row(int(si[f]), float(speed[f]), float(hkey[f]), env[f])
+        if len(first) > STEADY_BATCH_MIN:
+            self._steady_batch(first, si, speed, hkey, env, rows_x, rows_u)
+        else:
+            for q, f in enumerate(first):
+                rows_x[q], rows_u[q] = self._steady_row(int(si[f]), float(speed[f]), float(hkey[f]), env[f])
         self.state[idx] = rows_x[inverse.reshape(-1)]
         self.inputs[idx] = rows_u[inverse.reshape(-1)]
+
+    def _steady_batch(self, first, si, speed, hkey, env, rows_x, rows_u) -> None:
+        """:meth:`_steady_row` of the approaches ``first`` (rows of ``si``, ``speed``, ``hkey``, ``env``) into
+        ``rows_x``, ``rows_u``: those not in the cache solved in one compiled loop per ship
+        (:func:`steady_rows`), the last STEADY_CACHE_SIZE of them cached."""
+        cache = self._steady_cache
+        pkey = {s: self._params_key(s) for s in np.unique(si[first]).tolist()}
+        sp, hk = speed.tolist(), hkey.tolist()
+        sis = si.tolist()
+        missing = []
+        for q, f in enumerate(first.tolist()):
+            hit = cache.get((pkey[sis[f]], sp[f], hk[f], env[f].tobytes())) if cache else None
+            if hit is None:
+                missing.append(q)
+            else:
+                rows_x[q], rows_u[q] = hit
+        mq = np.array(missing, dtype=np.int64)
+        ship_of = si[first[mq]]
+        for s in np.unique(ship_of).tolist():
+            sel = mq[ship_of == s]
+            f = first[sel]
+            rows_x[sel], rows_u[sel] = steady_rows(self.ships[s], self.Ps[s], speed[f], hkey[f] * DEG, env[f])
+        for q in missing[-STEADY_CACHE_SIZE:]:
+            f = int(first[q])
+            if len(cache) >= STEADY_CACHE_SIZE:
+                cache.clear()
+            cache[(pkey[sis[f]], sp[f], hk[f], env[f].tobytes())] = (rows_x[q].copy(), rows_u[q].copy())
 
     def _steady_row(
         self, si: int, speed: float, hkey: float, env: np.ndarray

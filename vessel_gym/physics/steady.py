@@ -74,7 +74,67 @@ def _solvers(shallow: bool, roll: bool, ext: bool):
     def propeller_torque(P, x, env):
         return _propeller_torque(P, x, env, env if SHALLOW else None)
 
-    return surge_acceleration, surge_balance_rev, propeller_torque
+    @njit(cache=True)
+    def steady_rows(P, speed, heading, env, n_max, out_x, out_u):
+        # :class:`_SteadyApproach` (start, balance, finish; no user forces) of approach j for each row j of
+        # speed, heading (rad) and env: the same calls in the same order, in one loop. Returns the first j
+        # whose approach the propeller or the engine cannot hold (-1: none); the caller raises for it.
+        F = np.zeros(3)
+        xd = np.zeros(lo.NX)
+        for j in range(speed.shape[0]):
+            x = out_x[j]
+            inp = out_u[j]
+            x[:] = 0.0
+            inp[:] = 0.0
+            x[lo.X_U] = speed[j]
+            x[lo.X_PSI] = heading[j]
+            x[lo.X_REV] = inp[lo.U_REV_C] = n_max
+            x[lo.X_CAM] = 1.0
+            e = env[j]
+            if _surge_acceleration(P, x, inp, e, F, e if SHALLOW else None, ROLL, EXT, xd) < 0.0:
+                return j
+            nrev = _surge_balance_rev(P, x, inp, e, F, n_max, e if SHALLOW else None, ROLL, EXT)
+            Q_prop = _propeller_torque(P, x, e, e if SHALLOW else None)
+            if P[lo.P_ENGINE_EXT] > 0.0:
+                x[lo.X_GOV] = x[lo.X_CAM] = 0.0
+                continue
+            Q_need = engine_torque_to_hold(P, nrev, Q_prop)
+            n_e = P[lo.P_GEAR] * nrev
+            if engine_torque(P, n_e, 1.0) < Q_need:
+                return j
+            x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
+        return -1
+
+    return surge_acceleration, surge_balance_rev, propeller_torque, steady_rows
+
+
+def steady_rows(
+    ship: Ship, P: np.ndarray, speed: np.ndarray, heading_rad: np.ndarray, env: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(state rows, input rows) of many steady approaches of one ship (no user forces), each row that of
+    :func:`steady_state` (speed m/s, heading rad and environment row j), solved in compiled loops (one per kind
+    of environment: deep or shallow water). Raises SimulationError as :func:`steady_state` does for the first
+    approach the ship cannot make."""
+    m = len(speed)
+    out_x, out_u = np.zeros((m, lo.NX)), np.zeros((m, lo.NU))
+    if ship.propeller is None:  # nothing to solve: the approach as given
+        out_x[:, lo.X_U], out_x[:, lo.X_PSI] = speed, heading_rad
+        return out_x, out_u
+    n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
+    shallow = env[:, lo.E_T_OVER_H] != 0.0
+    for kind in (False, True):
+        rows = np.flatnonzero(shallow == kind)
+        if not len(rows):
+            continue
+        solve = _solvers(kind, bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0))[3]
+        x, u = np.zeros((len(rows), lo.NX)), np.zeros((len(rows), lo.NU))
+        bad = solve(P, speed[rows], heading_rad[rows], np.ascontiguousarray(env[rows]), n_max, x, u)
+        if bad >= 0:  # the scalar solver raises its error for it
+            j = rows[bad]
+            steady_state(ship, P, float(speed[j]), env=env[j], heading_rad=float(heading_rad[j]))
+            raise SimulationError(f"{ship.name}: no steady approach at {speed[j] / KNOT_M_S:.2f} kn")
+        out_x[rows], out_u[rows] = x, u
+    return out_x, out_u
 
 
 @njit(cache=True)

@@ -271,3 +271,23 @@ def chart_query(n0, e0, psi, hull, edges, polys, pbox, beam_dirs, beam_range, be
                         reach2 = _reach2(cull2, rh)
                 r = m
     return flag, math.sqrt(clear2)
+
+
+@njit(cache=True)
+def poses_clear(n0, e0, psi, xs, ys, hull, edges, polys, pbox, beam_dirs, beam_range):
+    """Per candidate pose j: inside the polygon (xs, ys) (a start region) and clear of the chart (its
+    :func:`chart_query` outcome OK), for many candidates in one call (the start rejection of a batch reset)."""
+    m = n0.shape[0]
+    ok = np.zeros(m, dtype=np.bool_)
+    beams = np.empty(beam_dirs.shape[0])
+    hn = np.empty(hull.shape[0])
+    he = np.empty(hull.shape[0])
+    bw = np.empty((2, beam_dirs.shape[0]))
+    for j in range(m):
+        if inside_polygon(n0[j], e0[j], xs, ys, 0, xs.shape[0]):
+            flag, _c = chart_query(
+                n0[j], e0[j], psi[j], hull, edges, polys, pbox, beam_dirs, beam_range, beams, hn, he, bw
+            )
+            ok[j] = flag == OK
+    return ok
+

@@ -154,12 +154,14 @@ def finish(terms, k, w, reward):
 
 # --- the open-water tasks' Python side --------------------------------------------------------------------------
 def reset_options(
-    c: Any, options: Mapping | None, rng: np.random.Generator, U_T: float, extra: tuple[str, ...] = ()
-) -> tuple[float, float, dict[str, Any]]:
+    c: Any, options: Mapping | None, rng: Any, U_T: float, extra: tuple[str, ...] = ()
+) -> tuple[Any, float, dict[str, Any]]:
     """(heading, deg; approach speed, m/s; the ``extra`` options given) of an open-water reset: the options,
-    else drawn from ``initial_heading_deg`` / the config's approach speed (default U_T)."""
+    else drawn from ``initial_heading_deg`` / the config's approach speed (default U_T). ``rng``: a numpy
+    Generator (the heading a float) or :class:`~vessel_gym.envs.generators.BatchDraws` (an array if drawn)."""
     opts = dict(options or {})
-    heading = float(opts.pop("heading_deg", _uniform(rng, c.initial_heading_deg)))
+    drawn = _uniform(rng, c.initial_heading_deg)  # drawn with the option too: the stream stays the same
+    heading = float(opts.pop("heading_deg")) if "heading_deg" in opts else drawn
     speed = float(opts.pop("speed_m_s", c.approach_speed_m_s or U_T))
     unknown = sorted(set(opts) - set(extra))
     if unknown:
@@ -168,10 +170,11 @@ def reset_options(
     return heading, speed, opts
 
 
-def draw_side(side: str, rng: np.random.Generator) -> float:
-    """Side of a turn, +1 starboard / -1 port ("random": drawn)."""
+def draw_side(side: str, rng: Any) -> Any:
+    """Side of a turn, +1 starboard / -1 port ("random": drawn, -1 for a draw >= 0.5; an array of them from
+    :class:`~vessel_gym.envs.generators.BatchDraws`)."""
     value = {"starboard": 1.0, "port": -1.0}.get(side)
-    return (1.0 if rng.random() < 0.5 else -1.0) if value is None else value
+    return 1.0 - 2.0 * (rng.random() >= 0.5) if value is None else value
 
 
 class OpenWaterTask(Task):
@@ -190,15 +193,24 @@ class OpenWaterTask(Task):
         """Put vessel k on ``heading`` (deg) at ``speed`` (m/s), its disturbances drawn first; clear its task
         state but for the original course, the approach speed and (:meth:`started`) the rudder order, and
         return that row."""
+        self._clear_start(k, rng, float(heading), speed)
+        self.start(k, speed, heading)
+        return self.ts[k]
+
+    def start_vessels(self, idx: np.ndarray, rng: Any, heading: Any, speed: Any) -> None:
+        """:meth:`start_vessel` of the vessels ``idx`` at once (``heading``, ``speed``: scalars or arrays over
+        ``idx``; ``rng``: their draws), with one batched ``Simulation.reset``."""
+        self._clear_start(idx, rng, heading, speed)
+        self.start_batch(idx, speed, heading)
+
+    def _clear_start(self, k: Any, rng: Any, heading: Any, speed: Any) -> None:
+        """Disturbances drawn and set, task state rows cleared but for the original course and approach speed."""
         if self.disturbances is not None:
             self.disturbances.apply(self.sim, k, rng, heading)
         S = self.S
-        s = self.ts[k]
-        s[:] = 0.0
-        s[S.psi0] = float(heading) * DEG  # the simulation's start heading, rad (Simulation.reset's product)
-        s[S.U0] = speed
-        self.start(k, speed, heading)
-        return s
+        self.ts[k] = 0.0
+        self.ts[k, S.psi0] = heading * DEG  # the simulation's start heading, rad (Simulation.reset's product)
+        self.ts[k, S.U0] = speed
 
     def started(self, k: int | np.ndarray) -> None:
         self.ts[k, self.S.prev_order] = self.sim.rudder_order[k]

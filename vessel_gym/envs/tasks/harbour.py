@@ -30,6 +30,7 @@ from vessel_gym.envs.tasks.chart import (
     chart_query,
     chart_tables,
     inside_polygon,
+    poses_clear,
 )
 from vessel_gym.envs.tasks.common import (
     RUDDER_ACTIVITY_DOC,
@@ -41,7 +42,6 @@ from vessel_gym.envs.tasks.common import (
     rudder_activity,
     task_spec,
 )
-from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.integrate import MAX_CHUNKS
 from vessel_gym.physics.kinematics import (
     air_velocity,
@@ -57,6 +57,18 @@ from vessel_gym.physics.units import DEG
 from vessel_gym.physics.vessel import NO_REFCOUNT
 from vessel_gym.scenarios import Scenario, load_scenario
 from vessel_gym.scenarios.geometry import hull_outline
+
+#: the scenario's [weather] ranges, in the order a reset draws them (each an Environment field)
+WEATHER_DRAWS = (
+    "wind_speed_m_s",
+    "wind_from_deg",
+    "current_speed_m_s",
+    "current_to_deg",
+    "Hs_m",
+    "Tp_s",
+    "wave_from_deg",
+)
+
 
 # --- declaration ------------------------------------------------------------------------------------------------
 SPEC = task_spec(
@@ -410,55 +422,66 @@ class HarbourApproachTask(Task):
         )
         return flag == OK
 
-    def start_pose(self, rng: np.random.Generator) -> tuple[float, float, float, float]:
-        """(north, east, heading deg, speed) of a start: uniform in the scenario's ``[start]`` region."""
-        sc = self.scenario
-        st = sc.start
+    def start_poses(self, idx: np.ndarray, rng: Any) -> tuple[Any, Any, Any, Any]:
+        """(north, east, heading deg, speed) of the vessels ``idx``' starts, uniform in the scenario's
+        ``[start]`` region: each vessel draws north, east and heading until its pose is inside the region and
+        clear of the chart (the vessels still looking draw again together), then its speed."""
+        st = self.scenario.start
         pts = np.array([(p[0], p[1]) for p in st.points])
         lo_, hi_ = pts.min(axis=0), pts.max(axis=0)
+        xs, ys = pts[:, 0].copy(), pts[:, 1].copy()
+        m = len(idx)
+        n0, e0, heading = np.empty(m), np.empty(m), np.empty(m)
+        todo = np.arange(m)
         for _ in range(1000):
-            n0 = float(rng.uniform(lo_[0], hi_[0]))
-            e0 = float(rng.uniform(lo_[1], hi_[1]))
-            heading = _uniform(rng, st.heading_deg)
-            if inside_polygon(n0, e0, pts[:, 0], pts[:, 1], 0, len(pts)) and self._pose_clear(
-                n0, e0, heading * DEG
-            ):
+            draws = rng if len(todo) == m else rng.subset(todo)
+            n0[todo] = draws.uniform(lo_[0], hi_[0])
+            e0[todo] = draws.uniform(lo_[1], hi_[1])
+            heading[todo] = _uniform(draws, st.heading_deg)
+            clear = poses_clear(
+                n0[todo], e0[todo], heading[todo] * DEG, xs, ys, self.hull, self.edges, self.polys,
+                self.pbox, self.beam_dirs, self.beam_range,
+            )  # fmt: skip
+            todo = todo[~clear]
+            if not len(todo):
                 break
         else:  # pragma: no cover - validated scenarios have room
+            sc = self.scenario
             raise RuntimeError(f"{sc.path or sc.name}: no clear start pose found in [start] points")
         return n0, e0, heading, _uniform(rng, st.speed_m_s)
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        self.reset_batch(np.array([k]), rng, options)
+
+    def reset_batch(self, idx: np.ndarray, rng: Any, options: Mapping | None) -> None:
+        # each draw gives one number per vessel of idx, in the order a lone reset draws them
         opts = dict(options or {})
-        n0, e0, heading, speed = self.start_pose(rng)
+        n0, e0, heading, speed = self.start_poses(idx, rng)
         w = self.scenario.weather
-        env = Environment(
-            wind_speed_m_s=_uniform(rng, w.wind_speed_m_s),
-            wind_from_deg=_uniform(rng, w.wind_from_deg),
-            current_speed_m_s=_uniform(rng, w.current_speed_m_s),
-            current_to_deg=_uniform(rng, w.current_to_deg),
-            Hs_m=_uniform(rng, w.Hs_m),
-            Tp_s=_uniform(rng, w.Tp_s),
-            wave_from_deg=_uniform(rng, w.wave_from_deg),
-        )
-        n0 = float(opts.pop("north_m", n0))
-        e0 = float(opts.pop("east_m", e0))
-        heading = float(opts.pop("heading_deg", heading))
-        speed = float(opts.pop("speed_m_s", speed))
-        if "environment" in opts:
-            env = opts.pop("environment")
+        weather = {key: _uniform(rng, getattr(w, key)) for key in WEATHER_DRAWS}
+        n0 = float(opts.pop("north_m")) if "north_m" in opts else n0
+        e0 = float(opts.pop("east_m")) if "east_m" in opts else e0
+        heading = float(opts.pop("heading_deg")) if "heading_deg" in opts else heading
+        speed = float(opts.pop("speed_m_s")) if "speed_m_s" in opts else speed
+        env = opts.pop("environment", None)
         if opts:
             raise ValueError(
                 f"unknown reset option(s) {sorted(opts)} (allowed: north_m, east_m, heading_deg, "
                 "speed_m_s, environment)"
             )
-        self.sim.set_environment(env, k)
-        s = self.ts[k]
-        s[:] = 0.0
-        s[S.d_prev] = math.hypot(self.p[P.goal_north] - n0, self.p[P.goal_east] - e0)
-        s[S.prev_north], s[S.prev_east] = n0, e0
-        self.flags[k] = OK
-        self.start(k, speed, heading, n0, e0)
+        if env is None:
+            self.sim.set_environments(idx, **weather)
+        else:
+            for k in idx.tolist():
+                self.sim.set_environment(env, k)
+        n0, e0 = np.broadcast_to(n0, idx.shape), np.broadcast_to(e0, idx.shape)
+        gn, ge = self.p[P.goal_north], self.p[P.goal_east]
+        ts = self.ts
+        ts[idx] = 0.0
+        ts[idx, S.d_prev] = [math.hypot(gn - a, ge - b) for a, b in zip(n0.tolist(), e0.tolist())]
+        ts[idx, S.prev_north], ts[idx, S.prev_east] = n0, e0
+        self.flags[idx] = OK
+        self.start_batch(idx, speed, heading, n0, e0)
 
     def started(self, k: int | np.ndarray) -> None:
         self.ts[k, S.prev_order] = self.sim.rudder_order[k]

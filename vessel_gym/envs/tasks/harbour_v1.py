@@ -10,10 +10,12 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from vessel_gym.envs.declare import Term
+from vessel_gym.envs.generators import vessel_draws
 from vessel_gym.envs.tasks.harbour import (
     SPEC,
     HarbourApproachConfig,
@@ -160,9 +162,16 @@ class HarbourApproachV1Task(HarbourApproachTask):
         d = b - a
         return float(a[0] + f * d[0]), float(a[1] + f * d[1]), math.atan2(d[1], d[0])
 
-    def start_pose(self, rng: np.random.Generator) -> tuple[float, float, float, float]:
-        if self.difficulty >= len(TRACK_FRACTION):
-            return super().start_pose(rng)
+    def start_poses(self, idx: np.ndarray, rng: Any) -> tuple[Any, Any, Any, Any]:
+        if self.difficulty >= len(TRACK_FRACTION):  # the open region: v0's start
+            return super().start_poses(idx, rng)
+        poses = [self.start_pose(vessel_draws(rng, j)) for j in range(len(idx))]
+        n0, e0, heading, speed = (np.array(c, dtype=float) for c in zip(*poses))
+        return n0, e0, heading, speed
+
+    def start_pose(self, rng: Any) -> tuple[float, float, float, float]:
+        """(north, east, heading deg, speed) of one vessel's start on the track at this difficulty (``rng``: its
+        numpy Generator or :class:`~vessel_gym.envs.generators.OneVessel` draws)."""
         total = float(self.track_s[-1])
         to_go = TRACK_FRACTION[self.difficulty]
         for tries in range(1000):

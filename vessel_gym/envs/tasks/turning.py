@@ -255,6 +255,10 @@ class TurningCircleTask(OpenWaterTask):
         )
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        self.reset_batch(np.array([k]), rng, options)
+
+    def reset_batch(self, idx: np.ndarray, rng: Any, options: Mapping | None) -> None:
+        # each line draws one number per vessel of idx, in the order a lone reset draws them
         c = self.config
         heading, speed, opts = reset_options(c, options, rng, self.U_T, extra=("command",))
         side = draw_side(c.side, rng)
@@ -264,9 +268,9 @@ class TurningCircleTask(OpenWaterTask):
             cmd = side / (_uniform(rng, c.radius_L) * self.L)
         else:
             cmd = 0.0
-        cmd = float(opts.get("command", cmd))
-        s = self.start_vessel(k, rng, heading, speed)
-        s[S.command] = cmd
+        cmd = float(opts["command"]) if "command" in opts else cmd
+        self.start_vessels(idx, rng, heading, speed)
+        self.ts[idx, S.command] = cmd
 
     def started(self, k: int | np.ndarray) -> None:
         super().started(k)

@@ -26,6 +26,7 @@ from vessel_gym.control.zigzag import (
 )
 from vessel_gym.envs.config import OpenWaterConfig
 from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.generators import vessels_draws
 from vessel_gym.envs.task import PHASE_STEP, _uniform
 from vessel_gym.envs.tasks.common import (
     RUDDER_ACTIVITY_DOC,
@@ -142,9 +143,10 @@ class ZigZagConfig(OpenWaterConfig):
 
 
 # --- start of an episode (both versions) ------------------------------------------------------------------------
-def course_change(c: Any, rng: np.random.Generator) -> float:
-    """Random schedule: a signed course change of ``course_change_deg``, either side, rad."""
-    return _uniform(rng, c.course_change_deg) * DEG * (1.0 if rng.random() < 0.5 else -1.0)
+def course_change(c: Any, rng: Any) -> Any:
+    """Random schedule: a signed course change of ``course_change_deg``, either side (- for a draw >= 0.5),
+    rad (an array over the vessels of :class:`~vessel_gym.envs.generators.BatchDraws`)."""
+    return _uniform(rng, c.course_change_deg) * DEG * (1.0 - 2.0 * (rng.random() >= 0.5))
 
 
 # --- compiled step ----------------------------------------------------------------------------------------------
@@ -297,35 +299,42 @@ class ZigZagTask(ZigZagCommon):
         self.p[P.psi_z] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        self.reset_batch(np.array([k]), rng, options)
+
+    def reset_batch(self, idx: np.ndarray, rng: Any, options: Mapping | None) -> None:
+        # each draw gives one number per vessel of idx, in the order a lone reset draws them
         c = self.config
         heading, speed, _ = reset_options(c, options, rng, self.U_T)
-        s = self.start_vessel(k, rng, heading, speed)
-        psi0 = s[S.psi0]
+        self.start_vessels(idx, rng, heading, speed)
+        ts = self.ts
+        psi0 = ts[idx, S.psi0]
         if self.imo:
             side = draw_side(c.first_side, rng)
-            s[S.side] = side
-            s[S.target] = psi0 + side * self.psi_z
-            s[S.executes] = 1.0  # the first execute is the rudder order at t = 0
+            ts[idx, S.side] = side
+            ts[idx, S.target] = psi0 + side * self.psi_z
+            ts[idx, S.executes] = 1.0  # the first execute is the rudder order at t = 0
         else:
-            s[S.target] = psi0
-            self._new_leg(k, rng)
+            ts[idx, S.target] = psi0
+            self._new_legs(idx, rng)
 
-    def _new_leg(self, k: int, rng: np.random.Generator) -> None:
+    def _new_legs(self, idx: np.ndarray, rng: Any) -> None:
+        """A new random leg for the vessels ``idx`` (their draws ``rng``), from their heading now."""
         c = self.config
-        s = self.ts[k]
-        s[S.target] += course_change(c, rng)
-        s[S.leg_sign] = 1.0 if s[S.target] >= self.sim.heading[k] else -1.0
-        s[S.reached] = 0.0
-        s[S.executes] += 1.0
-        s[S.next] = s[S.t] + _uniform(rng, c.leg_time_s)
+        ts = self.ts
+        ts[idx, S.target] += course_change(c, rng)
+        ts[idx, S.leg_sign] = np.where(ts[idx, S.target] >= self.sim.heading[idx], 1.0, -1.0)
+        ts[idx, S.reached] = 0.0
+        ts[idx, S.executes] += 1.0
+        ts[idx, S.next] = ts[idx, S.t] + _uniform(rng, c.leg_time_s)
 
     def update(self, phase: np.ndarray) -> None:
         if not self.imo:  # random schedule: a new leg on vessels whose leg time is up
             due = (phase == PHASE_STEP) & (
                 self.ts[:, S.t] + self.config.control_interval_s >= self.ts[:, S.next] - 1e-9
             )
-            for k in np.flatnonzero(due):
-                self._new_leg(int(k), self.rngs[k])
+            idx = np.flatnonzero(due)
+            if len(idx):
+                self._new_legs(idx, vessels_draws(self.rngs, idx))
         super().update(phase)
 
     # --- info -------------------------------------------------------------------------------------------

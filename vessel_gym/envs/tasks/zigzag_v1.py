@@ -26,6 +26,7 @@ from vessel_gym.control.zigzag import (
 from vessel_gym.envs.config import RollOptionsConfig
 from vessel_gym.envs.declare import Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
+from vessel_gym.envs.generators import vessels_draws
 from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
     HEEL_TERM,
@@ -57,6 +58,8 @@ from vessel_gym.physics.kinematics import speed_through_water
 from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
 from vessel_gym.physics.vessel import NO_REFCOUNT
+
+_ZERO = np.zeros(1, dtype=np.int64)  # the one vessel of a single environment
 
 #: the IMO schedule's next course change starts at the latest this many ship time scales L / U_T after the
 #: last one. It must not cut the zig-zag of a helm that completes it: the IMO 10/10 rule itself takes 4.5-6.7
@@ -308,24 +311,29 @@ class ZigZagV1Task(ZigZagCommon):
         return super().observed() + self.roll_observed()
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        self.reset_batch(np.array([k]), rng, options)
+
+    def reset_batch(self, idx: np.ndarray, rng: Any, options: Mapping | None) -> None:
+        # each draw gives one number per vessel of idx, in the order a lone reset draws them
         c = self.config
         heading, speed, _ = reset_options(c, options, rng, self.U_T)
-        s = self.start_vessel(k, rng, heading, speed)
-        s[S.target] = s[S.psi0]
-        s[S.next] = _uniform(rng, c.first_change_s)
+        self.start_vessels(idx, rng, heading, speed)
+        ts = self.ts
+        ts[idx, S.target] = ts[idx, S.psi0]
+        ts[idx, S.next] = _uniform(rng, c.first_change_s)
         if self.imo:
             side = draw_side(c.first_side, rng)
-            s[S.side] = -side  # the first change flips it to the first side
+            ts[idx, S.side] = -side  # the first change flips it to the first side
         else:
-            self._draw_change(k, rng)
+            self._draw_changes(idx, rng)
 
-    def _draw_change(self, k: int, rng: np.random.Generator) -> None:
-        """Draw vessel k's next random course change and the duration of the leg it starts."""
+    def _draw_changes(self, idx: np.ndarray, rng: Any) -> None:
+        """Draw the vessels ``idx``' next random course change and the duration of the leg it starts."""
         c = self.config
-        s = self.ts[k]
-        s[S.pending_change] = course_change(c, rng)
-        s[S.pending_leg] = _uniform(rng, c.leg_time_s)
-        s[S.draw] = 0.0
+        ts = self.ts
+        ts[idx, S.pending_change] = course_change(c, rng)
+        ts[idx, S.pending_leg] = _uniform(rng, c.leg_time_s)
+        ts[idx, S.draw] = 0.0
 
     def update(self, phase: np.ndarray) -> None:
         super().update(phase)
@@ -334,10 +342,11 @@ class ZigZagV1Task(ZigZagCommon):
         # the kernel started a course change: draw the one after it
         if self.n == 1:  # a scalar test: the one-ship step should not pay for flatnonzero
             if self.ts[0, S.draw]:
-                self._draw_change(0, self.rngs[0])
+                self._draw_changes(_ZERO, self.rngs[0])
             return
-        for k in np.flatnonzero(self.ts[:, S.draw]):
-            self._draw_change(int(k), self.rngs[k])
+        idx = np.flatnonzero(self.ts[:, S.draw])
+        if len(idx):
+            self._draw_changes(idx, vessels_draws(self.rngs, idx))
 
     # --- info -------------------------------------------------------------------------------------------
     def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
