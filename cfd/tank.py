@@ -71,6 +71,7 @@ SETTLE_WINDOW = 0.1  # last fraction of the LTS iterations averaged (and whose s
 BATCHES = 5
 T_975 = {4: 2.776}  # Student t, 97.5 % quantile, by degrees of freedom (BATCHES - 1)
 MODES = ("run", "write", "collect")  # of validate_dtc
+MESH_RECORD = "vof_mesh.json"  # in cases/mesh: the grading and hull level the cases were meshed with
 
 
 def _solve(case: Path, procs: int, label: str, iterations: int, progress: Progress) -> None:
@@ -150,6 +151,8 @@ def run_free_surface_tows(
         "wall_s": time.monotonic() - t0,
     }
     progress("mesh", f"{mesh['cells']} cells, {mesh['hull_faces']} faces on the (half) hull")
+    # what the report of cases run elsewhere (collect_tows) cannot read back from OpenFOAM's files
+    (mesh_case / MESH_RECORD).write_text(json.dumps({"grading": grading, "hull_level": fs.hull_level}))
     runs = []
     for k, U in enumerate(speeds, 1):
         label = f"free-surface tow U={U:g} m/s"
@@ -243,10 +246,12 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
         runs.append(_result(case, U, lpp) | {"wall_s": None})
     control = (cases / f"vof_U{speeds[0]:.4f}" / "system" / "controlDict").read_text()
     m = re.search(r"^endTime\s+(\d+);", control, re.M)
-    mesh = {"cells": parse_check_mesh(log)["cells"], "hull_level": None}
+    record = cases / "mesh" / MESH_RECORD
+    written = json.loads(record.read_text()) if record.is_file() else {"grading": None, "hull_level": None}
+    mesh = {"cells": parse_check_mesh(log)["cells"], "hull_level": written["hull_level"]}
     return {
         "mesh": mesh,
-        "grading": None,
+        "grading": written["grading"],
         "iterations": int(m.group(1)) if m else None,
         "procs": None,
         "runs": runs,

@@ -8,6 +8,7 @@ not the resistance: that needs thousands of iterations (docs/cfd.md, section Fre
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -79,6 +80,11 @@ def test_write_only_meshes_and_leaves_runnable_cases(tmp_path):
     )
     assert result["runs"] == [] and result["mesh"]["cells"] > 5_000
     cases = tmp_path / "cases"
+    # the mesh's grading and hull level are kept for the report of the cases once run elsewhere
+    assert json.loads((cases / "mesh" / "vof_mesh.json").read_text()) == {
+        "grading": 1,
+        "hull_level": result["mesh"]["hull_level"],
+    }
     assert [(c.name, app) for c, app in pending_cases(cases)] == [
         ("vof_U0.8000", "interFoam"),
         ("vof_U1.0000", "interFoam"),

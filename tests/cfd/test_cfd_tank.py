@@ -115,6 +115,12 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
         31.83 * 1.01 * (1 + 0.5 * math.exp(-4000 / 300)), abs=6e-4
     )
     assert "history" not in json.dumps(doc)
+    # the grading and hull level come back from the record the meshing wrote (absent above: unknown)
+    assert doc["grading"] is None
+    (out / "cases" / "mesh" / "vof_mesh.json").write_text('{"grading": 2, "hull_level": 5}')
+    assert main(argv) == 0
+    assert "Mesh: grading 2, 129016 cells (half domain), hull level 5," in (out / "validation.md").read_text()
+    capsys.readouterr()
     # a speed not run yet, and a mode that does not exist, are bad input
     assert main(argv[:5] + ["--speeds", "1.401", "--mode", "collect"]) == 2
     assert "has not been run" in capsys.readouterr().err
