@@ -77,18 +77,20 @@ def time_calls(call, repeats: int) -> tuple[float, float]:
     closest to what an idle one does.
     """
     call()  # warm-up: compilation (or cache load) and first-touch of the arrays
-    per_call = []
-    for _ in range(repeats):
-        calls = 0
-        t0 = time.perf_counter()
-        while True:
-            call()
-            calls += 1
-            elapsed = time.perf_counter() - t0
-            if elapsed >= MIN_TIMED_S:
-                break
-        per_call.append(elapsed / calls)
+    per_call = [seconds_per_call(call) for _ in range(repeats)]
     return statistics.median(per_call), min(per_call)
+
+
+def seconds_per_call(call, min_s: float = MIN_TIMED_S) -> float:
+    """Wall seconds per call of ``call``, called again and again until at least ``min_s`` have passed."""
+    calls = 0
+    t0 = time.perf_counter()
+    while True:
+        call()
+        calls += 1
+        elapsed = time.perf_counter() - t0
+        if elapsed >= min_s:
+            return elapsed / calls
 
 
 def fmt_rate(rate: float) -> str:

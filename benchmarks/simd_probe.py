@@ -32,7 +32,6 @@ import math
 import re
 import statistics
 import sys
-import time
 import types
 
 import numpy as np
@@ -290,20 +289,14 @@ def packed_ops(fn) -> tuple[int, int]:
 def interleaved(calls: dict, repeats: int, lanes: int) -> dict:
     """Median ns per lane of each call, the calls timed in turn within each repeat (a busy machine slows
     them alike)."""
+    from bench_physics import seconds_per_call
+
     for call in calls.values():
         call()
     samples: dict = {name: [] for name in calls}
     for _ in range(repeats):
         for name, call in calls.items():
-            n = 0
-            t0 = time.perf_counter()
-            while True:
-                call()
-                n += 1
-                dt = time.perf_counter() - t0
-                if dt > 0.05:
-                    break
-            samples[name].append(dt / n / lanes * 1e9)
+            samples[name].append(seconds_per_call(call, 0.05) / lanes * 1e9)
     return {name: statistics.median(s) for name, s in samples.items()}
 
 
