@@ -83,6 +83,12 @@ def _ran_elsewhere(out, speeds_R: dict[float, float]) -> None:
         ftxt, mtxt = _forces_table(t, F, 0 * F)
         (d / "force.dat").write_text(ftxt)
         (d / "moment.dat").write_text(mtxt)
+        # interFoam's CPU time, the last ExecutionTime of each log (a continued run has a log of its own)
+        (case / "log.interFoam").write_text(
+            "ExecutionTime = 10 s  ClockTime = 11 s\nExecutionTime = 1800 s\n"
+        )
+        if U > 1.5:
+            (case / "log.interFoam.4000").write_text("ExecutionTime = 1800.5 s  ClockTime = 2000 s\nEnd\n")
 
 
 def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
@@ -106,7 +112,12 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
     assert "error +1.00 %" in printed and "error -2.00 %" in printed and "within 3 %" in printed
     doc = json.loads((out / "validation.json").read_text())
     assert doc["mesh"]["cells"] == 129016 and doc["iterations"] == 4000 and doc["passed"]
-    assert "(the cases ran elsewhere)" in (out / "validation.md").read_text()
+    text = (out / "validation.md").read_text()
+    assert (
+        "; the cases were run outside this command; solver CPU time 1.50 h in all (interFoam's ExecutionTime)."
+        in text
+    )
+    assert [r["cpu_s"] for r in doc["runs"]] == [1800.0, 3600.5] and doc["cpu_s_solvers"] == 5400.5
     # each speed's R_T every 10th iteration, one column per speed, in the order of the rows
     history = (out / "R_T_history.csv").read_text().splitlines()
     assert history[1] == "iteration,R_T_N_U1.335,R_T_N_U1.668" and len(history) == 2 + 400
