@@ -195,11 +195,11 @@ def _result(case: Path, U: float, lpp: float) -> dict[str, Any]:
     uncertainty of that mean and its drift from the tenth before (:func:`window_statistics`)."""
     h = read_forces(case)
     fx = h.F[:, 0]
-    if not all(math.isfinite(v) for v in fx[-max(1, math.ceil(SETTLE_WINDOW * len(fx))) :]):
+    stats = window_statistics(fx)
+    if not math.isfinite(stats["mean"]):  # a non-finite force in the window makes its mean non-finite
         raise CfdError(
             f"interFoam ({case.name})", "non-finite forces: the solution diverged", case / "log.interFoam"
         )
-    stats = window_statistics(fx)
     return {
         "U_m_s": U,
         "Fn": U / math.sqrt(9.81 * lpp),
@@ -243,6 +243,20 @@ def write_history(rows: list[dict[str, Any]], path: Path) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
+def _mesh_record(record: Path) -> dict[str, Any]:
+    """The grading and hull level the meshing wrote in ``record`` (both None when there is none, as for
+    cases meshed before the record existed); a damaged record is bad input, named with its file."""
+    if not record.is_file():
+        return {"grading": None, "hull_level": None}
+    try:
+        written = json.loads(record.read_text(errors="replace"))
+        return {"grading": int(written["grading"]), "hull_level": int(written["hull_level"])}
+    except (ValueError, TypeError, KeyError) as e:
+        raise InputError(
+            "out", f"{record}: not a mesh record of vessel-cfd ({type(e).__name__}: {e})"
+        ) from None
+
+
 def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
     """Read back tows run elsewhere (e.g. by ``vessel-cfd slurm``) from ``out/cases``: the same record as
     :func:`run_free_surface_tows` (mesh cells from its checkMesh log, no wall times)."""
@@ -258,8 +272,7 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
         runs.append(_result(case, U, lpp) | {"wall_s": None})
     control = (cases / f"vof_U{speeds[0]:.4f}" / "system" / "controlDict").read_text()
     m = re.search(r"^endTime\s+(\d+);", control, re.M)
-    record = cases / "mesh" / MESH_RECORD
-    written = json.loads(record.read_text()) if record.is_file() else {"grading": None, "hull_level": None}
+    written = _mesh_record(cases / "mesh" / MESH_RECORD)
     mesh = {"cells": parse_check_mesh(log)["cells"], "hull_level": written["hull_level"]}
     return {
         "mesh": mesh,

@@ -132,6 +132,14 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
     assert main(argv) == 0
     assert "Mesh: grading 2, 129016 cells (half domain), hull level 5," in (out / "validation.md").read_text()
     capsys.readouterr()
+    # a damaged record is bad input: exit 2, one line naming the file, the report left as it was
+    report_before = (out / "validation.md").read_text()
+    for damaged in ('{"grading": 2}', "not json", '{"grading": "two", "hull_level": 5}'):
+        (out / "cases" / "mesh" / "vof_mesh.json").write_text(damaged)
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip()
+        assert "vof_mesh.json" in err and len(err.splitlines()) == 1 and "Traceback" not in err
+    assert (out / "validation.md").read_text() == report_before
     # a speed not run yet, and a mode that does not exist, are bad input
     assert main(argv[:5] + ["--speeds", "1.401", "--mode", "collect"]) == 2
     assert "has not been run" in capsys.readouterr().err
@@ -164,3 +172,22 @@ def test_window_statistics_give_the_mean_its_uncertainty_and_drift():
     assert s["mean"] == 2.0 and np.isnan(s["halfwidth_rel"]) and s["drift_rel"] == 0.0
     s = window_statistics(np.array([2.0]))
     assert np.isnan(s["halfwidth_rel"]) and np.isnan(s["drift_rel"])
+
+
+def test_a_tow_whose_forces_diverged_is_an_error_not_a_number(tmp_path):
+    import numpy as np
+    from cfd_fake_foam import _forces_table
+
+    from cfd.errors import CfdError
+    from cfd.tank import _result
+
+    t = np.arange(1.0, 101.0)
+    F = np.column_stack([-10.0 + 0 * t, 0 * t, 0 * t])
+    F[-3, 0] = np.nan  # in the last tenth, which the resistance is the mean of
+    d = tmp_path / "vof_U1.6680" / "postProcessing" / "forces" / "0"
+    d.mkdir(parents=True)
+    ftxt, mtxt = _forces_table(t, F, 0 * F)
+    (d / "force.dat").write_text(ftxt)
+    (d / "moment.dat").write_text(mtxt)
+    with pytest.raises(CfdError, match="non-finite forces: the solution diverged"):
+        _result(tmp_path / "vof_U1.6680", 1.668, 5.976)
