@@ -10,7 +10,9 @@ CartPole and each figure's goal (GOALS: single env ZigZag and TurningCircle >= 1
 HarbourApproach >= 0.8 x; vector env >= 0.25 x and 0.15 x CartPole's vector env, and >= 0.1 x with a
 busy-loop process on the machine). ``--load`` repeats the vector figures with a busy-loop process running;
 ``--setup N`` times building and resetting vector envs up to N ships (goal: 262144 in < 5 s, <= 2 kB per
-ship); ``--setup-only`` prints only those, ``--setup-sizes`` chooses the sizes.
+ship); ``--setup-only`` prints only those, ``--setup-sizes`` chooses the sizes. ``--parts`` prints where a
+vector step's CPU time goes instead (physics, task kernel, helm, automatic resets, the rest; and what reading
+the batched ``info`` would cost).
 """
 
 from __future__ import annotations
@@ -115,6 +117,69 @@ def bench_vector(
     return _medians(rates)
 
 
+def bench_vector_parts(ids: tuple[str, ...], num_envs: int, steps: int) -> None:
+    """Median CPU time (us) per vector step and of its parts, per id: the physics (``Task.advance``) and the
+    task kernel in the process's CPU time (all threads), the helm and a build of the batched ``info`` in this
+    thread's; the automatic resets (``_reset_vessels`` within the steps) as a mean per step. Each part is timed
+    in a call of its own after each step (the vessels advance twice per step: the figures are of timing only)."""
+    from vessel_gym.envs.task import Task
+
+    pt, tt = time.process_time_ns, time.thread_time_ns
+    print(f"vector step parts, num_envs={num_envs}, CPU us, median of {steps} steps  [{_load()}]")
+    for env_id in ids:
+        venv = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point")
+        env = venv.unwrapped
+        env.reset(seed=0)
+        env.action_space.seed(0)
+        acts = [env.action_space.sample() for _ in range(8)]
+        for i in range(3):
+            env.step(acts[i])
+        task, resets = env.task, [0, 0]
+        reset_vessels = env._reset_vessels
+
+        def timed_reset(idx, options, _r=reset_vessels, resets=resets):
+            t = pt()
+            _r(idx, options)
+            resets[0] += pt() - t
+            resets[1] += len(idx)
+
+        env._reset_vessels = timed_reset
+        depth = getattr(task, "_depth_call", None)
+        acc: dict[str, list[float]] = {k: [] for k in ("step", "physics", "kernel", "depth", "helm", "info")}
+        for i in range(steps):
+            a = acts[i % len(acts)]
+            t = pt()
+            env.step(a)
+            acc["step"].append(pt() - t)
+            t = tt()
+            task.helm.apply(task.helm.batch(a, num_envs))
+            acc["helm"].append(tt() - t)
+            t = pt()
+            task.advance()
+            acc["physics"].append(pt() - t)
+            t = pt()
+            Task.update(task, task.phase)
+            acc["kernel"].append(pt() - t)
+            if depth is not None:
+                t = tt()
+                depth[0](*depth[1])
+                acc["depth"].append(tt() - t)
+            t = tt()
+            task.batch_info()
+            acc["info"].append(tt() - t)
+        env._reset_vessels = reset_vessels
+        med = {k: statistics.median(v) / 1e3 for k, v in acc.items() if v}
+        mean_resets = resets[0] / steps / 1e3
+        rest = med["step"] - med["physics"] - med["kernel"] - med.get("depth", 0.0) - med["helm"] - mean_resets
+        print(
+            f"  {env_id:32s} step {med['step']:7.0f}: physics {med['physics']:6.0f}, task kernel {med['kernel']:5.0f}"
+            + (f", depth {med['depth']:4.0f}" if "depth" in med else "")
+            + f", helm {med['helm']:4.0f}, resets {mean_resets:5.0f} ({resets[1] / steps:.2f} ships/step),"
+            f" rest {rest:5.0f}; reading info {med['info']:4.0f}"
+        )
+        venv.close()
+
+
 def _load() -> str:
     """The machine's load average over 1, 5 and 15 minutes (the figures depend on it: say it with them)."""
     try:
@@ -192,8 +257,12 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--setup", type=int, default=0, metavar="N", help="time build + reset up to N ships")
     ap.add_argument("--setup-only", action="store_true", help="only the set-up figures (with --setup)")
     ap.add_argument("--setup-sizes", type=int, nargs="*", default=list(SETUP_SIZES), metavar="N")
+    ap.add_argument("--parts", type=int, default=0, metavar="STEPS", help="only the vector step's parts")
     args = ap.parse_args(argv)
     ids = tuple(args.ids)
+    if args.parts:
+        bench_vector_parts(ids, args.num_envs, args.parts)
+        return {}
     if args.setup_only:
         bench_setup(ids, args.setup or max(args.setup_sizes), tuple(args.setup_sizes))
         return {}

@@ -101,6 +101,57 @@ def test_info_read_late_holds_its_steps_values(env_id):
     env.close()
 
 
+def _assert_same_batch_info(lazy: dict, built: dict) -> None:
+    assert list(lazy.keys()) == list(built.keys())
+    for key, want in built.items():
+        got = lazy[key]
+        assert type(got) is type(want), key
+        if isinstance(want, dict):
+            assert list(got) == list(want), key
+            for t in want:
+                assert got[t].dtype == want[t].dtype and got[t].tobytes() == want[t].tobytes(), (key, t)
+        else:
+            assert got.dtype == want.dtype and got.shape == want.shape, key
+            np.testing.assert_array_equal(got, want, err_msg=key)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+@pytest.mark.parametrize("autoreset", ["NextStep", "SameStep"])
+def test_vector_info_read_late_holds_its_steps_values(env_id, autoreset):
+    """The vector environment's batched info, built when first read (or before the next step changes what it
+    is built from), equals ``batch_info()`` built at its own step: kept over steps with autoresets, read late."""
+    venv = gym.make_vec(
+        env_id,
+        num_envs=3,
+        vectorization_mode="vector_entry_point",
+        max_episode_steps=4,
+        autoreset_mode=autoreset,
+    )
+    venv.action_space.seed(1)
+    _o, first = venv.reset(seed=1)
+    task = venv.unwrapped.task
+    eager = [task.batch_info()]
+    kept = [first]
+    for i in range(12):
+        _o, _r, _te, _tr, info = venv.step(venv.action_space.sample())
+        if i % 5 == 0:  # read at once sometimes: a built info must not be built again
+            assert "time_s" in info
+        eager.append(task.batch_info() if "final_obs" not in info else None)
+        kept.append(info)
+    assert (eager.count(None) > 0) == (autoreset == "SameStep")  # episodes ended (max_episode_steps)
+    venv.reset(seed=2)
+    for lazy, built in zip(kept, eager):
+        if built is None:  # same-step autoreset: the info holds the final step's, read at once by the env
+            continue
+        _assert_same_batch_info(lazy, built)
+    dropped = venv.step(venv.action_space.sample())[-1]
+    del dropped  # dropped unread: nothing to build at the next step
+    _o, _r, _te, _tr, info = venv.step(venv.action_space.sample())
+    want = task.batch_info()
+    assert pickle.loads(pickle.dumps(info)).keys() == want.keys()
+    venv.close()
+
+
 def test_wrappers_that_add_to_or_copy_infos():
     from stable_baselines3.common.monitor import Monitor
     from stable_baselines3.common.vec_env import DummyVecEnv

@@ -7,6 +7,7 @@ exactly the trajectory of a single environment seeded with s + k.
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -192,6 +193,29 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._renderer = None
         self._tracks: list[list[tuple[float, float]]] = [[] for _ in range(min(num_envs, 4))]
         self._reset_done = False
+        #: the last ``info`` returned, while not yet built (a weak reference: see _settle_info)
+        self._pending_info: weakref.ref | None = None
+
+    def _settle_info(self) -> None:
+        """Build the last returned ``info`` if it is still held and not yet built, before anything changes the
+        task's arrays it is built from (:class:`~vessel_gym.envs.info.BatchInfo`): called first in ``step``
+        and ``reset``, the only calls that change them."""
+        ref = self._pending_info
+        if ref is not None:
+            self._pending_info = None
+            info = ref()
+            if info is not None:
+                info._fill()
+
+    def _lazy_info(self) -> dict[str, Any]:
+        info = self.task.lazy_batch_info()
+        self._pending_info = weakref.ref(info)
+        return info
+
+    def __getstate__(self) -> dict:
+        state = super().__getstate__()
+        state["_pending_info"] = None  # a weak reference does not pickle; a copy's first info is its own
+        return state
 
     def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
         self.task.reset_vessels(idx, options)
@@ -201,6 +225,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
                 self._tracks[k] = [(float(self.sim.north[k]), float(self.sim.east[k]))]
 
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
+        self._settle_info()
         super().reset(seed=seed if isinstance(seed, int) else None)
         n = self.num_envs
         if seed is None:
@@ -230,11 +255,12 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._needs_reset[mask] = False
         self.task.update(phase)
         self._reset_done = True
-        return self.task.observe(), self.task.batch_info()
+        return self.task.observe(), self._lazy_info()
 
     def step(self, actions: Any):
         if not self._reset_done:
             raise RuntimeError("call reset() before step()")
+        self._settle_info()
         task = self.task
         n = self.num_envs
         a = task.helm.batch(actions, n)
@@ -266,7 +292,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
             truncated = np.zeros(n, dtype=np.bool_)
         rewards = task.reward.copy()
         obs = task.observe()
-        info = task.batch_info()
+        info = self._lazy_info()
         done = terminated | truncated
         if self.render_mode is not None:
             for k in range(len(self._tracks)):

@@ -158,4 +158,14 @@ class LazyInfo(dict):
         dict.clear(self)
 
 
-__all__ = ["LazyInfo"]
+class BatchInfo(LazyInfo):
+    """The vector environment's batched ``info`` (:meth:`Task.lazy_batch_info`): a :class:`LazyInfo` whose
+    build reads the task's arrays as they are, with no copy taken at the step. The environment keeps a weak
+    reference to it and builds it before its next ``step`` or ``reset`` changes those arrays
+    (``ShipVectorEnv._settle_info``), so an ``info`` still held then gets its own step's values, and one
+    already dropped (a training loop that never reads it) costs nothing."""
+
+    __slots__ = ("__weakref__",)
+
+
+__all__ = ["BatchInfo", "LazyInfo"]

@@ -18,7 +18,7 @@ import numpy as np
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.declare import Feature, TaskSpec
 from vessel_gym.envs.helm import make_helm
-from vessel_gym.envs.info import LazyInfo
+from vessel_gym.envs.info import BatchInfo, LazyInfo
 from vessel_gym.envs.observation import ObservationLayout
 from vessel_gym.physics.linear import stable_step
 from vessel_gym.physics.schema import SpecError
@@ -130,6 +130,7 @@ class Task(abc.ABC):
         self._kernel_call: Any = None  # the kernel's compiled code for _kernel_args (compiled_entry)
         self._call_args: tuple = ()  # _kernel_args as the compiled code takes them
         self._info_keys: dict | None = None  # the keys of info_from's dicts, in order (lazy_info)
+        self._batch_keys: dict | None = None  # the keys of batch_info's dicts, in order (lazy_batch_info)
 
     # subclass interface
     @abc.abstractmethod
@@ -279,6 +280,22 @@ class Task(abc.ABC):
     @abc.abstractmethod
     def batch_info(self) -> dict[str, Any]:
         """The ``info`` of all vessels, each entry an array over the vessels (the vector environment's)."""
+
+    def lazy_batch_info(self) -> BatchInfo:
+        """:meth:`batch_info` as the vector environment returns it: built from the task's arrays when first read
+        (:class:`~vessel_gym.envs.info.BatchInfo`), which the environment guarantees happens before those arrays
+        change; the first call builds it at once (it learns the keys)."""
+        keys = self._batch_keys
+        if keys is None:
+            built = self.batch_info()
+            self._batch_keys = dict.fromkeys(built)
+            return BatchInfo(built)
+        info = BatchInfo(keys)
+        info._src = (self._build_batch_info, None)
+        return info
+
+    def _build_batch_info(self, _snapshot: None) -> dict[str, Any]:
+        return self.batch_info()
 
     def renderer(self, mode: str) -> Any:
         """A chart renderer of this task's ship and chart (pygame is imported only here)."""

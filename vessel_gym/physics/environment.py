@@ -83,26 +83,41 @@ CALM = Environment()
 
 #: the fields of an Environment, in declaration order (the columns of :func:`environment_values`)
 FIELDS = tuple(f.name for f in dataclasses.fields(Environment))
+_COLUMN = {name: j for j, name in enumerate(FIELDS)}
+
+
+#: each field's default and range (lo, hi; none: -inf, inf), columns of :func:`environment_values`
+_DEFAULTS = np.array([f.default for f in dataclasses.fields(Environment)], dtype=float)
+_LO = np.array([f.metadata.get("lo", None) for f in dataclasses.fields(Environment)], dtype=float)
+_HI = np.array([f.metadata.get("hi", None) for f in dataclasses.fields(Environment)], dtype=float)
+_LO[np.isnan(_LO)] = -math.inf
+_HI[np.isnan(_HI)] = math.inf
+_DEPTH = FIELDS.index("depth_m")
+_AIR = [FIELDS.index("air_pressure_pa"), FIELDS.index("air_temperature_k")]
 
 
 def environment_values(values: dict, m: int) -> np.ndarray:
     """(m, len(FIELDS)) field values of m environments: ``values`` (field name -> scalar or array of m), the
-    other fields at their defaults; each checked against its range as ``Environment(...)`` checks it."""
-    values = dict(values)
+    other fields at their defaults; each checked against its range as ``Environment(...)`` checks it (all
+    columns in one pass: a reset of a few vessels, e.g. an automatic reset, should not pay per field)."""
     out = np.empty((m, len(FIELDS)))
-    for j, f in enumerate(dataclasses.fields(Environment)):
-        v = np.broadcast_to(np.asarray(values.pop(f.name, f.default), dtype=float), (m,))
-        lo_, hi_ = f.metadata.get("lo"), f.metadata.get("hi")
-        if f.name == "depth_m":
-            bad = ~(v > 0.0)
+    out[:] = _DEFAULTS
+    unknown = []
+    for name, v in values.items():
+        j = _COLUMN.get(name)
+        if j is None:
+            unknown.append(name)
         else:
-            bad = ~np.isfinite(v) | (v < (-math.inf if lo_ is None else lo_)) | (v > (math.inf if hi_ is None else hi_))
-        if bad.any():  # Environment's own message names the first bad value
-            Environment(**{f.name: float(v[np.argmax(bad)])})
-            raise SpecError(f"Environment {f.name}: {float(v[np.argmax(bad)])!r} is out of range")
-        out[:, j] = v
-    if values:
-        raise TypeError(f"unknown Environment field(s) {sorted(values)}")
+            out[:, j] = np.asarray(v, dtype=float)
+    bad = ~np.isfinite(out) | (out < _LO) | (out > _HI)
+    bad[:, _DEPTH] = ~(out[:, _DEPTH] > 0.0)
+    if bad.any():  # the first field in declaration order; Environment's own message names its first bad value
+        j = int(np.argmax(bad.any(axis=0)))
+        first = float(out[np.argmax(bad[:, j]), j])
+        Environment(**{FIELDS[j]: first})
+        raise SpecError(f"Environment {FIELDS[j]}: {first!r} is out of range")
+    if unknown:
+        raise TypeError(f"unknown Environment field(s) {sorted(unknown)}")
     return out
 
 
@@ -124,8 +139,12 @@ def environment_rows(vals: np.ndarray, L_m: float, T_m: float) -> np.ndarray:
     e[:, lo.E_WIND_FROM] = F["wind_from_deg"] * DEG
     e[:, lo.E_CUR_SPEED] = F["current_speed_m_s"]
     e[:, lo.E_CUR_TO] = F["current_to_deg"] * DEG
-    air, which = np.unique(vals[:, [FIELDS.index("air_pressure_pa"), FIELDS.index("air_temperature_k")]], axis=0, return_inverse=True)
-    e[:, lo.E_RHO_AIR] = np.array([air_density(p, t) for p, t in air.tolist()])[which.reshape(-1)]
+    air = vals[:, _AIR]
+    if len(air) and (air == air[0]).all():  # one atmosphere (the common case, and every batch of one): no sort
+        e[:, lo.E_RHO_AIR] = air_density(*air[0].tolist())
+    else:
+        air, which = np.unique(air, axis=0, return_inverse=True)
+        e[:, lo.E_RHO_AIR] = np.array([air_density(p, t) for p, t in air.tolist()])[which.reshape(-1)]
     e[:, lo.E_HS] = F["Hs_m"]
     e[:, lo.E_TP] = F["Tp_s"]
     e[:, lo.E_WAVE_FROM] = F["wave_from_deg"] * DEG
@@ -135,7 +154,7 @@ def environment_rows(vals: np.ndarray, L_m: float, T_m: float) -> np.ndarray:
         e[k, lo.E_OMEGA_ZETA2] = effective_omega_zeta2(Hs, Tp, L_m, T_m)
     _earth_velocities(e)
     depth = F["depth_m"]
-    for d in np.unique(depth).tolist():
+    for d in [float(depth[0])] if len(depth) and (depth == depth[0]).all() else np.unique(depth).tolist():
         try:
             e[depth == d, lo.E_T_OVER_H] = depth_ratio(d, T_m)
         except ValueError as exc:

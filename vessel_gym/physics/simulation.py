@@ -260,12 +260,16 @@ class Simulation(Readings, Helm):
         computed over arrays, with no Environment object kept per vessel (``environments[k]`` makes one)."""
         idx = np.asarray(idx, dtype=np.int64)
         vals = environment_values(fields, len(idx))
-        si = self.ship_index[idx]
-        for s_i in np.unique(si).tolist():
-            s, mine = self.ships[s_i], si == s_i
-            for d in np.unique(vals[mine, FIELDS.index("depth_m")]).tolist():
+        if len(self.ships) == 1:  # one ship type (a vector env's): no grouping (an automatic reset of a few)
+            groups: list = [(self.ships[0], idx, vals)]
+        else:
+            si = self.ship_index[idx]
+            groups = [(self.ships[i], idx[si == i], vals[si == i]) for i in np.unique(si).tolist()]
+        for s, mine, v in groups:
+            depth = v[:, FIELDS.index("depth_m")]
+            for d in [float(depth[0])] if len(depth) and (depth == depth[0]).all() else np.unique(depth).tolist():
                 check_hull(s, d)
-            self.env[idx[mine]] = environment_rows(vals[mine], s.particulars.L_m, s.particulars.T_m)
+            self.env[mine] = environment_rows(v, s.particulars.L_m, s.particulars.T_m)
         self.environments.set_values(idx, vals)
 
     def reset(
