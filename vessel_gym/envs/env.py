@@ -17,6 +17,7 @@ from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs.config import make_config
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
+from vessel_gym.envs.onestep import BAD_ACTION, bind_one_step
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
 
 
@@ -65,6 +66,9 @@ class ShipEnv(_Renders, gym.Env):
         #: steps after which an episode is truncated, counted here (0: none; Gymnasium's TimeLimit may count)
         self._max_steps = 0
         self._elapsed = 0
+        # the control step in one compiled call (envs.onestep): (call, binding, after, the helm's step_values,
+        # the simulation's time per step), bound after the first step; False where it cannot be
+        self._fast: tuple | bool | None = None
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
@@ -88,9 +92,26 @@ class ShipEnv(_Renders, gym.Env):
         if not self._reset_done:
             raise RuntimeError("call reset() before step()")
         task = self.task
-        task.helm.apply_single(action)
-        task.advance()
-        task.update(self._step_phase)
+        fast = self._fast
+        if fast and not self.sim.helm_overridden:
+            call, binding, after, values, dt = fast
+            alive = call(binding, *values(action))
+            if alive >= 0:
+                self.sim.t += dt
+                if after is not None:
+                    after()
+            elif alive == BAD_ACTION:
+                raise ValueError(f"action contains NaN: {action!r}")
+            else:  # the batch is no longer of the driver's kind: the orders are given, nothing integrated
+                self._fast = None
+                task.advance()
+                task.update(self._step_phase)
+        else:
+            task.helm.apply_single(action)
+            task.advance()
+            task.update(self._step_phase)
+            if fast is None:
+                self._bind_step()
         if self.render_mode is not None:
             self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
             if self.render_mode == "human":
@@ -99,6 +120,21 @@ class ShipEnv(_Renders, gym.Env):
         self._elapsed += 1
         truncated = 0 < self._max_steps <= self._elapsed and not terminated
         return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.lazy_info(0)
+
+    def _bind_step(self) -> None:
+        """Bind the control step as one compiled call (:func:`~vessel_gym.envs.onestep.bind_one_step`), or
+        record that it cannot be."""
+        task = self.task
+        bound = bind_one_step(task.helm, self.sim, task.nsub, task, self._step_phase)
+        if bound is None:
+            self._fast = False
+            return
+        self._fast = (*bound, task.helm.step_values, task.nsub * self.sim.dt)
+
+    def __getstate__(self) -> dict:
+        state = super().__getstate__()
+        state["_fast"] = None  # compiled code does not pickle; a copy binds its own after its first step
+        return state
 
     def render(self):
         if self.render_mode is None:
