@@ -121,6 +121,7 @@ class ContinuousHelm(Helm):
             ]
         )
         self.dim = 2 if self.engine else 1
+        self._shape = (self.dim,)
         self.space = spaces.Box(-1.0, 1.0, shape=(self.dim,), dtype=np.float32)
         self.full_ahead = self.rev_table[:, 8].copy()
         self.full_astern = -self.rev_table[:, 0]
@@ -138,7 +139,7 @@ class ContinuousHelm(Helm):
 
     def step_values(self, action: Any) -> tuple[float, float]:
         # the rudder's and the engine's fractions (the rudder's twice without engine control)
-        if type(action) is np.ndarray and action.shape == (self.dim,):
+        if type(action) is np.ndarray and action.shape == self._shape:
             a = action.tolist()
         else:
             a = self.single(action).tolist()[0]

@@ -13,7 +13,7 @@ separate calls run, in the same order, so the results are the same to the bit.
 How the composition is made: one template (:func:`_template`) calls its stages by global names (``HELM``,
 ``DRIVER``, ``RUNAWAY``, ``STAGE1``, ``STAGE2``); :func:`compose` makes a function of the template's code with
 those names bound to the environment's compiled functions, and its cache key (a closure value, which numba's
-cache index hashes with the code) names them: their module, name, closure values and source file's stamp. So
+cache index hashes with the code) names them: their module, name and closure values. So
 each composition compiles once (a few seconds: the stages' code is linked in and optimised together) and is then
 loaded from numba's cache like any kernel. A stage function made by a factory whose closure holds other compiled
 functions gets no stable key and is compiled again in every process.
@@ -29,8 +29,6 @@ random schedule) or numba's JIT is disabled.
 from __future__ import annotations
 
 import builtins
-import inspect
-import os
 import types as pytypes
 from typing import Any
 
@@ -89,17 +87,12 @@ _COMPOSED: dict[str, Any] = {}
 
 
 def _identity(fn: Any) -> str:
-    """A compiled function's name for a cache key: module, qualified name, closure values (the kind flags of a
-    driver made by a factory) and its source file's modification time and size (a changed kernel compiles a
-    new composition)."""
+    """A compiled function's name in a composition's cache key: module, qualified name and closure values (the
+    kind flags of a driver made by a factory). Its code needs no stamp: the package's kernels are cached in a
+    directory named by a hash of all the sources they can read (:mod:`vessel_gym.physics.jitcache`)."""
     py = fn.py_func
     cells = tuple(c.cell_contents for c in py.__closure__ or ())
-    try:
-        st = os.stat(inspect.getfile(py))
-        stamp = f"{st.st_mtime_ns}:{st.st_size}"
-    except (OSError, TypeError):
-        stamp = ""
-    return f"{py.__module__}.{py.__qualname__}{cells!r}@{stamp}"
+    return f"{py.__module__}.{py.__qualname__}{cells!r}"
 
 
 def compose(helm: Any, driver: Any, runaway: Any, stages: tuple) -> Any:
