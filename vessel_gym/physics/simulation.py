@@ -257,10 +257,11 @@ class Simulation(Readings, Helm):
     def set_environments(self, idx: np.ndarray, **fields: float | np.ndarray) -> None:
         """Set the environments of the vessels ``idx`` at once: ``Environment`` fields given as arrays over
         ``idx`` (or scalars), the others at their defaults; the same rows as :meth:`set_environment` of each,
-        computed over arrays, with no Environment object kept per vessel (``environments[k]`` makes one; of
-        one vessel, which numpy's fixed costs would make ten times slower, by :meth:`set_environment`)."""
+        computed over arrays, with no Environment object kept per vessel (``environments[k]`` makes one; in a
+        simulation of one vessel, where numpy's fixed costs would make it ten times slower, by
+        :meth:`set_environment`)."""
         idx = np.asarray(idx, dtype=np.int64)
-        if len(idx) == 1:  # one vessel (a one-ship environment's reset): its Environment, ~10 x less time
+        if self.n == 1 and len(idx) == 1:  # a one-ship environment's reset: its Environment, ~10 x less time
             one = {key: float(np.ravel(v)[0]) for key, v in fields.items()}
             self.set_environment(Environment(**one), int(idx[0]))
             return
