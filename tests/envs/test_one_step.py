@@ -1,14 +1,22 @@
 """The one-ship step in one compiled call (vessel_gym/envs/onestep.py) gives the separate calls' results to the bit:
 an environment stepping through it and a twin held on the separate calls (helm, Simulation.step, task update)
 return the same observations, rewards, ends and infos over whole episodes; a helm override, a batch that no
-longer fits the bound driver, a NaN action and Python components take or keep the separate calls' path."""
+longer fits the bound driver, a NaN action and Python components take or keep the separate calls' path; an
+environment binds it only after ONE_CALL_AFTER_STEPS steps."""
 
 import gymnasium as gym
 import numpy as np
 import pytest
 
 import vessel_gym  # noqa: F401
+from vessel_gym.envs import env as env_module
 from vessel_gym.physics.environment import Environment
+
+
+@pytest.fixture(autouse=True)
+def bind_at_once(monkeypatch):
+    """The environments here bind their one-call step after their first step (not ONE_CALL_AFTER_STEPS)."""
+    monkeypatch.setattr(env_module, "ONE_CALL_AFTER_STEPS", 1)
 
 CASES = [
     ("vessel_gym/ZigZag-v0", {}),
@@ -120,3 +128,15 @@ def test_nan_action_raises_and_changes_nothing():
     with pytest.raises(ValueError, match="NaN"):
         env.step(np.array([0.1, np.nan], dtype=np.float32))
     assert np.array_equal(sim.state, state) and np.array_equal(sim.inputs, inputs) and sim.t == t
+
+
+def test_bound_only_after_the_steps_that_pay_for_it(monkeypatch):
+    monkeypatch.setattr(env_module, "ONE_CALL_AFTER_STEPS", 4)
+    env = gym.make("vessel_gym/ZigZag-v1")
+    env.reset(seed=0)
+    for _ in range(3):
+        env.step(env.action_space.sample())
+    assert env.unwrapped._fast is None
+    env.reset(seed=1)  # counted over episodes
+    env.step(env.action_space.sample())
+    assert env.unwrapped._fast
