@@ -14,6 +14,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
+from numba.core.errors import NumbaError
 
 from vessel_gym.envs.config import make_config
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
@@ -132,9 +133,12 @@ class ShipEnv(_Renders, gym.Env):
 
     def _bind_step(self) -> None:
         """Bind the control step as one compiled call (:func:`~vessel_gym.envs.onestep.bind_one_step`), or
-        record that it cannot be."""
+        record that it cannot be (the separate calls give the same results)."""
         task = self.task
-        bound = bind_one_step(task.helm, self.sim, task.nsub, task, self._step_phase)
+        try:
+            bound = bind_one_step(task.helm, self.sim, task.nsub, task, self._step_phase)
+        except NumbaError:  # a stage numba cannot call from the composition (a user's kernel): separate calls
+            bound = None
         if bound is None:
             self._fast = False
             return
