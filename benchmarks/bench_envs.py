@@ -10,9 +10,9 @@ CartPole and each figure's goal (GOALS: single env ZigZag and TurningCircle >= 1
 HarbourApproach >= 0.8 x; vector env >= 0.25 x and 0.15 x CartPole's vector env, and >= 0.1 x with a
 busy-loop process on the machine). ``--load`` repeats the vector figures with a busy-loop process running;
 ``--setup N`` times building and resetting vector envs up to N ships (goal: 262144 in < 5 s, <= 2 kB per
-ship); ``--setup-only`` prints only those, ``--setup-sizes`` chooses the sizes. ``--parts`` prints where a
-vector step's CPU time goes instead (physics, task kernel, helm, automatic resets, the rest; and what reading
-the batched ``info`` would cost).
+ship); ``--setup-only`` prints only those, ``--setup-sizes`` chooses the sizes; ``--single-only`` only the
+one-ship figures. ``--parts`` prints where a vector step's CPU time goes instead (physics, task kernel, helm,
+automatic resets, the rest; and what reading the batched ``info`` would cost).
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ import vessel_gym.envs  # noqa: F401  (registers the ids)
 IDS = (
     "vessel_gym/ZigZag-v0",
     "vessel_gym/ZigZag-v1",
+    "vessel_gym/ZigZagRandom-v1",
     "vessel_gym/TurningCircle-v0",
     "vessel_gym/HarbourApproach-v0",
     "vessel_gym/HarbourApproach-v1",
@@ -43,6 +44,7 @@ BASE = "CartPole-v1"
 GOALS = {
     "vessel_gym/ZigZag-v0": (1.0, 0.25, 0.1),
     "vessel_gym/ZigZag-v1": (1.0, 0.25, 0.1),
+    "vessel_gym/ZigZagRandom-v1": (1.0, 0.25, 0.1),
     "vessel_gym/TurningCircle-v0": (1.0, 0.25, 0.1),
     "vessel_gym/HarbourApproach-v0": (0.8, 0.15, 0.1),
     # the task's goals hold for every version of it (v1 and v2 add wind force, a chart query per control
@@ -256,6 +258,7 @@ def main(argv: list[str] | None = None) -> dict:
     ap.add_argument("--load", action="store_true", help="vector figures again with a busy-loop process")
     ap.add_argument("--setup", type=int, default=0, metavar="N", help="time build + reset up to N ships")
     ap.add_argument("--setup-only", action="store_true", help="only the set-up figures (with --setup)")
+    ap.add_argument("--single-only", action="store_true", help="only the one-ship figures")
     ap.add_argument("--setup-sizes", type=int, nargs="*", default=list(SETUP_SIZES), metavar="N")
     ap.add_argument("--parts", type=int, default=0, metavar="STEPS", help="only the vector step's parts")
     args = ap.parse_args(argv)
@@ -267,8 +270,10 @@ def main(argv: list[str] | None = None) -> dict:
         bench_setup(ids, args.setup or max(args.setup_sizes), tuple(args.setup_sizes))
         return {}
     single = bench_single(ids, args.repeats, args.steps)
-    vector = bench_vector(ids, args.repeats, args.vector_steps, args.num_envs)
     _report(f"single env: env.step/s through gymnasium.make (median of {args.repeats})", single, ids, 0)
+    if args.single_only:
+        return {"single": single}
+    vector = bench_vector(ids, args.repeats, args.vector_steps, args.num_envs)
     title = (
         f"vector env: env-steps/s, num_envs={args.num_envs}, vector_entry_point (median of {args.repeats})"
     )

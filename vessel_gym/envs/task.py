@@ -243,6 +243,32 @@ class Task(abc.ABC):
         self.kernel(phase, *args)  # compiles, or loads from the cache, the kernel for these arguments
         self._kernel_call, self._call_args = compiled_entry(self.kernel, phase, args)
 
+    def fused_update(self, phase: np.ndarray) -> tuple[tuple[tuple[Any, tuple], ...], Any] | None:
+        """The update of ``phase`` as compiled calls, for the one-ship environment's control step in one
+        compiled call (:mod:`vessel_gym.envs.onestep`): ``(stages, after)``, where ``stages`` are
+        ``(function, arguments)`` pairs run in order and ``after`` is None or a Python callable run after them
+        (what the update does in Python once the kernel has run); None if the update runs Python before its
+        kernel or the kernel is not compiled. Asked after the first update, which binds the kernel's
+        arguments. A task that overrides :meth:`update` overrides this too (else it is not used:
+        :meth:`one_step_update`)."""
+        stages = self.kernel_stages(phase)
+        return None if stages is None else (stages, None)
+
+    def one_step_update(self, phase: np.ndarray) -> tuple[tuple[tuple[Any, tuple], ...], Any] | None:
+        """:meth:`fused_update`, if the class that defines it is the one that defines :meth:`update` or a
+        subclass of it (so it describes the update this task runs); else None."""
+        mro = type(self).__mro__
+        owner_update = next(c for c in mro if "update" in c.__dict__)
+        owner_fused = next(c for c in mro if "fused_update" in c.__dict__)
+        return self.fused_update(phase) if issubclass(owner_fused, owner_update) else None
+
+    def kernel_stages(self, phase: np.ndarray) -> tuple[tuple[Any, tuple], ...] | None:
+        """``((kernel, (phase, *kernel_args())),)``: the task kernel as the one stage of
+        :meth:`fused_update`, once it is bound and compiled (else None)."""
+        if self._kernel_args is None or self._kernel_call is self.kernel:  # not bound, or not compiled
+            return None
+        return ((self.kernel, (phase, *self._kernel_args)),)
+
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()
         state["_kernel_call"] = None  # a compiled entry point does not pickle; bound again at the first update
@@ -250,7 +276,7 @@ class Task(abc.ABC):
 
     def info(self, k: int) -> dict[str, Any]:
         """Vessel k's ``info`` dict now (Python scalars), built at once."""
-        return self.info_from(self.info_snapshot(k))
+        return self.info_from(snapshot_values(self.info_snapshot(k)))
 
     def lazy_info(self, k: int) -> LazyInfo:
         """Vessel k's ``info`` as the one-ship environment returns it: :meth:`info_snapshot` copied now, the
@@ -261,18 +287,24 @@ class Task(abc.ABC):
                 return self.info(k)
             keys = self._info_keys = dict.fromkeys(self.info(k))
         info = LazyInfo(keys)
-        info._src = (self.info_from, self.info_snapshot(k))
+        info._src = (self._info_of_snapshot, self.info_snapshot(k))
         return info
 
+    def _info_of_snapshot(self, snap: tuple) -> dict[str, Any]:
+        return self.info_from(snapshot_values(snap))
+
     def info_snapshot(self, k: int) -> tuple:
-        """What vessel k's ``info`` is made of, copied: its task state, weighted reward terms and features as
-        lists of floats, and whether it is alive (a task that needs more adds to the tuple)."""
-        if self.n == 1:  # the one-ship environment: a (1, m) array's tolist is cheaper than a row view's
-            return self.ts.tolist()[0], self.terms.tolist()[0], self.feat.tolist()[0], bool(self.sim.alive[0])
-        return (self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), bool(self.sim.alive[k]))
+        """What vessel k's ``info`` is made of, copied: its task state, weighted reward terms and features, and
+        whether it is alive (a task that needs more adds to the tuple). Rows of floats are copied as their bytes
+        (a quarter of the time of a list of floats: the copy is made at every step, the list only when the info
+        is read); :meth:`info_from` gets them as lists of floats (:func:`snapshot_values`)."""
+        if self.n == 1:  # the one-ship environment: the (1, m) arrays' bytes are its rows'
+            return self.ts.tobytes(), self.terms.tobytes(), self.feat.tobytes(), self.sim.alive.item(0)
+        return self.ts[k].tobytes(), self.terms[k].tobytes(), self.feat[k].tobytes(), self.sim.alive.item(k)
 
     def info_from(self, snap: tuple) -> dict[str, Any]:
-        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot`.
+        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot` (its rows of floats as
+        lists: :func:`snapshot_values`).
 
         A task defines this, or else :meth:`info` itself (then built at every step)."""
         raise NotImplementedError(f"{type(self).__name__} defines neither info_from(snapshot) nor info(k)")
@@ -335,6 +367,12 @@ class Task(abc.ABC):
         """A new (n_columns, N) copy of the task state: row j is column j of ``ts`` for all vessels (for the
         batched ``info``: one copy instead of one per entry)."""
         return self.ts.T.copy()
+
+
+def snapshot_values(snap: tuple) -> tuple:
+    """An :meth:`Task.info_snapshot` with its rows of floats (bytes of float64 rows) as lists of Python floats,
+    the same numbers to the bit; other entries as they are."""
+    return tuple(np.frombuffer(x).tolist() if type(x) is bytes else x for x in snap)
 
 
 def compiled_entry(kernel: Any, phase: np.ndarray, args: tuple) -> tuple[Any, tuple]:

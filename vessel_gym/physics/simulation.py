@@ -257,8 +257,14 @@ class Simulation(Readings, Helm):
     def set_environments(self, idx: np.ndarray, **fields: float | np.ndarray) -> None:
         """Set the environments of the vessels ``idx`` at once: ``Environment`` fields given as arrays over
         ``idx`` (or scalars), the others at their defaults; the same rows as :meth:`set_environment` of each,
-        computed over arrays, with no Environment object kept per vessel (``environments[k]`` makes one)."""
+        computed over arrays, with no Environment object kept per vessel (``environments[k]`` makes one; in a
+        simulation of one vessel, where numpy's fixed costs would make it ten times slower, by
+        :meth:`set_environment`)."""
         idx = np.asarray(idx, dtype=np.int64)
+        if self.n == 1 and len(idx) == 1:  # a one-ship environment's reset: its Environment, ~10 x less time
+            one = {key: float(np.ravel(v)[0]) for key, v in fields.items()}
+            self.set_environment(Environment(**one), int(idx[0]))
+            return
         vals = environment_values(fields, len(idx))
         if len(self.ships) == 1:  # one ship type (a vector env's): no grouping (an automatic reset of a few)
             groups: list = [(self.ships[0], idx, vals)]
@@ -546,6 +552,33 @@ class Simulation(Readings, Helm):
                 )
         self.t += nsteps * self.dt
         return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))
+
+    def compiled_step(self, nsteps: int) -> tuple | None:
+        """What :meth:`step` of ``nsteps`` runs for a batch below the threaded driver's size, for a caller that
+        makes it part of one compiled call of its own (the one-ship environment's control step, ``envs.onestep``):
+        ``(driver, driver_args, runaway, runaway_args)``, compiled functions and their arguments: the call
+        ``driver(*driver_args)`` integrates (it returns -1, integrating nothing, if the batch is no longer of
+        the kind the driver was compiled for: then :meth:`step` chooses again), and ``runaway(*runaway_args)``
+        (:func:`flag_runaway`) then flags the vessels that ran away and returns the number alive. The caller
+        adds ``nsteps * dt`` to ``t``. None if the step runs Python (the user's components) or would use the
+        threaded driver. The arguments are this simulation's arrays: bound once, they hold as long as the
+        simulation (its arrays are never replaced)."""
+        if self.components or (self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK):
+            return None
+        args = (
+            self.Ps,
+            self.ship_index,
+            self.state,
+            self.inputs,
+            self.env,
+            self.F_ext,
+            self.dt,
+            int(nsteps),
+            self.method,
+            self.alive,
+        )
+        limits = self._runaway_limits
+        return self._kernels[0], args, flag_runaway, (self.state, self.ship_index, limits, self.alive, self.why_dead)
 
     def advance(self, duration_s: float) -> int:
         """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""

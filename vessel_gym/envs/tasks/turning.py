@@ -288,7 +288,7 @@ class TurningCircleTask(OpenWaterTask):
         return math.hypot(u, v) / r if r > 1e-9 else 0.0
 
     def info_snapshot(self, k: int) -> tuple:
-        return (*super().info_snapshot(k), bool(self.terminated[k]))
+        return (*super().info_snapshot(k), self.terminated.item(k))
 
     def info_from(self, snap: tuple) -> dict[str, Any]:
         s, terms, f, alive, terminated = snap

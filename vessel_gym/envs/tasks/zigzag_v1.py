@@ -337,9 +337,16 @@ class ZigZagV1Task(ZigZagCommon):
 
     def update(self, phase: np.ndarray) -> None:
         super().update(phase)
-        if self.imo:
-            return
-        # the kernel started a course change: draw the one after it
+        if not self.imo:
+            self._draw_started()
+
+    def fused_update(self, phase: np.ndarray) -> tuple | None:
+        stages = self.kernel_stages(phase)
+        return None if stages is None else (stages, None if self.imo else self._draw_started)
+
+    def _draw_started(self) -> None:
+        """Random schedule, after the kernel: the vessels whose kernel started a course change draw the one
+        after it."""
         if self.n == 1:  # a scalar test: the one-ship step should not pay for flatnonzero
             if self.ts[0, S.draw]:
                 self._draw_changes(_ZERO, self.rngs[0])
