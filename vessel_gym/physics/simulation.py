@@ -28,10 +28,10 @@ from vessel_gym.physics.components import ForceRecord
 from vessel_gym.physics.components.batch import ComponentBatch
 from vessel_gym.physics.components.compose import compose, named_forces
 from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old home)
-    DRIVER_SMOOTHING,
-    DRIVER_SPIKE,
+    DRIVER_FIRST_TIMINGS,
     DRIVER_TRIAL_COST,
     DRIVER_TRIAL_EVERY,
+    DRIVER_WINDOW,
     PARALLEL_MIN_BATCH,
     PARALLEL_MIN_WORK,
     _DriverChoice,
