@@ -99,6 +99,37 @@ def test_many_distinct_approaches_solved_in_one_loop_equal_per_vessel_solutions(
     assert np.array_equal(sim.inputs, U)
 
 
+def test_approaches_solved_over_the_threads_equal_the_serial_loop(monkeypatch):
+    """Many distinct approaches (STEADY_THREADED_MIN and more) are solved over the threads (steady_rows_threaded):
+    each row equals the serial loop's and steady_state's to the bit, in deep and shallow water, and an approach
+    the ship cannot make is reported as the serial loop reports it."""
+    from vessel_gym.physics import steady
+
+    monkeypatch.setattr(steady, "STEADY_THREADED_MIN", 8)
+    monkeypatch.setattr(steady, "STEADY_THREADED_CHUNK", 5)  # several chunks per thread
+    rng = np.random.default_rng(6)
+    n = 3 * simmod.STEADY_BATCH_MIN
+    sim = Simulation(["kvlcc2", "mariner"], n=n, ship_index=rng.integers(0, 2, n))
+    sim.set_environments(np.arange(n), **random_weather(rng, n, waves=False))
+    for k in np.flatnonzero(sim.ship_index == 0)[::5].tolist():  # some kvlcc2s in shallow water (its own kind)
+        sim.set_environment(Environment(depth_m=float(rng.uniform(30.0, 60.0))), k)
+    test_speed = np.array([s.test_speed_m_s for s in sim.ships])[sim.ship_index]
+    speeds, headings = test_speed * rng.uniform(0.5, 1.0, n), rng.uniform(0.0, 360.0, n)
+    sim.reset(speed_m_s=speeds, heading_deg=headings)
+    X, U = per_vessel_reset(sim, headings, speeds)
+    assert np.array_equal(sim.state, X)
+    assert np.array_equal(sim.inputs, U)
+    # an approach beyond the ship's power among many: the same error as the serial loop's
+    speeds[n // 2] = 40.0
+    errors = []
+    for threshold in (8, 10**9):
+        monkeypatch.setattr(steady, "STEADY_THREADED_MIN", threshold)
+        with pytest.raises(simmod.SimulationError) as err:
+            sim.reset(speed_m_s=speeds, heading_deg=headings + 1.0)
+        errors.append(str(err.value))
+    assert errors[0] == errors[1]
+
+
 def test_heading_is_keyed_only_where_the_environment_has_a_direction():
     headings = np.linspace(0.0, 360.0, 64, endpoint=False)
     calm = Simulation("kvlcc2", n=64)
