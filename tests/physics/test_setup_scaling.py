@@ -130,6 +130,22 @@ def test_approaches_solved_over_the_threads_equal_the_serial_loop(monkeypatch):
     assert errors[0] == errors[1]
 
 
+@pytest.mark.parametrize("collide", [False, True], ids=["hashed", "every-hash-colliding"])
+def test_distinct_rows_found_by_hash_equal_numpys_unique(monkeypatch, collide):
+    from vessel_gym.physics import steady
+
+    if collide:  # every row the same hash: the rows are then sorted as bytes instead
+        monkeypatch.setattr(steady, "_ROW_HASH_PRIME", np.uint64(0))
+    rng = np.random.default_rng(7)
+    base = rng.normal(size=(50, 18))
+    keys = base[rng.integers(0, 50, 1000)]
+    keys[::97, 2] = -0.0  # a negative zero is another row (compared byte for byte, as the rows are stored)
+    first, inverse = steady.distinct_rows(keys)
+    assert np.array_equal(keys[first][inverse], keys)
+    _, first_np = np.unique(keys.view(np.dtype((np.void, 8 * 18))).reshape(-1), return_index=True)
+    assert sorted(first.tolist()) == sorted(first_np.tolist())  # the first row of each, as numpy finds them
+
+
 def test_heading_is_keyed_only_where_the_environment_has_a_direction():
     headings = np.linspace(0.0, 360.0, 64, endpoint=False)
     calm = Simulation("kvlcc2", n=64)
