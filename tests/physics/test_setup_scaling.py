@@ -84,6 +84,21 @@ def test_environments_set_in_a_batch_equal_one_at_a_time():
         batch.set_environments(idx, wind_speed_m_s=np.full(m, 70.0))  # beyond its range, as Environment says
 
 
+@pytest.mark.parametrize("airs", [1, 3])
+def test_environment_rows_in_a_batch_with_one_or_several_airs_equal_one_at_a_time(airs):
+    rng = np.random.default_rng(8)
+    m = 30
+    weather = random_weather(rng, m)
+    weather["air_temperature_k"] = np.array([253.15, 288.15, 308.15])[rng.integers(0, airs, m)]
+    weather["air_pressure_pa"] = np.array([99000.0, 101325.0, 103000.0])[rng.integers(0, airs, m)]
+    batch = Simulation("kvlcc2", n=m)
+    one = Simulation("kvlcc2", n=m)
+    batch.set_environments(np.arange(m), **weather)
+    for k in range(m):
+        one.set_environment(Environment(**{key: float(v[k]) for key, v in weather.items()}), k)
+    assert np.array_equal(batch.env, one.env)
+
+
 def test_many_distinct_approaches_solved_in_one_loop_equal_per_vessel_solutions():
     """Above STEADY_BATCH_MIN distinct approaches a reset solves them in one compiled loop (steady_rows):
     the rows equal steady_state of each vessel to the bit, two ships, random weather, speeds and headings."""

@@ -124,7 +124,11 @@ def environment_rows(vals: np.ndarray, L_m: float, T_m: float) -> np.ndarray:
     e[:, lo.E_WIND_FROM] = F["wind_from_deg"] * DEG
     e[:, lo.E_CUR_SPEED] = F["current_speed_m_s"]
     e[:, lo.E_CUR_TO] = F["current_to_deg"] * DEG
-    air, which = np.unique(vals[:, [FIELDS.index("air_pressure_pa"), FIELDS.index("air_temperature_k")]], axis=0, return_inverse=True)
+    pt = vals[:, [FIELDS.index("air_pressure_pa"), FIELDS.index("air_temperature_k")]]
+    if (pt == pt[:1]).all():  # one air for all (the usual case): no sort of the rows
+        air, which = pt[:1], np.zeros(len(pt), dtype=np.int64)
+    else:
+        air, which = np.unique(pt, axis=0, return_inverse=True)
     e[:, lo.E_RHO_AIR] = np.array([air_density(p, t) for p, t in air.tolist()])[which.reshape(-1)]
     e[:, lo.E_HS] = F["Hs_m"]
     e[:, lo.E_TP] = F["Tp_s"]
