@@ -88,12 +88,14 @@ def test_busy_second_core_costs_no_more_than_serial():
 
 
 def test_within_their_own_spread_serial_is_preferred():
-    # threaded 10 % cheaper in the median, but its calls spread from 0.6 x to 1.2 x: not clearly cheaper
+    # threaded 10 % cheaper in the median, but its calls spread from 0.6 x to 1.2 x: it wins fewer than three
+    # calls in four against serial's median, so it is not clearly cheaper
     rng = random.Random(3)
     choice = _DriverChoice()
-    picks, _ = run(choice, 3000, lambda d, i: 0.9 * rng.uniform(0.67, 1.33) if d else rng.uniform(0.97, 1.03))
+    picks, total = run(choice, 3000, lambda d, i: 0.9 * rng.uniform(0.67, 1.33) if d else rng.uniform(0.97, 1.03))
     assert choice.best() == 0
-    assert sum(picks[START:]) <= (1 / DRIVER_TRIAL_EVERY[0] + 0.01) * (3000 - START)  # trials only
+    assert sum(picks[START:]) <= 0.2 * (3000 - START)  # trials, and windows that happened to look clear
+    assert total <= 3000 * 1.0 * US * WORK
 
 
 def test_threaded_is_chosen_only_when_cheaper_by_the_margin():

@@ -13,7 +13,7 @@ PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread w
 DRIVER_WINDOW = 9  # calls: a driver is judged by its last so many timed calls (median and quartiles)
 DRIVER_FIRST_TIMINGS = 3  # timed calls of each driver, alternating, before the first choice
 # The threaded driver is chosen only when its median cost is lower by DRIVER_THREADED_MARGIN and its upper
-# quartile is below the serial driver's lower quartile: where the two are within their own spread (a busy
+# quartile is below the serial driver's median: where the two are within their own spread (a busy
 # second core: a threaded call then waits for the worker thread's share of that core, and its time swings by
 # more than the difference), serial costs one core less and its time does not depend on a second core.
 DRIVER_THREADED_MARGIN = 0.05  # fraction of the serial median cost per vessel-step
@@ -60,10 +60,11 @@ class _DriverChoice:
 
     def best(self) -> int:
         """0 (serial) or 1 (threaded): threaded only when its median cost is lower by DRIVER_THREADED_MARGIN
-        and its upper quartile below the serial lower quartile; both must have been timed."""
+        and its upper quartile below the serial median (it wins three calls in four); both must have been
+        timed."""
         s, t = sorted(self.times[0]), sorted(self.times[1])
-        clearly = _rank(t, 0.75) < _rank(s, 0.25)
-        return 1 if clearly and _rank(t, 0.5) < (1.0 - DRIVER_THREADED_MARGIN) * _rank(s, 0.5) else 0
+        serial = _rank(s, 0.5)
+        return 1 if _rank(t, 0.75) < serial and _rank(t, 0.5) < (1.0 - DRIVER_THREADED_MARGIN) * serial else 0
 
     def pick(self) -> int:
         """0 for the serial driver, 1 for the threaded one."""
