@@ -38,10 +38,10 @@ class _DriverChoice:
     Both drivers give bitwise identical results, so the choice changes timing only. Each driver's first call
     is not timed (code loading, thread start); then both are timed DRIVER_FIRST_TIMINGS times, alternating.
     The threaded driver is chosen only when it is clearly cheaper (:meth:`best`); the other driver is tried once
-    every k calls, k = (median cost ratio - 1) / DRIVER_TRIAL_COST, doubled after each trial it lost and reset
-    when it won, within DRIVER_TRIAL_EVERY. Medians and quartiles, not means: a call descheduled by another
-    process is one sample of nine and moves neither. Timings come in through :meth:`record` (seconds of one
-    call), so the logic is tested with made-up times.
+    every k calls, k = (its mean cost / the median cost in use - 1) / DRIVER_TRIAL_COST, doubled after each
+    trial it lost and reset when it won, within DRIVER_TRIAL_EVERY. The choice reads medians and quartiles:
+    a call descheduled by another process is one sample of nine and moves neither. Timings come in through
+    :meth:`record` (seconds of one call), so the logic is tested with made-up times.
     """
 
     __slots__ = ("times", "warm", "choice", "calls", "every", "backoff")
@@ -98,7 +98,9 @@ class _DriverChoice:
             bar = _rank(sorted(self.times[self.choice]), 0.25) * ((1.0 - DRIVER_THREADED_MARGIN) if driver else 1.0)
             self.backoff = 1 if c < bar else min(2 * self.backoff, DRIVER_TRIAL_EVERY[1])
         self.choice = self.best()
+        # a trial's expected extra cost is the other driver's mean (its slow calls included) over the median
+        # of the one in use
         used = _rank(sorted(self.times[self.choice]), 0.5)
-        other = _rank(sorted(self.times[1 - self.choice]), 0.5)
+        other = sum(self.times[1 - self.choice]) / len(self.times[1 - self.choice])
         k = self.backoff * max((other / used - 1.0) / DRIVER_TRIAL_COST, DRIVER_TRIAL_EVERY[0])
         self.every = int(min(k, DRIVER_TRIAL_EVERY[1]))
