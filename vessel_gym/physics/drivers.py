@@ -23,7 +23,7 @@ DRIVER_TRIAL_COST = 0.02  # fraction of run time
 DRIVER_TRIAL_EVERY = (8, 512)  # calls, least and most between two trials
 # A trial that loses (slower than the lower quartile of the driver in use) doubles the interval to the next
 # one, up to DRIVER_TRIAL_EVERY[1]; one that wins resets it, so a driver that keeps losing is tried ever more
-# rarely and one that starts winning (the machine became idle) is tried again at once until its window shows it.
+# rarely and one that starts winning (the machine became idle) is tried again soon, until its window shows it.
 
 
 def _rank(ordered: list[float], q: float) -> float:
@@ -47,7 +47,8 @@ class _DriverChoice:
     __slots__ = ("times", "warm", "choice", "calls", "every", "backoff")
 
     def __init__(self) -> None:
-        self.times: tuple[list[float], list[float]] = ([], [])  # s per vessel-step, serial and threaded, oldest first
+        # s per vessel-step of the last timed calls, serial and threaded, oldest first
+        self.times: tuple[list[float], list[float]] = ([], [])
         self.warm = [False, False]  # a driver's first call loads its code and starts threads: not timed
         self.choice = 0  # the driver in use once both are timed
         self.calls = 0
@@ -95,7 +96,9 @@ class _DriverChoice:
             return
         if trial:
             # a trial of the driver not in use: back off while it loses, try it soon again once it won
-            bar = _rank(sorted(self.times[self.choice]), 0.25) * ((1.0 - DRIVER_THREADED_MARGIN) if driver else 1.0)
+            bar = _rank(sorted(self.times[self.choice]), 0.25)
+            if driver:
+                bar *= 1.0 - DRIVER_THREADED_MARGIN
             self.backoff = 1 if c < bar else min(2 * self.backoff, DRIVER_TRIAL_EVERY[1])
         self.choice = self.best()
         # a trial's expected extra cost is the other driver's mean (its slow calls included) over the median

@@ -118,7 +118,8 @@ def _solvers(shallow: bool, roll: bool, ext: bool):
         for j in range(speed.shape[0]):
             e = env[j]
             shallow_env = e if SHALLOW else None
-            if not _steady_row(P, speed[j], heading[j], e, n_max, out_x[j], out_u[j], F, xd, shallow_env, ROLL, EXT):
+            x, inp = out_x[j], out_u[j]
+            if not _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT):
                 return j
         return -1
 
@@ -132,8 +133,8 @@ def _solvers(shallow: bool, roll: bool, ext: bool):
         for j in prange(m):
             e = env[j]
             shallow_env = e if SHALLOW else None
-            xd = np.zeros(lo.NX)
-            ok[j] = _steady_row(P, speed[j], heading[j], e, n_max, out_x[j], out_u[j], F, xd, shallow_env, ROLL, EXT)
+            x, inp, xd = out_x[j], out_u[j], np.zeros(lo.NX)
+            ok[j] = _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT)
         for j in range(m):
             if not ok[j]:
                 return j
