@@ -84,6 +84,21 @@ def test_environments_set_in_a_batch_equal_one_at_a_time():
         batch.set_environments(idx, wind_speed_m_s=np.full(m, 70.0))  # beyond its range, as Environment says
 
 
+@pytest.mark.parametrize("airs", [1, 3])
+def test_environment_rows_in_a_batch_with_one_or_several_airs_equal_one_at_a_time(airs):
+    rng = np.random.default_rng(8)
+    m = 30
+    weather = random_weather(rng, m)
+    weather["air_temperature_k"] = np.array([253.15, 288.15, 308.15])[rng.integers(0, airs, m)]
+    weather["air_pressure_pa"] = np.array([99000.0, 101325.0, 103000.0])[rng.integers(0, airs, m)]
+    batch = Simulation("kvlcc2", n=m)
+    one = Simulation("kvlcc2", n=m)
+    batch.set_environments(np.arange(m), **weather)
+    for k in range(m):
+        one.set_environment(Environment(**{key: float(v[k]) for key, v in weather.items()}), k)
+    assert np.array_equal(batch.env, one.env)
+
+
 def test_many_distinct_approaches_solved_in_one_loop_equal_per_vessel_solutions():
     """Above STEADY_BATCH_MIN distinct approaches a reset solves them in one compiled loop (steady_rows):
     the rows equal steady_state of each vessel to the bit, two ships, random weather, speeds and headings."""
@@ -97,6 +112,53 @@ def test_many_distinct_approaches_solved_in_one_loop_equal_per_vessel_solutions(
     X, U = per_vessel_reset(sim, headings, speeds)
     assert np.array_equal(sim.state, X)
     assert np.array_equal(sim.inputs, U)
+
+
+def test_approaches_solved_over_the_threads_equal_the_serial_loop(monkeypatch):
+    """Many distinct approaches (STEADY_THREADED_MIN and more) are solved over the threads (steady_rows_threaded):
+    each row equals the serial loop's and steady_state's to the bit, in deep and shallow water, and an approach
+    the ship cannot make is reported as the serial loop reports it."""
+    from vessel_gym.physics import steady
+
+    monkeypatch.setattr(steady, "STEADY_THREADED_MIN", 8)
+    monkeypatch.setattr(steady, "STEADY_THREADED_CHUNK", 5)  # several chunks per thread
+    rng = np.random.default_rng(6)
+    n = 3 * simmod.STEADY_BATCH_MIN
+    sim = Simulation(["kvlcc2", "mariner"], n=n, ship_index=rng.integers(0, 2, n))
+    sim.set_environments(np.arange(n), **random_weather(rng, n, waves=False))
+    for k in np.flatnonzero(sim.ship_index == 0)[::5].tolist():  # some kvlcc2s in shallow water (its own kind)
+        sim.set_environment(Environment(depth_m=float(rng.uniform(30.0, 60.0))), k)
+    test_speed = np.array([s.test_speed_m_s for s in sim.ships])[sim.ship_index]
+    speeds, headings = test_speed * rng.uniform(0.5, 1.0, n), rng.uniform(0.0, 360.0, n)
+    sim.reset(speed_m_s=speeds, heading_deg=headings)
+    X, U = per_vessel_reset(sim, headings, speeds)
+    assert np.array_equal(sim.state, X)
+    assert np.array_equal(sim.inputs, U)
+    # an approach beyond the ship's power among many: the same error as the serial loop's
+    speeds[n // 2] = 40.0
+    errors = []
+    for threshold in (8, 10**9):
+        monkeypatch.setattr(steady, "STEADY_THREADED_MIN", threshold)
+        with pytest.raises(simmod.SimulationError) as err:
+            sim.reset(speed_m_s=speeds, heading_deg=headings + 1.0)
+        errors.append(str(err.value))
+    assert errors[0] == errors[1]
+
+
+@pytest.mark.parametrize("collide", [False, True], ids=["hashed", "every-hash-colliding"])
+def test_distinct_rows_found_by_hash_equal_numpys_unique(monkeypatch, collide):
+    from vessel_gym.physics import steady
+
+    if collide:  # every row the same hash: the rows are then sorted as bytes instead
+        monkeypatch.setattr(steady, "_ROW_HASH_PRIME", np.uint64(0))
+    rng = np.random.default_rng(7)
+    base = rng.normal(size=(50, 18))
+    keys = base[rng.integers(0, 50, 1000)]
+    keys[::97, 2] = -0.0  # a negative zero is another row (compared byte for byte, as the rows are stored)
+    first, inverse = steady.distinct_rows(keys)
+    assert np.array_equal(keys[first][inverse], keys)
+    _, first_np = np.unique(keys.view(np.dtype((np.void, 8 * 18))).reshape(-1), return_index=True)
+    assert sorted(first.tolist()) == sorted(first_np.tolist())  # the first row of each, as numpy finds them
 
 
 def test_heading_is_keyed_only_where_the_environment_has_a_direction():
@@ -197,18 +259,17 @@ def test_construction_and_reset_call_the_solver_once_per_distinct_approach(monke
 
 def test_driver_choice_follows_the_measured_cost():
     choice = _DriverChoice()
-    assert choice.pick() == 1  # first call of each driver is not timed (code loading, thread start)
-    choice.record(1, 1.0, 1000)
-    assert choice.pick() == 1
-    choice.record(1, 6e-3, 1000)  # threaded: 6 us per vessel-step (threads waiting for a busy core)
-    assert choice.pick() == 0
-    choice.record(0, 1.0, 1000)
-    assert choice.pick() == 0
-    choice.record(0, 1e-3, 1000)  # serial: 1 us
+    assert [choice.pick(), choice.record(1, 1.0, 1000)] == [1, None]  # first calls not timed (code, threads)
+    assert [choice.pick(), choice.record(0, 1.0, 1000)] == [0, None]
+    for _ in range(simmod.DRIVER_FIRST_TIMINGS):
+        assert choice.pick() == 1
+        choice.record(1, 6e-3, 1000)  # threaded: 6 us per vessel-step (threads waiting for a busy core)
+        assert choice.pick() == 0
+        choice.record(0, 1e-3, 1000)  # serial: 1 us
     picks = [choice.pick() for _ in range(1000)]
     # the slower driver is tried again now and then, at most DRIVER_TRIAL_COST of the time in extra cost
     assert 0 < sum(picks) <= 1000 * simmod.DRIVER_TRIAL_COST / (6.0 - 1.0) + 1
-    for _ in range(40):  # the load goes away: the threaded driver becomes the faster one
+    for _ in range(simmod.DRIVER_WINDOW):  # the load goes away: the threaded driver becomes the faster one
         choice.record(1, 0.5e-3, 1000)
     assert choice.pick() == 1
 
@@ -220,7 +281,7 @@ def test_simulation_step_results_do_not_depend_on_the_driver_chosen():
     b = Simulation("kvlcc2", n=128, environment=WIND)
     b.reset(heading_deg=np.linspace(0.0, 360.0, 128))
     b.set_helm(rudder_order_rad=10 * DEG)
-    b._driver.cost = [1.0, 2.0]  # b always serial, a explores both
+    b._driver.times = ([1.0] * simmod.DRIVER_WINDOW, [2.0] * simmod.DRIVER_WINDOW)  # b always serial, a explores
     b._driver.warm = [True, True]
     b._driver.every = 10**9
     for _ in range(20):

@@ -10,60 +10,76 @@ PARALLEL_MIN_BATCH = 64  # vessels
 PARALLEL_MIN_WORK = 1024  # vessel-steps per call (about 2 ms of single-thread work)
 # Above those bounds the driver is chosen per call by measured wall time per vessel-step (_DriverChoice): the
 # second core may be taken by another process at any time, and then the threaded driver waits for it.
-DRIVER_SMOOTHING = 0.2  # weight of the newest call in the running cost of a driver (exponential average)
+DRIVER_WINDOW = 9  # calls: a driver is judged by its last so many timed calls (median and quartiles)
+DRIVER_FIRST_TIMINGS = 3  # timed calls of each driver, alternating, before the first choice
+# The threaded driver is chosen only when its median cost is lower by DRIVER_THREADED_MARGIN and its upper
+# quartile is below the serial driver's median: where the two are within their own spread (a busy
+# second core: a threaded call then waits for the worker thread's share of that core, and its time swings by
+# more than the difference), serial costs one core less and its time does not depend on a second core.
+DRIVER_THREADED_MARGIN = 0.05  # fraction of the serial median cost per vessel-step
 # the driver not in use is timed again every so many calls, so that a change of load is noticed; the interval
 # grows with its measured extra cost so that trying it costs at most DRIVER_TRIAL_COST of the run time
 DRIVER_TRIAL_COST = 0.02  # fraction of run time
-DRIVER_SPIKE = 4.0  # most a single call's time per vessel-step may exceed the running cost by (a factor)
 DRIVER_TRIAL_EVERY = (8, 512)  # calls, least and most between two trials
-# A trial that loses doubles the interval to the next one (up to DRIVER_TRIAL_EVERY[1]); one that wins resets
-# it. With another process on the second core the two drivers cost about the same on average, so the interval
-# from the cost ratio alone stays at its least (8 calls), while a single threaded call that waits for a
-# descheduled worker costs several serial calls: trying it every 8 calls made Simulation.step 0.84 x serial.
-# The threaded driver is chosen only when it is cheaper by DRIVER_THREADED_MARGIN: where the two are within
-# the machine's noise of each other, serial costs one core less and its time does not depend on a second core.
-DRIVER_THREADED_MARGIN = 0.05  # fraction of the serial cost per vessel-step
+# A trial that loses (slower than the lower quartile of the driver in use) doubles the interval to the next
+# one, up to DRIVER_TRIAL_EVERY[1]; one that wins resets it, so a driver that keeps losing is tried ever more
+# rarely and one that starts winning (the machine became idle) is tried again soon, until its window shows it.
+
+
+def _rank(ordered: list[float], q: float) -> float:
+    """The q-quantile (nearest rank) of the ascending list ``ordered``."""
+    return ordered[round((len(ordered) - 1) * q)]
 
 
 class _DriverChoice:
-    """Serial or threaded batch driver for a call, whichever has the lower running wall time per vessel-step
-    (threaded only when lower by DRIVER_THREADED_MARGIN).
+    """Serial or threaded batch driver for a call, judged by the median and quartiles of each driver's last
+    DRIVER_WINDOW timed calls (wall time per vessel-step).
 
-    Both drivers give bitwise identical results, so the choice changes timing only. Each driver is timed on
-    its first eligible calls; afterwards the other one is tried once every k calls, k = (cost ratio - 1) /
-    DRIVER_TRIAL_COST, doubled after each trial the tried driver lost and reset when it won, within
-    DRIVER_TRIAL_EVERY: a wrong choice costs at most ~2 %, a driver that keeps losing is tried ever more
-    rarely, and a change of the machine's load is followed within a few hundred calls. Timings come in
-    through :meth:`record` (seconds of one call), so the logic is tested with made-up times.
+    Both drivers give bitwise identical results, so the choice changes timing only. Each driver's first call
+    is not timed (code loading, thread start); then both are timed DRIVER_FIRST_TIMINGS times, alternating.
+    The threaded driver is chosen only when it is clearly cheaper (:meth:`best`); the other driver is tried once
+    every k calls, k = (its mean cost / the median cost in use - 1) / DRIVER_TRIAL_COST, doubled after each
+    trial it lost and reset when it won, within DRIVER_TRIAL_EVERY. The choice reads medians and quartiles:
+    a call descheduled by another process is one sample of nine and moves neither. Timings come in through
+    :meth:`record` (seconds of one call), so the logic is tested with made-up times.
     """
 
-    __slots__ = ("cost", "warm", "calls", "every", "backoff")
+    __slots__ = ("times", "warm", "choice", "calls", "every", "backoff")
 
     def __init__(self) -> None:
-        self.cost = [0.0, 0.0]  # s per vessel-step, serial and threaded; 0 until measured
+        # s per vessel-step of the last timed calls, serial and threaded, oldest first
+        self.times: tuple[list[float], list[float]] = ([], [])
         self.warm = [False, False]  # a driver's first call loads its code and starts threads: not timed
+        self.choice = 0  # the driver in use once both are timed
         self.calls = 0
         self.every = DRIVER_TRIAL_EVERY[0]
         self.backoff = 1  # factor on the trial interval: doubled by each lost trial, 1 after a won one
 
+    def ready(self) -> bool:
+        """Whether both drivers have their first timings."""
+        return min(len(self.times[0]), len(self.times[1])) >= DRIVER_FIRST_TIMINGS
+
     def best(self) -> int:
-        """The driver with the lower running cost (0 serial, 1 threaded); both must have been timed."""
-        serial, threaded = self.cost
-        return 1 if threaded < (1.0 - DRIVER_THREADED_MARGIN) * serial else 0
+        """0 (serial) or 1 (threaded): threaded only when its median cost is lower by DRIVER_THREADED_MARGIN
+        and its upper quartile below the serial median (it wins three calls in four); both must have been
+        timed."""
+        s, t = sorted(self.times[0]), sorted(self.times[1])
+        serial = _rank(s, 0.5)
+        return 1 if _rank(t, 0.75) < serial and _rank(t, 0.5) < (1.0 - DRIVER_THREADED_MARGIN) * serial else 0
 
     def pick(self) -> int:
         """0 for the serial driver, 1 for the threaded one."""
-        serial, threaded = self.cost
-        if threaded == 0.0:
+        if not self.warm[1]:
             return 1
-        if serial == 0.0:
+        if not self.warm[0]:
             return 0
-        best = self.best()
+        if not self.ready():
+            return 1 if len(self.times[1]) <= len(self.times[0]) else 0
         self.calls += 1
         if self.calls >= self.every:
             self.calls = 0
-            return 1 - best
-        return best
+            return 1 - self.choice
+        return self.choice
 
     def record(self, driver: int, seconds: float, work: int) -> None:
         """Account one call of ``driver`` that took ``seconds`` (wall) for ``work`` vessel-steps."""
@@ -71,16 +87,23 @@ class _DriverChoice:
             self.warm[driver] = True
             return
         c = seconds / work
-        old = self.cost[driver]
-        if old > 0.0 and self.cost[1 - driver] > 0.0 and driver != self.best():
+        trial = self.ready() and driver != self.choice
+        window = self.times[driver]
+        window.append(c)
+        if len(window) > DRIVER_WINDOW:
+            del window[0]
+        if not self.ready():
+            return
+        if trial:
             # a trial of the driver not in use: back off while it loses, try it soon again once it won
-            won = c < self.cost[1 - driver] * ((1.0 - DRIVER_THREADED_MARGIN) if driver else 1.0)
-            self.backoff = 1 if won else min(2 * self.backoff, DRIVER_TRIAL_EVERY[1])
-        # a call descheduled by another process counts as DRIVER_SPIKE x the running cost at most
-        if old > 0.0:
-            c = min(c, DRIVER_SPIKE * old)
-        self.cost[driver] = c if old == 0.0 else old + DRIVER_SMOOTHING * (c - old)
-        lo_c, hi_c = sorted(self.cost)
-        if lo_c > 0.0:
-            k = self.backoff * max((hi_c / lo_c - 1.0) / DRIVER_TRIAL_COST, DRIVER_TRIAL_EVERY[0])
-            self.every = int(min(k, DRIVER_TRIAL_EVERY[1]))
+            bar = _rank(sorted(self.times[self.choice]), 0.25)
+            if driver:
+                bar *= 1.0 - DRIVER_THREADED_MARGIN
+            self.backoff = 1 if c < bar else min(2 * self.backoff, DRIVER_TRIAL_EVERY[1])
+        self.choice = self.best()
+        # a trial's expected extra cost is the other driver's mean (its slow calls included) over the median
+        # of the one in use
+        used = _rank(sorted(self.times[self.choice]), 0.5)
+        other = sum(self.times[1 - self.choice]) / len(self.times[1 - self.choice])
+        k = self.backoff * max((other / used - 1.0) / DRIVER_TRIAL_COST, DRIVER_TRIAL_EVERY[0])
+        self.every = int(min(k, DRIVER_TRIAL_EVERY[1]))

@@ -28,10 +28,10 @@ from vessel_gym.physics.components import ForceRecord
 from vessel_gym.physics.components.batch import ComponentBatch
 from vessel_gym.physics.components.compose import compose, named_forces
 from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old home)
-    DRIVER_SMOOTHING,
-    DRIVER_SPIKE,
+    DRIVER_FIRST_TIMINGS,
     DRIVER_TRIAL_COST,
     DRIVER_TRIAL_EVERY,
+    DRIVER_WINDOW,
     PARALLEL_MIN_BATCH,
     PARALLEL_MIN_WORK,
     _DriverChoice,
@@ -86,6 +86,7 @@ from vessel_gym.physics.steady import (  # noqa: F401  (SimulationError: its old
     STEADY_MAX_ITERATIONS,
     SimulationError,
     _SteadyApproach,
+    distinct_rows,
     steady_rows,
     steady_state,
 )
@@ -94,6 +95,10 @@ from vessel_gym.physics.vessel import pack
 
 # steady approaches cached per simulation (each two rows of NX and NU floats)
 STEADY_CACHE_SIZE = 1024  # entries
+# distinct approaches in one reset above which the cache is not searched: a look-up costs ~1.5 us of Python and
+# a hit saves one solve (~25 us), but at most STEADY_CACHE_SIZE of them can hit, so beyond ~16 x that many the
+# look-ups cost more than they can save (the rows are the same either way: a cached row is a solved one)
+STEADY_LOOKUP_MAX = 16 * STEADY_CACHE_SIZE  # approaches
 # distinct approaches in one reset above which they are solved in one compiled loop (steady_rows: ~40 % less
 # time per approach than one call each, but one more compiled function: resets of a few approaches keep the
 # scalar solver)
@@ -370,7 +375,7 @@ class Simulation(Readings, Helm):
         if len(idx) == 1 or (keys == keys[0]).all():
             first, inverse = np.zeros(1, dtype=np.int64), np.zeros(len(idx), dtype=np.int64)
         else:
-            _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+            first, inverse = distinct_rows(keys)
         rows_x = np.empty((len(first), lo.NX))
         rows_u = np.empty((len(first), lo.NU))
         if len(first) > STEADY_BATCH_MIN:
@@ -389,20 +394,23 @@ class Simulation(Readings, Helm):
         pkey = {s: self._params_key(s) for s in np.unique(si[first]).tolist()}
         sp, hk = speed.tolist(), hkey.tolist()
         sis = si.tolist()
-        missing = []
-        for q, f in enumerate(first.tolist()):
-            hit = cache.get((pkey[sis[f]], sp[f], hk[f], env[f].tobytes())) if cache else None
-            if hit is None:
-                missing.append(q)
-            else:
-                rows_x[q], rows_u[q] = hit
-        mq = np.array(missing, dtype=np.int64)
+        if not cache or len(first) > STEADY_LOOKUP_MAX:
+            mq = np.arange(len(first))
+        else:
+            missing = []
+            for q, f in enumerate(first.tolist()):
+                hit = cache.get((pkey[sis[f]], sp[f], hk[f], env[f].tobytes()))
+                if hit is None:
+                    missing.append(q)
+                else:
+                    rows_x[q], rows_u[q] = hit
+            mq = np.array(missing, dtype=np.int64)
         ship_of = si[first[mq]]
         for s in np.unique(ship_of).tolist():
             sel = mq[ship_of == s]
             f = first[sel]
             rows_x[sel], rows_u[sel] = steady_rows(self.ships[s], self.Ps[s], speed[f], hkey[f] * DEG, env[f])
-        for q in missing[-STEADY_CACHE_SIZE:]:
+        for q in mq[-STEADY_CACHE_SIZE:].tolist():
             f = int(first[q])
             if len(cache) >= STEADY_CACHE_SIZE:
                 cache.clear()

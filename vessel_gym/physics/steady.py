@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import functools
 
+import numba
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import CALM
@@ -17,6 +18,13 @@ from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives_of, force_terms
 
 # surge balances solved again at most this many times while user component forces still change with the rpm
 STEADY_MAX_ITERATIONS = 20
+# Many approaches (a vector env's first reset: each ship its own weather) are solved over the threads, each
+# approach alone by the same compiled code (bitwise the serial rows). A solve is ~20 us; below this many the
+# serial loop is kept, so a thread that waits for a busy core never holds up a small reset.
+STEADY_THREADED_MIN = 4096  # approaches
+# approaches handed to a thread at a time: a thread whose core is taken by another process holds up at most one
+# chunk (~5 ms) while the free thread takes the rest, so the threaded solve is not slower than the serial one
+STEADY_THREADED_CHUNK = 256  # approaches
 
 
 class SimulationError(RuntimeError):
@@ -56,10 +64,37 @@ def _propeller_torque(P, x, env, shallow_env):
     return force_terms(P, x, env, H)[14]
 
 
+@njit(cache=True)
+def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, ext):
+    """:class:`_SteadyApproach` (start, balance, finish; no user forces) of one approach at ``speed`` (m/s),
+    ``heading`` (rad) in environment row ``e``, into the rows ``x``, ``inp``: the same calls in the same order.
+    False where the propeller or the engine cannot hold it (the caller raises for it). ``shallow_env`` (``e`` or
+    None), ``roll``, ``ext``: the kind of vessel, as compile-time constants (:func:`_solvers`)."""
+    x[:] = 0.0
+    inp[:] = 0.0
+    x[lo.X_U] = speed
+    x[lo.X_PSI] = heading
+    x[lo.X_REV] = inp[lo.U_REV_C] = n_max
+    x[lo.X_CAM] = 1.0
+    if _surge_acceleration(P, x, inp, e, F, shallow_env, roll, ext, xd) < 0.0:
+        return False
+    nrev = _surge_balance_rev(P, x, inp, e, F, n_max, shallow_env, roll, ext)
+    Q_prop = _propeller_torque(P, x, e, shallow_env)
+    if P[lo.P_ENGINE_EXT] > 0.0:
+        x[lo.X_GOV] = x[lo.X_CAM] = 0.0
+        return True
+    Q_need = engine_torque_to_hold(P, nrev, Q_prop)
+    n_e = P[lo.P_GEAR] * nrev
+    if engine_torque(P, n_e, 1.0) < Q_need:
+        return False
+    x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
+    return True
+
+
 @functools.cache
 def _solvers(shallow: bool, roll: bool, ext: bool):
     """(surge_acceleration(P, x, inp, env, F), surge_balance_rev(P, x, inp, env, F, hi_n), propeller_torque(P,
-    x, env)) compiled for one kind of vessel (:func:`_kind`)."""
+    x, env), steady_rows(...), steady_rows_threaded(...)) compiled for one kind of vessel (:func:`_kind`)."""
     SHALLOW, ROLL, EXT = shallow, roll, ext
 
     @njit(cache=True)
@@ -76,36 +111,36 @@ def _solvers(shallow: bool, roll: bool, ext: bool):
 
     @njit(cache=True)
     def steady_rows(P, speed, heading, env, n_max, out_x, out_u):
-        # :class:`_SteadyApproach` (start, balance, finish; no user forces) of approach j for each row j of
-        # speed, heading (rad) and env: the same calls in the same order, in one loop. Returns the first j
-        # whose approach the propeller or the engine cannot hold (-1: none); the caller raises for it.
+        # _steady_row of approach j for each row j of speed, heading (rad) and env, in one loop. Returns the
+        # first j whose approach the propeller or the engine cannot hold (-1: none).
         F = np.zeros(3)
         xd = np.zeros(lo.NX)
         for j in range(speed.shape[0]):
-            x = out_x[j]
-            inp = out_u[j]
-            x[:] = 0.0
-            inp[:] = 0.0
-            x[lo.X_U] = speed[j]
-            x[lo.X_PSI] = heading[j]
-            x[lo.X_REV] = inp[lo.U_REV_C] = n_max
-            x[lo.X_CAM] = 1.0
             e = env[j]
-            if _surge_acceleration(P, x, inp, e, F, e if SHALLOW else None, ROLL, EXT, xd) < 0.0:
+            shallow_env = e if SHALLOW else None
+            x, inp = out_x[j], out_u[j]
+            if not _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT):
                 return j
-            nrev = _surge_balance_rev(P, x, inp, e, F, n_max, e if SHALLOW else None, ROLL, EXT)
-            Q_prop = _propeller_torque(P, x, e, e if SHALLOW else None)
-            if P[lo.P_ENGINE_EXT] > 0.0:
-                x[lo.X_GOV] = x[lo.X_CAM] = 0.0
-                continue
-            Q_need = engine_torque_to_hold(P, nrev, Q_prop)
-            n_e = P[lo.P_GEAR] * nrev
-            if engine_torque(P, n_e, 1.0) < Q_need:
-                return j
-            x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
         return -1
 
-    return surge_acceleration, surge_balance_rev, propeller_torque, steady_rows
+    @njit(cache=True, parallel=True)
+    def steady_rows_threaded(P, speed, heading, env, n_max, out_x, out_u):
+        # steady_rows over the threads: each approach is solved alone, by the same code, so the rows are those
+        # of the serial loop to the bit; all approaches are solved, then the first failed one is returned
+        m = speed.shape[0]
+        ok = np.ones(m, dtype=np.bool_)
+        F = np.zeros(3)  # read only
+        for j in prange(m):
+            e = env[j]
+            shallow_env = e if SHALLOW else None
+            x, inp, xd = out_x[j], out_u[j], np.zeros(lo.NX)
+            ok[j] = _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT)
+        for j in range(m):
+            if not ok[j]:
+                return j
+        return -1
+
+    return surge_acceleration, surge_balance_rev, propeller_torque, steady_rows, steady_rows_threaded
 
 
 def steady_rows(
@@ -126,15 +161,45 @@ def steady_rows(
         rows = np.flatnonzero(shallow == kind)
         if not len(rows):
             continue
-        solve = _solvers(kind, bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0))[3]
+        solvers = _solvers(kind, bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0))
         x, u = np.zeros((len(rows), lo.NX)), np.zeros((len(rows), lo.NU))
-        bad = solve(P, speed[rows], heading_rad[rows], np.ascontiguousarray(env[rows]), n_max, x, u)
+        solve_args = (P, speed[rows], heading_rad[rows], np.ascontiguousarray(env[rows]), n_max, x, u)
+        if len(rows) >= STEADY_THREADED_MIN:
+            with numba.parallel_chunksize(STEADY_THREADED_CHUNK):
+                bad = solvers[4](*solve_args)
+        else:
+            bad = solvers[3](*solve_args)
         if bad >= 0:  # the scalar solver raises its error for it
             j = rows[bad]
             steady_state(ship, P, float(speed[j]), env=env[j], heading_rad=float(heading_rad[j]))
             raise SimulationError(f"{ship.name}: no steady approach at {speed[j] / KNOT_M_S:.2f} kn")
         out_x[rows], out_u[rows] = x, u
     return out_x, out_u
+
+
+# FNV-1a's 64-bit prime: mixes the 8-byte words of a row into one hash (wrapping uint64 arithmetic)
+_ROW_HASH_PRIME = np.uint64(0x100000001B3)
+
+
+def distinct_rows(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, inverse) of the distinct rows of the float array ``keys`` (m, k), compared byte for byte: row
+    ``first[q]`` is the first of the q-th distinct row, and row j equals row ``first[inverse[j]]``.
+
+    ``np.unique(keys, axis=0)`` sorts the rows as records, ~1 s for 262144 rows of 18 floats; here each row is
+    hashed to one uint64 (numpy over the columns), the hashes are sorted, and every row is checked equal to the
+    first of its hash; on a collision (two different rows, one hash) the rows are sorted as bytes instead."""
+    words = np.ascontiguousarray(keys).view(np.uint64)
+    h = np.zeros(len(words), dtype=np.uint64)
+    for c in range(words.shape[1]):
+        h ^= words[:, c]
+        h *= _ROW_HASH_PRIME
+    _, first, inverse = np.unique(h, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    if not np.array_equal(words[first][inverse], words):
+        rows = words.view(np.dtype((np.void, words.itemsize * words.shape[1]))).reshape(-1)
+        _, first, inverse = np.unique(rows, return_index=True, return_inverse=True)
+        inverse = inverse.reshape(-1)
+    return first, inverse
 
 
 @njit(cache=True)
