@@ -40,6 +40,8 @@ import numpy as np
 from llvmlite import ir
 from numba import njit, prange
 from numba import types as nbtypes
+from numba.core import cgutils
+from numba.core.imputils import impl_ret_borrowed
 from numba.core.registry import CPUDispatcher
 from numba.extending import intrinsic
 
@@ -241,9 +243,36 @@ def recompile(dispatcher: CPUDispatcher, flavour: str = "vector", inline: bool =
 
 
 # A block's columns are flat arrays, column k of lane i at [k * LANE_BLOCK + i]; a lane's row is the view
-# ``A[i::LANE_BLOCK]``, whose stride is a compile-time constant, so LLVM sees that the lanes' elements are
-# consecutive and that two columns never overlap (with a stride known only at run time it would need a run-time
-# overlap check per pair of columns, more than it allows, and leaves the loop scalar).
+# _lane_row(A, i, n), whose stride is a compile-time constant, so LLVM sees that the lanes' elements are
+# consecutive and that two columns never overlap. (A slice ``A[i::LANE_BLOCK]`` has the same elements, but numba
+# derives its stride from the array's run-time stride; LLVM then finds "unsafe dependent memory operations"
+# between the columns and leaves the loop scalar.)
+
+
+@intrinsic
+def _lane_row(typingctx, A, i, n):
+    """The view of lane ``i``'s ``n`` columns in the flat block array ``A``: A[i], A[i + B], ... (B =
+    LANE_BLOCK), a 1-d array of stride B elements known when compiling."""
+    resty = nbtypes.Array(nbtypes.float64, 1, "A")
+
+    def codegen(context, builder, signature, args):
+        arr = context.make_array(signature.args[0])(context, builder, args[0])
+        out = context.make_array(resty)(context, builder)
+        intp = context.get_value_type(nbtypes.intp)
+        first = builder.sext(args[1], intp) if args[1].type.width < intp.width else args[1]
+        count = builder.sext(args[2], intp) if args[2].type.width < intp.width else args[2]
+        context.populate_array(
+            out,
+            data=builder.gep(arr.data, [first]),
+            shape=cgutils.pack_array(builder, [count]),
+            strides=cgutils.pack_array(builder, [ir.Constant(intp, LANE_BLOCK * 8)]),
+            itemsize=ir.Constant(intp, 8),
+            meminfo=arr.meminfo,
+            parent=arr.parent,
+        )
+        return impl_ret_borrowed(context, builder, resty, out._getvalue())
+
+    return resty(A, i, n), codegen
 
 
 def _lanes_angle(P, XS, US, t, out, nb):
@@ -255,19 +284,20 @@ def _lanes_angle(P, XS, US, t, out, nb):
 def _lanes_stage(XS, K, h, d, XT, nb, nx):
     """The stage states XT = XS + h K of every lane, rudder angles ``d`` (stage_state)."""
     for i in range(nb):
-        stage_state(XS[i::LANE_BLOCK], K[i::LANE_BLOCK], h, d[i], XT[i::LANE_BLOCK], nx)
+        stage_state(_lane_row(XS, i, lo.NX), _lane_row(K, i, lo.NX), h, d[i], _lane_row(XT, i, lo.NX), nx)
 
 
 def _lanes_rhs(P, XS, US, ES, FS, K, nb, shallow_env, roll, ext):
     """Right-hand side of every lane at the states XS into K (derivatives_of); ``shallow_env`` None compiles
     the deep-water equations (H the literal 0), as integrate._run_range does."""
+    nf = FS.shape[0] // LANE_BLOCK
     for i in range(nb):
         if shallow_env is None:
             H = 0
         else:
             H = shallow_env[lo.E_T_OVER_H * LANE_BLOCK + i]
-        B = LANE_BLOCK
-        derivatives_of(P, XS[i::B], US[i::B], ES[i::B], FS[i::B], K[i::B], H, roll, ext)
+        x, u, e = _lane_row(XS, i, lo.NX), _lane_row(US, i, lo.NU), _lane_row(ES, i, lo.NE)
+        derivatives_of(P, x, u, e, _lane_row(FS, i, nf), _lane_row(K, i, lo.NX), H, roll, ext)
 
 
 def _lanes_finish(XS, K, dt, method, d, XT, live, nb, nx):
@@ -277,8 +307,9 @@ def _lanes_finish(XS, K, dt, method, d, XT, live, nb, nx):
     B = LANE_BLOCK
     S = lo.NX * LANE_BLOCK  # one stage's columns
     for i in range(nb):
-        k1, k2, k3, k4 = K[i : S : B], K[S + i : 2 * S : B], K[2 * S + i : 3 * S : B], K[3 * S + i :: B]
-        combine_step(XS[i::B], k1, k2, k3, k4, dt, method, d[i], XT[i::B], nx)
+        k1, k2 = _lane_row(K, i, lo.NX), _lane_row(K, S + i, lo.NX)
+        k3, k4 = _lane_row(K, 2 * S + i, lo.NX), _lane_row(K, 3 * S + i, lo.NX)
+        combine_step(_lane_row(XS, i, lo.NX), k1, k2, k3, k4, dt, method, d[i], _lane_row(XT, i, lo.NX), nx)
         ok = live[i]
         for k in range(nx):
             ok = ok & math.isfinite(XT[k * B + i])
