@@ -16,9 +16,13 @@ import math
 
 from numba import njit
 
-from vessel_gym.physics import crossflow
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.crossflow import blend, blend_abkowitz, inside_polynomial_range, mmg_weight
 from vessel_gym.physics.shallow_water import hull_factors
+
+# compiled callees are imported by name, not as attributes of their module: a recompilation of these functions for a
+# loop over vessels (docs/performance.md, "Structure-of-arrays kernel") rebinds the names a function looks up,
+# and reaches a callee only through such a name
 
 
 @njit(cache=True, fastmath=False)
@@ -82,11 +86,12 @@ def abkowitz_forces(P, u, v, r, delta):
         Yc, Nc = cross_flow_drag(P, v, r)
         Y += Yc
         N += Nc
-    if P[lo.P_XF_ON] > 0.0 and not crossflow.inside_polynomial_range(P, u, v, r):
+    if P[lo.P_XF_ON] > 0.0 and not inside_polynomial_range(P, u, v, r):
         # outside the polynomial's fitted range: cross-flow model (crossflow.py)
-        w = crossflow.mmg_weight(P, u, v, r)
+        w = mmg_weight(P, u, v, r)
         if w < 1.0:
-            return crossflow.blend_abkowitz(P, u, v, r, w, X, Y, N, *_rudder_terms(P, delta))
+            Xd, Yd, Nd = _rudder_terms(P, delta)  # unpacked: numba does not inline a call with *args
+            return blend_abkowitz(P, u, v, r, w, X, Y, N, Xd, Yd, Nd)
     return X, Y, N
 
 
@@ -189,9 +194,9 @@ def hull_forces_at_depth(P, u, v, r, delta, H):
         return abkowitz_forces(P, u, v, r, delta)
     if kind == lo.HULL_MMG:
         X, Y, N = mmg_hull_forces(P, u, v, r, H)
-        if P[lo.P_XF_ON] > 0.0 and not crossflow.inside_polynomial_range(P, u, v, r):
+        if P[lo.P_XF_ON] > 0.0 and not inside_polynomial_range(P, u, v, r):
             # outside the polynomial's fitted range: cross-flow model (crossflow.py)
-            return crossflow.blend(P, u, v, r, X, Y, N, H)
+            return blend(P, u, v, r, X, Y, N, H)
         return X, Y, N
     return 0.0, 0.0, 0.0
 

@@ -134,25 +134,18 @@ def engine_torque(P, n_e, fuel):
     s = n_e / P[lo.P_ENG_NRATED]
     S0 = lo.P_MAP_S
     F0 = lo.P_MAP_F
+    s = P[S0] if s <= P[S0] else (P[S0 + lo.MAP_NS - 1] if s >= P[S0 + lo.MAP_NS - 1] else s)
+    f = P[F0] if fuel <= P[F0] else (P[F0 + lo.MAP_NF - 1] if fuel >= P[F0 + lo.MAP_NF - 1] else fuel)
+    # the interval of each axis: the count of inner breakpoints below the clipped value (the breakpoints
+    # increase strictly, shipchecks), so i = 0 at the lowest speed and MAP_NS - 2 at the highest. A count over
+    # a fixed number of breakpoints, not a search: no loop of data-dependent length, so the kernel stays one
+    # straight block that a loop over vessels can vectorise (docs/performance.md, "Structure-of-arrays kernel")
     i = 0
-    if s <= P[S0]:
-        s = P[S0]
-    elif s >= P[S0 + lo.MAP_NS - 1]:
-        s = P[S0 + lo.MAP_NS - 1]
-        i = lo.MAP_NS - 2
-    else:
-        while P[S0 + i + 1] < s:
-            i += 1
+    for k in range(1, lo.MAP_NS - 1):
+        i += P[S0 + k] < s
     j = 0
-    f = fuel
-    if f <= P[F0]:
-        f = P[F0]
-    elif f >= P[F0 + lo.MAP_NF - 1]:
-        f = P[F0 + lo.MAP_NF - 1]
-        j = lo.MAP_NF - 2
-    else:
-        while P[F0 + j + 1] < f:
-            j += 1
+    for k in range(1, lo.MAP_NF - 1):
+        j += P[F0 + k] < f
     ts = (s - P[S0 + i]) / (P[S0 + i + 1] - P[S0 + i])
     tf = (f - P[F0 + j]) / (P[F0 + j + 1] - P[F0 + j])
     Q0 = lo.P_MAP_Q
