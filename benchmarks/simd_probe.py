@@ -23,7 +23,10 @@ Why a loop is not vectorised, LLVM says with ``llvmlite.binding.set_option("", "
 The serial batch driver's cost per vessel-step on kvlcc2 is printed for scale, with what the goal of 4 M
 vessel-steps/s on 2 cores asks of one core.
 
-    python benchmarks/simd_probe.py [--repeats 7]
+4. The lane drivers' right-hand-side loop (``vessel_gym.physics.lanes``), both math flavours: packed and
+   scalar instructions and the loops left inside it.
+
+    python benchmarks/simd_probe.py [--repeats 7] [--lanes-only] [--remarks]
 """
 
 from __future__ import annotations
@@ -48,6 +51,8 @@ N_LANES = 1024
 def _args() -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repeats", type=int, default=7, help="interleaved timed repeats per figure (median)")
+    ap.add_argument("--lanes-only", action="store_true", help="only the lane drivers' loops (4.)")
+    ap.add_argument("--remarks", action="store_true", help="print LLVM's vectoriser remarks (stderr)")
     return ap.parse_args()
 
 
@@ -245,8 +250,47 @@ def probe_driver(repeats: int) -> None:
     )
 
 
+def loops_in(fn) -> int:
+    """Loops left in ``fn``'s optimised LLVM IR (distinct ``!llvm.loop`` tags): a lane loop with no loop inside
+    it has 1 before vectorisation, a vector body and a remainder loop after."""
+    ir_text = fn.inspect_llvm(fn.signatures[0])
+    return len(set(re.findall(r"!llvm\.loop !(\d+)", ir_text)))
+
+
+def probe_lanes() -> None:
+    """The lane drivers' loops (vessel_gym.physics.lanes) of the deep-water 3-DOF kind, compiled here (the
+    drivers load them from the cache with their caller): packed and scalar instructions, and the loops left
+    in the right-hand-side lane loop (any loop inside it keeps LLVM from vectorising it)."""
+    from vessel_gym.physics import lanes
+
+    _, _, _, sim = turning_batch("kvlcc2")
+    B = lanes.LANE_BLOCK
+    XS, K = np.ascontiguousarray(sim.state[:B].T).ravel(), np.empty(lo.NX * B)
+    US, ES = np.ascontiguousarray(sim.inputs[:B].T).ravel(), np.ascontiguousarray(sim.env[:B].T).ravel()
+    FS = np.zeros(3 * B)
+    print("\n4. the lane drivers' loops (kvlcc2, deep water, 3 DOF), as compiled for lanes.lane_drivers")
+    print(f"  {'loop':34s} {'packed':>6s} {'scalar':>6s} {'loops':>6s}")
+    for flavour in lanes.FLAVOURS:
+        g = lanes._namespace(flavour)
+        rhs = g["_lanes_rhs"]
+
+        @njit(error_model="numpy")
+        def call(P, XS, US, ES, FS, K, rhs=rhs):
+            rhs(P, XS, US, ES, FS, K, B, None, False, False)
+
+        call(sim.Ps[0], XS, US, ES, FS, K)
+        p, sc = packed_ops(rhs)
+        print(f"  {'right-hand side, ' + flavour + ' math':34s} {p:6d} {sc:6d} {loops_in(rhs):6d}")
+
+
 def main() -> None:
     args = _args()
+    if args.remarks:  # LLVM's reasons, on stderr, for every loop compiled from here on
+        import llvmlite.binding as llb
+
+        llb.set_option("", "-pass-remarks-analysis=loop-vectorize")
+        llb.set_option("", "-pass-remarks-missed=loop-vectorize")
+        llb.set_option("", "-pass-remarks=loop-vectorize")
     import llvmlite
     import llvmlite.binding as llb
     import numba
@@ -256,9 +300,11 @@ def main() -> None:
         f"numba {numba.__version__}, llvmlite {llvmlite.__version__} (LLVM {llvm}), CPU {llb.get_host_cpu_name()}"
     )
     print("packed/scalar: double-precision arithmetic instructions in the compiled loop (ymm/zmm vs sd)")
-    probe_libm(args.repeats)
-    probe_components(args.repeats)
-    probe_driver(args.repeats)
+    if not args.lanes_only:
+        probe_libm(args.repeats)
+        probe_components(args.repeats)
+        probe_driver(args.repeats)
+    probe_lanes()
 
 
 if __name__ == "__main__":
