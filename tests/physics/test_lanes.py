@@ -9,6 +9,7 @@ tests; the recompilation, the transcendental functions and the choice are checke
 from __future__ import annotations
 
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -84,7 +85,9 @@ def test_the_lane_choice():
 def test_lane_drivers_hold_only_batches_of_one_ship():
     sim = Simulation(["kvlcc2", "mariner"], n=4, ship_index=[0, 1, 0, 1])
     assert lane_drivers_for(sim.Ps, sim.ship_index, sim.env) is None
-    assert Simulation(["kvlcc2", "mariner"], n=4, ship_index=[1, 1, 1, 1], math="exact")._lanes is not None
+    one = Simulation(["kvlcc2", "mariner"], n=4, ship_index=[1, 1, 1, 1], math="exact")
+    assert one._lanes is lane_drivers_for(one.Ps, one.ship_index, one.env, "exact") is not None
+    assert pickle.loads(pickle.dumps(one))._lanes is one._lanes  # chosen again when unpickled
 
 
 # --- whole drivers (slow: each kind of batch and flavour compiles once, then loads from the kernel cache)
