@@ -24,7 +24,7 @@ The serial batch driver's cost per vessel-step on kvlcc2 is printed for scale, w
 vessel-steps/s on 2 cores asks of one core.
 
 4. The lane drivers' right-hand-side loop (``vessel_gym.physics.lanes``), both math flavours: packed and
-   scalar instructions and the loops left inside it.
+   scalar instructions.
 
     python benchmarks/simd_probe.py [--repeats 7] [--lanes-only] [--remarks]
 """
@@ -250,17 +250,10 @@ def probe_driver(repeats: int) -> None:
     )
 
 
-def loops_in(fn) -> int:
-    """Loops left in ``fn``'s optimised LLVM IR (distinct ``!llvm.loop`` tags): a lane loop with no loop inside
-    it has 1 before vectorisation, a vector body and a remainder loop after."""
-    ir_text = fn.inspect_llvm(fn.signatures[0])
-    return len(set(re.findall(r"!llvm\.loop !(\d+)", ir_text)))
-
-
 def probe_lanes() -> None:
     """The lane drivers' loops (vessel_gym.physics.lanes) of the deep-water 3-DOF kind, compiled here (the
-    drivers load them from the cache with their caller): packed and scalar instructions, and the loops left
-    in the right-hand-side lane loop (any loop inside it keeps LLVM from vectorising it)."""
+    drivers load them from the cache with their caller): packed and scalar instructions of the right-hand-side
+    lane loop (``--remarks`` says why LLVM left it scalar: any loop inside it, a call it cannot widen)."""
     from vessel_gym.physics import lanes
 
     _, _, _, sim = turning_batch("kvlcc2")
@@ -269,7 +262,7 @@ def probe_lanes() -> None:
     US, ES = np.ascontiguousarray(sim.inputs[:B].T).ravel(), np.ascontiguousarray(sim.env[:B].T).ravel()
     FS = np.zeros(3 * B)
     print("\n4. the lane drivers' loops (kvlcc2, deep water, 3 DOF), as compiled for lanes.lane_drivers")
-    print(f"  {'loop':34s} {'packed':>6s} {'scalar':>6s} {'loops':>6s}")
+    print(f"  {'loop':34s} {'packed':>6s} {'scalar':>6s}")
     for flavour in lanes.FLAVOURS:
         g = lanes._namespace(flavour)
         rhs = g["_lanes_rhs"]
@@ -280,7 +273,7 @@ def probe_lanes() -> None:
 
         call(sim.Ps[0], XS, US, ES, FS, K)
         p, sc = packed_ops(rhs)
-        print(f"  {'right-hand side, ' + flavour + ' math':34s} {p:6d} {sc:6d} {loops_in(rhs):6d}")
+        print(f"  {'right-hand side, ' + flavour + ' math':34s} {p:6d} {sc:6d}")
 
 
 def main() -> None:
