@@ -73,11 +73,11 @@ def test_the_lane_choice():
     exact = _LaneChoice("exact")
     assert exact.pick(False) == -1  # small calls keep the scalar fast path
     picks = []
-    for _ in range(40):  # the lanes 2x faster: after one untimed and one timed call each, they are chosen
+    for _ in range(40):  # the lanes 2x faster: both are timed first, then the lanes are chosen
         lane = exact.pick(True)
         exact.record(lane, 1.0 if lane == 0 else 0.5, 1024)
         picks.append(lane)
-    assert picks[:4] == [1, 1, 0, 0] and picks[-8:].count(1) >= 7
+    assert set(picks[:8]) == {0, 1} and picks[-8:].count(1) >= 7
     with pytest.raises(ValueError, match="math must be one of"):
         Simulation("kvlcc2", n=2, math="fast")
 

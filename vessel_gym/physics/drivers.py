@@ -88,8 +88,8 @@ class _DriverChoice:
 
 # Lane drivers (lanes.py, the same equations over vessels of one ship in structure-of-arrays form): with exact
 # math they give the scalar drivers' results to the bit, so they may replace them call by call, only where they
-# are measured faster (a _DriverChoice of scalar = 0, lanes = 1: the lanes must be cheaper by
-# DRIVER_THREADED_MARGIN); with vector math the results differ in the last bits, so the choice may not depend on
+# are measured faster (a _DriverChoice of scalar = 0, lanes = 1: the lanes must be clearly cheaper, as the
+# threaded driver must be); with vector math the results differ in the last bits, so the choice may not depend on
 # timing: a simulation that asked for them uses them on every call.
 MATH_FLAVOURS = (None, "exact", "vector")
 
