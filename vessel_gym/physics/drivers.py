@@ -107,3 +107,40 @@ class _DriverChoice:
         other = sum(self.times[1 - self.choice]) / len(self.times[1 - self.choice])
         k = self.backoff * max((other / used - 1.0) / DRIVER_TRIAL_COST, DRIVER_TRIAL_EVERY[0])
         self.every = int(min(k, DRIVER_TRIAL_EVERY[1]))
+
+
+# Lane drivers (lanes.py, the same equations over vessels of one ship in structure-of-arrays form): with exact
+# math they give the scalar drivers' results to the bit, so they may replace them call by call, only where they
+# are measured faster (a _DriverChoice of scalar = 0, lanes = 1: the lanes must be clearly cheaper, as the
+# threaded driver must be); with vector math the results differ in the last bits, so the choice may not depend on
+# timing: a simulation that asked for them uses them on every call.
+MATH_FLAVOURS = (None, "exact", "vector")
+
+
+class _LaneChoice:
+    """Scalar or lane drivers for a call of a simulation of ``math`` flavour (None: scalar drivers only), and
+    the serial/threaded choice within the lane drivers (a :class:`_DriverChoice` of its own)."""
+
+    __slots__ = ("math", "kind", "threads")
+
+    def __init__(self, math: str | None) -> None:
+        if math not in MATH_FLAVOURS:
+            raise ValueError(f"math must be one of {MATH_FLAVOURS}, got {math!r}")
+        self.math = math
+        self.kind = _DriverChoice()  # 0 the scalar drivers, 1 the lane drivers
+        self.threads = _DriverChoice()  # serial or threaded lane driver
+
+    def pick(self, large: bool) -> int:
+        """1 to run the lane drivers, 0 the scalar ones, -1 when lanes are not considered (scalar drivers, and
+        their own choices); ``large``: the call is one where the serial/threaded choice is made."""
+        if self.math == "vector":
+            return 1
+        if self.math is None or not large:
+            return -1
+        return self.kind.pick()
+
+    def record(self, lane: int, seconds: float, work: int) -> None:
+        """Account one call that :meth:`pick` gave ``lane`` (0 or 1) for, ``seconds`` of wall, ``work``
+        vessel-steps."""
+        if self.math == "exact" and lane >= 0:
+            self.kind.record(lane, seconds, work)

@@ -86,11 +86,11 @@ def stage_state(x, k, h, delta, xt, nx):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
-    """Combine the stage derivatives into the state one step on (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
-    Euler: x + dt k1, k2..k4 unused), formed in ``xt`` with the rudder angle ``delta_end`` at t + dt, and
-    commit it to ``x`` only if finite; the first ``nx`` states (as :func:`stage_state`). Returns False on
-    divergence, with ``x`` left at the last finite state."""
+def combine_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
+    """Form in ``xt`` the state one step on from the stage derivatives (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
+    Euler: x + dt k1, k2..k4 unused), with the rudder angle ``delta_end`` at t + dt; the first ``nx`` states
+    (as :func:`stage_state`). Commits nothing: :func:`finish_step` and the lane driver
+    (:mod:`~vessel_gym.physics.lanes`) check it and commit it."""
     if method == EULER:
         for i in range(nx):
             xt[i] = x[i] + dt * k1[i]
@@ -99,6 +99,14 @@ def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
         for i in range(nx):
             xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
     xt[lo.X_DELTA] = delta_end
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
+    """Combine the stage derivatives into the state one step on (:func:`combine_step`), formed in ``xt``, and
+    commit it to ``x`` only if finite; the first ``nx`` states (as :func:`stage_state`). Returns False on
+    divergence, with ``x`` left at the last finite state."""
+    combine_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx)
     if not _finite(xt, nx):
         return False
     for i in range(nx):

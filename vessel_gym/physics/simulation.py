@@ -35,6 +35,7 @@ from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old hom
     PARALLEL_MIN_BATCH,
     PARALLEL_MIN_WORK,
     _DriverChoice,
+    _LaneChoice,
 )
 from vessel_gym.physics.environment import (
     CALM,
@@ -53,6 +54,7 @@ from vessel_gym.physics.integrate import (  # noqa: F401  (run_serial, run_paral
     run_serial,
     run_with_components,
 )
+from vessel_gym.physics.lanes import lane_drivers_for
 from vessel_gym.physics.readings import (  # noqa: F401  (imported here before the readings moved out)
     FORCE_NAMES,
     KNOT_M_S,
@@ -159,6 +161,11 @@ class Simulation(Readings, Helm):
             gives the rudder rate). A component in a slot a built-in fills without ``replace``, or two in one
             slot, raise ValueError (docs/components.md).
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
+        math: None (default) integrates with the scalar drivers; "exact" lets a batch of one ship run on the
+            lane drivers (:mod:`~vessel_gym.physics.lanes`, same results to the bit) on calls where they are
+            measured faster; "vector" runs a batch of one ship on the lane drivers with branch-free exp, sin,
+            cos and atan2 on every call (results within ~1e-13 relative per step of the scalar drivers, not
+            bitwise). Other batches use the scalar drivers (docs/performance.md, "Structure-of-arrays kernel").
     """
 
     def __init__(
@@ -172,6 +179,7 @@ class Simulation(Readings, Helm):
         components: Sequence[ForceComponent] = (),
         replace: Sequence[str] = (),
         reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
+        math: str | None = None,
     ) -> None:
         seq = [ships] if isinstance(ships, (str, Ship)) or not isinstance(ships, Sequence) else list(ships)
         self.ships: list[Ship] = [load_ship(s) for s in seq]
@@ -188,7 +196,7 @@ class Simulation(Readings, Helm):
             or self.ship_index.max() >= len(self.ships)
         ):
             raise ValueError(f"ship_index must have {n} entries in [0, {len(self.ships) - 1}]")
-        if not (dt > 0.0 and math.isfinite(dt)):
+        if not (dt > 0.0 and np.isfinite(dt)):  # (``math`` is the argument here)
             raise ValueError(f"dt must be a positive number of seconds, got {dt}")
         if method not in ("rk4", "euler"):
             raise ValueError(f"method must be 'rk4' or 'euler', got {method!r}")
@@ -230,6 +238,7 @@ class Simulation(Readings, Helm):
         self.t = 0.0
         self.reference_latlon_deg = reference_latlon_deg
         self.environments = EnvironmentList(environment, n)
+        self._lane_choice = _LaneChoice(math)  # scalar or lane drivers (drivers._LaneChoice)
         # the compiled batch drivers (serial, threaded) of this batch's kind: deep or shallow water, with or
         # without roll (integrate.drivers); set_environment chooses them, step again when the kind changed
         self.set_environment(environment)
@@ -252,6 +261,7 @@ class Simulation(Readings, Helm):
             self.env[:] = rows[self.ship_index]
             self.environments[:] = [environment] * self.n
             self._kernels = drivers_for(self.Ps, self.env)
+            self._lanes = self._lane_drivers()
             self._small_call = None  # resolved again for the new drivers at the next small call
             return
         # one vessel: the drivers check the batch's kind themselves and :meth:`step` chooses again when needed
@@ -493,7 +503,17 @@ class Simulation(Readings, Helm):
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()
         state["_small_call"] = None  # compiled code does not pickle; resolved again at the next small call
+        state["_lanes"] = None  # built from closures over compiled functions: chosen again when unpickled
         return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._lanes = self._lane_drivers()
+
+    def _lane_drivers(self):
+        """The lane drivers of this batch's kind and math flavour, or None (no flavour, or several ships)."""
+        m = self._lane_choice.math
+        return lane_drivers_for(self.Ps, self.ship_index, self.env, m) if m else None
 
     # --- integration ----------------------------------------------------------------------------------------
     def step(self, nsteps: int = 1) -> int:
@@ -519,9 +539,15 @@ class Simulation(Readings, Helm):
                 run_with_components(*args, self._evaluate_components, self.component_states)
         else:
             work = self.n * nsteps
-            if self.n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK:
-                driver = self._driver.pick()
+            large = self.n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK
+            # the lane drivers (lanes.py) where this simulation asked for them and they hold its batch
+            lane = self._lane_choice.pick(large) if self._lanes is not None else -1
+            choice = self._lane_choice.threads if lane == 1 else self._driver
+            if large:
+                driver = choice.pick()
                 t0 = time.perf_counter()
+            elif lane == 1:
+                driver = 0
             else:
                 driver = -1
                 c = self._small_call
@@ -546,15 +572,18 @@ class Simulation(Readings, Helm):
                 ):
                     self.t += nsteps * self.dt
                     return c[1](args[2], args[1], c[10], args[9], c[9])
-            if self._kernels[driver == 1](*args) < 0:
+            if (self._lanes if lane == 1 else self._kernels)[driver == 1](*args) < 0:
                 # the batch is no longer of the kind its drivers were compiled for (Ps or env written
                 # directly): nothing was integrated; choose the drivers again
                 self._kernels = drivers_for(self.Ps, self.env)
+                self._lanes = self._lane_drivers()
                 self._small_call = None
-                self._kernels[driver == 1](*args)
-            if driver >= 0:
-                self._driver.record(driver, time.perf_counter() - t0, work)
-            elif self._small_call is None:
+                (self._lanes if lane == 1 and self._lanes else self._kernels)[driver == 1](*args)
+            if large:
+                seconds = time.perf_counter() - t0
+                choice.record(driver, seconds, work)
+                self._lane_choice.record(lane, seconds, work)
+            elif lane != 1 and self._small_call is None:
                 self._small_call = _compiled_small_call(
                     self._kernels[0], args, self.why_dead, self._runaway_limits
                 )
