@@ -516,12 +516,10 @@ class Simulation(Readings, Helm):
         return lane_drivers_for(self.Ps, self.ship_index, self.env, m) if m else None
 
     # --- integration ----------------------------------------------------------------------------------------
-    def step(self, nsteps: int = 1) -> int:
-        """Advance all vessels ``nsteps`` physics steps with the helm held. Returns the number alive."""
-        if nsteps < 0:
-            raise ValueError("nsteps must be >= 0")
-        # the drivers' common arguments, in their order
-        args = (
+    def _driver_args(self, nsteps: int) -> tuple:
+        """The batch drivers' arguments for a call of ``nsteps`` steps, in their order (scalar and lane
+        drivers alike)."""
+        return (
             self.Ps,
             self.ship_index,
             self.state,
@@ -533,6 +531,12 @@ class Simulation(Readings, Helm):
             self.method,
             self.alive,
         )
+
+    def step(self, nsteps: int = 1) -> int:
+        """Advance all vessels ``nsteps`` physics steps with the helm held. Returns the number alive."""
+        if nsteps < 0:
+            raise ValueError("nsteps must be >= 0")
+        args = self._driver_args(nsteps)
         if self.components:
             # a diverging vessel overflows in the components' numpy; it is flagged, not warned about
             with np.errstate(all="ignore"):
@@ -602,18 +606,7 @@ class Simulation(Readings, Helm):
         simulation (its arrays are never replaced)."""
         if self.components or (self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK):
             return None
-        args = (
-            self.Ps,
-            self.ship_index,
-            self.state,
-            self.inputs,
-            self.env,
-            self.F_ext,
-            self.dt,
-            int(nsteps),
-            self.method,
-            self.alive,
-        )
+        args = self._driver_args(int(nsteps))
         limits = self._runaway_limits
         return self._kernels[0], args, flag_runaway, (self.state, self.ship_index, limits, self.alive, self.why_dead)
 
