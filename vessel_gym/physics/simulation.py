@@ -601,10 +601,14 @@ class Simulation(Readings, Helm):
         ``driver(*driver_args)`` integrates (it returns -1, integrating nothing, if the batch is no longer of
         the kind the driver was compiled for: then :meth:`step` chooses again), and ``runaway(*runaway_args)``
         (:func:`flag_runaway`) then flags the vessels that ran away and returns the number alive. The caller
-        adds ``nsteps * dt`` to ``t``. None if the step runs Python (the user's components) or would use the
-        threaded driver. The arguments are this simulation's arrays: bound once, they hold as long as the
-        simulation (its arrays are never replaced)."""
-        if self.components or (self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK):
+        adds ``nsteps * dt`` to ``t``. None if the step runs Python (the user's components), would use the
+        threaded driver, or runs on the lane drivers with vector math. The arguments are this simulation's
+        arrays: bound once, they hold as long as the simulation (its arrays are never replaced)."""
+        if (
+            self.components
+            or self._lane_choice.math == "vector"  # every call on the lanes: not the scalar driver bound here
+            or (self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK)
+        ):
             return None
         args = self._driver_args(int(nsteps))
         limits = self._runaway_limits
