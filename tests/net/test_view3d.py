@@ -4,6 +4,7 @@ by a running ``serve``."""
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import math
@@ -723,7 +724,34 @@ def test_page_drops_and_counts_malformed_messages_without_a_traceback(page, capf
         assert len(ws.recv(timeout=5)) > 16
     err = capfd.readouterr().err
     assert "Traceback" not in err and "Error" not in err, err[-2000:]
-    assert "dropped" in V._gate_line(stats) and "refused 1 requests (malformed 1)" in V._gate_line(stats)
+    assert "dropped" in V._gate_line(stats) and "refused 1 request (malformed 1)" in V._gate_line(stats)
+
+
+def test_page_counts_a_failing_message_handler_instead_of_printing_it(page, capfd):
+    """A message that passes the checks but makes one of viser's handlers fail (here a number for a 2-vector
+    input, which viser iterates) is counted as a server error; nothing reaches stderr."""
+    vec = page.viewer.server.gui.add_vector2("v", (0.0, 0.0))
+    with page.connect(page.gate.helm_path) as ws:
+        ws.send(_msg("ViewerCameraMessage", **CAMERA))
+        assert _wait_for(lambda: len(page.viewer.server.get_clients()) == 1)
+        ws.send(_msg("GuiUpdateMessage", uuid=vec._impl.uuid, updates={"value": 5}))
+        assert _wait_for(lambda: page.gate.stats().get("server errors") == 1), page.gate.stats()
+    assert "Traceback" not in capfd.readouterr().err
+
+
+def test_page_refuses_websockets_beyond_its_limit(page):
+    with contextlib.ExitStack() as stack:
+        for _ in range(G.MAX_CONNECTIONS):
+            stack.enter_context(page.connect("/")).recv(timeout=5)
+        from websockets.exceptions import InvalidStatus
+
+        with pytest.raises(InvalidStatus) as busy:
+            page.connect("/").close()
+        assert busy.value.response.status_code == 503
+    assert _wait_for(lambda: page.gate._open == 0)
+    with page.connect("/") as ws:  # room again
+        assert len(ws.recv(timeout=5)) > 16
+    assert page.gate.stats()["refused busy"] == 1
 
 
 def test_page_drops_a_flood_of_messages_over_its_rate(page):
@@ -758,11 +786,11 @@ def test_view3d_logs_what_its_gate_refused_and_dropped(monkeypatch):
             _raw_request(port, "/", {"Host": host, "Origin": "http://evil.example"}, upgrade=True)[0] == 403
         )
         assert _raw_request(port, f"/helm/{key}", {"Host": host}, upgrade=False)[0] == 200
-        assert _wait_for(lambda: "refused 1 requests (origin 1)" in out.getvalue(), 3.0), out.getvalue()
+        assert _wait_for(lambda: "refused 1 request (origin 1)" in out.getvalue(), 3.0), out.getvalue()
     finally:
         t.join(10)
         udp.close()
-    assert out.getvalue().splitlines()[-1] == "vessel-gym view3d: stopped; refused 1 requests (origin 1)"
+    assert out.getvalue().splitlines()[-1] == "vessel-gym view3d: stopped; refused 1 request (origin 1)"
 
 
 def _fake_getaddrinfo(answer):
@@ -831,6 +859,7 @@ def test_page_address_keeps_the_name_and_the_resolved_address():
     assert a.name == "localhost" and a.address in ("127.0.0.1", "::1")
     gate = G.PageGate((a.name, a.address), 8080)
     assert {"localhost:8080", "127.0.0.1:8080"} <= gate.hosts or "[::1]:8080" in gate.hosts
+    assert len(gate.key) == 24 and gate.key != G.PageGate((a.name,), 8080).key  # 18 random bytes, each run
     six = G.PageGate(("::1",), 80)
     assert six.hosts == {"[::1]:80", "[::1]"} and "http://[::1]" in six.origins
 

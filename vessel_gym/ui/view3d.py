@@ -509,15 +509,14 @@ STATS_PERIOD_S = 10.0  # wall-clock s between log lines of refused requests and 
 
 
 def _gate_line(stats: dict[str, int]) -> str:
-    """'refused 3 requests (origin 2, host 1); dropped 211 page messages (undecodable 200, text frame 11)'."""
+    """'refused 3 requests (host 1, origin 2); dropped 211 page messages (text frame 11, undecodable 200)'."""
     parts = []
-    for what, noun in (("refused", "requests"), ("dropped", "page messages")):
-        items = sorted(
-            ((k.split(" ", 1)[1], n) for k, n in stats.items() if k.startswith(what + " ")), key=str
-        )
+    for what, noun in (("refused", "request"), ("dropped", "page message")):
+        items = sorted((k.split(" ", 1)[1], n) for k, n in stats.items() if k.startswith(what + " "))
         if items:
             detail = ", ".join(f"{k} {n}" for k, n in items)
-            parts.append(f"{what} {sum(n for _, n in items)} {noun} ({detail})")
+            total = sum(n for _, n in items)
+            parts.append(f"{what} {total} {noun}{'' if total == 1 else 's'} ({detail})")
     if stats.get("server errors"):
         parts.append(f"{stats['server errors']} server errors")
     return "; ".join(parts)
@@ -560,8 +559,8 @@ def view3d(
         viewer = Viewer3D(link, gate, sock, camera)
         base = f"http://{page.url_host(port)}"
         print(
-            f"vessel-gym view3d: open {base}{gate.helm_path} (this URL can take the helm; {base}/ only "
-            f"watches) (link {server[0]}:{server[1]}); Ctrl-C to stop",
+            f"vessel-gym view3d: link {server[0]}:{server[1]}; open {base}{gate.helm_path} to watch and take "
+            f"the helm ({base}/ only watches); Ctrl-C to stop",
             file=out,
             flush=True,
         )

@@ -17,7 +17,8 @@ sees it:
   viser handles it; a message that is not a binary frame, does not decode, is of a type the connection may not
   send, or has fields of the wrong type or non-finite numbers is dropped and counted, as are frames over
   :data:`MAX_MESSAGE_BYTES` (the connection is closed) and messages over :data:`MESSAGE_RATE_HZ`. websockets'
-  own error log goes to a counter, never to stderr.
+  own error log and a failed message handler of viser go to a counter, never to stderr.
+- At most :data:`MAX_CONNECTIONS` websockets are open at once (each is sent the whole scene); more get 503.
 
 viser (1.1) gives no hook for any of this: :func:`gated_viser_server` wraps the one call viser makes to
 ``websockets.asyncio.server.serve`` while the server starts (see there), which is why pyproject pins viser's
@@ -37,6 +38,7 @@ import secrets
 import socket
 import threading
 import time
+import weakref
 from collections import Counter
 from collections.abc import Iterable, Iterator
 from typing import Any
@@ -45,6 +47,7 @@ RESOLVE_TIMEOUT_S = 5.0  # s allowed for the name given to --http to resolve
 MAX_MESSAGE_BYTES = 1 << 20  # largest websocket message from a page, bytes (its camera reports are ~200 B)
 MESSAGE_RATE_HZ = 200.0  # messages per second a page may send (the page reports its camera at most ~60 Hz)
 MESSAGE_BURST = 400  # messages a page may send at once above that rate
+MAX_CONNECTIONS = 16  # open websockets at once (each gets the whole scene on connecting); more get 503
 HELM_PATH = "/helm/"
 
 # The only messages a page needs to send: its camera (any page) and GUI actions (a page holding the key).
@@ -152,7 +155,9 @@ class PageGate:
         self.origins = {f"http://{h}" for h in self.hosts}
         self._lock = threading.Lock()
         self._counts: Counter[str] = Counter()
-        self._roles: dict[int, str] = {}  # id(connection) -> "helm" or "watch", from its upgrade request
+        # connection -> "helm" or "watch", from its upgrade request (weak: a failed handshake leaves nothing)
+        self._roles: weakref.WeakKeyDictionary[Any, str] = weakref.WeakKeyDictionary()
+        self._open = 0  # websockets open now (touched on viser's event loop thread only)
         self._decode = msgspec.msgpack.decode
         self._convert = msgspec.convert
         self._invalid = (msgspec.DecodeError, msgspec.ValidationError, TypeError, ValueError)
@@ -240,7 +245,10 @@ class PageGate:
             self.count(f"refused {reason}")
             return connection.respond(status, f"403 Forbidden: {_REFUSALS[reason]}\n")
         if any(v.lower() == "websocket" for v in request.headers.get_all("Upgrade")):
-            self._roles[id(connection)] = role  # taken by handle() as soon as the upgrade completes
+            if self._open >= MAX_CONNECTIONS:
+                self.count("refused busy")
+                return connection.respond(503, "503 Service Unavailable: too many open pages\n")
+            self._roles[connection] = role  # taken by handle() as soon as the upgrade completes
             return None
         if role == "helm":
             from websockets.http11 import Request
@@ -257,8 +265,13 @@ class PageGate:
         return response
 
     async def handle(self, viser_handler: Any, connection: Any) -> None:
-        role = self._roles.pop(id(connection), None) or "watch"
+        import asyncio
+
+        # viser handles each message in a task of its own: one that fails is counted, not printed at exit
+        asyncio.get_running_loop().set_exception_handler(lambda _loop, _ctx: self.count("server errors"))
+        role = self._roles.pop(connection, None) or "watch"
         self.count(f"accepted {role}")
+        self._open += 1
         _ROLE.set(role)  # this task's context: viser's tasks for the connection inherit it
         inner = connection.recv
         gate = self
@@ -289,6 +302,8 @@ class PageGate:
             await viser_handler(connection)
         except Exception:  # noqa: BLE001 - counted; the connection is closed by websockets
             self.count("server errors")
+        finally:
+            self._open -= 1
 
 
 def current_role() -> str | None:
