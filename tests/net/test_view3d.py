@@ -247,7 +247,7 @@ def _serve_evil_page(html: str):
 
 
 @pytest.mark.slow
-def test_page_in_headless_chromium_draws_the_ship_moving(tmp_path):
+def test_page_in_headless_chromium_only_its_helm_url_takes_the_helm(tmp_path):
     """The real page in a real browser: a page of another origin cannot open its websocket (not even with the
     helm key); the page at / draws the scene and says it only watches (H does nothing); the page at the printed
     helm URL draws the ship moving and takes the helm with H; serve counts one takeover."""
@@ -517,11 +517,11 @@ def _viser_version() -> str:
 class _Page:
     """A running gated page (the real Viewer3D, its link client pointed at a silent UDP socket)."""
 
-    def __init__(self) -> None:
+    def __init__(self, host: str = "127.0.0.1") -> None:
         pytest.importorskip("viser")
         self.udp = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
         self.udp.bind(("127.0.0.1", 0))
-        addr = G.resolve_page_address("127.0.0.1", 0)
+        addr = G.resolve_page_address(host, 0)
         self.sock = G.bind_page_socket(addr)
         self.port = self.sock.getsockname()[1]
         self.gate = G.PageGate((addr.name, addr.address), self.port)
@@ -599,6 +599,9 @@ def test_page_http_requests_need_the_pages_host_and_origin(page):
     assert _raw_request(port, "/", two, upgrade=False)[0] == 403  # which one would a proxy have used?
     two = [*own.items(), ("Origin", f"http://127.0.0.1:{port}"), ("Origin", "http://evil.example")]
     assert _raw_request(port, "/", two, upgrade=True)[0] == 403
+    # an upgrade to websocket and something else: never upgraded
+    odd = [*own.items(), ("Origin", f"http://127.0.0.1:{port}"), ("Upgrade", "h2c")]
+    assert _raw_request(port, "/", odd, upgrade=True)[0] not in (101, 200)
     stats = page.gate.stats()
     assert stats["refused origin"] == 5 and stats["refused host"] == 7 and stats["refused key"] == 1
 
@@ -852,6 +855,30 @@ def test_view3d_refuses_a_port_in_use_with_one_line(capsys):
         assert cli.main(["view3d", "--http", f"127.0.0.1:{port}"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and f"cannot serve the page on 127.0.0.1:{port}" in err
+
+
+def test_page_on_ipv6_loopback_checks_the_bracketed_host():
+    if not socket.has_ipv6:
+        pytest.skip("no IPv6")
+    try:
+        p = _Page("[::1]")
+    except ValueError as exc:
+        pytest.skip(f"no IPv6 loopback here ({exc})")
+    try:
+        host = f"[::1]:{p.port}"
+        with socket.create_connection(("::1", p.port), timeout=5) as s:
+            s.sendall(f"GET / HTTP/1.1\r\nHost: {host}\r\n\r\n".encode())
+            assert s.recv(100).startswith(b"HTTP/1.1 200")
+        with socket.create_connection(("::1", p.port), timeout=5) as s:
+            s.sendall(f"GET / HTTP/1.1\r\nHost: 127.0.0.1:{p.port}\r\n\r\n".encode())
+            assert s.recv(100).startswith(b"HTTP/1.1 403")
+        from websockets.sync.client import connect
+
+        url = f"ws://{host}/"
+        with connect(url, subprotocols=[f"viser-v{_viser_version()}"], origin=f"http://{host}") as ws:
+            assert len(ws.recv(timeout=5)) > 16
+    finally:
+        p.close()
 
 
 def test_page_address_keeps_the_name_and_the_resolved_address():

@@ -4,10 +4,12 @@ The viewer joins a running link (``vessel-gym serve``) as a v2 client, builds th
 message (land, breakwaters and quays extruded above the water, depth areas as steps of the sea bed, the goal),
 the ships from their ``particulars`` (hull outline to scale) and draws them, with the track, the sea surface,
 wind and current arrows and a HUD, in a web page served on loopback by `viser <https://viser.studio>`_ (its
-three.js client is bundled in the package: no internet access at run time).
+three.js client is bundled in the package: no internet access at run time). Every request and message of the
+page passes :mod:`~vessel_gym.ui.view3d_gate` (the page's Host and Origin, the helm key of the run).
 
-The page is a watcher until someone presses ``H`` (or the "Take the helm" button): it then says ``hello`` as a
-helm panel and sends full orders at 10 Hz, starting from the orders in force. Keys: left/right arrows rudder
+The page opened from the ``/helm/KEY`` URL printed at start is a watcher until someone presses ``H`` (or the
+"Take the helm" button): it then says ``hello`` as a helm panel and sends full orders at 10 Hz, starting from
+the orders in force; the page at ``/`` only watches. Keys: left/right arrows rudder
 5 deg to port/starboard, ``M`` midships, up/down arrows telegraph one step ahead/astern, ``H`` take and ``R``
 release the helm, ``C`` next camera (chase, bridge, top-down, harbour, free).
 
@@ -15,8 +17,9 @@ Scene frame: x east, y north, z up, m, origin at the scenario's reference point 
 What is drawn but not in the protocol is stated where it is chosen (freeboard, superstructure, heights of
 land above the water).
 
-Its jobs beside it: the scene's geometry and the sea (:mod:`~vessel_gym.ui.view3d_scene`) and the link client
-(:mod:`~vessel_gym.ui.view3d_link`); this module is the page (viser scene, GUI, cameras, HUD) and its entry point.
+Its jobs beside it: the scene's geometry and the sea (:mod:`~vessel_gym.ui.view3d_scene`), the link client
+(:mod:`~vessel_gym.ui.view3d_link`) and the gate (:mod:`~vessel_gym.ui.view3d_gate`); this module is the page
+(viser scene, GUI, cameras, HUD) and its entry point.
 """
 
 from __future__ import annotations

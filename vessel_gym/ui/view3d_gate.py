@@ -83,10 +83,11 @@ def resolve_page_address(
     (the page checks the ``Host`` header against the names it is served under, so it must have one)."""
     timeout_s = RESOLVE_TIMEOUT_S if timeout_s is None else timeout_s
     result: list = []
+    bare = host[1:-1] if host.startswith("[") and host.endswith("]") else host  # [::1] as in a URL
 
     def lookup() -> None:
         try:
-            result.append(socket.getaddrinfo(host, port, type=socket.SOCK_STREAM))
+            result.append(socket.getaddrinfo(bare, port, type=socket.SOCK_STREAM))
         except (OSError, UnicodeError) as exc:
             result.append(exc)
 
@@ -115,17 +116,19 @@ def resolve_page_address(
             f"--http {host}: give the address or name the page is opened with, not a wildcard "
             "(requests are checked against it)"
         )
-    return PageAddress(host, family, sockaddr)
+    return PageAddress(bare, family, sockaddr)
 
 
 def bind_page_socket(addr: PageAddress) -> socket.socket:
-    """A TCP socket bound to exactly the resolved address (viser then listens on it; it never binds a name)."""
+    """A TCP socket bound to exactly the resolved address and listening (viser serves on it; it never binds a
+    name, and never moves to another port)."""
     sock = socket.socket(addr.family, socket.SOCK_STREAM)
     try:
         sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         if addr.family == socket.AF_INET6:
             sock.setsockopt(socket.IPPROTO_IPV6, socket.IPV6_V6ONLY, 1)
         sock.bind(addr.sockaddr)
+        sock.listen(64)
     except OSError as exc:
         sock.close()
         port = addr.sockaddr[1]
@@ -254,14 +257,20 @@ class PageGate:
             from websockets.http11 import Request
 
             request = Request("/", request.headers)  # the same page (viser serves one index.html)
-        response = viser_process_request(connection, request) if viser_process_request else None
-        if response is not None:
-            # The page's URL may carry the key: no caching, no referrer, no framing by another page.
-            response.headers["Cache-Control"] = "no-store"
-            response.headers["Referrer-Policy"] = "no-referrer"
-            response.headers["X-Frame-Options"] = "DENY"
-            response.headers["Content-Security-Policy"] = "frame-ancestors 'none'"
-            response.headers["X-Content-Type-Options"] = "nosniff"
+        try:
+            response = viser_process_request(connection, request) if viser_process_request else None
+        except Exception:  # noqa: BLE001 - counted, answered 500
+            self.count("server errors")
+            return connection.respond(500, "500 Internal Server Error\n")
+        if response is None:  # an upgrade the checks above did not see as one: never let it through
+            self.count("refused malformed")
+            return connection.respond(403, f"403 Forbidden: {_REFUSALS['malformed']}\n")
+        # The page's URL may carry the key: no caching, no referrer, no framing by another page.
+        response.headers["Cache-Control"] = "no-store"
+        response.headers["Referrer-Policy"] = "no-referrer"
+        response.headers["X-Frame-Options"] = "DENY"
+        response.headers["Content-Security-Policy"] = "frame-ancestors 'none'"
+        response.headers["X-Content-Type-Options"] = "nosniff"
         return response
 
     async def handle(self, viser_handler: Any, connection: Any) -> None:
@@ -366,8 +375,10 @@ def _serve_through_gate(gate: PageGate, sock: socket.socket) -> Iterator[None]:
     used = []
 
     def serve(handler: Any, host: Any = None, port: Any = None, **kwargs: Any) -> Any:
-        if used or not getattr(handler, "__module__", "").startswith("viser."):
+        if not getattr(handler, "__module__", "").startswith("viser."):
             return original(handler, host, port, **kwargs)
+        # viser's own call (again if the first raised OSError: viser then retries on the next port; every
+        # try gets the gate and ``sock``, never viser's host and port)
         used.append(True)
         viser_pr = kwargs.pop("process_request", None)
         kwargs.update(
