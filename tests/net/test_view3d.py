@@ -492,6 +492,13 @@ def test_viewer_heels_the_container_ship_from_a_real_link():
 def _raw_request(port: int, path: str, headers, upgrade: bool) -> tuple[int, bytes]:
     """One HTTP request with exactly ``headers`` (a dict or (name, value) pairs; no Host or Origin added), as
     a hostile page or client would send it; returns the status code and the response's first bytes."""
+    with socket.create_connection(("127.0.0.1", port), timeout=5) as s:
+        s.sendall(_request_bytes(path, headers, upgrade))
+        data = s.recv(4096)
+    return int(data.split(b" ", 2)[1]), data
+
+
+def _request_bytes(path: str, headers, upgrade: bool) -> bytes:
     pairs = headers.items() if isinstance(headers, dict) else headers
     lines = [f"GET {path} HTTP/1.1"] + [f"{k}: {v}" for k, v in pairs]
     if upgrade:
@@ -502,10 +509,7 @@ def _raw_request(port: int, path: str, headers, upgrade: bool) -> tuple[int, byt
             "Sec-WebSocket-Version: 13",
             f"Sec-WebSocket-Protocol: viser-v{_viser_version()}",
         ]
-    with socket.create_connection(("127.0.0.1", port), timeout=5) as s:
-        s.sendall(("\r\n".join(lines) + "\r\n\r\n").encode())
-        data = s.recv(4096)
-    return int(data.split(b" ", 2)[1]), data
+    return ("\r\n".join(lines) + "\r\n\r\n").encode()
 
 
 def _viser_version() -> str:
@@ -713,11 +717,22 @@ def test_page_drops_and_counts_malformed_messages_without_a_traceback(page, capf
     with socket.create_connection(("127.0.0.1", page.port), timeout=5) as raw:  # not even HTTP
         raw.sendall(b"\x16\x03\x01\x02\x00garbage\r\n\r\n")
         raw.recv(100)
+    own = {"Host": f"127.0.0.1:{page.port}", "Origin": f"http://127.0.0.1:{page.port}"}
+    for frames in (rng.bytes(300), b"\x81\x05hello", b"\x81\x82abcd\xff\xfe"):  # random, unmasked, bad UTF-8
+        with socket.create_connection(("127.0.0.1", page.port), timeout=5) as raw:
+            raw.sendall(_request_bytes("/", own, upgrade=True))
+            assert raw.recv(4096).startswith(b"HTTP/1.1 101")
+            raw.sendall(frames)
+            with contextlib.suppress(OSError):
+                while raw.recv(65536):  # until websockets closes the connection
+                    pass
     expected = {k for _, k in garbage if k}
     assert _wait_for(lambda: page.gate.stats().get("dropped oversized") == 1)
     assert _wait_for(lambda: page.gate.stats().get("refused malformed") == 1)
+    assert _wait_for(lambda: page.gate.stats().get("dropped bad frame") == 3), page.gate.stats()
     stats = page.gate.stats()
-    dropped = sum(n for k, n in stats.items() if k.startswith("dropped ") and k != "dropped oversized")
+    frame_level = ("dropped oversized", "dropped bad frame")
+    dropped = sum(n for k, n in stats.items() if k.startswith("dropped ") and k not in frame_level)
     assert dropped == len(garbage) + 4, stats
     assert (
         expected <= set(stats) and stats["dropped bad fields"] == 4 + 4 and stats["dropped text frame"] == 20

@@ -293,8 +293,11 @@ class PageGate:
                 try:
                     raw = await inner(*args, **kwargs)
                 except ConnectionClosedError as exc:
-                    if exc.sent is not None and exc.sent.code == 1009:
+                    code = exc.sent.code if exc.sent is not None else None
+                    if code == 1009:  # message too big
                         gate.count("dropped oversized")
+                    elif code in (1002, 1007):  # not a websocket frame (protocol error), text not UTF-8
+                        gate.count("dropped bad frame")
                     raise
                 now = time.monotonic()
                 bucket[0] = min(float(MESSAGE_BURST), bucket[0] + (now - bucket[1]) * MESSAGE_RATE_HZ)
