@@ -922,3 +922,18 @@ def test_view3d_with_a_name_that_does_not_resolve_exits_2_with_one_line(tmp_path
     assert r.returncode == 2 and r.stdout == ""
     assert r.stderr.count("\n") == 1 and "--http 127.0.0.1.vessel-gym.invalid" in r.stderr, r.stderr
     assert time.monotonic() - t0 < G.RESOLVE_TIMEOUT_S + 15.0  # interpreter start and imports included
+
+
+def test_link_client_binds_loopback_for_a_loopback_server_by_its_address():
+    """The link client's own socket is reachable from the network only when the server is not on loopback,
+    decided from the resolved address (ipaddress), not from its text."""
+    for server, bound in (
+        (("127.0.0.1", 9), "127.0.0.1"),
+        (("127.3.2.1", 9), "127.0.0.1"),
+        (("192.0.2.1", 9), "0.0.0.0"),
+    ):
+        link = V.LinkClient(server, 20.0, "t", None)
+        try:
+            assert link.sock.getsockname()[0] == bound, server
+        finally:
+            link.close()
