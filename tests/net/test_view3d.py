@@ -686,6 +686,7 @@ def test_page_drops_and_counts_malformed_messages_without_a_traceback(page, capf
         (_msg("ShareUrlRequest"), "dropped unknown type"),
         (_msg("FileTransferStartUpload", source_component_uuid="x"), "dropped unknown type"),
         (b"\x93\x01\x02\x03", "dropped unknown type"),  # a msgpack list, not a message
+        (b"\x91" * 100_000 + b"\x00", "dropped undecodable"),  # nested 100 000 deep
         (_msg("ViewerCameraMessage", **{**CAMERA, "wxyz": "a"}), "dropped bad fields"),
         (_msg("ViewerCameraMessage", **{**CAMERA, "fov": float("nan")}), "dropped bad fields"),
         (_msg("ViewerCameraMessage", **{**CAMERA, "position": [0.0, 1.0]}), "dropped bad fields"),

@@ -1,4 +1,5 @@
-"""The 3D viewer's gate: who may load the page, open its websocket and take the helm (docs/cli.md, view3d).
+"""The 3D viewer's gate: who may load the page, open its websocket and take the helm (docs/protocol.md, "What
+the page checks").
 
 Any web page the user visits can make the browser open ``ws://127.0.0.1:PORT/`` or fetch from it, and a DNS
 rebinding name can point at loopback, so every HTTP request and websocket upgrade is checked here before viser
@@ -149,7 +150,7 @@ class PageGate:
 
         self.key = key or secrets.token_urlsafe(18)
         names = {h.lower().strip("[]") for h in hosts}
-        self.hosts = set()
+        self.hosts: set[str] = set()
         for n in names:
             shown = f"[{n}]" if ":" in n else n  # an IPv6 literal in a Host header is bracketed
             self.hosts.add(f"{shown}:{port}")
@@ -163,7 +164,8 @@ class PageGate:
         self._open = 0  # websockets open now (touched on viser's event loop thread only)
         self._decode = msgspec.msgpack.decode
         self._convert = msgspec.convert
-        self._invalid = (msgspec.DecodeError, msgspec.ValidationError, TypeError, ValueError)
+        # RecursionError: msgspec's answer to deeply nested data (a 100 kB message can nest 100 000 deep)
+        self._invalid = (msgspec.DecodeError, msgspec.ValidationError, TypeError, ValueError, RecursionError)
         self._classes = {name: getattr(_messages, name) for name in HELM_MESSAGES}
 
     @property
