@@ -246,6 +246,4 @@ def test_gpsd_reports_the_heel_of_a_ship_with_roll(gpsd):
         if phi is None:
             assert "roll" not in att[k]
         else:
-            assert att[k].get("roll") == pytest.approx(phi, abs=1e-6), [
-                r for r in gpsd.reports if r.get("class") in ("TPV", "ATT")
-            ]
+            assert att[k].get("roll") == pytest.approx(phi, abs=1e-6), [r for r in gpsd.reports if r.get("class") in ("TPV", "ATT")]

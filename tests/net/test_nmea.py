@@ -259,19 +259,7 @@ def test_heel_goes_out_as_xdr_roll_and_pashr_only_for_a_ship_with_roll():
     lines = nmea.own_ship_sentences(make_reading(roll_deg=-2.5, roll_rate_dps=0.4), UTC)
     heads = [line[1:6] for line in lines]
     # PASHR just before HDT (gpsd 3.22 reports the heel with HDT's ATT), XDR last
-    assert heads == [
-        "GPRMC",
-        "GPGGA",
-        "GPVTG",
-        "PASHR",
-        "IIHDT",
-        "IIROT",
-        "IIRSA",
-        "IIRPM",
-        "IIVHW",
-        "IIMWV",
-        "IIXDR",
-    ]
+    assert heads == ["GPRMC", "GPGGA", "GPVTG", "PASHR", "IIHDT", "IIROT", "IIRSA", "IIRPM", "IIVHW", "IIMWV", "IIXDR"]
     assert lines[3] == "$PASHR,123456.78,123.40,T,-2.50,,,,,,1,*19\r\n"
     assert lines[10] == "$IIXDR,A,-2.50,D,ROLL*62\r\n"
     for line in lines:

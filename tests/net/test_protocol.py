@@ -303,12 +303,9 @@ def test_state_carries_roll_only_for_a_ship_with_roll():
     assert own.roll_deg == pytest.approx(-3.5) and own.roll_rate_dps == pytest.approx(0.25)
     (data,) = P.encode_state(7, own, True)
     msg = P.parse_server_datagram(data)
-    assert (
-        list(msg)
-        == STATE_KEYS[: STATE_KEYS.index("helm_ok")]
-        + ["roll_deg", "roll_rate_dps"]
-        + STATE_KEYS[STATE_KEYS.index("helm_ok") :]
-    )
+    assert list(msg) == STATE_KEYS[: STATE_KEYS.index("helm_ok")] + ["roll_deg", "roll_rate_dps"] + STATE_KEYS[
+        STATE_KEYS.index("helm_ok") :
+    ]
     assert msg["roll_deg"] == -3.5 and msg["roll_rate_dps"] == 0.25
     flat = Simulation("kvlcc2", 1, dt=0.1).bridge(0)
     assert flat.roll_deg is None and flat.roll_rate_dps is None
