@@ -281,7 +281,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_server(v3)
     v3.add_argument(
-        "--http", metavar="HOST:PORT", default="127.0.0.1:8080", help="where the page is served (loopback)"
+        "--http",
+        metavar="HOST:PORT",
+        default="127.0.0.1:8080",
+        help="where the page is served: a loopback address or name (resolved once, 5 s at most)",
+    )
+    v3.add_argument(
+        "--lan",
+        action="store_true",
+        help="allow a --http address that is not loopback (the page is then reachable from the network)",
     )
     v3.add_argument(
         "--camera",
@@ -554,6 +562,7 @@ def _main(argv: Sequence[str] | None) -> int:
             return view3d(
                 resolve_address(host_port(args.server, "--server"), "--server"),
                 host_port(args.http, "--http"),
+                lan=args.lan,
                 camera=args.camera,
                 rate_hz=args.rate,
                 token=token_arg(args),

@@ -12,6 +12,10 @@ import time
 import urllib.request
 
 
+class _Detached(RuntimeError):
+    """The page's DevTools session is between two documents (a navigation is committing)."""
+
+
 def chromium_path() -> str | None:
     for name in ("chromium", "chromium-browser"):
         path = shutil.which(name)
@@ -82,6 +86,15 @@ class Chromium:
             raise
 
     def call(self, method: str, timeout_s: float = 60.0, **params: object) -> dict:
+        # While a navigation commits, the page's session briefly answers "Not attached to an active page".
+        for _ in range(50):
+            try:
+                return self._call(method, timeout_s, **params)
+            except _Detached:
+                self.pump(0.1)
+        return self._call(method, timeout_s, **params)
+
+    def _call(self, method: str, timeout_s: float, **params: object) -> dict:
         self._id += 1
         mid = self._id
         self.ws.send(json.dumps({"id": mid, "method": method, "params": params}))
@@ -90,6 +103,8 @@ class Chromium:
             msg = json.loads(self.ws.recv(timeout=max(0.05, deadline - time.monotonic())))
             if msg.get("id") == mid:
                 if "error" in msg:
+                    if "Not attached to an active page" in str(msg["error"].get("message")):
+                        raise _Detached(method)
                     raise RuntimeError(f"{method}: {msg['error']}")
                 return msg.get("result", {})
             self.events.append(msg)

@@ -4,10 +4,12 @@ The viewer joins a running link (``vessel-gym serve``) as a v2 client, builds th
 message (land, breakwaters and quays extruded above the water, depth areas as steps of the sea bed, the goal),
 the ships from their ``particulars`` (hull outline to scale) and draws them, with the track, the sea surface,
 wind and current arrows and a HUD, in a web page served on loopback by `viser <https://viser.studio>`_ (its
-three.js client is bundled in the package: no internet access at run time).
+three.js client is bundled in the package: no internet access at run time). Every request and message of the
+page passes :mod:`~vessel_gym.ui.view3d_gate` (the page's Host and Origin, the helm key of the run).
 
-The page is a watcher until someone presses ``H`` (or the "Take the helm" button): it then says ``hello`` as a
-helm panel and sends full orders at 10 Hz, starting from the orders in force. Keys: left/right arrows rudder
+The page opened from the ``/helm/KEY`` URL printed at start is a watcher until someone presses ``H`` (or the
+"Take the helm" button): it then says ``hello`` as a helm panel and sends full orders at 10 Hz, starting from
+the orders in force; the page at ``/`` only watches. Keys: left/right arrows rudder
 5 deg to port/starboard, ``M`` midships, up/down arrows telegraph one step ahead/astern, ``H`` take and ``R``
 release the helm, ``C`` next camera (chase, bridge, top-down, harbour, free).
 
@@ -15,8 +17,9 @@ Scene frame: x east, y north, z up, m, origin at the scenario's reference point 
 What is drawn but not in the protocol is stated where it is chosen (freeboard, superstructure, heights of
 land above the water).
 
-Its jobs beside it: the scene's geometry and the sea (:mod:`~vessel_gym.ui.view3d_scene`) and the link client
-(:mod:`~vessel_gym.ui.view3d_link`); this module is the page (viser scene, GUI, cameras, HUD) and its entry point.
+Its jobs beside it: the scene's geometry and the sea (:mod:`~vessel_gym.ui.view3d_scene`), the link client
+(:mod:`~vessel_gym.ui.view3d_link`) and the gate (:mod:`~vessel_gym.ui.view3d_gate`); this module is the page
+(viser scene, GUI, cameras, HUD) and its entry point.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from __future__ import annotations
 import contextlib
 import io
 import math
+import socket
 import sys
 import time
 from typing import Any, TextIO
@@ -32,6 +36,13 @@ import numpy as np
 
 from vessel_gym.scenarios.geometry import hull_outline
 from vessel_gym.ui.chart import depth_colour
+from vessel_gym.ui.view3d_gate import (
+    PageGate,
+    bind_page_socket,
+    current_role,
+    gated_viser_server,
+    resolve_page_address,
+)
 from vessel_gym.ui.view3d_link import Address, LinkClient
 from vessel_gym.ui.view3d_scene import (
     CAMERAS,
@@ -59,33 +70,26 @@ SEA_PERIOD_S = 1.0 / 8.0  # sea-surface vertex updates, s
 HUD_PERIOD_S = 0.25
 
 
-
 # ---------------------------------------------------------------------------------------------------------------
 # The page
-
-
 
 
 class Viewer3D:
     """The viser scene and GUI for one :class:`LinkClient`."""
 
-    def __init__(self, link: LinkClient, http: Address, camera: str) -> None:
-        import viser
-
+    def __init__(self, link: LinkClient, gate: PageGate, sock: socket.socket, camera: str) -> None:
         self.link = link
-        with contextlib.redirect_stdout(io.StringIO()):  # viser prints its own banner; ours names the URL
-            self.server = viser.ViserServer(
-                host=http[0], port=http[1], label="vessel-gym view3d", verbose=False
-            )
+        self.gate = gate
+        self.server = gated_viser_server(gate, sock, label="vessel-gym view3d")
         self.server.scene.set_up_direction("+z")
-        self.server.gui.configure_theme(
-            control_layout="collapsible", show_share_button=False, dark_mode=False
-        )
+        self.server.gui.configure_theme(control_layout="floating", show_share_button=False, dark_mode=False)
+        self.server.gui.main_panel.dock_right()  # the HUD and the helm buttons right of the 3D view
         sc = self.server.scene
         # Daylight: sky and sea-bed tones from a hemisphere light, a sun from the south-west at 50 deg elevation.
         self._fog = (1e4, 2e4)
         sc.configure_environment_map(hdri=None)
         self.server.on_client_connect(self._joined)
+        self.server.on_client_connect(self._tell_watchers)
         self.camera = camera
         self._scene_version = -1
         self._particulars_version = -1
@@ -109,13 +113,21 @@ class Viewer3D:
     def _joined(self, client: Any) -> None:
         client.scene.configure_fog(*self._fog, color=(205, 218, 232))
 
+    async def _tell_watchers(self, client: Any) -> None:
+        """A page opened without the helm key says so (async: it runs in the connection's context)."""
+        if current_role() == "watch":
+            client.gui.add_markdown(
+                "*Watching only*: the helm is taken from the URL that `vessel-gym view3d` printed."
+            )
+
     # -- GUI ----------------------------------------------------------------------------------------------------
 
     def _build_gui(self) -> None:
         gui = self.server.gui
+        self.commands: dict[str, Any] = {}
         self.hud = gui.add_markdown("waiting for the link ...")
         self.cam_box = gui.add_dropdown("Camera", CAMERAS, initial_value=self.camera)
-        self.cam_box.on_update(lambda _e: setattr(self, "camera", self.cam_box.value))
+        self.cam_box.on_update(lambda _e: self._camera_chosen())
         self.helm_button = gui.add_button("Take the helm (H)")
         self.helm_button.on_click(lambda _e: self.toggle_helm())
         gui.add_markdown(
@@ -134,6 +146,13 @@ class Viewer3D:
         ):
             cmd = gui.add_command(label, hotkey=key)
             cmd.on_trigger(lambda _e, f=action: f())
+            self.commands[label] = cmd
+
+    def _camera_chosen(self) -> None:
+        if self.cam_box.value in CAMERAS:
+            self.camera = self.cam_box.value
+        else:  # viser casts whatever a page sends to str
+            self.cam_box.value = self.camera
 
     def toggle_helm(self) -> None:
         self.set_helm(not self.link.helm)
@@ -489,10 +508,28 @@ class Viewer3D:
 # Entry point
 
 
+STATS_PERIOD_S = 10.0  # wall-clock s between log lines of refused requests and dropped messages
+
+
+def _gate_line(stats: dict[str, int]) -> str:
+    """'refused 3 requests (host 1, origin 2); dropped 211 page messages (text frame 11, undecodable 200)'."""
+    parts = []
+    for what, noun in (("refused", "request"), ("dropped", "page message")):
+        items = sorted((k.split(" ", 1)[1], n) for k, n in stats.items() if k.startswith(what + " "))
+        if items:
+            detail = ", ".join(f"{k} {n}" for k, n in items)
+            total = sum(n for _, n in items)
+            parts.append(f"{what} {total} {noun}{'' if total == 1 else 's'} ({detail})")
+    if stats.get("server errors"):
+        parts.append(f"{stats['server errors']} server errors")
+    return "; ".join(parts)
+
+
 def view3d(
     server: Address,
     http: Address = ("127.0.0.1", 8080),
     *,
+    lan: bool = False,
     camera: str = "chase",
     rate_hz: float = 20.0,
     name: str = "view3d",
@@ -500,34 +537,47 @@ def view3d(
     duration_s: float | None = None,
     out: TextIO | None = None,
 ) -> int:
-    """Serve the 3D page on ``http`` (loopback only) for the link at ``server`` until Ctrl-C or
-    ``duration_s``. Returns 0. Raises ``ValueError`` (one line) for a bad address or camera, ``ImportError``
-    without viser."""
+    """Serve the 3D page on ``http`` for the link at ``server`` until Ctrl-C or ``duration_s``. Returns 0.
+
+    ``http``'s name is resolved once (:func:`~vessel_gym.ui.view3d_gate.resolve_page_address`, 5 s at most) and
+    the page bound to that address, which must be loopback unless ``lan``. Prints the page's two URLs: the
+    one with the helm key (``/helm/KEY``, new each run) can take the helm, ``/`` only watches. Raises
+    ``ValueError`` (one line) for a bad address or camera, ``ImportError`` without viser."""
     out = out if out is not None else sys.stdout
     if camera not in CAMERAS:
         raise ValueError(f"camera must be one of {', '.join(CAMERAS)}, not {camera!r}")
-    if not http[0].startswith("127.") and http[0] != "localhost":
-        raise ValueError(f"--http {http[0]}: the page can take the helm, so it is served on loopback only")
     import viser  # noqa: F401  (fail before binding anything)
 
+    page = resolve_page_address(http[0], http[1], lan=lan)
+    sock = bind_page_socket(page)
+    port = sock.getsockname()[1]
+    gate = PageGate((page.name, page.address), port)
     try:
         link = LinkClient(server, rate_hz, name, token)
     except OSError as exc:
+        sock.close()
         raise ValueError(f"cannot reach {server[0]}:{server[1]}: {exc.strerror or exc}") from None
     viewer = None
     try:
-        try:
-            viewer = Viewer3D(link, http, camera)
-        except OSError as exc:
-            raise ValueError(f"cannot serve the page on {http[0]}:{http[1]}: {exc.strerror or exc}") from None
-        url = f"http://{http[0]}:{viewer.server.get_port()}/"
+        viewer = Viewer3D(link, gate, sock, camera)
+        base = f"http://{page.url_host(port)}"
         print(
-            f"vessel-gym view3d: open {url} (link {server[0]}:{server[1]}); Ctrl-C to stop",
+            f"vessel-gym view3d: link {server[0]}:{server[1]}; open {base}{gate.helm_path} to watch and take "
+            f"the helm ({base}/ only watches); Ctrl-C to stop",
             file=out,
             flush=True,
         )
+        if lan:
+            print(
+                "vessel-gym view3d: --lan: the page is reachable from the network, over plain HTTP "
+                "(the helm key travels unencrypted: use a trusted network)",
+                file=out,
+                flush=True,
+            )
         start = time.monotonic()
         warned_silent = warned_bad = False
+        stats_due = start + STATS_PERIOD_S
+        said: dict[str, int] = {}
         try:
             while duration_s is None or time.monotonic() - start < duration_s:
                 now = time.monotonic()
@@ -550,14 +600,23 @@ def view3d(
                         flush=True,
                     )
                     warned_silent = True
+                if now >= stats_due:
+                    stats_due = now + STATS_PERIOD_S
+                    stats = gate.stats()
+                    line = _gate_line(stats)
+                    if line and _gate_line(said) != line:
+                        print(f"vessel-gym view3d: {line}", file=out, flush=True)
+                        said = stats
                 time.sleep(max(0.0, FRAME_PERIOD_S - (time.monotonic() - now)))
         except KeyboardInterrupt:
             pass
-        print("vessel-gym view3d: stopped", file=out, flush=True)
+        line = _gate_line(gate.stats())
+        print(f"vessel-gym view3d: stopped{'; ' + line if line else ''}", file=out, flush=True)
     finally:
         link.close()
         if viewer is not None:
             viewer.close()
+        sock.close()
     return 0
 
 
@@ -566,8 +625,10 @@ __all__ = [
     "FRAME_PERIOD_S",
     "HUD_PERIOD_S",
     "LinkClient",
+    "PageGate",
     "RUDDER_STEP_DEG",
     "SEA_PERIOD_S",
+    "STATS_PERIOD_S",
     "TRACK_POINTS",
     "TRACK_REDRAW_S",
     "TRACK_SPACING_S",

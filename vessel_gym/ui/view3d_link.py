@@ -3,6 +3,7 @@ helm owner, and sending the page's helm orders (docs/protocol.md)."""
 
 from __future__ import annotations
 
+import ipaddress
 import socket
 import time
 
@@ -32,7 +33,9 @@ class LinkClient:
         self.name = name
         self.token = token
         self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        self.sock.bind(("127.0.0.1" if self.server[0].startswith("127.") else "0.0.0.0", 0))
+        # A link on loopback is answered from loopback only: the socket is not reachable from the network.
+        loopback = ipaddress.ip_address(self.server[0]).is_loopback
+        self.sock.bind(("127.0.0.1" if loopback else "0.0.0.0", 0))
         self.sock.setblocking(False)
         self.state: dict | None = None
         self.welcome: dict | None = None  # the last full welcome (with a session)
