@@ -5,6 +5,12 @@ Path rule (the same for every ``--plot``, ``--report`` and ``--out`` option): a 
 format the option can write (``.png``, ``.svg``, ``.pdf``, ``.html``) is that file; anything else (a path ending
 in ``/``, an existing directory, a name without such a suffix) is a directory, created if missing, into which
 the command writes its default file names. An existing file is never replaced unless ``force`` is given.
+
+``force`` replaces the named file itself and nothing else: a symbolic link at an output path is refused even
+with ``force`` (its target may be any file of the user's; remove the link or name another path), and the file
+is opened with ``O_NOFOLLOW``, so a link that appears after the check is refused too. Names that come from file
+contents (a scenario's or a ship's name) pass through :func:`safe_name`, one path segment, before they become
+part of an output path.
 """
 
 from __future__ import annotations
@@ -62,6 +68,12 @@ def check_free(paths: Iterable[Path], force: bool, what: str) -> None:
                 if not parent.is_dir():
                     raise OutputExistsError(f"{what}: {str(parent)!r} is not a directory")
                 break
+    for p in paths:
+        if Path(p).is_symlink():
+            raise OutputExistsError(
+                f"{what}: {str(p)!r} is a symbolic link; not replaced, not even with --force "
+                "(remove the link or name another file)"
+            )
     if force:
         for p in paths:
             if p.exists() and not p.is_file():
@@ -83,13 +95,22 @@ def write_new(path: Path, data: bytes, force: bool) -> Path:
     """Write ``data`` to ``path``; without ``force`` the file must not exist (exclusive create, so a file
     that appeared since :func:`check_free` is not replaced either)."""
     path.parent.mkdir(parents=True, exist_ok=True)
+    if path.is_symlink():
+        raise OutputExistsError(f"{str(path)!r} is a symbolic link; not replaced, not even with --force")
+    # O_NOFOLLOW: --force replaces the named file, never a symbolic link's target (see the module docstring)
+    flags = os.O_WRONLY | os.O_CREAT | os.O_NOFOLLOW | (os.O_TRUNC if force else os.O_EXCL)
     try:
-        with open(path, "wb" if force else "xb") as fh:
-            fh.write(data)
+        fd = os.open(path, flags, 0o666)
     except FileExistsError:
         raise OutputExistsError(f"{str(path)!r} exists; not replaced (use --force to overwrite)") from None
     except IsADirectoryError:
         raise OutputExistsError(f"{str(path)!r} is a directory; not replaced") from None
+    except OSError as exc:
+        if path.is_symlink():
+            raise OutputExistsError(f"{str(path)!r} is a symbolic link; not replaced, not even with --force") from None
+        raise OutputExistsError(f"{str(path)!r}: cannot write ({exc.strerror})") from None
+    with os.fdopen(fd, "wb") as fh:
+        fh.write(data)
     return path
 
 

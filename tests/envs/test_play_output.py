@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from vessel_gym.cli import main
@@ -23,3 +25,18 @@ def test_play_refuses_to_replace_a_debrief(tmp_path, capsys):
     assert earlier.read_bytes() == b"an earlier debrief"
     d = play("harbour", seed=1, realtime=False, max_steps=2, out_dir=tmp_path, force=True)
     assert d.track_png == str(earlier) and earlier.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_scenario_name_cannot_move_the_debrief_out_of_out_dir(tmp_path):
+    """A scenario file's ``name`` becomes one path segment of the debrief's file name, never a path."""
+    pytest.importorskip("pygame")
+    from importlib.resources import files
+
+    text = (files("vessel_gym.scenarios") / "harbour.toml").read_text()
+    hostile = tmp_path / "hostile.toml"
+    hostile.write_text(text.replace('name = "harbour"', 'name = "../../../../ESCAPED"', 1))
+    out = tmp_path / "a" / "b"
+    d = play(str(hostile), seed=1, realtime=False, max_steps=2, out_dir=out)
+    written = Path(d.track_png)
+    assert written.parent == out and written.is_file()
+    assert [p.parent for p in tmp_path.rglob("*ESCAPED*.png")] == [out]

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs.harbour import HarbourApproachEnv
-from vessel_gym.outputs import check_free, write_new
+from vessel_gym.outputs import check_free, safe_name, write_new
 
 RUDDER_STEP_DEG = 5.0
 RUDDER_ORDERS_DEG = tuple(float(x) for x in np.arange(-35.0, 35.0 + 1e-9, RUDDER_STEP_DEG))
@@ -139,7 +139,7 @@ def play(
     )
     task = env.task
     sc = task.scenario
-    png = None if out_dir is None else Path(out_dir) / f"debrief_{sc.name}.png"
+    png = None if out_dir is None else Path(out_dir) / f"debrief_{safe_name(sc.name)}.png"
     if png is not None:
         check_free([png], force, "--out")
     dt = env.config.control_interval_s
