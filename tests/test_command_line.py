@@ -134,6 +134,9 @@ def test_ships_lists_particulars_and_source(capsys):
         (("manoeuvre", "zigzag", "kvlcc2", "--overshoots", "-1"), "--overshoots"),
         (("helm", "--server", "no.such.host.invalid:10120"), "--server"),
         (("view", "--listen", "8.8.8.8:41122"), "--listen"),
+        ((), "no command given"),
+        (("--version", "imo"), "--version takes no other arguments"),
+        (("imo", "--version"), "--version takes no other arguments"),
     ],
 )
 def test_bad_arguments_one_line_exit_2(capsys, argv, needle):

@@ -311,6 +311,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     for sp in (sv, hm, vw, v3):
         add_token_option(sp)
+    p.commands = tuple(sub.choices)
     return p
 
 
@@ -479,10 +480,15 @@ def _main(argv: Sequence[str] | None) -> int:
 
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        words = list(sys.argv[1:] if argv is None else argv)
+        if "--version" in words and len(words) > 1:
+            # argparse's version action prints and exits 0 at once, whatever follows it
+            others = " ".join(w for w in words if w != "--version")
+            raise UsageError(f"vessel-gym: --version takes no other arguments (got {others!r})")
+        args = parser.parse_args(words)
         if args.command is None:
-            parser.print_help()
-            return 2
+            commands = ", ".join(sorted(parser.commands))
+            raise UsageError(f"vessel-gym: no command given; choose one of {commands} (vessel-gym --help)")
         if args.command in ("imo", "manoeuvre") and getattr(args, "manoeuvre", "") is not None:
             args.ship = _ship_name(args)
         if args.command == "imo":
