@@ -200,7 +200,7 @@ def test_stats_on_request_and_periodically(peers):
         v = peers()
         _hello(v, link)
         v.send(link.json_address, b"not json")
-        v.send(link.json_address, P.encode_stats_request())
+        v.send(link.json_address, P.encode_stats_request(v.session))
         time.sleep(SETTLE_S)
         _run(link, 0.0, 0.02)
         stats = v.messages("stats")

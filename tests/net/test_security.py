@@ -59,11 +59,11 @@ def _unicode_tokens(n: int, seed: int) -> list[bytes]:
 
 def test_any_unicode_token_is_rejected_without_raising(peers):
     attacker = peers()
-    with _link(token="s3cret") as link:
+    with _link(token="s3cret", unverified_rate_per_host_hz=200.0) as link:
         datagrams = _unicode_tokens(3000, seed=11)
         for i, data in enumerate(datagrams):
             attacker.send(link.json_address, data)
-            if i % 100 == 99:  # 100 datagrams per link second: within the per-source rate limit
+            if i % 100 == 99:  # 100 datagrams per link second: within the unverified rate of one host
                 time.sleep(SETTLE_S)
                 link.service(i / 100.0, make_reading())  # must not raise
         time.sleep(SETTLE_S)
@@ -171,7 +171,7 @@ def test_one_host_holds_at_most_its_share_of_slots(peers):
 
 
 def test_a_flooding_source_is_rate_limited_and_others_are_served(peers):
-    with _link(max_rate_per_source_hz=100.0, max_datagrams_per_call=1000) as link:
+    with _link(unverified_rate_per_host_hz=100.0, max_datagrams_per_call=1000) as link:
         viewer, flooder = peers(), peers()
         viewer.join(link.json_address, lambda: link.service(0.0, make_reading()), "viewer", 10.0)
         for k in range(10):  # 500 datagrams per 0.1 s from one address: 50 times its allowance
@@ -242,15 +242,20 @@ def test_forged_datagrams_do_not_keep_a_departed_client_registered(peers):
         assert link.clients == [] and link.stats()["clients_timed_out"] == 1
 
 
-def test_stats_requests_in_a_clients_name_get_one_reply_per_second(peers):
+def test_stats_requests_in_a_clients_name_get_no_reply_and_its_own_one_per_second(peers):
     with _link() as link:
         v = peers()
         v.join(link.json_address, lambda: link.service(0.0, make_reading()), "viewer", 1.0)
         v.messages()
-        for _ in range(50):  # forged in the client's name: 50 x ~30 bytes in, at most one ~1 kB reply out
+        for _ in range(50):  # forged in the client's name (no session): no ~1 kB reply at all
             v.send(link.json_address, P.encode_stats_request())
         time.sleep(SETTLE_S)
         link.service(0.5, make_reading())
+        assert v.messages("stats") == [] and link.stats()["drop_bad_session"] == 50
+        for _ in range(50):  # the client itself: one reply per second, however often it asks
+            v.send(link.json_address, P.encode_stats_request(v.session))
+        time.sleep(SETTLE_S)
+        link.service(0.6, make_reading())
         assert len(v.messages("stats")) == 1 and link.stats()["drop_rate_limited"] == 49
 
 

@@ -13,8 +13,9 @@ Handshake and limits (``docs/protocol.md`` has the full text):
 - A ``hello`` that echoes a valid cookie registers the client (role ``viewer`` or ``helm``) with a fresh random
   ``session``, sent in the full ``welcome``; ``helm`` and ``bye`` must carry that session. A client stays
   registered while it renews its hello (or, as helm owner, commands) at least every ``client_timeout_s`` (3 s).
-- Each source address may send ``max_rate_per_source_hz`` datagrams per second (more are dropped unread), and
-  one host may hold ``max_clients_per_host`` of the ``max_clients`` slots.
+- Datagrams are rate-limited before parsing, by session or else by unverified budgets (:mod:`access`), and one
+  ``service()`` call reads at most ``max_datagrams_per_call`` datagrams for at most ``max_receive_ms``.
+- Slots: ``max_clients``, ``max_clients_per_host``; a full registry evicts an idle or over-share client.
 - Tokens are compared as UTF-8 bytes in constant time.
 
 Helm rules:
@@ -31,8 +32,7 @@ rates, the watchdog and the timeouts are measured in it.
 
 This module is the link's loop (receive, dispatch, send on schedule). Admission (cookies, token, rate limits,
 client registry) is :mod:`~vessel_gym.net.access`, helm ownership :mod:`~vessel_gym.net.helm_owner`, the
-configuration :mod:`~vessel_gym.net.link_config` and the NMEA/AIS sentences :mod:`~vessel_gym.net.nmea_feed`;
-the public names of the first three stay importable from here.
+configuration :mod:`~vessel_gym.net.link_config` and the NMEA/AIS sentences :mod:`~vessel_gym.net.nmea_feed`.
 """
 
 from __future__ import annotations
@@ -40,28 +40,13 @@ from __future__ import annotations
 import math
 import select
 import socket
+import time
 from collections.abc import Callable, Sequence
 from datetime import datetime
 
 from vessel_gym.net import nmea
-from vessel_gym.net.access import (  # noqa: F401
-    COOKIE_LIFETIME_S,
-    MAX_RATE_SOURCES,
-    Access,
-    Address,
-    Client,
-    is_loopback,
-    new_session,
-    resolve_host,
-)
-from vessel_gym.net.helm_owner import (  # noqa: F401
-    FAILSAFE_POLICIES,
-    HELM_CHANGE_REASONS,
-    NO_HELM,
-    HelmChange,
-    HelmOwner,
-    HelmState,
-)
+from vessel_gym.net.access import Access, Address, Client, is_loopback, new_session, resolve_host
+from vessel_gym.net.helm_owner import HelmChange, HelmOwner, HelmState
 from vessel_gym.net.link_config import LinkConfig  # noqa: F401
 from vessel_gym.net.nmea_feed import NmeaFeed
 from vessel_gym.net.protocol import (
@@ -160,7 +145,12 @@ class UdpLink:
             self._nmea_sock = nsock
 
         self._access = Access(
-            config.token, config.max_rate_per_source_hz, config.max_clients, config.max_clients_per_host
+            config.token,
+            config.max_rate_per_client_hz,
+            config.max_clients,
+            config.max_clients_per_host,
+            config.unverified_rate_per_host_hz,
+            config.unverified_rate_total_hz,
         )
         self._clients = self._access.clients  # the registry, shared: Access admits, the link serves
         self._helm = HelmOwner(config.failsafe)
@@ -179,7 +169,8 @@ class UdpLink:
         counters = ["rx_datagrams", "rx_accepted", "tx_state", "tx_welcome", "tx_challenge", "tx_stats"]
         counters += ["tx_nmea_datagrams"]
         counters += ["tx_nmea_sentences", "tx_ais_sentences", "tx_error", "rx_error", "encode_error"]
-        counters += ["clients_joined", "clients_left", "clients_timed_out"]
+        counters += ["clients_joined", "clients_left", "clients_timed_out", "clients_evicted"]
+        counters += ["rx_budget_spent"]
         counters += ["helm_takeovers", "helm_watchdog", "helm_released", "tx_v2"]
         counters += [f"drop_{r}" for r in REASONS + LINK_DROP_REASONS]
         self._counters: dict[str, int] = dict.fromkeys(counters, 0)
@@ -282,6 +273,9 @@ class UdpLink:
     def _receive(self, now_s: float) -> None:
         sock = self._json_sock
         counters = self._counters
+        access = self._access
+        clock = time.perf_counter
+        deadline = clock() + self.config.max_receive_ms * 1e-3
         for _ in range(self.config.max_datagrams_per_call):
             try:
                 data, addr = sock.recvfrom(MAX_DATAGRAM_BYTES + 1)
@@ -292,15 +286,18 @@ class UdpLink:
                 self.last_error = f"recv: {exc}"
                 continue
             counters["rx_datagrams"] += 1
-            if not self._access.admit(addr, now_s):
+            if not access.admit(addr, data, now_s):
                 counters["drop_rate_limited"] += 1
-                continue
-            try:
-                msg = parse_datagram(data, self.config.limits, self.config.default_rate_hz)
-            except ProtocolError as exc:
-                counters["drop_" + exc.reason] += 1
-                continue
-            self._handle(now_s, addr, msg, len(data))
+            else:
+                try:
+                    msg = parse_datagram(data, self.config.limits, self.config.default_rate_hz)
+                except ProtocolError as exc:
+                    counters["drop_" + exc.reason] += 1
+                else:
+                    self._handle(now_s, addr, msg, len(data))
+            if clock() > deadline:
+                break
+        counters["rx_budget_spent"] += 1  # the rest waits for the next call (or the kernel drops it)
 
     def _drop(self, reason: str) -> None:
         self._counters["drop_" + reason] += 1
@@ -322,9 +319,13 @@ class UdpLink:
                 self._send(addr, data, "tx_challenge")
                 return
             if client is None:
-                if not access.has_room(addr[0]):
+                room = access.make_room(addr[0], now_s, self._helm.owner)
+                if room is False:
                     self._drop("too_many_clients")
                     return
+                if room is not True:
+                    del self._clients[room]
+                    self._counters["clients_evicted"] += 1
                 client = Client(msg.role, msg.rate_hz, msg.name, now_s, now_s, session=new_session())
                 self._clients[addr] = client
                 self._counters["clients_joined"] += 1
@@ -350,15 +351,16 @@ class UdpLink:
         if client is None:
             self._drop("unregistered")
             return
-        if isinstance(msg, (HelmCommand, Bye)) and msg.session != client.session:
-            self._drop("bad_session")  # a forged or stale command: it neither steers nor keeps the client
+        if isinstance(msg, (HelmCommand, Bye, StatsRequest)) and msg.session != client.session:
+            # a forged or stale command: it neither steers nor keeps the client, nor gets the stats
+            self._drop("bad_session")
             return
         if isinstance(msg, HelmCommand):
             client.last_seen = now_s
             self._command(now_s, addr, client, msg)
             return
         if isinstance(msg, StatsRequest) and now_s - client.last_stats < STATS_REQUEST_INTERVAL_S:
-            # anyone can forge a request in a client's name: a ~1 kB reply per 100-byte request is bounded
+            # even the client itself gets one ~1 kB reply per second, however many ~80-byte requests it sends
             self._drop("rate_limited")
             return
         self._counters["rx_accepted"] += 1

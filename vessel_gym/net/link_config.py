@@ -59,14 +59,17 @@ class LinkConfig:
     default_rate_hz: float = 20.0  # state rate for a hello without rate_hz, 1-50 Hz
     allow_remote: bool = False  # binding to a non-loopback address requires this
     token: str | None = None  # if set, a hello must carry this token
-    max_rate_per_source_hz: float = 200.0  # datagrams/s from one source address (burst: 1 s of it), 10-1e5
+    max_rate_per_client_hz: float = 200.0  # datagrams/s in one client's session (burst: 1 s of it), 10-1e5
+    unverified_rate_per_host_hz: float = 100.0  # datagrams/s without a session from one IP address, 10-1e5
+    unverified_rate_total_hz: float = 1000.0  # datagrams/s without a session from everyone together, 10-1e6
     failsafe: str = "hold"  # "hold" | "midships_stop"
     watchdog_s: float = 1.0  # helm silence after which the owner loses the helm, s (0.1-10)
     client_timeout_s: float = 3.0  # silence after which a client is dropped, s (0.5-60)
     max_clients: int = 16
     max_clients_per_host: int = 8  # client slots one IP address may hold
     stats_interval_s: float = 5.0  # period of unsolicited stats messages to clients, s (0.5-3600)
-    max_datagrams_per_call: int = 256  # receive budget per service() call
+    max_datagrams_per_call: int = 2048  # receive budget per service() call (datagrams)
+    max_receive_ms: float = 2.0  # receive budget per service() call (ms of wall-clock time), 0.1-100
     limits: Limits = field(default_factory=Limits)
     utc_epoch: datetime | None = None  # UTC at simulation time 0; None = wall clock at the first service()
 
@@ -106,10 +109,13 @@ class LinkConfig:
         put("watchdog_s", _check_number("watchdog_s", self.watchdog_s, 0.1, 10.0))
         put("client_timeout_s", _check_number("client_timeout_s", self.client_timeout_s, 0.5, 60.0))
         put("stats_interval_s", _check_number("stats_interval_s", self.stats_interval_s, 0.5, 3600.0))
-        put(
-            "max_rate_per_source_hz",
-            _check_number("max_rate_per_source_hz", self.max_rate_per_source_hz, 10.0, 100000.0),
-        )
+        for name, high in (
+            ("max_rate_per_client_hz", 1e5),
+            ("unverified_rate_per_host_hz", 1e5),
+            ("unverified_rate_total_hz", 1e6),
+        ):
+            put(name, _check_number(name, getattr(self, name), 10.0, high))
+        put("max_receive_ms", _check_number("max_receive_ms", self.max_receive_ms, 0.1, 100.0))
         for name, low, high in (
             ("max_clients", 1, 1024),
             ("max_clients_per_host", 1, 1024),

@@ -130,7 +130,9 @@ class Bye:
 
 @dataclass(frozen=True)
 class StatsRequest:
-    """Ask for one ``stats`` message now."""
+    """Ask for one ``stats`` message now; only the client's own ``session`` gets an answer."""
+
+    session: str | None = None
 
 
 ClientMessage = Hello | HelmCommand | Bye | StatsRequest
@@ -185,7 +187,7 @@ def parse_datagram(
         return Bye(session=get_str(obj, "session", MAX_SESSION_CHARS, truncate=False))
     if kind == "stats_request":
         get_seq(obj, required=False)
-        return StatsRequest()
+        return StatsRequest(session=get_str(obj, "session", MAX_SESSION_CHARS, truncate=False))
     raise ProtocolError("bad_type")
 
 
@@ -422,9 +424,11 @@ def encode_bye(session: str | None = None) -> bytes:
     return dumps({"v": PROTOCOL_VERSION, "type": "bye", "session": session}).encode()
 
 
-def encode_stats_request() -> bytes:
-    """Ask the server for a ``stats`` message."""
-    return b'{"v":1,"type":"stats_request"}'
+def encode_stats_request(session: str | None = None) -> bytes:
+    """Ask the server for a ``stats`` message (answered only with the session of the client's welcome)."""
+    if session is None:
+        return b'{"v":1,"type":"stats_request"}'
+    return dumps({"v": PROTOCOL_VERSION, "type": "stats_request", "session": session}).encode()
 
 
 def parse_server_datagram(data: bytes) -> dict:
