@@ -196,7 +196,13 @@ def build_parser() -> argparse.ArgumentParser:
         sp.add_argument("--force", action="store_true", help="replace an existing plot file")
         _add_depth(sp)
 
-    ships = sub.add_parser("ships", help="list the built-in ships with their particulars and sources")
+    ships = sub.add_parser(
+        "ships",
+        help="list the built-in ships with their particulars and sources; 'ships check SHIP' checks a ship's "
+        "hull model (derivative signs, energy, rudder) before any trial",
+    )
+    ships.add_argument("action", nargs="?", choices=("check",), help="check SHIP's hull model")
+    ships.add_argument("ship", nargs="?", help="built-in ship name or ship file (.toml), with check")
     ships.add_argument("--json", action="store_true", help="machine-readable output")
     sub.add_parser("scenarios", help="list the built-in scenarios")
 
@@ -326,9 +332,41 @@ def _ship_name(args) -> str:
     return pos if pos is not None else opt
 
 
+def _cmd_ships_check(args) -> int:
+    """The hull model's checks (physics.plausibility): exit 1 if one finds the ship impossible."""
+    from vessel_gym.physics.plausibility import check_ship, impossible
+    from vessel_gym.physics.shipfile import load_ship
+
+    ship = load_ship(args.ship)
+    findings = check_ship(ship)
+    bad = impossible(findings)
+    text = [
+        f"hull model checks - {ship.name}",
+        "",
+        f"{'check':<34}{'value':>10}  {'expected':<9}{'result':>10}",
+    ]
+    text.append("-" * 65)
+    for f in findings:
+        text.append(f"{f.quantity:<34}{f.value:>10.4g}  {f.expected:<9}{f.status.upper():>10}")
+        text.append(f"    {f.note}; source: {f.source}" if f.note else f"    source: {f.source}")
+    verdict = "IMPOSSIBLE" if bad else "possible"
+    text += ["", f"overall: {verdict}" + (" (see 'impossible' above)" if bad else "")]
+    data = {"ship": ship.name, "findings": [f.to_dict() for f in findings], "possible": not bad}
+    _emit(data, args.json, "\n".join(text))
+    return 1 if bad else 0
+
+
 def _cmd_ships(args) -> int:
     from vessel_gym.physics.shipfile import builtin_ships, load_ship
 
+    if args.action == "check":
+        if args.ship is None:
+            raise UsageError("vessel-gym ships check: name a ship: built-in name or ship file (.toml)")
+        return _cmd_ships_check(args)
+    if args.ship is not None:
+        raise UsageError(
+            f"vessel-gym ships: unexpected {args.ship!r} (did you mean 'ships check {args.ship}'?)"
+        )
     rows = []
     for name in builtin_ships():
         ship = load_ship(name)
@@ -410,7 +448,8 @@ def _cmd_imo(args) -> int:
     if written and not args.json:
         print("wrote: " + ", ".join(str(f) for f in written), file=sys.stderr)
     _emit(report.to_dict(), args.json, report.table())
-    return 1 if report.diverged else 0  # a run that ran away is a failure of the simulation, not a verdict
+    # a run that ran away, or a ship no hull could be, is a failure of the model, not a verdict on the ship
+    return 1 if report.diverged or report.implausible_reasons else 0
 
 
 def _cmd_manoeuvre(args) -> int:
@@ -431,7 +470,9 @@ def _cmd_manoeuvre(args) -> int:
         if kind == "turning-circle":
             res = trials.turning_circle(ship, args.rudder, args.speed, **env)
         elif kind == "zigzag":
-            res = trials.zigzag(ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots, **env)
+            res = trials.zigzag(
+                ship, args.rudder, args.heading, args.speed, n_overshoots=args.overshoots, **env
+            )
         elif kind == "initial-turning":
             res = trials.initial_turning(ship, args.rudder, args.speed, **env)
         elif kind == "stopping":

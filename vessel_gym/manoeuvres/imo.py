@@ -23,6 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from vessel_gym.manoeuvres.trials import (
     InitialTurning,
     ManoeuvreDiverged,
@@ -37,8 +39,10 @@ from vessel_gym.manoeuvres.trials import (
     zigzag,
 )
 from vessel_gym.physics.environment import CALM, Environment
+from vessel_gym.physics.plausibility import Finding, check_ship, impossible
 from vessel_gym.physics.shipfile import Ship, load_ship
-from vessel_gym.physics.units import KNOT_M_S
+from vessel_gym.physics.units import DEG, KNOT_M_S
+from vessel_gym.physics.vessel import mass_matrix
 
 
 def zigzag10_limits(L_over_V_s: float) -> tuple[float, float]:
@@ -61,8 +65,16 @@ INITIAL_TURNING_LIMIT_L = 2.5  # MSC.137(76) §5.3.2
 ZIGZAG20_FIRST_LIMIT_DEG = 25.0  # MSC.137(76) §5.3.3.3
 STOPPING_LIMIT_L = 15.0  # MSC.137(76) §5.3.4
 STOPPING_LARGE_SHIP_LIMIT_L = 20.0  # §5.3.4: the most an Administration may accept for large displacement
-IS_CODE_PASSENGER_HEEL_LIMIT_DEG = 10.0  # 2008 IS Code Part A §3.1.3: heel on account of turning, passenger ships
+IS_CODE_PASSENGER_HEEL_LIMIT_DEG = (
+    10.0  # 2008 IS Code Part A §3.1.3: heel on account of turning, passenger ships
+)
 IS_CODE_HEEL_REF = "2008 IS Code (MSC.267(85)) Part A §3.1.3"
+#: a turn, a zig-zag or a crash stop at constant or reduced power only adds drag (drift, yaw, rudder, astern
+#: thrust), so the speed through the water and the kinetic energy never rise above the approach's; every
+#: built-in ship stays at or below 1.0000 of it. The 1 % allows for the approach's rpm, solved numerically.
+SPEED_RISE_ALLOWANCE = 0.01
+#: the heading change (rad) beyond which a trial's turning direction is read (clear of rounding at t = 0)
+DIRECTION_READ_RAD = 1.0 * DEG
 
 
 @dataclass
@@ -75,15 +87,23 @@ class Criterion:
     note: str = ""
     # the run ran away (non-finite or physically impossible state): never scored, ``note`` says why
     diverged: bool = False
+    # the trial did what no ship can (:func:`implausibility`): never scored, this says why
+    implausible: str = ""
 
     @property
     def passed(self) -> bool:
-        return bool(not self.diverged and self.value is not None and self.value <= self.limit)
+        if self.diverged or self.implausible:
+            return False
+        return bool(self.value is not None and self.value <= self.limit)
 
     @property
     def verdict(self) -> str:
-        """One of "diverged", "pass" or "fail"."""
-        return "diverged" if self.diverged else ("pass" if self.passed else "fail")
+        """One of "diverged", "implausible", "pass" or "fail"."""
+        if self.diverged:
+            return "diverged"
+        if self.implausible:
+            return "implausible"
+        return "pass" if self.passed else "fail"
 
     def to_dict(self) -> dict:
         d = {
@@ -97,6 +117,8 @@ class Criterion:
         }
         if self.note:
             d["note"] = self.note
+        if self.implausible:
+            d["implausible"] = self.implausible
         return d
 
 
@@ -109,6 +131,8 @@ class ImoReport:
     trials: dict = field(default_factory=dict, repr=False)
     spec: Ship | None = field(default=None, repr=False)
     depth_m: float = math.inf  # water depth of the trials, m (inf: deep water)
+    # the ship file's checks (physics.plausibility) run before the trials
+    findings: list[Finding] = field(default_factory=list, repr=False)
 
     @property
     def L_over_V_s(self) -> float:
@@ -116,7 +140,7 @@ class ImoReport:
 
     @property
     def passed(self) -> bool:
-        return all(c.passed for c in self.criteria)
+        return not self.implausible_reasons and all(c.passed for c in self.criteria)
 
     @property
     def diverged(self) -> bool:
@@ -124,8 +148,23 @@ class ImoReport:
         return any(c.diverged for c in self.criteria)
 
     @property
+    def implausible_reasons(self) -> list[str]:
+        """Why no ship could do what this one did (ship file or trials), one sentence each; the report
+        then cannot pass (the command exits with 1)."""
+        ship = [
+            f"{f.quantity}: {f.value:.4g}, expected {f.expected} ({f.note})"
+            for f in impossible(self.findings)
+        ]
+        trials = dict.fromkeys(c.implausible for c in self.criteria if c.implausible)
+        return ship + list(trials)
+
+    @property
     def verdict(self) -> str:
-        return "DIVERGED" if self.diverged else ("PASS" if self.passed else "FAIL")
+        if self.diverged:
+            return "DIVERGED"
+        if self.implausible_reasons:
+            return "IMPLAUSIBLE"
+        return "PASS" if self.passed else "FAIL"
 
     def criteria_named(self, name: str) -> list[Criterion]:
         return [c for c in self.criteria if c.name == name]
@@ -145,6 +184,8 @@ class ImoReport:
         if math.isfinite(self.depth_m):
             d["depth_m"] = self.depth_m
             d["depth_note"] = SHALLOW_NOTE
+        if self.implausible_reasons:
+            d["implausible"] = self.implausible_reasons
         return d
 
     def table(self) -> str:
@@ -154,18 +195,53 @@ class ImoReport:
             f"L = {self.L_m:.2f} m, test speed V = {self.V_kn:.2f} kn, L/V = {self.L_over_V_s:.2f} s",
             *([f"water depth {self.depth_m:g} m: {SHALLOW_NOTE}"] if math.isfinite(self.depth_m) else []),
             "",
-            f"{'criterion':<28}{'side':<11}{'value':>9}{'limit':>9}  {'unit':<5}{'result':>7}",
-            "-" * 71,
+            f"{'criterion':<28}{'side':<11}{'value':>9}{'limit':>9}  {'unit':<5}{'result':>12}",
+            "-" * 76,
         ]
         for c in self.criteria:
             val = "   n/a" if c.value is None else f"{c.value:9.2f}"
             lines.append(
                 f"{c.name:<28}{c.side:<11}{val:>9}{c.limit:9.2f}  {c.unit:<5}"
-                f"{c.verdict.upper():>7}" + (f"  ({c.note})" if c.note else "")
+                f"{c.verdict.upper():>12}" + (f"  ({c.note})" if c.note else "")
             )
-        lines.append("-" * 71)
+        lines.append("-" * 76)
+        lines += [f"implausible: {why}" for why in self.implausible_reasons]
         lines.append(f"overall: {self.verdict}")
         return "\n".join(lines)
+
+
+def implausibility(trial, ship: Ship, label: str) -> str:
+    """Why a trial's result is physically impossible, or "" if it is not: the speed (or, in the stopping
+    test, the kinetic energy) rising above the approach's by more than :data:`SPEED_RISE_ALLOWANCE`, or the
+    ship turning against its rudder. ``label`` names the trial in the sentence."""
+    tr = trial.track
+    u, v, r = (np.asarray(a) for a in (tr.u, tr.v, tr.r))
+    U = np.hypot(u, v)
+    rise = float(U.max() / U[0]) if U[0] > 0.0 else 1.0
+    if rise > 1.0 + SPEED_RISE_ALLOWANCE:
+        return f"{label}: the speed rose to {rise:.2f}x the approach speed with no more power"
+    if isinstance(trial, Stopping):
+        M = mass_matrix(ship)
+        nu = np.column_stack([u, v, r])
+        energy = 0.5 * np.einsum("ti,ij,tj->t", nu, M, nu)  # J, rigid body and added mass
+        gain = float(energy.max() / energy[0])
+        if gain > 1.0 + SPEED_RISE_ALLOWANCE:
+            return f"{label}: the kinetic energy rose to {gain:.2f}x the approach's with the engine astern"
+    rudder = getattr(trial, "rudder_deg", 0.0)
+    psi = np.asarray(tr.psi)
+    turned = np.nonzero(np.abs(psi) > DIRECTION_READ_RAD)[0]
+    if rudder and turned.size and math.copysign(1.0, psi[turned[0]]) != math.copysign(1.0, rudder):
+        wrong = "port" if rudder > 0 else "starboard"
+        return f"{label}: the ship turned to {wrong} with the rudder to {_side(rudder)}"
+    return ""
+
+
+def _judged(criteria: list[Criterion], trial, ship: Ship, label: str) -> list[Criterion]:
+    """``criteria`` of ``trial``, each marked implausible if the trial is (:func:`implausibility`)."""
+    why = implausibility(trial, ship, label.replace("_", " "))
+    for c in criteria:
+        c.implausible = why
+    return criteria
 
 
 def _side(rudder_deg: float) -> str:
@@ -269,9 +345,12 @@ def imo_report(
     s = load_ship(ship)
     if heel_limit_deg is not None:
         if s.roll is None:
-            raise ValueError(f"ship {s.name!r} has no roll (no [roll] table): no heel to hold to a heel limit")
+            raise ValueError(
+                f"ship {s.name!r} has no roll (no [roll] table): no heel to hold to a heel limit"
+            )
         if not 0.0 < heel_limit_deg < 90.0:
             raise ValueError(f"heel limit {heel_limit_deg:g} deg: allowed 0 < limit < 90")
+    findings = check_ship(s)  # the ship file's signs, energy and rudder, before any trial
     env = environment
     L = s.particulars.L_m
     V = s.particulars.test_speed_kn
@@ -286,9 +365,9 @@ def imo_report(
         try:
             tc = turning_circle(s, sg * turn_rudder, until_deg=360.0, environment=env)
             trials[f"turning_{side}"] = tc
-            crit += turning_criteria(tc)
+            crit += _judged(turning_criteria(tc), tc, s, f"turning_{side}")
             if heel_limit_deg is not None:
-                heel.append(heel_criteria(tc, heel_limit_deg)[0])
+                heel += _judged(heel_criteria(tc, heel_limit_deg), tc, s, f"turning_{side}")
         except ManoeuvreIncomplete as exc:
             crit.append(_missing("advance", side, ADVANCE_LIMIT_L, "L", exc))
             crit.append(_missing("tactical_diameter", side, TACTICAL_DIAMETER_LIMIT_L, "L", exc))
@@ -298,7 +377,7 @@ def imo_report(
         try:
             it = initial_turning(s, sg * 10.0, environment=env)
             trials[f"initial_turning_{side}"] = it
-            crit += initial_turning_criteria(it)
+            crit += _judged(initial_turning_criteria(it), it, s, f"initial_turning_{side}")
         except ManoeuvreIncomplete as exc:
             crit.append(_missing("initial_turning", side, INITIAL_TURNING_LIMIT_L, "L", exc))
     for angle in (10.0, 20.0):
@@ -307,7 +386,7 @@ def imo_report(
             try:
                 z = zigzag(s, sg * angle, angle, n_overshoots=len(limits), environment=env)
                 trials[f"zigzag_{angle:.0f}_{side}"] = z
-                crit += zigzag_criteria(z, LV)
+                crit += _judged(zigzag_criteria(z, LV), z, s, f"zigzag_{angle:.0f}_{side}")
             except ManoeuvreIncomplete as exc:
                 names = [f"zigzag_{angle:.0f}_first_overshoot", f"zigzag_{angle:.0f}_second_overshoot"]
                 for nm, lim in zip(names, limits):
@@ -315,7 +394,7 @@ def imo_report(
     try:
         st = stopping(s, environment=env)
         trials["stopping"] = st
-        crit += stopping_criteria(st)
+        crit += _judged(stopping_criteria(st), st, s, "stopping")
     except ManoeuvreIncomplete as exc:
         crit.append(_missing("stopping_track_reach", "ahead", STOPPING_LIMIT_L, "L", exc))
     if with_pull_out:
@@ -323,4 +402,4 @@ def imo_report(
             trials["pull_out"] = pull_out(s, environment=env)
         except ManoeuvreIncomplete:
             pass  # no criterion depends on it; the report says the trial is missing
-    return ImoReport(s.name, L, V, crit + heel, trials, s, environment.depth_m)
+    return ImoReport(s.name, L, V, crit + heel, trials, s, environment.depth_m, findings)

@@ -25,6 +25,7 @@ th { background: #f0f0f0; }
 .PASS { color: #fff; background: #1a7f37; font-weight: bold; text-align: center; }
 .FAIL { color: #fff; background: #c62828; font-weight: bold; text-align: center; }
 .DIVERGED { color: #fff; background: #6a1b9a; font-weight: bold; text-align: center; }
+.IMPLAUSIBLE { color: #fff; background: #e65100; font-weight: bold; text-align: center; }
 .overall { font-size: 1.1em; padding: 0.3em 0.8em; display: inline-block; }
 .note { color: #555; font-size: 0.9em; }
 figure { margin: 1em 0; page-break-inside: avoid; }
@@ -114,8 +115,14 @@ def report_html(report: ImoReport, pngs: dict[str, bytes] | None = None) -> str:
         f'<p>Overall: <span class="overall {verdict}">{verdict}</span> '
         f'<span class="note">({sum(c.passed for c in report.criteria)} of {len(report.criteria)} criteria '
         "met; simulated trials in deep, calm water at the test speed, both sides)</span></p>",
-        "<h2>Ship particulars</h2><table>",
     ]
+    if report.implausible_reasons:
+        parts.append(
+            "<h2>Not a possible ship</h2><p>No criterion is scored in a trial that no ship could run:</p><ul>"
+        )
+        parts += [f"<li>{_e(why)}</li>" for why in report.implausible_reasons]
+        parts.append("</ul>")
+    parts.append("<h2>Ship particulars</h2><table>")
     parts += [f"<tr><th>{_e(k)}</th><td>{_e(v)}</td></tr>" for k, v in _particulars_rows(report)]
     parts.append("</table>")
     if s is not None:
@@ -136,7 +143,7 @@ def report_html(report: ImoReport, pngs: dict[str, bytes] | None = None) -> str:
         parts.append(
             f"<tr><td>{_e(_CRITERION_TEXT.get(c.name, c.name))}</td><td>{_e(c.side)}</td>"
             f'<td class="num">{val}</td><td class="num">&le; {c.limit:.2f}</td><td>{_e(c.unit)}</td>'
-            f'<td class="{res}">{res}</td><td class="note">{_e(c.note)}</td></tr>'
+            f'<td class="{res}">{res}</td><td class="note">{_e(c.note or c.implausible)}</td></tr>'
         )
     parts.append("</table>")
     parts.append(
