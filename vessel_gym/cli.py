@@ -317,6 +317,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     for sp in (sv, hm, vw, v3):
         add_token_option(sp)
+    for sp in (imo, tc, zz, it, stp, po, ships, pl, sv):  # every command that loads a ship file
+        sp.add_argument(
+            "--allow-code",
+            action="store_true",
+            help="let ship files name components in any Python module (importing one runs its code); "
+            "without it only vessel-gym's own components load (also: VESSEL_GYM_ALLOW_CODE=1)",
+        )
     p.commands = tuple(sub.choices)
     return p
 
@@ -530,6 +537,10 @@ def _main(argv: Sequence[str] | None) -> int:
         if args.command is None:
             commands = ", ".join(sorted(parser.commands))
             raise UsageError(f"vessel-gym: no command given; choose one of {commands} (vessel-gym --help)")
+        if getattr(args, "allow_code", False):
+            from vessel_gym.physics.components import allow_code
+
+            allow_code()
         if args.command in ("imo", "manoeuvre") and getattr(args, "manoeuvre", "") is not None:
             args.ship = _ship_name(args)
         if args.command == "imo":

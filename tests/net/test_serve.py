@@ -346,6 +346,7 @@ def test_serve_runs_the_ship_files_component(peers, tmp_path, monkeypatch):
     to starboard from the reset, whatever the agent orders), not the helm's."""
     (tmp_path / "served_gear.py").write_text(_DRIFTING_GEAR)
     monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("VESSEL_GYM_ALLOW_CODE", "1")  # these ship files name the test's own modules
     ships = ROOT / "vessel_gym" / "physics" / "data" / "ships"
     ship = tmp_path / "gear_failure.toml"
     ship.write_text(

@@ -38,6 +38,7 @@ def user_models(tmp_path, monkeypatch):
     for name in ("my_hull.py", "my_thruster.py", "my_rudder.py"):
         (tmp_path / name).write_text(_doc_module(name))
     monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("VESSEL_GYM_ALLOW_CODE", "1")  # these ship files name the test's own modules
     yield tmp_path
     for name in ("my_hull", "my_thruster", "my_rudder"):
         sys.modules.pop(name, None)

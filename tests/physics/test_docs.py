@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from vessel_gym.physics import components
 from vessel_gym.physics import shipfile as sf
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "ship-file.md"
@@ -59,6 +60,7 @@ def test_components_doc_examples_run(tmp_path, monkeypatch):
     text = COMPONENTS_DOC.read_text()
     monkeypatch.chdir(tmp_path)
     monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setattr(components, "_code_allowed", False)  # the page calls allow_code(); undone after
     namespace: dict = {}
     modules = []
     ran = 0

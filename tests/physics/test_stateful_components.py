@@ -282,6 +282,7 @@ def test_cli_stopping_runs_a_ship_file_engine(ship_file, tmp_path, monkeypatch, 
     src = _docs_engine_source()
     (tmp_path / "my_engine.py").write_text(src)
     monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setenv("VESSEL_GYM_ALLOW_CODE", "1")  # these ship files name the test's own modules
     table = (
         '\n[[components]]\nslot = "engine"\nmodel = "my_engine:LaggedDiesel"\nreplace = true\n'
         "params = { rated_power_kW = 0.40, rated_rpm = 1200.0, inertia_kgm2 = 0.02, tau_s = 0.3 }\n"

@@ -12,8 +12,12 @@ This module stays light (no kernels): the ship-file loader imports it to resolve
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import io
+import os
 import re
+import sys
 from abc import ABC, abstractmethod
 from typing import Any, ClassVar, NamedTuple
 
@@ -35,6 +39,26 @@ SLOTS = (
     "extra",
 )
 EXTRA = "extra"
+
+#: the setting that lets ship files name code outside vessel-gym's own components (docs/components.md,
+#: "Code from ship files"): a ship file is data a user may have downloaded, and importing a module runs it
+ALLOW_CODE_ENV = "VESSEL_GYM_ALLOW_CODE"
+#: import paths below this package are vessel-gym's own components, always allowed
+TRUSTED_PACKAGE = "vessel_gym.physics.components"
+_code_allowed = False
+
+
+def allow_code(enabled: bool = True) -> None:
+    """Let ship files loaded from now on in this process name components in any importable module
+    (``--allow-code`` on the command line, or ``VESSEL_GYM_ALLOW_CODE=1``)."""
+    global _code_allowed
+    _code_allowed = bool(enabled)
+
+
+def code_allowed() -> bool:
+    """Whether ship files may name code outside :data:`TRUSTED_PACKAGE` (:func:`allow_code` or the env)."""
+    return _code_allowed or os.environ.get(ALLOW_CODE_ENV, "").strip() not in ("", "0")
+
 
 # module.path:Attribute, each part a Python identifier
 _IMPORT_PATH = re.compile(r"^[A-Za-z_]\w*(\.[A-Za-z_]\w*)*:[A-Za-z_]\w*(\.[A-Za-z_]\w*)*$")
@@ -194,12 +218,24 @@ def import_model(path: Any, where: str) -> type:
     if not isinstance(path, str) or not _IMPORT_PATH.match(path):
         raise ValueError(f"{where}: {path!r} is not an import path 'package.module:Class'")
     module_name, attr = path.split(":")
+    trusted = module_name == TRUSTED_PACKAGE or module_name.startswith(TRUSTED_PACKAGE + ".")
+    if not trusted and not code_allowed():
+        raise ValueError(
+            f"{where}: {path!r} would run the code of module {module_name!r}; allow code from ship files with "
+            f"--allow-code, {ALLOW_CODE_ENV}=1 or vessel_gym.physics.components.allow_code()"
+        )
+    out = io.StringIO()
     try:
-        obj: Any = importlib.import_module(module_name)
+        # what the module prints while it imports is held back, and shown on stderr only if the import
+        # worked: a failed import is one line, whatever the module wrote or however it tried to exit
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+            obj: Any = importlib.import_module(module_name)
     except ImportError as exc:
         raise ValueError(f"{where}: cannot import module {module_name!r} ({exc})") from None
-    except Exception as exc:  # noqa: BLE001 - a user module failing at import: one line, not a traceback
+    except (Exception, SystemExit) as exc:  # noqa: BLE001 - a user module failing at import: one line
         raise ValueError(f"{where}: importing {module_name!r} failed ({type(exc).__name__}: {exc})") from None
+    if out.getvalue():
+        sys.stderr.write(out.getvalue())
     for part in attr.split("."):
         if not hasattr(obj, part):
             raise ValueError(f"{where}: module {module_name!r} has no {attr!r}")
