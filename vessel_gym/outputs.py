@@ -60,13 +60,18 @@ _FORMAT_SUFFIXES = {".png", ".svg", ".pdf", ".html", ".htm", ".jpg", ".jpeg", ".
 
 
 def check_free(paths: Iterable[Path], force: bool, what: str) -> None:
-    """Refuse (one line) if any of ``paths`` exists and ``force`` is False, or if a folder on the way is a
-    file; checked before any work starts."""
+    """Refuse (one line) if any of ``paths`` exists and ``force`` is False, if a folder on the way is a
+    file, or if nothing can be written where they go; checked before any work starts."""
+    paths = list(paths)
+    probed: set[Path] = set()
     for p in paths:
         for parent in Path(p).parents:
             if parent.exists():
                 if not parent.is_dir():
                     raise OutputExistsError(f"{what}: {str(parent)!r} is not a directory")
+                if parent not in probed:
+                    probed.add(parent)
+                    _probe_writable(parent, what)
                 break
     for p in paths:
         if Path(p).is_symlink():
@@ -83,6 +88,19 @@ def check_free(paths: Iterable[Path], force: bool, what: str) -> None:
     if taken:
         more = f" (and {len(taken) - 1} more)" if len(taken) > 1 else ""
         raise OutputExistsError(f"{what}: {taken[0]!r} exists{more}; not replaced (use --force to overwrite)")
+
+
+def _probe_writable(folder: Path, what: str) -> None:
+    """Create and remove an empty file in ``folder``: permissions, a read-only mount or a pseudo file system
+    such as /proc refuse it now rather than after minutes of trials (``os.access`` says yes to root)."""
+    import tempfile
+
+    try:
+        fd, name = tempfile.mkstemp(prefix=".vessel-gym-probe-", dir=folder)
+    except OSError as exc:
+        raise OutputExistsError(f"{what}: cannot write in {str(folder)!r} ({exc.strerror})") from None
+    os.close(fd)
+    os.unlink(name)
 
 
 def safe_name(text: str) -> str:
@@ -107,7 +125,9 @@ def write_new(path: Path, data: bytes, force: bool) -> Path:
         raise OutputExistsError(f"{str(path)!r} is a directory; not replaced") from None
     except OSError as exc:
         if path.is_symlink():
-            raise OutputExistsError(f"{str(path)!r} is a symbolic link; not replaced, not even with --force") from None
+            raise OutputExistsError(
+                f"{str(path)!r} is a symbolic link; not replaced, not even with --force"
+            ) from None
         raise OutputExistsError(f"{str(path)!r}: cannot write ({exc.strerror})") from None
     with os.fdopen(fd, "wb") as fh:
         fh.write(data)

@@ -160,3 +160,25 @@ def test_imo_report_with_a_runaway_is_not_pass(capsys, tmp_path):
     assert all("exceeds" in c["note"] for c in turning)
     code, out, _ = run(capsys, "imo", _broken_ship(tmp_path))
     assert code == 1 and "overall: DIVERGED" in out
+
+
+def test_a_speed_far_below_the_test_speed_fails_at_once(capsys):
+    """--speed 0.1 ran 55 s of a turn that never reached 180 deg, then exited 1: now refused before it runs."""
+    import time
+
+    t0 = time.monotonic()
+    code, out, err = run(capsys, "manoeuvre", "turning-circle", "kvlcc2", "--speed", "0.1")
+    assert code == 2 and out == ""
+    assert time.monotonic() - t0 < 5.0
+    assert err.count("\n") == 1 and "below 1.55 kn, a tenth of kvlcc2's test speed" in err
+
+
+@pytest.mark.parametrize("argv", [["manoeuvre", "zigzag", "kvlcc2"], ["imo", "kvlcc2"]])
+def test_an_unwritable_plot_target_is_refused_before_the_trials(argv, capsys):
+    import time
+
+    t0 = time.monotonic()
+    code, out, err = run(capsys, *argv, "--plot", "/proc/x.pdf")
+    assert code == 2 and out == ""
+    assert time.monotonic() - t0 < 5.0  # the trials take longer: refused before them
+    assert err.count("\n") == 1 and "--plot: cannot write in '/proc'" in err

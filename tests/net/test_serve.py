@@ -371,3 +371,17 @@ def test_serve_runs_the_ship_files_component(peers, tmp_path, monkeypatch):
         assert st["rudder_deg"] == pytest.approx(min(st["t_s"], 35.0), abs=0.011), st
     assert states[-1]["rudder_deg"] > 2.0
     assert any(st["rudder_order_deg"] != st["rudder_deg"] for st in states)  # the helm is not what moved it
+
+
+def test_serve_makes_its_env_without_an_upgrade_warning():
+    """serve chooses HarbourApproach-v0 itself: the user is not told to upgrade an id they never named."""
+    import warnings
+
+    from vessel_gym.net.serve import _make_served
+    from vessel_gym.scenarios import load_scenario
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        env = _make_served({"scenario": load_scenario("harbour")})
+    env.close()
+    assert not [w for w in caught if "out of date" in str(w.message)], [str(w.message) for w in caught]

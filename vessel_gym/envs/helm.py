@@ -66,6 +66,22 @@ def orders_stage(rudder_order, rev_order, engine, inputs):
     return True
 
 
+def real_values(action: Any, what: str) -> np.ndarray:
+    """``action`` as float64 values, or a one-line ValueError: strings, complex numbers, booleans and
+    objects are refused by name instead of reaching the compiled helm (where a str or complex action was a
+    raw numba typing error) or being cast (complex -> real drops the imaginary part)."""
+    try:
+        raw = np.asarray(action)
+    except (TypeError, ValueError) as exc:  # ragged nested lists
+        raise ValueError(f"{what} must be real numbers: {exc}") from None
+    if raw.dtype.kind not in "fiu":
+        kind = {"U": "text", "S": "bytes", "c": "complex numbers", "b": "booleans", "O": "objects"}
+        raise ValueError(
+            f"{what} must be real numbers, got {kind.get(raw.dtype.kind, str(raw.dtype))}: {action!r}"
+        )
+    return raw.astype(np.float64, copy=False)
+
+
 class Helm(abc.ABC):
     """Turns actions into rudder and shaft-speed orders for all N vessels (one ``set_helm`` call)."""
 
@@ -132,14 +148,14 @@ class ContinuousHelm(Helm):
         self._fs0 = float(self.full_astern[0])
 
     def single(self, action: Any) -> np.ndarray:
-        a = np.asarray(action, dtype=np.float64)
+        a = real_values(action, "action")
         if a.size != self.dim:
             raise ValueError(f"action must have {self.dim} values, got shape {a.shape}")
         return a.reshape(1, self.dim)
 
     def step_values(self, action: Any) -> tuple[float, float]:
         # the rudder's and the engine's fractions (the rudder's twice without engine control)
-        if type(action) is np.ndarray and action.shape == self._shape:
+        if type(action) is np.ndarray and action.shape == self._shape and action.dtype.kind in "fiu":
             a = action.tolist()
         else:
             a = self.single(action).tolist()[0]
@@ -154,10 +170,12 @@ class ContinuousHelm(Helm):
         if x != x or e != e:
             raise ValueError(f"action contains NaN: {action!r}")
         rudder, rev = continuous_orders(x, e, self._lim0, self._fa0, self._fs0)
-        self.sim.set_helm(rudder_order_rad=rudder, rev_order=rev if self.engine else None, k=0)  # k=0: scalars
+        self.sim.set_helm(
+            rudder_order_rad=rudder, rev_order=rev if self.engine else None, k=0
+        )  # k=0: scalars
 
     def batch(self, actions: Any, n: int) -> np.ndarray:
-        a = np.asarray(actions, dtype=np.float64)
+        a = real_values(actions, "actions")
         if a.shape != (n, self.dim):
             raise ValueError(f"actions must have shape ({n}, {self.dim}), got {a.shape}")
         return a
@@ -206,13 +224,14 @@ class DiscreteHelm(Helm):
         return a
 
     def single(self, action: Any) -> np.ndarray:
-        a = np.asarray(action)
+        a = real_values(action, "action")
         if a.size != self.dim:
             raise ValueError(f"action must have {self.dim} values, got shape {a.shape}")
         return self._check(a.reshape(1, self.dim), action)
 
     def batch(self, actions: Any, n: int) -> np.ndarray:
-        a = np.asarray(actions).reshape(n, -1) if np.asarray(actions).size == n * self.dim else None
+        a = real_values(actions, "actions")
+        a = a.reshape(n, -1) if a.size == n * self.dim else None
         if a is None:
             raise ValueError(f"actions must have {n} x {self.dim} entries, got shape {np.shape(actions)}")
         return self._check(a, "actions")

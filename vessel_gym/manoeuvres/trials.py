@@ -138,11 +138,24 @@ def trial_dt(ship: Ship, speed_m_s: float) -> float:
     return 10.0**exp
 
 
+#: the slowest approach a trial accepts, as a fraction of the ship's test speed. The hull's derivatives come
+#: from captive tests near the service speed, and the rudder's and hull's forces scale with U^2: at a tenth of
+#: the test speed they are 1 % of the tested ones, and a trial's time limit (tens of L/V) grows to days of
+#: simulated time (a 35 deg turn of kvlcc2 at 0.1 kn: 55 s of computing for a ship that never turns 180 deg).
+MIN_SPEED_FRACTION = 0.1
+
+
 def _start(ship: str | Ship, speed_kn: float | None, environment: Environment, dt: float | None):
     s = load_ship(ship)
     speed = s.test_speed_m_s if speed_kn is None else speed_kn * KNOT_M_S
     if not (speed > 0.0 and math.isfinite(speed)):
         raise ValueError(f"speed must be positive, got {speed_kn} kn")
+    slowest = MIN_SPEED_FRACTION * s.particulars.test_speed_kn
+    if speed / KNOT_M_S < slowest * (1.0 - 1e-9):
+        raise ValueError(
+            f"speed {speed / KNOT_M_S:g} kn is below {slowest:.3g} kn, a tenth of {s.name}'s test speed "
+            f"{s.particulars.test_speed_kn:g} kn: outside the range its manoeuvring model was measured for"
+        )
     sim = Simulation(s, dt=dt or trial_dt(s, speed), environment=environment)
     sim.reset(speed_m_s=speed)
     return s, sim, speed

@@ -133,6 +133,26 @@ def serve(
         return 0
 
 
+#: the task serve runs: v0's, any scenario's ship and chart with the step-count time limit its scenarios set
+SERVED_ID = "vessel_gym/HarbourApproach-v0"
+
+
+def _make_served(make_kw: dict[str, Any]):
+    """The served environment. Gymnasium warns that a newer HarbourApproach exists whenever v0 is made; serve
+    chooses v0 on purpose (above), so the user is not told to upgrade an id they never named."""
+    import warnings
+
+    import gymnasium as gym
+
+    import vessel_gym.envs  # noqa: F401  (registers the ids)
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings(
+            "ignore", message=r".*HarbourApproach-v0 is out of date", category=DeprecationWarning
+        )
+        return gym.make(SERVED_ID, **make_kw)
+
+
 def _serve(
     *,
     scenario: str,
@@ -151,9 +171,6 @@ def _serve(
     token: str | None,
     err: TextIO,
 ) -> int:
-    import gymnasium as gym
-
-    import vessel_gym.envs  # noqa: F401  (registers the ids)
     from vessel_gym.net.wrapper import UdpLinkWrapper
     from vessel_gym.policy import load_policy
     from vessel_gym.scenarios import load_scenario
@@ -162,13 +179,13 @@ def _serve(
     make_kw: dict[str, Any] = {"scenario": sc}
     if max_episode_steps is not None:
         make_kw["max_episode_steps"] = max_episode_steps
-    env = gym.make("vessel_gym/HarbourApproach-v0", **make_kw)
+    env = _make_served(make_kw)
     # The physics must move at every link tick: shorten its step if the default one is longer than a tick.
     control, dt = env.unwrapped.config.control_interval_s, env.unwrapped.task.dt
     nsub = physics_steps(control, dt, link_ticks(control, time_factor))
     if nsub != env.unwrapped.task.nsub:
         env.close()
-        env = gym.make("vessel_gym/HarbourApproach-v0", dt_s=control / nsub, **make_kw)
+        env = _make_served({"dt_s": control / nsub, **make_kw})
     try:
         policy = load_policy(agent, env)
         config = LinkConfig(
