@@ -92,6 +92,27 @@ def test_imo_report_refuses_a_ship_that_gains_speed_in_a_turn(pushing_hull):
     assert "overall: IMPLAUSIBLE" in r.table()
 
 
+def test_a_single_trials_plot_does_not_pass_an_implausible_turn(pushing_hull):
+    """`manoeuvre turning-circle SHIP --plot` draws the IMO verdicts of that one trial: a turn that gains speed
+    is marked implausible there too (it was drawn as a green PASS box)."""
+    from vessel_gym.manoeuvres.imo import criteria_for
+    from vessel_gym.manoeuvres.plot_style import _verdict_lines
+    from vessel_gym.manoeuvres.trials import turning_circle
+    from vessel_gym.physics.shipfile import load_ship
+
+    ship = load_ship(str(pushing_hull))
+    crit = criteria_for(turning_circle(ship, 35.0, until_deg=360.0), ship)
+    assert [c.name for c in crit] == ["advance", "tactical_diameter"]
+    assert all(c.verdict == "implausible" and "speed rose" in c.implausible for c in crit)
+    lines = _verdict_lines(crit)
+    assert not any(ok for _, ok in lines) and not any("PASS" in text for text, _ in lines)
+    assert "<= 4.50 L  IMPLAUSIBLE" in lines[0][0]  # the value is stated truly, the verdict withheld
+    assert lines[-1][0].startswith("not scored: turning starboard: the speed rose to")
+    good = load_ship("kvlcc2")
+    crit = criteria_for(turning_circle(good, -35.0, until_deg=360.0), good)
+    assert [text.endswith("PASS") for text, _ in _verdict_lines(crit)] == [True, True]
+
+
 def test_imo_report_refuses_a_ship_that_turns_against_its_rudder(reversed_rudder):
     r = imo_report(str(reversed_rudder))
     assert r.verdict == "IMPLAUSIBLE"
