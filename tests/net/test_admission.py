@@ -164,6 +164,20 @@ def test_a_read_stops_at_its_datagram_budget(peers):
         assert s["rx_datagrams"] == 64 and s["rx_budget_spent"] == 1
 
 
+def test_a_read_stops_at_its_time_budget(peers):
+    """However many datagrams wait, one service() call reads for about max_receive_ms (here 0.1 ms: a few
+    dozen datagrams, far below the count budget), so a flood cannot hold the simulation's tick."""
+    with _link(max_receive_ms=0.1, max_datagrams_per_call=2048) as link:
+        flooder = peers()
+        hello = P.encode_hello("viewer")
+        for _ in range(3000):
+            flooder.send(link.json_address, hello)
+        time.sleep(SETTLE_S)
+        link.service(0.0, make_reading())
+        s = link.stats()
+        assert 0 < s["rx_datagrams"] < 1000 and s["rx_budget_spent"] == 1
+
+
 def test_three_hosts_squatting_every_slot_cannot_lock_a_fourth_out():
     with _link(max_clients=16, max_clients_per_host=8) as link:
         pump = lambda: link.service(0.0, make_reading())  # noqa: E731
