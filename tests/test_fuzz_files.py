@@ -145,6 +145,9 @@ def workdir(tmp_path_factory):
     import vessel_gym.ui.play
 
     d = tmp_path_factory.mktemp("fuzz")
+    # the checks' short runs compile each kind of ship's kernels once, before any case is timed
+    for name in SHIPS:
+        check_ship(name)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(vessel_gym.manoeuvres.imo, "imo_report", _fake_imo_report)
         mp.setattr(vessel_gym.ui.play, "play", _fake_play)

@@ -39,10 +39,15 @@ def test_force_replaces_a_regular_file_and_new_files_are_created(tmp_path):
     assert f.read_bytes() == b"three" and not f.is_symlink()
 
 
-@pytest.mark.parametrize("name", ["../../../../ESCAPED", "/etc/passwd", "a/b", "..", "", "ok-name_1.2"])
-def test_safe_name_is_one_path_segment(name):
+@pytest.mark.parametrize(
+    "name",
+    ["../../../../ESCAPED", "/etc/passwd", "a/b", "..", "", "ok-name_1.2", "x" * 300, "é" * 200, "a\0b"],
+)
+def test_safe_name_is_one_path_segment(name, tmp_path):
     s = safe_name(name)
     assert s and os.sep not in s and s not in (".", "..") and not s.startswith(".")
+    # a file of that name (with the longest prefix and suffix the commands add) can be made in the folder
+    assert write_new(tmp_path / f"debrief_{s}_initial_turning.png", b"x", False).parent == tmp_path
 
 
 def test_the_cli_refuses_a_plot_symlink_with_force(tmp_path, capsys):

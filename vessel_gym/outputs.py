@@ -103,10 +103,17 @@ def _probe_writable(folder: Path, what: str) -> None:
     os.unlink(name)
 
 
+# Longest part of a file name taken from a file's contents, in UTF-8 bytes: file systems allow 255 bytes per
+# name, and the callers add a prefix and a suffix (``debrief_``, ``_turning_circle.png``) of a few dozen.
+MAX_NAME_BYTES = 120
+
+
 def safe_name(text: str) -> str:
     """``text`` as one file-name component: characters other than letters, digits, ``-``, ``_`` and ``.``
-    become ``_`` (a ship's name may come from a user's file)."""
-    return "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text).lstrip(".") or "unnamed"
+    become ``_``, leading dots go, and it is cut to :data:`MAX_NAME_BYTES` (a ship's or scenario's name may
+    come from a user's file)."""
+    name = "".join(ch if ch.isalnum() or ch in "-_." else "_" for ch in text).lstrip(".")
+    return name.encode("utf-8")[:MAX_NAME_BYTES].decode("utf-8", "ignore") or "unnamed"
 
 
 def write_new(path: Path, data: bytes, force: bool) -> Path:

@@ -3,6 +3,7 @@ plausibility gate (speed or energy rising with no more power, a turn against the
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 from pathlib import Path
@@ -92,11 +93,60 @@ def test_imo_report_refuses_a_ship_that_gains_speed_in_a_turn(pushing_hull):
     assert "overall: IMPLAUSIBLE" in r.table()
 
 
+def test_a_single_trials_plot_does_not_pass_an_implausible_turn(pushing_hull):
+    """`manoeuvre turning-circle SHIP --plot` draws the IMO verdicts of that one trial: a turn that gains speed
+    is marked implausible there too (it was drawn as a green PASS box)."""
+    from vessel_gym.manoeuvres.imo import criteria_for
+    from vessel_gym.manoeuvres.plot_style import _verdict_lines
+    from vessel_gym.manoeuvres.trials import turning_circle
+    from vessel_gym.physics.shipfile import load_ship
+
+    ship = load_ship(str(pushing_hull))
+    crit = criteria_for(turning_circle(ship, 35.0, until_deg=360.0), ship)
+    assert [c.name for c in crit] == ["advance", "tactical_diameter"]
+    assert all(c.verdict == "implausible" and "speed rose" in c.implausible for c in crit)
+    lines = _verdict_lines(crit)
+    assert not any(ok for _, ok in lines) and not any("PASS" in text for text, _ in lines)
+    assert "<= 4.50 L  IMPLAUSIBLE" in lines[0][0]  # the value is stated truly, the verdict withheld
+    assert lines[-1][0].startswith("not scored: turning starboard: the speed rose to")
+    good = load_ship("kvlcc2")
+    crit = criteria_for(turning_circle(good, -35.0, until_deg=360.0), good)
+    assert [text.endswith("PASS") for text, _ in _verdict_lines(crit)] == [True, True]
+
+
 def test_imo_report_refuses_a_ship_that_turns_against_its_rudder(reversed_rudder):
     r = imo_report(str(reversed_rudder))
     assert r.verdict == "IMPLAUSIBLE"
     for c in r.criteria_named("advance") + r.criteria_named("initial_turning"):
         assert c.verdict == "implausible" and "turned to" in c.implausible, c
+
+
+def test_a_crash_stop_that_gains_speed_or_energy_is_implausible():
+    """The stopping test's rules, on kvlcc2's real crash stop with its recorded motion changed: the speed rising
+    5 % above the approach, or the speed falling while a yaw spin-up adds kinetic energy (r L / U0 up to 0.8),
+    is refused with its reason; the crash stop as run is not."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from vessel_gym.manoeuvres.imo import implausibility
+    from vessel_gym.manoeuvres.trials import stopping
+    from vessel_gym.physics.shipfile import load_ship
+
+    ship = load_ship("kvlcc2")
+    st = stopping(ship)
+    assert implausibility(st, ship, "stopping") == ""
+    tr = st.track
+    u, v, r, psi = (np.array(a, dtype=float) for a in (tr.u, tr.v, tr.r, tr.psi))
+    ramp = np.linspace(0.0, 1.0, u.size)
+
+    def judged(**arrays) -> str:
+        motion = dict(u=u, v=v, r=r, psi=psi) | arrays
+        return implausibility(dataclasses.replace(st, track=SimpleNamespace(**motion)), ship, "stopping")
+
+    assert "the speed rose to 1.05x" in judged(u=u[0] * (1.0 + 0.05 * ramp))
+    spin = judged(u=u[0] * (1.0 - 0.005 * ramp), r=0.8 * u[0] / ship.particulars.L_m * ramp)
+    assert "the kinetic energy rose to" in spin and "engine astern" in spin
 
 
 def test_imo_command_exits_1_on_an_implausible_ship(pushing_hull, capsys):

@@ -127,6 +127,32 @@ def test_forged_datagrams_with_the_owners_address_cannot_lock_it_out(peers):
         assert states >= 0.95 * 3 * 20  # and it kept getting its 20 Hz state
 
 
+def test_a_newcomer_joins_while_another_host_floods_unverified_hellos():
+    """A flood of hellos (5000/s) from one host spends that host's unverified bucket: a client from another
+    host still joins at its first tries, and the flood is dropped unread."""
+    with _link() as link:
+        flooder, newcomer = Peer("127.0.0.1"), Peer("127.0.0.9")
+        clock = [0.0]
+        hello = P.encode_hello("viewer")
+
+        def pump() -> None:
+            for _ in range(50):  # 50 per 10 ms of link time
+                flooder.send(link.json_address, hello)
+            time.sleep(SETTLE_S)
+            clock[0] += 0.01
+            link.service(clock[0], make_reading())
+
+        try:
+            for _ in range(100):  # one second of flood before the newcomer says hello
+                pump()
+            newcomer.join(link.json_address, pump, tries=4)
+            assert [c["address"] for c in link.clients] == [newcomer.address]
+            assert link.stats()["drop_rate_limited"] > 3000
+        finally:
+            flooder.close()
+            newcomer.close()
+
+
 def test_a_read_stops_at_its_datagram_budget(peers):
     with _link(max_datagrams_per_call=64) as link:
         flooder = peers()
@@ -136,6 +162,20 @@ def test_a_read_stops_at_its_datagram_budget(peers):
         link.service(0.0, make_reading())
         s = link.stats()
         assert s["rx_datagrams"] == 64 and s["rx_budget_spent"] == 1
+
+
+def test_a_read_stops_at_its_time_budget(peers):
+    """However many datagrams wait, one service() call reads for about max_receive_ms (here 0.1 ms: a few
+    dozen datagrams, far below the count budget), so a flood cannot hold the simulation's tick."""
+    with _link(max_receive_ms=0.1, max_datagrams_per_call=2048) as link:
+        flooder = peers()
+        hello = P.encode_hello("viewer")
+        for _ in range(3000):
+            flooder.send(link.json_address, hello)
+        time.sleep(SETTLE_S)
+        link.service(0.0, make_reading())
+        s = link.stats()
+        assert 0 < s["rx_datagrams"] < 1000 and s["rx_budget_spent"] == 1
 
 
 def test_three_hosts_squatting_every_slot_cannot_lock_a_fourth_out():

@@ -276,7 +276,7 @@ def test_page_in_headless_chromium_only_its_helm_url_takes_the_helm(tmp_path):
                     "--time-factor",
                     "10",
                     "--duration",
-                    "150",
+                    "400",
                     "--seed",
                     "1",
                 ],
@@ -297,7 +297,7 @@ def test_page_in_headless_chromium_only_its_helm_url_takes_the_helm(tmp_path):
                     "--camera",
                     "harbour",
                     "--duration",
-                    "140",
+                    "390",
                 ],
                 env=env,
                 stdout=open(tmp_path / "view3d.log", "w"),
@@ -338,7 +338,7 @@ def test_page_in_headless_chromium_only_its_helm_url_takes_the_helm(tmp_path):
             # 2. the page without the key: it watches, H does not take the helm
             browser.events.clear()
             browser.call("Page.navigate", url=url)
-            for _ in range(120):  # serve's first start compiles its kernels
+            for _ in range(360):  # serve's first start compiles its kernels (minutes on a loaded machine)
                 browser.pump(0.5)
                 if "Watching only" in browser.text() and "Heading" in browser.text():
                     break
@@ -771,6 +771,25 @@ def test_page_refuses_websockets_beyond_its_limit(page):
     with page.connect("/") as ws:  # room again
         assert len(ws.recv(timeout=5)) > 16
     assert page.gate.stats()["refused busy"] == 1
+
+
+def test_page_closes_a_websocket_of_another_client_without_printing(page, capfd):
+    """A websocket from the page's own origin that did not offer viser's subprotocol of this version (a
+    script, another viser) is closed and counted; viser would have printed a banner on stdout for each one."""
+    from websockets.exceptions import ConnectionClosed
+    from websockets.sync.client import connect
+
+    for protocols in (None, ["viser-v0.0.1"], ["chat"]):
+        with connect(page.url("/"), origin=f"http://127.0.0.1:{page.port}", subprotocols=protocols) as ws:
+            with pytest.raises(ConnectionClosed) as closed:
+                ws.recv(timeout=5)
+            assert closed.value.rcvd.code == 1002
+    assert page.gate.stats()["refused version"] == 3 and "accepted watch" not in page.gate.stats()
+    assert page.viewer.server.get_clients() == {}
+    out, err = capfd.readouterr()
+    assert "viser" not in out and err == "", (out, err)
+    with page.connect("/") as ws:  # the page's own client is served
+        assert len(ws.recv(timeout=5)) > 16
 
 
 def test_page_drops_a_flood_of_messages_over_its_rate(page):

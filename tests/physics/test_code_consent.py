@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -13,7 +14,8 @@ from vessel_gym.cli import main
 from vessel_gym.physics import components
 from vessel_gym.physics.shipfile import ShipFileError, load_ship
 
-SHIPS = Path(__file__).resolve().parents[2] / "vessel_gym" / "physics" / "data" / "ships"
+ROOT = Path(__file__).resolve().parents[2]  # this checkout, whichever vessel-gym is installed
+SHIPS = ROOT / "vessel_gym" / "physics" / "data" / "ships"
 
 LOUD = """import sys
 print("the module ran at import")
@@ -68,7 +70,7 @@ def test_a_module_that_exits_at_import_in_a_real_process(tmp_path):
     proc = subprocess.run(
         [sys.executable, "-m", "vessel_gym.cli", "ships", "check", str(ship), "--allow-code"],
         capture_output=True, text=True, cwd=tmp_path, timeout=120,
-        env={**__import__("os").environ, "PYTHONPATH": str(tmp_path)},
+        env={**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)])},
     )  # fmt: skip
     assert proc.returncode == 2, proc.stderr
     assert proc.stdout == "" and "the module ran" not in proc.stderr
@@ -87,3 +89,50 @@ def test_consent_by_environment(tmp_path, monkeypatch):
     assert components.code_allowed()
     monkeypatch.setenv(components.ALLOW_CODE_ENV, "0")
     assert not components.code_allowed()
+
+
+RAW = """import os
+print("printed at import")
+os.write(1, b"written to fd 1 at import\\n")
+os.write(2, b"written to fd 2 at import\\n")
+{last}
+"""
+
+
+@pytest.mark.parametrize(
+    "last, error",
+    [
+        ("raise KeyboardInterrupt", "importing 'raw_hull' failed (KeyboardInterrupt"),
+        ("", "module 'raw_hull' has no 'Hull'"),  # imported, but names no component
+    ],
+)
+def test_output_to_the_file_descriptors_and_an_interrupt_stay_inside_the_error(tmp_path, last, error):
+    """A module that writes to fd 1 and 2 directly (os.write, a C library, a subprocess) or raises
+    KeyboardInterrupt at import: still one line and exit 2, in a real process."""
+    (tmp_path / "raw_hull.py").write_text(RAW.format(last=last))
+    ship = _ship_naming(tmp_path, "raw_hull:Hull")
+    proc = subprocess.run(
+        [sys.executable, "-m", "vessel_gym.cli", "ships", "check", str(ship), "--allow-code"],
+        capture_output=True, text=True, cwd=tmp_path, timeout=120,
+        env={**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), str(ROOT)])},
+    )  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stdout == "" and "at import" not in proc.stderr
+    assert proc.stderr.count("\n") == 1 and error in proc.stderr, proc.stderr
+
+
+def test_a_component_modules_output_is_shown_once_it_loads(tmp_path, monkeypatch, capfd):
+    """A module that gives its component: what it wrote at import, to sys.stdout or fd 1, is shown on stderr."""
+    (tmp_path / "raw_ok.py").write_text(
+        RAW.format(last="from vessel_gym.physics.components.gearbox import ReversingGearbox as Gear")
+    )
+    monkeypatch.syspath_prepend(str(tmp_path))
+    components.allow_code()
+    try:
+        components.import_model("raw_ok:Gear", "test")
+    finally:
+        components.allow_code(False)
+        sys.modules.pop("raw_ok", None)
+    out, err = capfd.readouterr()
+    assert out == ""
+    assert "printed at import" in err and "written to fd 1 at import" in err and "fd 2" in err

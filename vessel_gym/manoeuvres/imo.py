@@ -308,21 +308,23 @@ def heel_criteria(tc: TurningCircle, limit_deg: float) -> list[Criterion]:
 def criteria_for(result, ship: str | Ship) -> list[Criterion]:
     """The MSC.137(76) criteria a single trial result is evidence for: empty unless the trial was run in the
     standard's condition (test speed; 35 deg or the maximum rudder for turning, 10 deg for initial turning,
-    10/10 or 20/20 zig-zag)."""
+    10/10 or 20/20 zig-zag). A trial that did what no ship can (:func:`implausibility`) marks them
+    implausible, as in the IMO report."""
     s = load_ship(ship)
     V = s.particulars.test_speed_kn
     if abs(getattr(result, "speed_kn", V) - V) > 1e-6 * V:
         return []
     rudder = abs(getattr(result, "rudder_deg", 0.0))
+    side = _side(getattr(result, "rudder_deg", 1.0))
     if isinstance(result, TurningCircle) and rudder == min(35.0, s.steering_gear.max_angle_deg):
-        return turning_criteria(result)
+        return _judged(turning_criteria(result), result, s, f"turning_{side}")
     if isinstance(result, InitialTurning) and rudder == 10.0:
-        return initial_turning_criteria(result)
+        return _judged(initial_turning_criteria(result), result, s, f"initial_turning_{side}")
     if isinstance(result, ZigZag) and rudder == result.heading_deg and rudder in (10.0, 20.0):
         LV = s.particulars.L_m / (V * KNOT_M_S)
-        return zigzag_criteria(result, LV)
+        return _judged(zigzag_criteria(result, LV), result, s, f"zigzag_{rudder:.0f}_{side}")
     if isinstance(result, Stopping):
-        return stopping_criteria(result)
+        return _judged(stopping_criteria(result), result, s, "stopping")
     return []
 
 

@@ -36,20 +36,19 @@ def _nice_ticks(ax, x: bool = True, y: bool = True) -> None:
 
 
 def _verdict_lines(criteria: Sequence[Criterion]) -> list[tuple[str, bool]]:
+    """One line per criterion (value against limit, and its verdict: PASS, FAIL, or IMPLAUSIBLE or DIVERGED
+    for a trial that is never scored), then why each implausible trial is."""
     out = []
     for c in criteria:
         name = c.name.replace("zigzag_10_", "").replace("zigzag_20_", "").replace("_", " ")
         val = "n/a" if c.value is None else f"{c.value:.2f}"
-        op = "<=" if c.passed else ">"
-        if c.value is None:
-            op = "vs"
+        op = "vs" if c.value is None else ("<=" if c.value <= c.limit else ">")
         unit = " deg" if c.unit == "deg" else f" {c.unit}"
-        out.append(
-            (
-                f"{c.side} {name}: {val}{unit} {op} {c.limit:.2f}{unit}  {'PASS' if c.passed else 'FAIL'}",
-                c.passed,
-            )
-        )
+        out.append((f"{c.side} {name}: {val}{unit} {op} {c.limit:.2f}{unit}  {c.verdict.upper()}", c.passed))
+    out += [
+        (f"not scored: {why}", False)
+        for why in dict.fromkeys(c.implausible for c in criteria if c.implausible)
+    ]
     return out
 
 

@@ -19,7 +19,9 @@ sees it:
   send, or has fields of the wrong type or non-finite numbers is dropped and counted, as are frames over
   :data:`MAX_MESSAGE_BYTES` (the connection is closed) and messages over :data:`MESSAGE_RATE_HZ`. websockets'
   own error log and a failed message handler of viser go to a counter, never to stderr.
-- At most :data:`MAX_CONNECTIONS` websockets are open at once (each is sent the whole scene); more get 503.
+- At most :data:`MAX_CONNECTIONS` websockets are open at once (each is sent the whole scene); more get 503. A
+  websocket that did not agree on viser's subprotocol of this version (``viser-vX.Y.Z``) is closed (1002) and
+  counted, before viser would print a banner for it.
 
 viser (1.1) gives no hook for any of this: :func:`gated_viser_server` wraps the one call viser makes to
 ``websockets.asyncio.server.serve`` while the server starts (see there), which is why pyproject pins viser's
@@ -146,6 +148,7 @@ class PageGate:
 
     def __init__(self, hosts: Iterable[str], port: int, key: str | None = None) -> None:
         import msgspec
+        import viser
         from viser import _messages
 
         self.key = key or secrets.token_urlsafe(18)
@@ -167,6 +170,8 @@ class PageGate:
         # RecursionError: msgspec's answer to deeply nested data (a 100 kB message can nest 100 000 deep)
         self._invalid = (msgspec.DecodeError, msgspec.ValidationError, TypeError, ValueError, RecursionError)
         self._classes = {name: getattr(_messages, name) for name in HELM_MESSAGES}
+        # the page's client offers this websocket subprotocol (viser picks the first "viser-v..." offered)
+        self._subprotocol = f"viser-v{viser.__version__}"
 
     @property
     def helm_path(self) -> str:
@@ -281,6 +286,11 @@ class PageGate:
         # viser handles each message in a task of its own: one that fails is counted, not printed at exit
         asyncio.get_running_loop().set_exception_handler(lambda _loop, _ctx: self.count("server errors"))
         role = self._roles.pop(connection, None) or "watch"
+        if connection.subprotocol != self._subprotocol:
+            # viser would refuse it too, but print a banner on stdout for each such connection
+            self.count("refused version")
+            await connection.close(1002, "not a viser client of this version")
+            return
         self.count(f"accepted {role}")
         self._open += 1
         _ROLE.set(role)  # this task's context: viser's tasks for the connection inherit it

@@ -19,6 +19,7 @@ import os
 import re
 import sys
 from abc import ABC, abstractmethod
+from collections.abc import Iterator
 from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
@@ -212,6 +213,34 @@ def name_of(component: Any) -> str:
     return name if isinstance(name, str) and name else type(component).__name__
 
 
+@contextlib.contextmanager
+def _held_output(out: io.StringIO) -> Iterator[None]:
+    """Everything written to sys.stdout and sys.stderr, and to file descriptors 1 and 2 (``os.write``, a
+    subprocess), while the block runs goes to ``out`` instead."""
+    import tempfile
+
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    saved: list[tuple[int, int]] = []
+    with tempfile.TemporaryFile() as spool:
+        try:
+            for fd in (1, 2):
+                try:
+                    saved.append((fd, os.dup(fd)))
+                except OSError:  # not open (a daemon): nothing can be written there anyway
+                    continue
+                os.dup2(spool.fileno(), fd)
+            with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+                yield
+        finally:
+            for fd, copy in saved:
+                os.dup2(copy, fd)
+                os.close(copy)
+            spool.seek(0)
+            out.write(spool.read().decode("utf-8", "replace"))
+
+
 def import_model(path: Any, where: str) -> type:
     """The class named by an import path ``"package.module:Class"``; raises ValueError naming ``where``
     (file and key) when the path is malformed, the module cannot be imported or has no such class."""
@@ -226,20 +255,20 @@ def import_model(path: Any, where: str) -> type:
         )
     out = io.StringIO()
     try:
-        # what the module prints while it imports is held back, and shown on stderr only if the import
-        # worked: a failed import is one line, whatever the module wrote or however it tried to exit
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+        # what the module prints while it imports is held back, and shown on stderr only if it gave the
+        # component: a failure is one line, whatever the module wrote or however it tried to exit
+        with _held_output(out):
             obj: Any = importlib.import_module(module_name)
     except ImportError as exc:
         raise ValueError(f"{where}: cannot import module {module_name!r} ({exc})") from None
-    except (Exception, SystemExit) as exc:  # noqa: BLE001 - a user module failing at import: one line
+    except BaseException as exc:  # noqa: BLE001 - SystemExit, KeyboardInterrupt ... at import: one line
         raise ValueError(f"{where}: importing {module_name!r} failed ({type(exc).__name__}: {exc})") from None
-    if out.getvalue():
-        sys.stderr.write(out.getvalue())
     for part in attr.split("."):
         if not hasattr(obj, part):
             raise ValueError(f"{where}: module {module_name!r} has no {attr!r}")
         obj = getattr(obj, part)
     if not isinstance(obj, type) or not callable(getattr(obj, "forces", None)):
         raise ValueError(f"{where}: {path!r} is not a component class (a class with forces(sim, x))")
+    if out.getvalue():
+        sys.stderr.write(out.getvalue())
     return obj
