@@ -29,6 +29,7 @@ _BASE_UNITS = {
     "rad": {"rad": "1"},
     "m/s": {"m": "1", "s": "-1"},
     "rad/s": {"rad": "1", "s": "-1"},
+    "N.m": {"kg": "1", "m": "2", "s": "-2"},
     "1/s": {"s": "-1"},
 }
 
@@ -49,8 +50,6 @@ def build_ship_fmu(
     ship file names (docs/components.md) into the FMU.
     """
     require("pythonfmu")
-    from pythonfmu.builder import FmuBuilder
-
     from vessel_gym.physics.shipfile import load_ship, resolve_ship_path
     from vessel_gym.physics.simulation import Simulation
 
@@ -63,30 +62,58 @@ def build_ship_fmu(
     sim = Simulation(loaded, dt=dt)
     sim.reset()
     settings = {"dt": dt, "rev_order": float(sim.rev_order[0]), "allow_code": allow_code, "ship": loaded.name}
+    units = {name: unit for name, unit, _ in (*INPUTS, *OUTPUTS, *PARAMETERS)}
+    description = f"vessel-gym ship {loaded.name!r}, 3-DOF manoeuvring model (resources/ship.toml)"
+    data = _build("ship_slave.py", "vessel_gym_ship.py", source, settings, units, description)
+    return write_new(path, data, force)
+
+
+def build_engine_fmu(ship: str | Path, out: str | Path, force: bool = False) -> Path:
+    """Write an FMU of ``ship``'s own engine and governor (:mod:`vessel_gym.fmi.engine_slave`) to the file
+    ``out``: the built-in plant as another simulator sees it, e.g. to put it back in the ship as an ``fmu``
+    engine (docs/fmi.md, tests/fmi/test_import.py)."""
+    require("pythonfmu")
+    from vessel_gym.fmi.engine_slave import VARIABLES
+    from vessel_gym.physics.shipfile import load_ship, resolve_ship_path
+
+    loaded = load_ship(ship)
+    if loaded.engine is None:
+        raise ValueError(f"{loaded.path or loaded.name}: the ship has no [engine] to export")
+    path = Path(out)
+    check_free([path], force, "engine FMU")
+    units = {name: unit for name, _, unit, _ in VARIABLES if unit != "1"}
+    description = f"vessel-gym engine and governor of {loaded.name!r} (resources/ship.toml)"
+    data = _build("engine_slave.py", "vessel_gym_engine.py", resolve_ship_path(ship), {}, units, description)
+    return write_new(path, data, force)
+
+
+def _build(slave: str, module: str, ship_file: Path, settings: dict, units: dict, description: str) -> bytes:
+    """The FMU of the slave script ``slave`` (this package's, copied as ``module``) with the ship file and the
+    settings in its resources, units on its variables and ``description``."""
+    from pythonfmu.builder import FmuBuilder
+
     with tempfile.TemporaryDirectory(prefix="vessel-gym-fmu-") as tmp:
         t = Path(tmp)
-        script = t / "script" / "vessel_gym_ship.py"
+        script = t / "script" / module
         script.parent.mkdir()
-        shutil.copyfile(Path(__file__).with_name("ship_slave.py"), script)
-        shutil.copyfile(source, t / "ship.toml")
+        shutil.copyfile(Path(__file__).with_name(slave), script)
+        shutil.copyfile(ship_file, t / "ship.toml")
         (t / "settings.json").write_text(json.dumps(settings), encoding="utf-8")
         built = FmuBuilder.build_FMU(
             script,
-            dest=t / "VesselGymShip.fmu",
+            dest=t / "out.fmu",
             project_files=[t / "ship.toml", t / "settings.json"],
             canGetAndSetFMUstate=False,
             canSerializeFMUstate=False,
         )
-        data = _with_units(Path(built).read_bytes(), loaded.name)
-    return write_new(path, data, force)
+        return _with_units(Path(built).read_bytes(), units, description)
 
 
-def _with_units(fmu: bytes, ship_name: str) -> bytes:
-    """The FMU ``fmu`` with a unit on every variable and the ship's name in its description."""
-    units = {name: unit for name, unit, _ in (*INPUTS, *OUTPUTS, *PARAMETERS)}
+def _with_units(fmu: bytes, units: dict[str, str], description: str) -> bytes:
+    """The FMU ``fmu`` with the ``units`` (variable name -> unit) and ``description``."""
     src = zipfile.ZipFile(io.BytesIO(fmu))
     root = ET.fromstring(src.read("modelDescription.xml"))
-    root.set("description", f"vessel-gym ship {ship_name!r}, 3-DOF manoeuvring model (resources/ship.toml)")
+    root.set("description", description)
     defs = ET.Element("UnitDefinitions")
     for unit in sorted(set(units.values())):
         ET.SubElement(ET.SubElement(defs, "Unit", name=unit), "BaseUnit", _BASE_UNITS[unit])

@@ -1,0 +1,185 @@
+"""FMUs as components of a ship (vessel_gym.fmi.component): the ship's own engine and governor exported as
+an FMU with pythonfmu and put back in place of the native engine; bad FMUs are one line naming the file and
+the variable, exit 2 from the command line."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("pythonfmu")
+pytest.importorskip("fmpy")
+
+from vessel_gym.cli import main  # noqa: E402
+from vessel_gym.fmi.export import build_engine_fmu  # noqa: E402
+from vessel_gym.physics import layout as lo  # noqa: E402
+from vessel_gym.physics.components import allow_code  # noqa: E402
+from vessel_gym.physics.shipfile import SHIP_DIR, load_ship  # noqa: E402
+from vessel_gym.physics.vessel import pack  # noqa: E402
+
+CHILD = Path(__file__).with_name("trials_child.py")
+SHIP = "kvlcc2"  # direct-reversing two-stroke: the crash stop runs the whole reversing sequence
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def engine_table(fmu: str, step: float, **changes) -> str:
+    """The [[components]] entry of an FMU engine in place of the ship's own (its inertia the native one's)."""
+    ship = load_ship(SHIP)
+    inertia = float(pack(ship)[lo.P_I_SHAFT] - ship.transmission.shaft_inertia_kgm2)
+    params = {
+        "path": f'"{fmu}"',
+        "step_s": repr(step),
+        "shaft_inertia_kgm2": repr(inertia),
+        "inputs": '{ shaft_speed = "shaft_speed", rev_order = { name = "rev_order", unit = "1/s" } }',
+        "outputs": '{ shaft_torque = { name = "shaft_torque", unit = "N.m" } }',
+        "hold_torque": '"hold_torque"',
+    }
+    params.update(changes)
+    body = "\n".join(f"{k} = {v}" for k, v in params.items() if v is not None)
+    return f'\n[[components]]\nslot = "engine"\nmodel = "vessel_gym.fmi.component:FmuEngine"\nreplace = true\n[components.params]\n{body}\n'
+
+
+@pytest.fixture(scope="module")
+def engine_dir(tmp_path_factory) -> Path:
+    d = tmp_path_factory.mktemp("engine")
+    build_engine_fmu(SHIP, d / "engine.fmu")
+    text = (SHIP_DIR / f"{SHIP}.toml").read_text()
+    for step in (0.1, 1.0):
+        (d / f"fmu_{step}.toml").write_text(text + engine_table("engine.fmu", step))
+    return d
+
+
+@pytest.fixture
+def code_allowed():
+    allow_code()
+    yield
+    allow_code(False)
+
+
+def child_env() -> dict:
+    return {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
+
+
+@pytest.mark.slow
+def test_fmu_engine_turns_and_stops_the_ship_as_the_native_engine(engine_dir):
+    ships = [SHIP, str(engine_dir / "fmu_0.1.toml"), str(engine_dir / "fmu_1.0.toml")]
+    proc = subprocess.run(
+        [sys.executable, str(CHILD), *ships], capture_output=True, text=True, timeout=900, env=child_env()
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    res = json.loads(proc.stdout)
+    native, fmu01, fmu1 = (res[s] for s in ships)
+    L = native["turning_circle"]["L_m"]
+    U0 = native["turning_circle"]["speed_kn"] * 1852.0 / 3600.0  # m/s
+    # turning circle: the engine holds the approach's speed order; the torque lag of the hold is invisible
+    for fmu in (fmu01, fmu1):
+        for key in ("advance_L", "transfer_L", "tactical_diameter_L", "steady_diameter_L"):
+            assert fmu["turning_circle"][key] == pytest.approx(native["turning_circle"][key], abs=1e-4)
+        assert fmu["turning_circle"]["time_to_90_s"] == pytest.approx(
+            native["turning_circle"]["time_to_90_s"], abs=0.01
+        )
+    # crash stop (the reversing sequence: fuel off, gear shift, air braking, astern): the zero-order hold lags
+    # the drive torque by H/2 on average, so the reach may move by at most the approach speed times H/2
+    for fmu, H in ((fmu01, 0.1), (fmu1, 1.0)):
+        d_reach = abs(fmu["stopping"]["track_reach_m"] - native["stopping"]["track_reach_m"])
+        assert d_reach < U0 * H / 2.0
+        assert abs(fmu["stopping"]["time_s"] - native["stopping"]["time_s"]) < H
+    # at the trials' own step the stop is the native one to a thousandth of a ship length
+    assert fmu01["stopping"]["track_reach_m"] == pytest.approx(
+        native["stopping"]["track_reach_m"], abs=1e-3 * L
+    )
+
+
+def _rewrite(src: Path, dst: Path, edit) -> None:
+    """Copy the FMU ``src`` to ``dst`` with ``edit(name, data) -> data | None`` (None drops the member)."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(buf, "w") as zout:
+        for item in zin.infolist():
+            data = edit(item.filename, zin.read(item.filename))
+            if data is not None:
+                zout.writestr(item, data)
+    dst.write_bytes(buf.getvalue())
+
+
+def _model_exchange(name: str, data: bytes) -> bytes:
+    if name != "modelDescription.xml":
+        return data
+    text = data.decode()
+    start = text.index("<CoSimulation")
+    end = text.index("/>", start) + 2
+    return (text[:start] + '<ModelExchange modelIdentifier="VesselGymEngine" />' + text[end:]).encode()
+
+
+@pytest.mark.parametrize(
+    "case, changes, words",
+    [
+        ("missing", {"outputs": '{ shaft_torque = "Q_brake" }'}, ["engine.fmu", "'Q_brake'", "no variable"]),
+        (
+            "causality",
+            {"outputs": '{ shaft_torque = "rev_order" }'},
+            ["engine.fmu", "'rev_order'", "causality input"],
+        ),
+        (
+            "unit",
+            {"inputs": '{ shaft_speed = { name = "shaft_speed", unit = "rpm" }, rev_order = "rev_order" }'},
+            ["engine.fmu", "'shaft_speed'", "'rpm'"],
+        ),
+        ("hold", {"hold_torque": '"shaft_torque"'}, ["engine.fmu", "'shaft_torque'", "not parameter"]),
+        ("step", {"step_s": "-1.0"}, ["engine.fmu", "step_s"]),
+        ("me", {}, ["me.fmu", "model-exchange"]),
+        ("platform", {}, ["platform.fmu", "no binary for this platform", "win64"]),
+        ("nofile", {"path": '"nothere.fmu"'}, ["nothere.fmu", "no such FMU"]),
+    ],
+)
+def test_bad_fmu_is_one_line_exit_2(engine_dir, tmp_path, code_allowed, capsys, case, changes, words):
+    fmu = engine_dir / "engine.fmu"
+    name = "engine.fmu"
+    if case == "me":
+        name = "me.fmu"
+        _rewrite(fmu, tmp_path / name, _model_exchange)
+    elif case == "platform":
+        name = "platform.fmu"
+        _rewrite(fmu, tmp_path / name, lambda n, d: None if n.startswith("binaries/linux64/") else d)
+    else:
+        (tmp_path / name).write_bytes(fmu.read_bytes())
+    ship = tmp_path / "bad.toml"
+    ship.write_text((SHIP_DIR / f"{SHIP}.toml").read_text() + engine_table(name, 0.1, **changes))
+    assert main(["manoeuvre", "turning-circle", str(ship)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1, err
+    for w in words:
+        assert w in err, err
+
+
+def test_fmu_engine_needs_consent(engine_dir, capsys):
+    allow_code(False)
+    assert main(["manoeuvre", "turning-circle", str(engine_dir / "fmu_0.1.toml")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--allow-code" in err and "vessel_gym.fmi.component" in err
+
+
+@pytest.mark.slow
+def test_failing_do_step_is_one_line_exit_2(engine_dir, tmp_path):
+    """An FMU whose doStep fails (here: an internal step of 0 s) stops the trial with one line, exit 2."""
+    (tmp_path / "engine.fmu").write_bytes((engine_dir / "engine.fmu").read_bytes())
+    ship = tmp_path / "stepfail.toml"
+    ship.write_text(
+        (SHIP_DIR / f"{SHIP}.toml").read_text() + engine_table("engine.fmu", 0.1, start="{ max_step = 0.0 }")
+    )
+    proc = subprocess.run(
+        [sys.executable, "-m", "vessel_gym.cli", "manoeuvre", "turning-circle", str(ship), "--allow-code"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        env=child_env(),
+    )
+    assert proc.returncode == 2, proc.stderr[-2000:]
+    err = proc.stderr.strip()
+    assert len(err.splitlines()) == 1 and "engine.fmu" in err and "doStep" in err, err
