@@ -183,3 +183,67 @@ def test_failing_do_step_is_one_line_exit_2(engine_dir, tmp_path):
     assert proc.returncode == 2, proc.stderr[-2000:]
     err = proc.stderr.strip()
     assert len(err.splitlines()) == 1 and "engine.fmu" in err and "doStep" in err, err
+
+
+BATCH_CHILD = """
+import json, sys
+import numpy as np, gymnasium as gym
+import vessel_gym  # noqa: F401  (registers the environments)
+from vessel_gym.physics.components import allow_code
+from vessel_gym.physics.simulation import Simulation
+
+allow_code()
+fmu_ship, native_ship = sys.argv[1], "kvlcc2"
+out = {}
+# one simulation of three ships: three FMU instances; vessel 1 is reset half-way and starts its FMU again
+sims = {name: Simulation(name, n=3, dt=0.1) for name in (native_ship, fmu_ship)}
+for name, sim in sims.items():
+    sim.reset()
+    sim.set_helm(rudder_order_rad=np.array([0.0, 0.3, -0.6]), rev_order=sim.rev_order * np.array([1.0, 0.5, -1.0]))
+    sim.advance(20.0)
+    sim.reset(k=np.array([1]))
+    sim.set_helm(rudder_order_rad=np.array([0.0, 0.3, -0.6]), rev_order=sim.rev_order * np.array([1.0, 0.5, 1.0]))
+    sim.advance(10.0)
+    out[name] = sim.state.tolist()
+out["instances"] = sum(1 for f in sims[fmu_ship].components[0]._instances if f is not None)
+# the native vector environment (a batch of 3 in one simulation, physics step 0.25 s)
+obs = {}
+for name in (native_ship, fmu_ship.replace("fmu_0.1", "fmu_0.05")):
+    env = gym.make_vec("vessel_gym/ZigZag-v1", num_envs=3, ship=name)
+    env.reset(seed=3)
+    rng = np.random.default_rng(0)
+    rows = []
+    for _ in range(60):
+        o, *_ = env.step(rng.uniform(-1, 1, size=env.action_space.shape).astype(env.action_space.dtype))
+        rows.append(o.tolist())
+    obs[name] = rows
+out["env"] = list(obs.values())
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.slow
+def test_fmu_engine_in_a_batch_and_a_vector_env(engine_dir):
+    """One FMU instance per vessel; a partial reset starts that vessel's instance again, steady; the vector
+    environment (physics step 0.25 s, FMU step 0.05 s: five FMU steps per exchange) sees the native engine."""
+    import numpy as np
+
+    text = (SHIP_DIR / f"{SHIP}.toml").read_text()
+    (engine_dir / "fmu_0.05.toml").write_text(text + engine_table("engine.fmu", 0.05))
+    fmu_ship = str(engine_dir / "fmu_0.1.toml")
+    proc = subprocess.run(
+        [sys.executable, "-c", BATCH_CHILD, fmu_ship],
+        capture_output=True,
+        text=True,
+        timeout=900,
+        env=child_env(),
+    )
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    res = json.loads(proc.stdout)
+    assert res["instances"] == 3
+    native, fmu = np.array(res[SHIP]), np.array(res[fmu_ship])
+    L = load_ship(SHIP).particulars.L_m
+    assert np.max(np.abs(fmu[:, lo.X_N] - native[:, lo.X_N])) < 1e-4 * L  # ahead, half, astern
+    assert np.max(np.abs(fmu[:, lo.X_REV] - native[:, lo.X_REV])) < 1e-3  # rev/s
+    env_native, env_fmu = (np.array(o) for o in res["env"])
+    assert np.max(np.abs(env_fmu - env_native)) < 1e-4

@@ -169,6 +169,7 @@ class FmuSlot:
         self._hold_value = np.zeros(0)
         self._hold_init = np.zeros(0)
         self._dt_checked: float | None = None
+        self._substeps = 1
 
     # --- the map ---------------------------------------------------------------------------------------------
     def _variable(self, name: Any, key: str) -> Any:
@@ -275,12 +276,15 @@ class FmuSlot:
         n = x.shape[0]
         self._grow(n)
         if self._dt_checked != sim.dt:
-            m = self.step / sim.dt
-            if round(m) < 1 or abs(m - round(m)) > 1e-9 * m:
+            # the FMU steps at step_s; the slot's quantities are exchanged every max(step_s, dt): one of the two
+            # steps must be a whole multiple of the other
+            m = max(self.step, sim.dt) / min(self.step, sim.dt)
+            if abs(m - round(m)) > 1e-9 * m:
                 raise FmuError(
-                    f"{self.path}: params step_s = {self.step:g} s is not a whole multiple of the simulation's "
-                    f"step {sim.dt:g} s"
+                    f"{self.path}: params step_s = {self.step:g} s and the simulation's step {sim.dt:g} s: one must "
+                    "be a whole multiple of the other"
                 )
+            self._substeps = round(sim.dt / self.step) if sim.dt > self.step else 1
             self._dt_checked = sim.dt
         tol = CLOCK_TOLERANCE * self.step
         values = self._slot_values(sim, x)
@@ -298,13 +302,15 @@ class FmuSlot:
             self._set_inputs(fmu, vk, f"t = {t:g} s")
             got = self._fmi(fmu.getReal, f"t = {t:g} s: reading outputs", out_vrs)
             self._held[k] = np.asarray(got, dtype=float) * factors
-            self._fmi(
-                fmu.doStep,
-                f"doStep at t = {t:g} s",
-                currentCommunicationPoint=t,
-                communicationStepSize=self.step,
-            )
-            self._t[k] = t + self.step
+            for j in range(self._substeps):  # (several FMU steps per exchange when step_s < dt)
+                tj = t + j * self.step
+                self._fmi(
+                    fmu.doStep,
+                    f"doStep at t = {tj:g} s",
+                    currentCommunicationPoint=tj,
+                    communicationStepSize=self.step,
+                )
+            self._t[k] = t + self._substeps * self.step
 
     def _held_output(self, sim: Any, x: np.ndarray, s: np.ndarray, quantity: str) -> np.ndarray:
         if x is sim.state:  # the first stage of a step (integrate.run_with_components): communicate

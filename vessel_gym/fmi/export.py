@@ -17,7 +17,6 @@ import zipfile
 from pathlib import Path
 
 from vessel_gym.fmi import require
-from vessel_gym.fmi.ship_slave import INPUTS, OUTPUTS, PARAMETERS
 from vessel_gym.outputs import check_free, output_target, safe_name, write_new
 
 #: the internal step of an exported ship, s: the IMO trials' step (manoeuvres.trials)
@@ -50,6 +49,7 @@ def build_ship_fmu(
     ship file names (docs/components.md) into the FMU.
     """
     require("pythonfmu")
+    from vessel_gym.fmi.ship_slave import INPUTS, OUTPUTS, PARAMETERS
     from vessel_gym.physics.shipfile import load_ship, resolve_ship_path
     from vessel_gym.physics.simulation import Simulation
 
