@@ -183,6 +183,7 @@ def test_failing_do_step_is_one_line_exit_2(engine_dir, tmp_path):
     assert proc.returncode == 2, proc.stderr[-2000:]
     err = proc.stderr.strip()
     assert len(err.splitlines()) == 1 and "engine.fmu" in err and "doStep" in err, err
+    assert "max_step 0 s" in err  # the FMU's own logged reason, passed on
 
 
 BATCH_CHILD = """

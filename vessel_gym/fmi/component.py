@@ -159,6 +159,8 @@ class FmuSlot:
             if var.type != "Real" or isinstance(value, bool) or not isinstance(value, (int, float)):
                 raise FmuError(f"{where}: start {name!r}: expected a number for a Real variable")
             self.start.append((var.valueReference, float(value)))
+        self._last_message = ""
+        self._callbacks = self._make_callbacks()
         self._unzipped = extract(str(self.path))
         weakref.finalize(self, shutil.rmtree, self._unzipped, True)
         self._instances: list[Any] = []
@@ -222,19 +224,54 @@ class FmuSlot:
             modelIdentifier=self.md.coSimulation.modelIdentifier,
             instanceName=f"vessel{k}",
         )
-        self._fmi(fmu.instantiate, "instantiate")
+        self._fmi(fmu.instantiate, "instantiate", callbacks=self._callbacks, loggingOn=True)
         return fmu
+
+    def _make_callbacks(self) -> Any:
+        """FMI callbacks whose logger keeps the FMU's last warning or error (for the one-line message) and
+        prints nothing."""
+        from ctypes import byref
+
+        from fmpy.fmi2 import (
+            calloc,
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+            free,
+        )
+
+        def logger(component, instance, status, category, message):
+            if status >= 1:  # warning, discard, error, fatal
+                self._last_message = message.decode("utf-8", "replace").strip().replace("\n", " ")[:300]
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        try:
+            from fmpy.logging import addLoggerProxy
+
+            addLoggerProxy(byref(cb))  # formats the FMU's variadic message
+        except Exception:  # noqa: BLE001, S110 - without it the messages arrive unformatted
+            pass
+        return cb
 
     def _fmi(self, call: Any, what: str, *args: Any, **kw: Any) -> Any:
         """An FMI call; a failure (an exception or a status above warning) is one FmuError naming the file."""
         try:
             status = call(*args, **kw)
         except Exception as exc:  # noqa: BLE001 - fmpy's FMICallException, a missing binary: one line
-            raise FmuError(f"{self.path}: {what} failed ({exc})") from None
+            raise FmuError(f"{self.path}: {what} failed ({exc}){self._said()}") from None
         if isinstance(status, int) and status > 1:
             label = {2: "discard", 3: "error", 4: "fatal"}.get(status, str(status))
-            raise FmuError(f"{self.path}: {what} failed (status {label})")
+            raise FmuError(f"{self.path}: {what} failed (status {label}){self._said()}")
         return status
+
+    def _said(self) -> str:
+        """The FMU's last logged warning or error, as the end of a message ('' if none)."""
+        msg, self._last_message = self._last_message, ""
+        return f"; the FMU says: {msg}" if msg else ""
 
     def _grow(self, n: int) -> None:
         while len(self._instances) < n:
