@@ -18,7 +18,7 @@ pytest.importorskip("pythonfmu")
 pytest.importorskip("fmpy")
 
 from vessel_gym.cli import main  # noqa: E402
-from vessel_gym.fmi.export import build_engine_fmu  # noqa: E402
+from vessel_gym.fmi.export import build_engine_fmu, build_steering_gear_fmu  # noqa: E402
 from vessel_gym.physics import layout as lo  # noqa: E402
 from vessel_gym.physics.components import allow_code  # noqa: E402
 from vessel_gym.physics.shipfile import SHIP_DIR, load_ship  # noqa: E402
@@ -53,7 +53,22 @@ def engine_dir(tmp_path_factory) -> Path:
     text = (SHIP_DIR / f"{SHIP}.toml").read_text()
     for step in (0.1, 1.0):
         (d / f"fmu_{step}.toml").write_text(text + engine_table("engine.fmu", step))
+    build_steering_gear_fmu(SHIP, d / "gear.fmu")
+    (d / "gear.toml").write_text(text + GEAR_TABLE)
     return d
+
+
+GEAR_TABLE = """
+[[components]]
+slot = "steering_gear"
+model = "vessel_gym.fmi.component:FmuSteeringGear"
+replace = true
+[components.params]
+path = "gear.fmu"
+step_s = 0.1
+inputs = { rudder_angle = "rudder_angle", rudder_order = { name = "rudder_order", unit = "rad" } }
+outputs = { rudder_rate = "rudder_rate" }
+"""
 
 
 @pytest.fixture
@@ -68,14 +83,19 @@ def child_env() -> dict:
 
 
 @pytest.mark.slow
-def test_fmu_engine_turns_and_stops_the_ship_as_the_native_engine(engine_dir):
-    ships = [SHIP, str(engine_dir / "fmu_0.1.toml"), str(engine_dir / "fmu_1.0.toml")]
+def test_fmu_engine_and_gear_manoeuvre_the_ship_as_the_native_ones(engine_dir):
+    ships = [
+        SHIP,
+        str(engine_dir / "fmu_0.1.toml"),
+        str(engine_dir / "fmu_1.0.toml"),
+        str(engine_dir / "gear.toml"),
+    ]
     proc = subprocess.run(
         [sys.executable, str(CHILD), *ships], capture_output=True, text=True, timeout=900, env=child_env()
     )
     assert proc.returncode == 0, proc.stderr[-2000:]
     res = json.loads(proc.stdout)
-    native, fmu01, fmu1 = (res[s] for s in ships)
+    native, fmu01, fmu1, gear = (res[s] for s in ships)
     L = native["turning_circle"]["L_m"]
     U0 = native["turning_circle"]["speed_kn"] * 1852.0 / 3600.0  # m/s
     # turning circle: the engine holds the approach's speed order; the torque lag of the hold is invisible
@@ -91,6 +111,12 @@ def test_fmu_engine_turns_and_stops_the_ship_as_the_native_engine(engine_dir):
         d_reach = abs(fmu["stopping"]["track_reach_m"] - native["stopping"]["track_reach_m"])
         assert d_reach < U0 * H / 2.0
         assert abs(fmu["stopping"]["time_s"] - native["stopping"]["time_s"]) < H
+    # the steering gear's FMU (rate held over 0.1 s, gear time constant 0.5 s): the rudder moves as the
+    # native gear's exact solution to within the hold's lag
+    for key in ("advance_L", "transfer_L", "tactical_diameter_L"):
+        assert gear["turning_circle"][key] == pytest.approx(native["turning_circle"][key], abs=1e-4)
+    assert gear["zigzag"]["overshoot_deg"] == pytest.approx(native["zigzag"]["overshoot_deg"], abs=0.01)
+    assert fmu01["zigzag"]["overshoot_deg"] == pytest.approx(native["zigzag"]["overshoot_deg"], abs=0.01)
     # at the trials' own step the stop is the native one to a thousandth of a ship length
     assert fmu01["stopping"]["track_reach_m"] == pytest.approx(
         native["stopping"]["track_reach_m"], abs=1e-3 * L

@@ -87,6 +87,21 @@ def build_engine_fmu(ship: str | Path, out: str | Path, force: bool = False) -> 
     return write_new(path, data, force)
 
 
+def build_steering_gear_fmu(ship: str | Path, out: str | Path, force: bool = False) -> Path:
+    """Write an FMU of ``ship``'s own steering gear (:mod:`vessel_gym.fmi.gear_slave`) to the file ``out``."""
+    require("pythonfmu")
+    from vessel_gym.fmi.gear_slave import VARIABLES
+    from vessel_gym.physics.shipfile import load_ship, resolve_ship_path
+
+    loaded = load_ship(ship)
+    path = Path(out)
+    check_free([path], force, "steering-gear FMU")
+    units = {name: unit for name, _, unit, _ in VARIABLES}
+    description = f"vessel-gym steering gear of {loaded.name!r} (resources/ship.toml)"
+    data = _build("gear_slave.py", "vessel_gym_gear.py", resolve_ship_path(ship), {}, units, description)
+    return write_new(path, data, force)
+
+
 def _build(slave: str, module: str, ship_file: Path, settings: dict, units: dict, description: str) -> bytes:
     """The FMU of the slave script ``slave`` (this package's, copied as ``module``) with the ship file and the
     settings in its resources, units on its variables and ``description``."""
