@@ -124,6 +124,28 @@ def test_fmu_turning_circle_is_the_native_one(ship_fmu, tmp_path):
     assert np.hypot(res["run1_x"][-1] - res["run0_x"][-1], res["run1_y"][-1] - res["run0_y"][-1]) > 0.5 * L
 
 
+@pytest.mark.slow
+def test_fmu_start_parameters_order_and_longer_steps(ship_fmu, tmp_path):
+    """Start position and heading, a shaft-speed order set by the importer, and a communication step of five
+    internal steps: the native simulation's at every communication point."""
+    start = {"x0": 100.0, "y0": -50.0, "heading0": 1.0, "rudder_order": -0.2}
+    sim = Simulation(SHIP, dt=DT)
+    sim.reset(heading_deg=np.degrees(1.0), x_m=100.0, y_m=-50.0)
+    rev = 0.6 * float(sim.rev_order[0])
+    sim.set_helm(rudder_order_rad=-0.2, rev_order=rev)
+    H, T = 5 * DT, 60.0
+    run = {"fmu": str(ship_fmu), "stop_time": T, "step_size": H, "output": OUTPUTS}
+    res = run_fmus([{**run, "start_values": {**start, "rev_order": rev}}], tmp_path)
+    ref = [[sim.north[0], sim.east[0], sim.heading[0], sim.rev[0]]]
+    for _ in range(round(T / H)):
+        sim.step(5)
+        ref.append([sim.north[0], sim.east[0], sim.heading[0], sim.rev[0]])
+    ref = np.array(ref)
+    got = np.column_stack([res["run0_x"], res["run0_y"], res["run0_heading"], res["run0_shaft_speed"]])
+    assert got.shape == ref.shape and np.max(np.abs(got - ref)) < 1e-9
+    assert ref[-1, 3] < 0.7 * ref[0, 3]  # the order reached the shaft
+
+
 def test_fmu_command_refuses_to_replace_a_file(tmp_path, capsys):
     out = tmp_path / "ship.fmu"
     out.write_bytes(b"mine")
