@@ -324,6 +324,27 @@ def build_parser() -> argparse.ArgumentParser:
             help="let ship files name components in any Python module (importing one runs its code); "
             "without it only vessel-gym's own components load (also: VESSEL_GYM_ALLOW_CODE=1)",
         )
+    fm = sub.add_parser(
+        "fmu",
+        help="write an FMI 2.0 co-simulation FMU of the whole ship (docs/fmi.md; needs the 'fmi' extra)",
+    )
+    _add_ship(fm)
+    fm.add_argument(
+        "--out", metavar="FILE.fmu|DIR", required=True, help="the FMU, or a directory for <ship>.fmu"
+    )
+    fm.add_argument("--force", action="store_true", help="replace an existing FMU file")
+    fm.add_argument(
+        "--dt",
+        type=_finite("--dt", 0.001, 5.0),
+        default=0.1,
+        metavar="S",
+        help="internal physics step, s (the importer's communication step must be a whole multiple of it)",
+    )
+    fm.add_argument(
+        "--allow-code",
+        action="store_true",
+        help="let the ship file name components in any Python module, here and in the FMU",
+    )
     p.commands = tuple(sub.choices)
     return p
 
@@ -505,6 +526,17 @@ def _cmd_manoeuvre(args) -> int:
     return 0
 
 
+def _cmd_fmu(args) -> int:
+    """``vessel-gym fmu SHIP --out FILE.fmu``: the whole ship as an FMI 2.0 co-simulation FMU (vessel_gym.fmi)."""
+    from vessel_gym.fmi.export import build_ship_fmu
+
+    path = build_ship_fmu(
+        _ship_name(args), args.out, force=args.force, dt=args.dt, allow_code=args.allow_code
+    )
+    print(f"wrote {path}")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vessel-gym`` command; returns the exit code."""
     try:
@@ -554,6 +586,8 @@ def _main(argv: Sequence[str] | None) -> int:
             return _cmd_manoeuvre(args)
         if args.command == "ships":
             return _cmd_ships(args)
+        if args.command == "fmu":
+            return _cmd_fmu(args)
         if args.command == "scenarios":
             from vessel_gym.scenarios import builtin_scenarios
 
