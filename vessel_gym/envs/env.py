@@ -8,7 +8,7 @@ exactly the trajectory of a single environment seeded with s + k.
 from __future__ import annotations
 
 import weakref
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import gymnasium as gym
@@ -78,6 +78,7 @@ class ShipEnv(_Renders, gym.Env):
         # the simulation's time per step), bound after ONE_CALL_AFTER_STEPS steps; False where it cannot be
         self._fast: tuple | bool | None = None
         self._separate_steps = 0  # steps taken through the separate calls while _fast is None
+        self._pacing: tuple[int, Callable[[int], None] | None] = (1, None)  # Task.advance's (ticks, on_tick)
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
@@ -102,9 +103,8 @@ class ShipEnv(_Renders, gym.Env):
             raise RuntimeError("call reset() before step()")
         task = self.task
         fast = self._fast
-        # the one call composes the task's own advance: a caller that replaced it on this task (the real-time
-        # pacer of `vessel-gym serve` runs a control step in wall-clock ticks) gets the separate calls
-        if fast and not self.sim.helm_overridden and "advance" not in task.__dict__:
+        # a paced step (pace) runs the physics in slices: the separate calls
+        if fast and not self.sim.helm_overridden and self._pacing[1] is None:
             call, binding, after, values, dt = fast
             alive = call(binding, *values(action))
             if alive >= 0:
@@ -119,7 +119,7 @@ class ShipEnv(_Renders, gym.Env):
                 task.update(self._step_phase)
         else:
             task.helm.apply_single(action)
-            task.advance()
+            task.advance(*self._pacing)
             task.update(self._step_phase)
             if fast is None:
                 self._separate_steps += 1
@@ -133,6 +133,14 @@ class ShipEnv(_Renders, gym.Env):
         self._elapsed += 1
         truncated = 0 < self._max_steps <= self._elapsed and not terminated
         return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.lazy_info(0)
+
+    def pace(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
+        """Run each step's physics in ``ticks`` slices and call ``on_tick(i)`` after slice i (1..ticks)
+        (:meth:`Task.advance <vessel_gym.envs.task.Task.advance>`): ``vessel-gym serve`` paces a control step
+        to wall-clock time this way and services its link between slices. ``pace()`` steps at once again."""
+        if ticks < 1:
+            raise ValueError(f"ticks must be >= 1, got {ticks}")
+        self._pacing = (int(ticks), on_tick)
 
     def _bind_step(self) -> None:
         """Bind the control step as one compiled call (:func:`~vessel_gym.envs.onestep.bind_one_step`), or
@@ -150,6 +158,7 @@ class ShipEnv(_Renders, gym.Env):
     def __getstate__(self) -> dict:
         state = super().__getstate__()
         state["_fast"] = None  # compiled code does not pickle; a copy binds its own at its next step
+        state["_pacing"] = (1, None)  # the pacer's clock and link stay with this environment
         return state
 
     def render(self):

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import abc
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import numpy as np
@@ -345,8 +345,23 @@ class Task(abc.ABC):
         return {}
 
     # shared
-    def advance(self) -> None:
-        self.sim.step(self.nsub)
+    def advance(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
+        """Advance every vessel one control step (``nsub`` physics steps).
+
+        With ``on_tick``, in ``ticks`` slices: after slice i (1..ticks) the physics has made ``i * nsub // ticks``
+        of its steps and ``on_tick(i)`` is called (the same steps as one call, so the same states). This is how
+        ``vessel-gym serve`` paces a control step to wall-clock time and services its link between slices
+        (:meth:`ShipEnv.pace <vessel_gym.envs.env.ShipEnv.pace>`)."""
+        if on_tick is None:
+            self.sim.step(self.nsub)
+            return
+        done = 0
+        for i in range(1, ticks + 1):
+            due = i * self.nsub // ticks
+            if due > done:
+                self.sim.step(due - done)
+                done = due
+            on_tick(i)
 
     def observe(self) -> np.ndarray:
         """A new array of the current observations (N, obs_dim)."""
