@@ -15,18 +15,10 @@ import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
-from numba.core.errors import NumbaError
 
 from vessel_gym.envs.config import make_config
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
-from vessel_gym.envs.onestep import BAD_ACTION, bind_one_step
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
-
-# Steps an environment takes through the separate calls before it binds its control step as one compiled call
-# (envs.onestep). Composing it compiles the stages' code together once per kind of environment (2-6 s of CPU
-# on a cold cache; ~0.05 s to load from the cache after that), which saves ~3 us per step: an environment
-# stepped a few times (a first step after a cold start, an API check, most tests) does not pay for it.
-ONE_CALL_AFTER_STEPS = 100
 
 
 class _Renders:
@@ -74,10 +66,6 @@ class ShipEnv(_Renders, gym.Env):
         #: steps after which an episode is truncated, counted here (0: none; Gymnasium's TimeLimit may count)
         self._max_steps = 0
         self._elapsed = 0
-        # the control step in one compiled call (envs.onestep): (call, binding, after, the helm's step_values,
-        # the simulation's time per step), bound after ONE_CALL_AFTER_STEPS steps; False where it cannot be
-        self._fast: tuple | bool | None = None
-        self._separate_steps = 0  # steps taken through the separate calls while _fast is None
         self._pacing: tuple[int, Callable[[int], None] | None] = (1, None)  # Task.advance's (ticks, on_tick)
 
     @classmethod
@@ -102,29 +90,9 @@ class ShipEnv(_Renders, gym.Env):
         if not self._reset_done:
             raise RuntimeError("call reset() before step()")
         task = self.task
-        fast = self._fast
-        # a paced step (pace) runs the physics in slices: the separate calls
-        if fast and not self.sim.helm_overridden and self._pacing[1] is None:
-            call, binding, after, values, dt = fast
-            alive = call(binding, *values(action))
-            if alive >= 0:
-                self.sim.t += dt
-                if after is not None:
-                    after()
-            elif alive == BAD_ACTION:
-                raise ValueError(f"action contains NaN: {action!r}")
-            else:  # the batch is no longer of the driver's kind: the orders are given, nothing integrated
-                self._fast = None
-                task.advance()
-                task.update(self._step_phase)
-        else:
-            task.helm.apply_single(action)
-            task.advance(*self._pacing)
-            task.update(self._step_phase)
-            if fast is None:
-                self._separate_steps += 1
-                if self._separate_steps >= ONE_CALL_AFTER_STEPS:
-                    self._bind_step()
+        task.helm.apply_single(action)
+        task.advance(*self._pacing)
+        task.update(self._step_phase)
         if self.render_mode is not None:
             self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
             if self.render_mode == "human":
@@ -142,22 +110,8 @@ class ShipEnv(_Renders, gym.Env):
             raise ValueError(f"ticks must be >= 1, got {ticks}")
         self._pacing = (int(ticks), on_tick)
 
-    def _bind_step(self) -> None:
-        """Bind the control step as one compiled call (:func:`~vessel_gym.envs.onestep.bind_one_step`), or
-        record that it cannot be (the separate calls give the same results)."""
-        task = self.task
-        try:
-            bound = bind_one_step(task.helm, self.sim, task.nsub, task, self._step_phase)
-        except NumbaError:  # a stage numba cannot call from the composition (a user's kernel): separate calls
-            bound = None
-        if bound is None:
-            self._fast = False
-            return
-        self._fast = (*bound, task.helm.step_values, task.nsub * self.sim.dt)
-
     def __getstate__(self) -> dict:
         state = super().__getstate__()
-        state["_fast"] = None  # compiled code does not pickle; a copy binds its own at its next step
         state["_pacing"] = (1, None)  # the pacer's clock and link stay with this environment
         return state
 

@@ -243,32 +243,6 @@ class Task(abc.ABC):
         self.kernel(phase, *args)  # compiles, or loads from the cache, the kernel for these arguments
         self._kernel_call, self._call_args = compiled_entry(self.kernel, phase, args)
 
-    def fused_update(self, phase: np.ndarray) -> tuple[tuple[tuple[Any, tuple], ...], Any] | None:
-        """The update of ``phase`` as compiled calls, for the one-ship environment's control step in one
-        compiled call (:mod:`vessel_gym.envs.onestep`): ``(stages, after)``, where ``stages`` are
-        ``(function, arguments)`` pairs run in order and ``after`` is None or a Python callable run after them
-        (what the update does in Python once the kernel has run); None if the update runs Python before its
-        kernel or the kernel is not compiled. Asked after the first update, which binds the kernel's
-        arguments. A task that overrides :meth:`update` overrides this too (else it is not used:
-        :meth:`one_step_update`)."""
-        stages = self.kernel_stages(phase)
-        return None if stages is None else (stages, None)
-
-    def one_step_update(self, phase: np.ndarray) -> tuple[tuple[tuple[Any, tuple], ...], Any] | None:
-        """:meth:`fused_update`, if the class that defines it is the one that defines :meth:`update` or a
-        subclass of it (so it describes the update this task runs); else None."""
-        mro = type(self).__mro__
-        owner_update = next(c for c in mro if "update" in c.__dict__)
-        owner_fused = next(c for c in mro if "fused_update" in c.__dict__)
-        return self.fused_update(phase) if issubclass(owner_fused, owner_update) else None
-
-    def kernel_stages(self, phase: np.ndarray) -> tuple[tuple[Any, tuple], ...] | None:
-        """``((kernel, (phase, *kernel_args())),)``: the task kernel as the one stage of
-        :meth:`fused_update`, once it is bound and compiled (else None)."""
-        if self._kernel_args is None or self._kernel_call is self.kernel:  # not bound, or not compiled
-            return None
-        return ((self.kernel, (phase, *self._kernel_args)),)
-
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()
         state["_kernel_call"] = None  # a compiled entry point does not pickle; bound again at the first update
