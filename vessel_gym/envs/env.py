@@ -7,7 +7,6 @@ exactly the trajectory of a single environment seeded with s + k.
 
 from __future__ import annotations
 
-import weakref
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -84,7 +83,7 @@ class ShipEnv(_Renders, gym.Env):
             self._track = [(float(self.sim.north[0]), float(self.sim.east[0]))]
             if self.render_mode == "human":
                 self.render()
-        return self.task.obs[0].copy(), self.task.lazy_info(0)
+        return self.task.obs[0].copy(), self.task.info(0)
 
     def step(self, action: Any):
         if not self._reset_done:
@@ -100,7 +99,7 @@ class ShipEnv(_Renders, gym.Env):
         terminated = task.terminated.item()
         self._elapsed += 1
         truncated = 0 < self._max_steps <= self._elapsed and not terminated
-        return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.lazy_info(0)
+        return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.info(0)
 
     def pace(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
         """Run each step's physics in ``ticks`` slices and call ``on_tick(i)`` after slice i (1..ticks)
@@ -207,29 +206,6 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._renderer = None
         self._tracks: list[list[tuple[float, float]]] = [[] for _ in range(min(num_envs, 4))]
         self._reset_done = False
-        #: the last ``info`` returned, while not yet built (a weak reference: see _settle_info)
-        self._pending_info: weakref.ref | None = None
-
-    def _settle_info(self) -> None:
-        """Build the last returned ``info`` if it is still held and not yet built, before anything changes the
-        task's arrays it is built from (:class:`~vessel_gym.envs.info.BatchInfo`): called first in ``step``
-        and ``reset``, the only calls that change them."""
-        ref = self._pending_info
-        if ref is not None:
-            self._pending_info = None
-            info = ref()
-            if info is not None:
-                info._fill()
-
-    def _lazy_info(self) -> dict[str, Any]:
-        info = self.task.lazy_batch_info()
-        self._pending_info = weakref.ref(info)
-        return info
-
-    def __getstate__(self) -> dict:
-        state = super().__getstate__()
-        state["_pending_info"] = None  # a weak reference does not pickle; a copy's first info is its own
-        return state
 
     def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
         self.task.reset_vessels(idx, options)
@@ -239,7 +215,6 @@ class ShipVectorEnv(_Renders, VectorEnv):
                 self._tracks[k] = [(float(self.sim.north[k]), float(self.sim.east[k]))]
 
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
-        self._settle_info()
         super().reset(seed=seed if isinstance(seed, int) else None)
         n = self.num_envs
         if seed is None:
@@ -269,12 +244,11 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._needs_reset[mask] = False
         self.task.update(phase)
         self._reset_done = True
-        return self.task.observe(), self._lazy_info()
+        return self.task.observe(), self.task.batch_info()
 
     def step(self, actions: Any):
         if not self._reset_done:
             raise RuntimeError("call reset() before step()")
-        self._settle_info()
         task = self.task
         n = self.num_envs
         a = task.helm.batch(actions, n)
@@ -306,7 +280,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
             truncated = np.zeros(n, dtype=np.bool_)
         rewards = task.reward.copy()
         obs = task.observe()
-        info = self._lazy_info()
+        info = task.batch_info()
         done = terminated | truncated
         if self.render_mode is not None:
             for k in range(len(self._tracks)):
