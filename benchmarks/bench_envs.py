@@ -12,7 +12,7 @@ busy-loop process on the machine). ``--load`` repeats the vector figures with a 
 ``--setup N`` times building and resetting vector envs up to N ships (goal: 262144 in < 5 s, <= 2 kB per
 ship); ``--setup-only`` prints only those, ``--setup-sizes`` chooses the sizes; ``--single-only`` only the
 one-ship figures. ``--parts`` prints where a vector step's CPU time goes instead (physics, task kernel, helm,
-automatic resets, the rest; and what reading the batched ``info`` would cost).
+automatic resets, the batched ``info``, the rest).
 """
 
 from __future__ import annotations
@@ -121,8 +121,7 @@ def bench_vector(
 
 def bench_vector_parts(ids: tuple[str, ...], num_envs: int, steps: int) -> None:
     """Median CPU time (us) per vector step and of its parts, per id: the physics (``Task.advance``) and the
-    task kernel in the process's CPU time (all threads), the helm and a build of the batched ``info`` in this
-    thread's; the automatic resets (``_reset_vessels`` within the steps) as a mean per step. Each part is timed
+    task kernel in the process's CPU time (all threads), the helm and the batched ``info`` in this thread's; the automatic resets (``_reset_vessels`` within the steps) as a mean per step. Each part is timed
     in a call of its own after each step (the vessels advance twice per step: the figures are of timing only)."""
     from vessel_gym.envs.task import Task
 
@@ -172,12 +171,13 @@ def bench_vector_parts(ids: tuple[str, ...], num_envs: int, steps: int) -> None:
         env._reset_vessels = reset_vessels
         med = {k: statistics.median(v) / 1e3 for k, v in acc.items() if v}
         mean_resets = resets[0] / steps / 1e3
-        rest = med["step"] - med["physics"] - med["kernel"] - med.get("depth", 0.0) - med["helm"] - mean_resets
+        parts = med["physics"] + med["kernel"] + med.get("depth", 0.0) + med["helm"] + med["info"]
+        rest = med["step"] - parts - mean_resets
         print(
             f"  {env_id:32s} step {med['step']:7.0f}: physics {med['physics']:6.0f}, task kernel {med['kernel']:5.0f}"
             + (f", depth {med['depth']:4.0f}" if "depth" in med else "")
-            + f", helm {med['helm']:4.0f}, resets {mean_resets:5.0f} ({resets[1] / steps:.2f} ships/step),"
-            f" rest {rest:5.0f}; reading info {med['info']:4.0f}"
+            + f", helm {med['helm']:4.0f}, info {med['info']:4.0f}, resets {mean_resets:5.0f}"
+            f" ({resets[1] / steps:.2f} ships/step), rest {rest:5.0f}"
         )
         venv.close()
 

@@ -70,10 +70,10 @@ def test_v1_keeps_the_largest_excursion_until_closed():
 def test_every_user_calls_the_same_functions():
     """One home: the trial, the trials helm, the task kernel and the evaluation use these objects."""
     from vessel_gym.control import zigzag as z
-    from vessel_gym.envs import kernels
+    from vessel_gym.envs.tasks import zigzag as task
     from vessel_gym.manoeuvres import helms, trials
 
-    assert kernels.target_reached is z.target_reached and helms.target_reached is z.target_reached
-    assert kernels.zigzag_execute is z.zigzag_execute and helms.zigzag_execute is z.zigzag_execute
-    assert kernels.overshoot_step is z.overshoot_step
+    assert task.target_reached is z.target_reached and helms.target_reached is z.target_reached
+    assert task.zigzag_execute is z.zigzag_execute and helms.zigzag_execute is z.zigzag_execute
+    assert task.overshoot_step is z.overshoot_step
     assert trials.OvershootTracker is z.OvershootTracker

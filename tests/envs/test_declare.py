@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import importlib
 import math
 import re
 import sys
@@ -237,26 +238,9 @@ def test_spec_sheets_follow_the_declarations(env_name):
             assert base in spec.feature_names or name.startswith(("wind_angle_sin", "current_x")), name
 
 
-def test_old_import_paths_give_the_objects_of_the_new_homes():
-    """envs.core and envs.kernels, split into envs/{observation,helm,task,env}.py and envs/tasks/, re-export."""
-    from vessel_gym.envs import core, env, harbour, helm, kernels, observation, task
-    from vessel_gym.envs import zigzag as zigzag_env
-    from vessel_gym.envs.tasks import chart, turning, zigzag_v1
-    from vessel_gym.envs.tasks import harbour as harbour_task
-
-    assert core.Task is task.Task and core.ShipEnv is env.ShipEnv and core.ShipVectorEnv is env.ShipVectorEnv
-    assert (
-        core.ObservationLayout is observation.ObservationLayout and core.ContinuousHelm is helm.ContinuousHelm
-    )
-    assert core.Feature is observation.Feature and core.physics_step is task.physics_step
-    assert (
-        kernels.zigzag_update is zigzag.zigzag_update
-        and kernels.zigzag_v1_update is zigzag_v1.zigzag_v1_update
-    )
-    assert kernels.turning_update is turning.turning_update
-    assert kernels.harbour_update_parallel is harbour_task.harbour_update_parallel
-    assert kernels.chart_query is chart.chart_query and kernels.OUTCOMES == chart.OUTCOMES
-    assert (
-        zigzag_env.ZigZagReward is zigzag.ZigZagReward
-        and harbour.HarbourApproachTask is harbour_task.HarbourApproachTask
-    )
+def test_envs_shim_modules_are_gone():
+    """Every name has one home: the old envs.core and envs.kernels re-exports, the one-call step and the lazy
+    info are not importable."""
+    for name in ("core", "kernels", "onestep", "info"):
+        with pytest.raises(ModuleNotFoundError):
+            importlib.import_module(f"vessel_gym.envs.{name}")

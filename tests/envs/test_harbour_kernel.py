@@ -7,8 +7,7 @@ import numpy as np
 import pytest
 
 import vessel_gym  # noqa: F401
-from vessel_gym.envs import harbour
-from vessel_gym.envs import kernels as kn
+from vessel_gym.envs.tasks import chart, harbour
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.units import KNOT_M_S
 
@@ -21,8 +20,8 @@ def test_threaded_harbour_kernel_matches_serial():
     serial = gym.make_vec(
         "vessel_gym/HarbourApproach-v0", num_envs=n, vectorization_mode="vector_entry_point"
     )
-    assert threaded.unwrapped.task.kernel is kn.harbour_update_parallel
-    serial.unwrapped.task.kernel = kn.harbour_update
+    assert threaded.unwrapped.task.kernel is harbour.harbour_update_parallel
+    serial.unwrapped.task.kernel = harbour.harbour_update
     o1, _ = threaded.reset(seed=5)
     o2, _ = serial.reset(seed=5)
     assert np.array_equal(o1, o2)
@@ -71,17 +70,17 @@ def test_chart_query_contact_cases():
     scratch = (np.empty(2), np.empty(5), np.empty(5), np.empty((2, 2)))
 
     def query(polygon, n0=0.0, e0=0.0):
-        edges, polys, pbox = kn.chart_tables([(1, polygon)])
+        edges, polys, pbox = chart.chart_tables([(1, polygon)])
         b, hn, he, bw = scratch
-        return kn.chart_query(n0, e0, 0.0, hull, edges, polys, pbox, beam_dirs, 50.0, b, hn, he, bw)
+        return chart.chart_query(n0, e0, 0.0, hull, edges, polys, pbox, beam_dirs, 50.0, b, hn, he, bw)
 
     rock = [(-0.2, -0.2), (0.2, -0.2), (0.2, 0.2), (-0.2, 0.2)]
-    assert query(rock)[0] == kn.CONTACT  # wholly under the hull
+    assert query(rock)[0] == chart.CONTACT  # wholly under the hull
     island = [(-20.0, -20.0), (20.0, -20.0), (20.0, 20.0), (-20.0, 20.0)]
-    assert query(island)[0] == kn.CONTACT  # hull wholly inside
-    assert query(island, n0=22.0)[0] == kn.CONTACT  # bow over the edge: outlines cross
+    assert query(island)[0] == chart.CONTACT  # hull wholly inside
+    assert query(island, n0=22.0)[0] == chart.CONTACT  # bow over the edge: outlines cross
     flag, clearance = query(island, n0=30.0)
-    assert flag == kn.OK and clearance == pytest.approx(30.0 - 3.5 - 20.0)
+    assert flag == chart.OK and clearance == pytest.approx(30.0 - 3.5 - 20.0)
 
 
 def _next_vertex(polys):
@@ -90,7 +89,7 @@ def _next_vertex(polys):
 
 
 def _brute_force_chart(task, n0, e0, psi, beam_dirs):
-    """Reference for :func:`kn.chart_query` without any culling: every beam against every chart edge (the ray
+    """Reference for :func:`chart.chart_query` without any culling: every beam against every chart edge (the ray
     o + t d meets a + s (b - a) at t = (a - o) x e / (d x e), s = (a - o) x d / (d x e)), and the clearance as
     the smallest distance between a vertex of one outline and an edge of the other, capped at the range."""
     c, s = np.cos(psi), np.sin(psi)
@@ -124,7 +123,7 @@ def test_chart_query_matches_brute_force():
     in the built-in harbour chart: open water, inside polygons, and close to edges and vertices (1 um to 10 m);
     with the task's beam fan and with an irregular one."""
     task = gym.make("vessel_gym/HarbourApproach-v0").unwrapped.task
-    chart = (task.hull, task.edges, task.polys, task.pbox)
+    tables = (task.hull, task.edges, task.polys, task.pbox)
     R = task.beam_range
     rng = np.random.default_rng(7)
     verts = task.edges[:, :2]
@@ -149,10 +148,10 @@ def test_chart_query_matches_brute_force():
         beams, bw = np.empty(nb), np.empty((2, nb))
         hn, he = np.empty(len(task.hull)), np.empty(len(task.hull))
         for (n0, e0), psi in zip(points, headings):
-            flag, clearance = kn.chart_query(n0, e0, psi, *chart, beam_dirs, R, beams, hn, he, bw)
+            flag, clearance = chart.chart_query(n0, e0, psi, *tables, beam_dirs, R, beams, hn, he, bw)
             ref_beams, ref_clearance = _brute_force_chart(task, n0, e0, psi, beam_dirs)
             np.testing.assert_allclose(beams, ref_beams, rtol=0.0, atol=1e-9, err_msg=f"pose {(n0, e0, psi)}")
-            if flag == kn.OK:
+            if flag == chart.OK:
                 n_clear += 1
                 assert abs(clearance - ref_clearance) <= 1e-9, (n0, e0, psi, clearance, ref_clearance)
             else:

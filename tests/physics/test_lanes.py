@@ -180,10 +180,3 @@ def test_vector_lane_drivers_stay_within_1e12_of_the_scalar_drivers():
     Xv, alive_v, _ = _run(vector, sim, 300)
     assert np.array_equal(alive_v, alive_s)
     assert _relative(Xv[alive_s], Xs[alive_s]) <= 1e-9
-
-
-def test_a_simulation_with_vector_math_offers_no_scalar_one_call_step():
-    # the one-ship environment's one compiled call binds the scalar driver: a simulation that runs every call
-    # on the vector lanes must not hand it out (its results would differ in the last bits from its own step)
-    assert Simulation("kvlcc2", n=1, dt=0.2).compiled_step(1) is not None
-    assert Simulation("kvlcc2", n=1, dt=0.2, math="vector").compiled_step(1) is None

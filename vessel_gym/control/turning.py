@@ -6,7 +6,7 @@ moment; tactical diameter: that perpendicular distance where the heading has cha
 samples the event is placed by linear interpolation in the heading change.
 
 Compiled scalar functions shared by the trial (:func:`vessel_gym.manoeuvres.trials.turning_circle`, also the
-initial-turning test) and the TurningCircle task kernel (:mod:`vessel_gym.envs.kernels`).
+initial-turning test) and the TurningCircle task kernel (:mod:`vessel_gym.envs.tasks.turning`).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ heading, where the yaw rate changes sign.
 
 The rule, as compiled scalar functions that the trials (:func:`vessel_gym.manoeuvres.trials.zigzag`), the
 trials helm (:class:`vessel_gym.manoeuvres.helms.ZigZagHelm`), the ZigZag task kernel
-(:mod:`vessel_gym.envs.kernels`) and the evaluation metrics (:mod:`agents.common`) all call:
+(:mod:`vessel_gym.envs.tasks.zigzag`, :mod:`~vessel_gym.envs.tasks.zigzag_v1`) and the evaluation metrics (:mod:`agents.common`) all call:
 
 * :func:`target_reached`: the heading has reached or passed the target on its side (an execute is due);
 * :func:`zigzag_execute`: the target moves to psi on the other side of the original course;

@@ -7,26 +7,17 @@ exactly the trajectory of a single environment seeded with s + k.
 
 from __future__ import annotations
 
-import weakref
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
-from numba.core.errors import NumbaError
 
 from vessel_gym.envs.config import make_config
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
-from vessel_gym.envs.onestep import BAD_ACTION, bind_one_step
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
-
-# Steps an environment takes through the separate calls before it binds its control step as one compiled call
-# (envs.onestep). Composing it compiles the stages' code together once per kind of environment (2-6 s of CPU
-# on a cold cache; ~0.05 s to load from the cache after that), which saves ~3 us per step: an environment
-# stepped a few times (a first step after a cold start, an API check, most tests) does not pay for it.
-ONE_CALL_AFTER_STEPS = 100
 
 
 class _Renders:
@@ -74,10 +65,7 @@ class ShipEnv(_Renders, gym.Env):
         #: steps after which an episode is truncated, counted here (0: none; Gymnasium's TimeLimit may count)
         self._max_steps = 0
         self._elapsed = 0
-        # the control step in one compiled call (envs.onestep): (call, binding, after, the helm's step_values,
-        # the simulation's time per step), bound after ONE_CALL_AFTER_STEPS steps; False where it cannot be
-        self._fast: tuple | bool | None = None
-        self._separate_steps = 0  # steps taken through the separate calls while _fast is None
+        self._pacing: tuple[int, Callable[[int], None] | None] = (1, None)  # Task.advance's (ticks, on_tick)
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
@@ -95,36 +83,15 @@ class ShipEnv(_Renders, gym.Env):
             self._track = [(float(self.sim.north[0]), float(self.sim.east[0]))]
             if self.render_mode == "human":
                 self.render()
-        return self.task.obs[0].copy(), self.task.lazy_info(0)
+        return self.task.obs[0].copy(), self.task.info(0)
 
     def step(self, action: Any):
         if not self._reset_done:
             raise RuntimeError("call reset() before step()")
         task = self.task
-        fast = self._fast
-        # the one call composes the task's own advance: a caller that replaced it on this task (the real-time
-        # pacer of `vessel-gym serve` runs a control step in wall-clock ticks) gets the separate calls
-        if fast and not self.sim.helm_overridden and "advance" not in task.__dict__:
-            call, binding, after, values, dt = fast
-            alive = call(binding, *values(action))
-            if alive >= 0:
-                self.sim.t += dt
-                if after is not None:
-                    after()
-            elif alive == BAD_ACTION:
-                raise ValueError(f"action contains NaN: {action!r}")
-            else:  # the batch is no longer of the driver's kind: the orders are given, nothing integrated
-                self._fast = None
-                task.advance()
-                task.update(self._step_phase)
-        else:
-            task.helm.apply_single(action)
-            task.advance()
-            task.update(self._step_phase)
-            if fast is None:
-                self._separate_steps += 1
-                if self._separate_steps >= ONE_CALL_AFTER_STEPS:
-                    self._bind_step()
+        task.helm.apply_single(action)
+        task.advance(*self._pacing)
+        task.update(self._step_phase)
         if self.render_mode is not None:
             self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
             if self.render_mode == "human":
@@ -132,24 +99,19 @@ class ShipEnv(_Renders, gym.Env):
         terminated = task.terminated.item()
         self._elapsed += 1
         truncated = 0 < self._max_steps <= self._elapsed and not terminated
-        return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.lazy_info(0)
+        return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.info(0)
 
-    def _bind_step(self) -> None:
-        """Bind the control step as one compiled call (:func:`~vessel_gym.envs.onestep.bind_one_step`), or
-        record that it cannot be (the separate calls give the same results)."""
-        task = self.task
-        try:
-            bound = bind_one_step(task.helm, self.sim, task.nsub, task, self._step_phase)
-        except NumbaError:  # a stage numba cannot call from the composition (a user's kernel): separate calls
-            bound = None
-        if bound is None:
-            self._fast = False
-            return
-        self._fast = (*bound, task.helm.step_values, task.nsub * self.sim.dt)
+    def pace(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
+        """Run each step's physics in ``ticks`` slices and call ``on_tick(i)`` after slice i (1..ticks)
+        (:meth:`Task.advance <vessel_gym.envs.task.Task.advance>`): ``vessel-gym serve`` paces a control step
+        to wall-clock time this way and services its link between slices. ``pace()`` steps at once again."""
+        if ticks < 1:
+            raise ValueError(f"ticks must be >= 1, got {ticks}")
+        self._pacing = (int(ticks), on_tick)
 
     def __getstate__(self) -> dict:
         state = super().__getstate__()
-        state["_fast"] = None  # compiled code does not pickle; a copy binds its own at its next step
+        state["_pacing"] = (1, None)  # the pacer's clock and link stay with this environment
         return state
 
     def render(self):
@@ -244,29 +206,6 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._renderer = None
         self._tracks: list[list[tuple[float, float]]] = [[] for _ in range(min(num_envs, 4))]
         self._reset_done = False
-        #: the last ``info`` returned, while not yet built (a weak reference: see _settle_info)
-        self._pending_info: weakref.ref | None = None
-
-    def _settle_info(self) -> None:
-        """Build the last returned ``info`` if it is still held and not yet built, before anything changes the
-        task's arrays it is built from (:class:`~vessel_gym.envs.info.BatchInfo`): called first in ``step``
-        and ``reset``, the only calls that change them."""
-        ref = self._pending_info
-        if ref is not None:
-            self._pending_info = None
-            info = ref()
-            if info is not None:
-                info._fill()
-
-    def _lazy_info(self) -> dict[str, Any]:
-        info = self.task.lazy_batch_info()
-        self._pending_info = weakref.ref(info)
-        return info
-
-    def __getstate__(self) -> dict:
-        state = super().__getstate__()
-        state["_pending_info"] = None  # a weak reference does not pickle; a copy's first info is its own
-        return state
 
     def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
         self.task.reset_vessels(idx, options)
@@ -276,7 +215,6 @@ class ShipVectorEnv(_Renders, VectorEnv):
                 self._tracks[k] = [(float(self.sim.north[k]), float(self.sim.east[k]))]
 
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
-        self._settle_info()
         super().reset(seed=seed if isinstance(seed, int) else None)
         n = self.num_envs
         if seed is None:
@@ -306,12 +244,11 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._needs_reset[mask] = False
         self.task.update(phase)
         self._reset_done = True
-        return self.task.observe(), self._lazy_info()
+        return self.task.observe(), self.task.batch_info()
 
     def step(self, actions: Any):
         if not self._reset_done:
             raise RuntimeError("call reset() before step()")
-        self._settle_info()
         task = self.task
         n = self.num_envs
         a = task.helm.batch(actions, n)
@@ -343,7 +280,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
             truncated = np.zeros(n, dtype=np.bool_)
         rewards = task.reward.copy()
         obs = task.observe()
-        info = self._lazy_info()
+        info = task.batch_info()
         done = terminated | truncated
         if self.render_mode is not None:
             for k in range(len(self._tracks)):

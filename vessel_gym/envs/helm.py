@@ -10,7 +10,6 @@ from gymnasium import spaces
 from numba import njit
 
 from vessel_gym.envs.config import ShipEnvConfig
-from vessel_gym.physics.kinematics import set_helm_orders
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
@@ -44,25 +43,6 @@ def clip_helm(actions, limit, full_ahead, full_astern, engine, rudder_order, rev
         rudder_order[k] = rudder
         if engine:
             rev_order[k] = rev
-    return True
-
-
-# The helm's part of the one-ship environment's control step in one compiled call (envs.onestep): the action's
-# two numbers (Helm.step_values) into vessel 0's orders; False, writing nothing, for an action that is NaN.
-@njit(cache=True)
-def continuous_stage(a_rudder, a_engine, limit, full_ahead, full_astern, engine, inputs):
-    """Vessel 0's orders from a continuous action's fractions (:func:`continuous_orders`)."""
-    if a_rudder != a_rudder or a_engine != a_engine:
-        return False
-    rudder, rev = continuous_orders(a_rudder, a_engine, limit, full_ahead, full_astern)
-    set_helm_orders(inputs, 0, rudder, rev, engine)
-    return True
-
-
-@njit(cache=True)
-def orders_stage(rudder_order, rev_order, engine, inputs):
-    """Vessel 0's orders as given (rudder rad, shaft speed rev/s: the discrete helm's table entries)."""
-    set_helm_orders(inputs, 0, rudder_order, rev_order, engine)
     return True
 
 
@@ -111,16 +91,6 @@ class Helm(abc.ABC):
         """Apply one action to vessel 0 of a one-vessel simulation."""
         self.apply(self.single(action))
 
-    @abc.abstractmethod
-    def step_values(self, action: Any) -> tuple[float, float]:
-        """One vessel's action, checked, as the two numbers :meth:`compiled_stage`'s function takes."""
-
-    @abc.abstractmethod
-    def compiled_stage(self) -> tuple[Any, tuple]:
-        """(stage, arguments): the compiled function that gives vessel 0 of a one-vessel simulation its orders,
-        ``stage(*step_values(action), *arguments)``, True once written (False, writing nothing, for a NaN
-        action), for the one-ship environment's control step in one compiled call (``envs.onestep``)."""
-
 
 class ContinuousHelm(Helm):
     """Box(-1, 1): a[0] rudder order as a fraction of the rudder limit (+ starboard); with engine control
@@ -153,20 +123,18 @@ class ContinuousHelm(Helm):
             raise ValueError(f"action must have {self.dim} values, got shape {a.shape}")
         return a.reshape(1, self.dim)
 
-    def step_values(self, action: Any) -> tuple[float, float]:
-        # the rudder's and the engine's fractions (the rudder's twice without engine control)
+    def _fractions(self, action: Any) -> tuple[float, float]:
+        """One vessel's action, checked: the rudder's and the engine's fractions (the rudder's twice without
+        engine control)."""
         if type(action) is np.ndarray and action.shape == self._shape and action.dtype.kind in "fiu":
             a = action.tolist()
         else:
             a = self.single(action).tolist()[0]
         return a[0], a[-1]
 
-    def compiled_stage(self) -> tuple[Any, tuple]:
-        return continuous_stage, (self._lim0, self._fa0, self._fs0, self.engine, self.sim.inputs)
-
     def apply_single(self, action: Any) -> None:
         # scalar path: the one-vessel environment's step should cost little beside the physics
-        x, e = self.step_values(action)
+        x, e = self._fractions(action)
         if x != x or e != e:
             raise ValueError(f"action contains NaN: {action!r}")
         rudder, rev = continuous_orders(x, e, self._lim0, self._fa0, self._fs0)
@@ -243,19 +211,6 @@ class DiscreteHelm(Helm):
             self.telegraph[:] = step
             rev = self.rev_table[np.arange(self.sim.n), step + 4]
         self.sim.set_helm(rudder_order_rad=self.orders_rad[actions[:, 0]], rev_order=rev)
-
-    def step_values(self, action: Any) -> tuple[float, float]:
-        # the rudder order (rad) and the shaft-speed order (rev/s; 0.0, unused, without engine control)
-        a = self.single(action)[0].tolist()
-        rev = 0.0
-        if self.engine:
-            step = self.steps.item(a[1])
-            self.telegraph[0] = step
-            rev = self.rev_table.item(0, step + 4)
-        return self.orders_rad.item(a[0]), rev
-
-    def compiled_stage(self) -> tuple[Any, tuple]:
-        return orders_stage, (self.engine, self.sim.inputs)
 
 
 def make_helm(config: ShipEnvConfig, sim: Simulation) -> Helm:

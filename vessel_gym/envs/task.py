@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import abc
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
 import numpy as np
@@ -18,7 +18,6 @@ import numpy as np
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.declare import Feature, TaskSpec
 from vessel_gym.envs.helm import make_helm
-from vessel_gym.envs.info import BatchInfo, LazyInfo
 from vessel_gym.envs.observation import ObservationLayout
 from vessel_gym.physics.linear import stable_step
 from vessel_gym.physics.schema import SpecError
@@ -129,8 +128,6 @@ class Task(abc.ABC):
         self._kernel_args: tuple | None = None
         self._kernel_call: Any = None  # the kernel's compiled code for _kernel_args (compiled_entry)
         self._call_args: tuple = ()  # _kernel_args as the compiled code takes them
-        self._info_keys: dict | None = None  # the keys of info_from's dicts, in order (lazy_info)
-        self._batch_keys: dict | None = None  # the keys of batch_info's dicts, in order (lazy_batch_info)
 
     # subclass interface
     @abc.abstractmethod
@@ -243,91 +240,30 @@ class Task(abc.ABC):
         self.kernel(phase, *args)  # compiles, or loads from the cache, the kernel for these arguments
         self._kernel_call, self._call_args = compiled_entry(self.kernel, phase, args)
 
-    def fused_update(self, phase: np.ndarray) -> tuple[tuple[tuple[Any, tuple], ...], Any] | None:
-        """The update of ``phase`` as compiled calls, for the one-ship environment's control step in one
-        compiled call (:mod:`vessel_gym.envs.onestep`): ``(stages, after)``, where ``stages`` are
-        ``(function, arguments)`` pairs run in order and ``after`` is None or a Python callable run after them
-        (what the update does in Python once the kernel has run); None if the update runs Python before its
-        kernel or the kernel is not compiled. Asked after the first update, which binds the kernel's
-        arguments. A task that overrides :meth:`update` overrides this too (else it is not used:
-        :meth:`one_step_update`)."""
-        stages = self.kernel_stages(phase)
-        return None if stages is None else (stages, None)
-
-    def one_step_update(self, phase: np.ndarray) -> tuple[tuple[tuple[Any, tuple], ...], Any] | None:
-        """:meth:`fused_update`, if the class that defines it is the one that defines :meth:`update` or a
-        subclass of it (so it describes the update this task runs); else None."""
-        mro = type(self).__mro__
-        owner_update = next(c for c in mro if "update" in c.__dict__)
-        owner_fused = next(c for c in mro if "fused_update" in c.__dict__)
-        return self.fused_update(phase) if issubclass(owner_fused, owner_update) else None
-
-    def kernel_stages(self, phase: np.ndarray) -> tuple[tuple[Any, tuple], ...] | None:
-        """``((kernel, (phase, *kernel_args())),)``: the task kernel as the one stage of
-        :meth:`fused_update`, once it is bound and compiled (else None)."""
-        if self._kernel_args is None or self._kernel_call is self.kernel:  # not bound, or not compiled
-            return None
-        return ((self.kernel, (phase, *self._kernel_args)),)
-
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()
         state["_kernel_call"] = None  # a compiled entry point does not pickle; bound again at the first update
         return state
 
     def info(self, k: int) -> dict[str, Any]:
-        """Vessel k's ``info`` dict now (Python scalars), built at once."""
-        return self.info_from(snapshot_values(self.info_snapshot(k)))
-
-    def lazy_info(self, k: int) -> LazyInfo:
-        """Vessel k's ``info`` as the one-ship environment returns it: :meth:`info_snapshot` copied now, the
-        dict built from it when first read (:class:`~vessel_gym.envs.info.LazyInfo`); equal to :meth:`info`."""
-        keys = self._info_keys
-        if keys is None:
-            if type(self).info is not Task.info:  # a task that builds its info itself, in info(k)
-                return self.info(k)
-            keys = self._info_keys = dict.fromkeys(self.info(k))
-        info = LazyInfo(keys)
-        info._src = (self._info_of_snapshot, self.info_snapshot(k))
-        return info
-
-    def _info_of_snapshot(self, snap: tuple) -> dict[str, Any]:
-        return self.info_from(snapshot_values(snap))
+        """Vessel k's ``info`` dict now (Python scalars): :meth:`info_from` of :meth:`info_snapshot`."""
+        return self.info_from(self.info_snapshot(k))
 
     def info_snapshot(self, k: int) -> tuple:
-        """What vessel k's ``info`` is made of, copied: its task state, weighted reward terms and features, and
-        whether it is alive (a task that needs more adds to the tuple). Rows of floats are copied as their bytes
-        (a quarter of the time of a list of floats: the copy is made at every step, the list only when the info
-        is read); :meth:`info_from` gets them as lists of floats (:func:`snapshot_values`)."""
-        if self.n == 1:  # the one-ship environment: the (1, m) arrays' bytes are its rows'
-            return self.ts.tobytes(), self.terms.tobytes(), self.feat.tobytes(), self.sim.alive.item(0)
-        return self.ts[k].tobytes(), self.terms[k].tobytes(), self.feat[k].tobytes(), self.sim.alive.item(k)
+        """What vessel k's ``info`` is made of: its task state, weighted reward terms and features as lists of
+        floats, and whether it is alive (a task that reads more adds to the tuple)."""
+        return self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), self.sim.alive.item(k)
 
     def info_from(self, snap: tuple) -> dict[str, Any]:
-        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot` (its rows of floats as
-        lists: :func:`snapshot_values`).
+        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot`.
 
-        A task defines this, or else :meth:`info` itself (then built at every step)."""
+        A task defines this, or else :meth:`info` itself."""
         raise NotImplementedError(f"{type(self).__name__} defines neither info_from(snapshot) nor info(k)")
 
     @abc.abstractmethod
     def batch_info(self) -> dict[str, Any]:
-        """The ``info`` of all vessels, each entry an array over the vessels (the vector environment's)."""
-
-    def lazy_batch_info(self) -> BatchInfo:
-        """:meth:`batch_info` as the vector environment returns it: built from the task's arrays when first read
-        (:class:`~vessel_gym.envs.info.BatchInfo`), which the environment guarantees happens before those arrays
-        change; the first call builds it at once (it learns the keys)."""
-        keys = self._batch_keys
-        if keys is None:
-            built = self.batch_info()
-            self._batch_keys = dict.fromkeys(built)
-            return BatchInfo(built)
-        info = BatchInfo(keys)
-        info._src = (self._build_batch_info, None)
-        return info
-
-    def _build_batch_info(self, _snapshot: None) -> dict[str, Any]:
-        return self.batch_info()
+        """The ``info`` of all vessels, each entry an array over the vessels (the vector environment's), built
+        anew: no entry may be a view of an array a later step changes."""
 
     def renderer(self, mode: str) -> Any:
         """A chart renderer of this task's ship and chart (pygame is imported only here)."""
@@ -345,8 +281,23 @@ class Task(abc.ABC):
         return {}
 
     # shared
-    def advance(self) -> None:
-        self.sim.step(self.nsub)
+    def advance(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
+        """Advance every vessel one control step (``nsub`` physics steps).
+
+        With ``on_tick``, in ``ticks`` slices: after slice i (1..ticks) the physics has made ``i * nsub // ticks``
+        of its steps and ``on_tick(i)`` is called (the same steps as one call, so the same states). This is how
+        ``vessel-gym serve`` paces a control step to wall-clock time and services its link between slices
+        (:meth:`ShipEnv.pace <vessel_gym.envs.env.ShipEnv.pace>`)."""
+        if on_tick is None:
+            self.sim.step(self.nsub)
+            return
+        done = 0
+        for i in range(1, ticks + 1):
+            due = i * self.nsub // ticks
+            if due > done:
+                self.sim.step(due - done)
+                done = due
+            on_tick(i)
 
     def observe(self) -> np.ndarray:
         """A new array of the current observations (N, obs_dim)."""
@@ -367,12 +318,6 @@ class Task(abc.ABC):
         """A new (n_columns, N) copy of the task state: row j is column j of ``ts`` for all vessels (for the
         batched ``info``: one copy instead of one per entry)."""
         return self.ts.T.copy()
-
-
-def snapshot_values(snap: tuple) -> tuple:
-    """An :meth:`Task.info_snapshot` with its rows of floats (bytes of float64 rows) as lists of Python floats,
-    the same numbers to the bit; other entries as they are."""
-    return tuple(np.frombuffer(x).tolist() if type(x) is bytes else x for x in snap)
 
 
 def compiled_entry(kernel: Any, phase: np.ndarray, args: tuple) -> tuple[Any, tuple]:

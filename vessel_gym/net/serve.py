@@ -274,42 +274,26 @@ def helm_change_line(change: HelmChange, before: str, failsafe: str, agent_resum
 
 
 class _Ticker:
-    """Runs one control step of the physics in link ticks paced to wall-clock time.
+    """Paces one control step of the physics to wall-clock time in link ticks (the environment's declared
+    pacing hook, :meth:`ShipEnv.pace <vessel_gym.envs.env.ShipEnv.pace>`).
 
-    It replaces the task's ``advance`` (``sim.step(nsub)``, the whole control interval at once) by ``ticks``
-    slices: at tick i the physics has made ``i * nsub // ticks`` of its steps, the pacer waits for the tick's
-    deadline and the link is serviced, so the state a client gets is the state of the physics at that moment.
+    The environment runs the control interval's physics in ``ticks`` slices; after slice i (its
+    ``i * nsub // ticks`` steps made) :meth:`on_tick` waits for the tick's deadline and services the link, so the
+    state a client gets is the state of the physics at that moment.
     """
 
     def __init__(self, wrapped: Any, time_factor: float, report: Any) -> None:
-        base = wrapped.unwrapped
-        self.task = base.task
-        self.sim = base.sim
-        control = base.config.control_interval_s
-        self.nsub = int(self.task.nsub)
+        control = wrapped.unwrapped.config.control_interval_s
         self.ticks = link_ticks(control, time_factor)
         self.pacer = RealTimePacer(self.ticks / control, time_factor)
         self.wrapped = wrapped
         self.report = report
 
-    def advance(self) -> None:
-        done = 0
-        for i in range(1, self.ticks + 1):
-            due = i * self.nsub // self.ticks
-            if due > done:
-                self.sim.step(due - done)
-                done = due
-            self.pacer.wait()
-            if i < self.ticks:  # the last tick's service is the next step's own (UdpLinkWrapper.step)
-                self.wrapped.service()
-                self.report()
-
-    def __enter__(self) -> _Ticker:
-        self.task.advance = self.advance  # instance attribute: shadows the class's method for this task only
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        del self.task.advance
+    def on_tick(self, i: int) -> None:
+        self.pacer.wait()
+        if i < self.ticks:  # the last tick's service is the next step's own (UdpLinkWrapper.step)
+            self.wrapped.service()
+            self.report()
 
 
 def _run(
@@ -334,6 +318,7 @@ def _run(
 
     ticker = _Ticker(wrapped, time_factor, report)
     pacer = ticker.pacer
+    wrapped.unwrapped.pace(ticker.ticks, ticker.on_tick)  # the physics and the link in ticks, paced
     start = time.monotonic()
     episode = 1
     try:
@@ -351,8 +336,7 @@ def _run(
         pacer.reset()
         while duration_s is None or time.monotonic() - start < duration_s:
             action = policy(obs)
-            with ticker:  # the physics and the link in ticks, paced
-                obs, _r, terminated, truncated, info = wrapped.step(action)
+            obs, _r, terminated, truncated, info = wrapped.step(action)
             report()
             if terminated or truncated:
                 by = {k: v - by_start[k] for k, v in wrapped.steps_by.items()}

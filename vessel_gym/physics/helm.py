@@ -25,9 +25,6 @@ class Helm:
     # Orders of vessels whose helm is overridden (override_helm), by vessel: (rudder rad, shaft rev/s), None for
     # an order not overridden. None while no helm is overridden, so that set_helm then pays one test.
     _helm_override: dict[int, tuple[float | None, float | None]] | None = None
-    #: whether some vessel's helm is overridden now (a caller that writes the orders in compiled code,
-    #: ``kinematics.set_helm_orders``, goes through :meth:`set_helm` while this is True)
-    helm_overridden: bool = False
 
     def set_helm(
         self,
@@ -71,7 +68,6 @@ class Helm:
                 None if rev_order is None else float(rev_order),
             )
         self._helm_override = held or None
-        self.helm_overridden = self._helm_override is not None
         self._hold_override()
 
     def _hold_override(self) -> None:

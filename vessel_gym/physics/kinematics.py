@@ -185,16 +185,6 @@ def helm_orders(inp, k):
 
 
 @njit(cache=True, inline="always")
-def set_helm_orders(inp, k, rudder_order, rev_order, set_rev):
-    """Give vessel k the rudder order ``rudder_order`` (rad, + starboard) and, if ``set_rev``, the shaft-speed
-    order ``rev_order`` (rev/s, - astern): :meth:`Simulation.set_helm <vessel_gym.physics.helm.Helm.set_helm>`
-    of one vessel, in compiled code (an order under a helm override is the caller's to keep)."""
-    inp[k, lo.U_DELTA_C] = rudder_order
-    if set_rev:
-        inp[k, lo.U_REV_C] = rev_order
-
-
-@njit(cache=True, inline="always")
 def current_velocity(env, k):
     """Current velocity (north m/s, east m/s) at vessel k, as the physics applies it."""
     return env[k, lo.E_CUR_N], env[k, lo.E_CUR_E]

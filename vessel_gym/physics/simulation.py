@@ -594,26 +594,6 @@ class Simulation(Readings, Helm):
         self.t += nsteps * self.dt
         return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))
 
-    def compiled_step(self, nsteps: int) -> tuple | None:
-        """What :meth:`step` of ``nsteps`` runs for a batch below the threaded driver's size, for a caller that
-        makes it part of one compiled call of its own (the one-ship environment's control step, ``envs.onestep``):
-        ``(driver, driver_args, runaway, runaway_args)``, compiled functions and their arguments: the call
-        ``driver(*driver_args)`` integrates (it returns -1, integrating nothing, if the batch is no longer of
-        the kind the driver was compiled for: then :meth:`step` chooses again), and ``runaway(*runaway_args)``
-        (:func:`flag_runaway`) then flags the vessels that ran away and returns the number alive. The caller
-        adds ``nsteps * dt`` to ``t``. None if the step runs Python (the user's components), would use the
-        threaded driver, or runs on the lane drivers with vector math. The arguments are this simulation's
-        arrays: bound once, they hold as long as the simulation (its arrays are never replaced)."""
-        if (
-            self.components
-            or self._lane_choice.math == "vector"  # every call on the lanes: not the scalar driver bound here
-            or (self.n >= PARALLEL_MIN_BATCH and self.n * nsteps >= PARALLEL_MIN_WORK)
-        ):
-            return None
-        args = self._driver_args(int(nsteps))
-        limits = self._runaway_limits
-        return self._kernels[0], args, flag_runaway, (self.state, self.ship_index, limits, self.alive, self.why_dead)
-
     def advance(self, duration_s: float) -> int:
         """Advance ``duration_s`` seconds; it must be a whole multiple of dt (else ValueError)."""
         return self.step(steps_for(duration_s, self.dt))

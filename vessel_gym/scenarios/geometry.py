@@ -2,7 +2,7 @@
 
 Plain Python: run once per load; the polygon checks are O(n log n) sweeps, so a chart with
 thousands of vertices per polygon loads in well under a second. The per-step contact, clearance and range-beam queries of the
-environments are compiled (:mod:`vessel_gym.envs.kernels`).
+environments are compiled (:mod:`vessel_gym.envs.tasks.chart`).
 """
 
 from __future__ import annotations

@@ -519,9 +519,7 @@ class HarbourApproachTask(Task):
 
     def info_snapshot(self, k: int) -> tuple:
         # of the features the info reads the goal heading error only (a harbour row holds the range beams too)
-        if self.n == 1:
-            return self.ts.tobytes(), self.terms.tobytes(), self.feat.item(FEAT.goal_heading_error), self.flags.item()
-        return self.ts[k].tobytes(), self.terms[k].tobytes(), self.feat.item(k, FEAT.goal_heading_error), self.flags.item(k)
+        return self.ts[k].tolist(), self.terms[k].tolist(), self.feat.item(k, FEAT.goal_heading_error), self.flags.item(k)
 
     def info_from(self, snap: tuple) -> dict[str, Any]:
         s, terms, heading_error, f = snap

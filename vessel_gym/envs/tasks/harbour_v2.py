@@ -127,12 +127,6 @@ class HarbourApproachV2Task(HarbourApproachV1Task):
             return
         call[0](*call[1])
 
-    def fused_update(self, phase: np.ndarray) -> tuple | None:
-        stages, call = self.kernel_stages(phase), self._depth_call
-        if stages is None or call is None or call[0] is chart_depth:  # not bound, or not compiled
-            return None
-        return (*stages, (chart_depth, call[1])), None
-
     def __getstate__(self) -> dict:
         state = super().__getstate__()
         state["_depth_call"] = None  # compiled code does not pickle; a copy binds its own at its first update

@@ -337,11 +337,6 @@ class ZigZagTask(ZigZagCommon):
                 self._new_legs(idx, vessels_draws(self.rngs, idx))
         super().update(phase)
 
-    def fused_update(self, phase: np.ndarray) -> tuple | None:
-        # the random schedule starts new legs in Python before the kernel runs
-        stages = self.kernel_stages(phase) if self.imo else None
-        return None if stages is None else (stages, None)
-
     # --- info -------------------------------------------------------------------------------------------
     def info_from(self, snap: tuple) -> dict[str, Any]:
         s, terms, f, alive = snap

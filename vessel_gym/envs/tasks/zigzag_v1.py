@@ -340,10 +340,6 @@ class ZigZagV1Task(ZigZagCommon):
         if not self.imo:
             self._draw_started()
 
-    def fused_update(self, phase: np.ndarray) -> tuple | None:
-        stages = self.kernel_stages(phase)
-        return None if stages is None else (stages, None if self.imo else self._draw_started)
-
     def _draw_started(self) -> None:
         """Random schedule, after the kernel: the vessels whose kernel started a course change draw the one
         after it."""
