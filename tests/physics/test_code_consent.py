@@ -11,7 +11,8 @@ import pytest
 
 from vessel_gym.cli import main
 from vessel_gym.physics import components
-from vessel_gym.physics.shipfile import ShipFileError, load_ship
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import load_ship
 
 SHIPS = Path(__file__).resolve().parents[2] / "vessel_gym" / "physics" / "data" / "ships"
 

@@ -14,7 +14,8 @@ from vessel_gym.physics import layout as lo
 from vessel_gym.physics import simulation as simmod
 from vessel_gym.physics.environment import CALM, Environment, EnvironmentList
 from vessel_gym.physics.schema import SpecError
-from vessel_gym.physics.simulation import STEADY_CACHE_SIZE, Simulation, steady_state
+from vessel_gym.physics.simulation import STEADY_CACHE_SIZE, Simulation
+from vessel_gym.physics.steady import SimulationError, steady_state
 from vessel_gym.physics.units import DEG
 
 WIND = Environment(wind_speed_m_s=12.0, wind_from_deg=30.0)
@@ -139,7 +140,7 @@ def test_approaches_solved_over_the_threads_equal_the_serial_loop(monkeypatch):
     errors = []
     for threshold in (8, 10**9):
         monkeypatch.setattr(steady, "STEADY_THREADED_MIN", threshold)
-        with pytest.raises(simmod.SimulationError) as err:
+        with pytest.raises(SimulationError) as err:
             sim.reset(speed_m_s=speeds, heading_deg=headings + 1.0)
         errors.append(str(err.value))
     assert errors[0] == errors[1]
@@ -238,7 +239,7 @@ def test_construction_and_reset_call_the_solver_once_per_distinct_approach(monke
     from vessel_gym.physics import environment as envmod
 
     counts = {"row": 0, "steady": 0}
-    row, solve = envmod.Environment.row, simmod.steady_state
+    row, solve = envmod.Environment.row, steady_state
 
     def counted_row(self, *a, **kw):
         counts["row"] += 1

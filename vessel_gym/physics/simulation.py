@@ -22,7 +22,6 @@ from typing import Protocol
 import numpy as np
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.bridge import BridgeReading  # noqa: F401  (what Simulation.bridge returns)
 from vessel_gym.physics.components import ForceRecord
 from vessel_gym.physics.components.batch import ComponentBatch
 from vessel_gym.physics.components.compose import compose, named_forces
@@ -36,46 +35,13 @@ from vessel_gym.physics.environment import (
     environment_values,
 )
 from vessel_gym.physics.helm import Helm
-from vessel_gym.physics.integrate import (  # noqa: F401  (run_serial, run_parallel: the general drivers)
-    EULER,
-    RK4,
-    drivers_for,
-    run_parallel,
-    run_serial,
-    run_with_components,
-)
-from vessel_gym.physics.readings import (  # noqa: F401  (imported here before the readings moved out)
-    FORCE_NAMES,
-    KNOT_M_S,
-    N_OUT,
-    Readings,
-    forces,
-    forces_batch,
-    ground_velocity,
-    local_to_latlon,
-    speed_over_ground,
-    wrap_deg,
-)
-from vessel_gym.physics.runaway import (  # noqa: F401  (RUNAWAY_* and the factors: their old home)
-    FULL_POWER_SPEED_FACTOR,
-    RUNAWAY_HEEL,
-    RUNAWAY_HEEL_DEG,
-    RUNAWAY_NONFINITE,
-    RUNAWAY_OK,
-    RUNAWAY_RATE,
-    RUNAWAY_RATE_PRIME,
-    RUNAWAY_SHAFT,
-    RUNAWAY_SHAFT_FACTOR,
-    RUNAWAY_SPEED,
-    RUNAWAY_SPEED_FACTOR,
-    flag_runaway,
-    runaway_limits,
-)
+from vessel_gym.physics.integrate import EULER, RK4, drivers_for, run_with_components
+from vessel_gym.physics.readings import Readings
+from vessel_gym.physics.runaway import RUNAWAY_OK, flag_runaway, runaway_limits
 from vessel_gym.physics.shallow_water import check_hull
 from vessel_gym.physics.shipfile import Ship, load_ship
-from vessel_gym.physics.steady import (  # noqa: F401  (SimulationError: its old home)
+from vessel_gym.physics.steady import (
     STEADY_MAX_ITERATIONS,
-    SimulationError,
     _SteadyApproach,
     distinct_rows,
     steady_rows,
