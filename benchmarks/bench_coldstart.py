@@ -1,6 +1,6 @@
 """Cold and warm start of the command line and of each environment's first step.
 
-    python benchmarks/bench_coldstart.py [--repeats 2] [--keep DIR]
+    python benchmarks/bench_coldstart.py [--repeats 2] [--keep DIR] [--ids ID ...]
 
 Each figure is the wall time of a fresh Python process (``python -m vessel_gym.cli imo kvlcc2``, or a process
 that makes an environment, resets it and takes one step), so it includes interpreter start, imports, loading or
@@ -8,7 +8,9 @@ compiling the numba kernels and the work itself. The child's CPU time (user + sy
 time: on a shared machine the wall time grows with the load, the CPU time much less. "Cold" runs against an empty numba cache directory
 (``NUMBA_CACHE_DIR`` set to a fresh temporary directory, so nothing is reused from earlier runs); "warm" runs
 again against the cache that the cold run filled. The environments are timed each in its own cold cache, so a
-figure is what a user sees when that environment is the first thing they run.
+figure is what a user sees when that environment is the first thing they run. The environments are every id
+the package registers with gymnasium (deprecated ones too: a user may still make them), read from gymnasium's
+registry, or those named with ``--ids``.
 
 Targets on the 2-core reference machine: cold ``imo kvlcc2`` <= 10 s, cold first env step <= 8 s, warm <= 2 s.
 """
@@ -27,10 +29,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-IDS = ("vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0")
 ENV_STEP = (
-    "import gymnasium as gym, vessel_gym; env = gym.make({id!r}); env.reset(seed=0); "
-    "env.step(env.action_space.sample())"
+    "import warnings, gymnasium as gym, vessel_gym.envs; warnings.simplefilter('ignore'); "
+    "env = gym.make({id!r}); env.reset(seed=0); env.step(env.action_space.sample())"
 )
 TARGET_COLD_IMO_S = 10.0  # s, cold `vessel-gym imo kvlcc2`
 TARGET_COLD_ENV_S = 8.0  # s, cold process up to the first env step
@@ -69,16 +70,27 @@ def _case(name: str, argv: list[str], repeats: int, keep: Path | None) -> tuple[
     return [statistics.median(col) for col in zip(*rows)], note
 
 
+def registered_ids() -> list[str]:
+    """Every environment id the package registers, from gymnasium's registry (sorted)."""
+    import gymnasium as gym
+
+    import vessel_gym.envs  # noqa: F401  (registers the ids)
+
+    return sorted(i for i in gym.registry if i.startswith("vessel_gym/"))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=2, help="cold+warm pairs per case (median printed)")
     ap.add_argument("--keep", type=Path, default=None, help="move the filled cache directories here")
+    ap.add_argument("--ids", nargs="*", default=None, help="environment ids (default: every registered one)")
+    ap.add_argument("--no-cli", action="store_true", help="skip `imo kvlcc2`")
     args = ap.parse_args()
     if args.keep is not None:
         args.keep.mkdir(parents=True, exist_ok=True)
     py = sys.executable
-    cases = [("imo kvlcc2", [py, "-m", "vessel_gym.cli", "imo", "kvlcc2"])]
-    cases += [(i, [py, "-c", ENV_STEP.format(id=i)]) for i in IDS]
+    cases = [] if args.no_cli else [("imo kvlcc2", [py, "-m", "vessel_gym.cli", "imo", "kvlcc2"])]
+    cases += [(i, [py, "-c", ENV_STEP.format(id=i)]) for i in (args.ids or registered_ids())]
     print(f"load average at the start: {_load()}")
     print(
         f"{'case':<32}{'cold wall':>10}{'cold CPU':>10}{'warm wall':>10}{'warm CPU':>10}   target cold/warm"

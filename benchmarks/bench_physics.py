@@ -14,11 +14,10 @@ rudder and steering gear, wind loads -- through the public API, ``Simulation.ste
 Every figure is the median over ``--repeats`` timed repeats, after a warm-up call (compilation and caches).
 Targets on the 2-core reference machine: >= 1,000,000 steps/s for one ship, >= 5,000,000 vessel-steps/s
 batched; a missed target prints its gap. ``--drivers`` also times the serial and parallel batch drivers
-directly against each other (that is how ``PARALLEL_MIN_BATCH`` was chosen), ``--lanes`` the scalar against
-the lane drivers (physics.lanes; goal 4 M vessel-steps/s on 2 cores), ``--cli`` times
+directly against each other (that is how ``drivers.THREADED_MIN_BATCH`` was chosen), ``--cli`` times
 ``vessel-gym imo kvlcc2`` (target < 3 s wall) when the command exists.
 
-    python benchmarks/bench_physics.py [--repeats 7] [--drivers] [--cli] [--quick] [--lanes] [--only]
+    python benchmarks/bench_physics.py [--repeats 7] [--drivers] [--cli] [--quick] [--only]
 """
 
 from __future__ import annotations
@@ -38,9 +37,10 @@ import numba
 import numpy as np
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.drivers import threaded
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.integrate import RK4, drivers_for
-from vessel_gym.physics.simulation import PARALLEL_MIN_BATCH, PARALLEL_MIN_WORK, Simulation
+from vessel_gym.physics.simulation import Simulation
 
 TARGET_SINGLE = 1_000_000  # vessel-RK4-steps/s, one ship
 TARGET_BATCH = 5_000_000  # vessel-RK4-steps/s, batched
@@ -171,7 +171,7 @@ def cpu_per_call(call, repeats: int) -> float:
 
 
 def bench_drivers(repeats: int) -> None:
-    """Serial vs parallel driver on the same arrays: where threads start to pay (PARALLEL_MIN_*).
+    """Serial vs parallel driver on the same arrays: where threads start to pay (drivers.THREADED_MIN_*).
 
     Wall time says what a user sees on this machine now; CPU time (all threads) says what the threads cost:
     where the parallel driver's CPU time equals the serial one, an idle 2-core machine runs it twice as fast.
@@ -195,7 +195,7 @@ def bench_drivers(repeats: int) -> None:
             tp, _ = time_calls(lambda a=args, run=run_parallel: run(*a), repeats)
             cs = cpu_per_call(lambda a=args, run=run_serial: run(*a), repeats) / work * 1e9
             cp = cpu_per_call(lambda a=args, run=run_parallel: run(*a), repeats) / work * 1e9
-            uses = "parallel" if n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK else "serial"
+            uses = "parallel" if threaded(n, nsteps) else "serial"
             print(
                 f"{n:6d} {nsteps:6d} {work:7d} {fmt_rate(work / ts):>10s} {fmt_rate(work / tp):>10s}  "
                 f"{cs:10.0f} {cp:9.0f} {cp / cs:6.2f}  {uses}"
@@ -259,7 +259,7 @@ def busy_loop() -> subprocess.Popen:
 
 
 def bench_load(repeats: int) -> None:
-    """Serial driver, threaded driver and ``Simulation.step`` (which chooses per call by measured time) on the
+    """Serial driver, threaded driver and ``Simulation.step`` (which chooses by the call's size) on the
     machine as it is, then with a busy-loop process started for the second table; one run, medians of
     interleaved repeats (kvlcc2 in wind, dt 0.1 s)."""
     print(
@@ -311,69 +311,6 @@ def bench_load(repeats: int) -> None:
                 hog.wait()
 
 
-# (N, nsteps per call) of the lane-driver comparison
-LANE_CASES = ((1024, 10), (16384, 2))
-TARGET_SOA = 4_000_000  # vessel-RK4-steps/s, 2 idle cores, full kvlcc2 model, N >= 1024 (issue 16)
-
-
-def bench_lanes(repeats: int) -> None:
-    """Scalar drivers against the lane drivers (physics.lanes, exact and vector math), serial and threaded, on
-    kvlcc2 in wind: vessel-RK4-steps/s (wall) and CPU ns per vessel-step (all threads), medians of interleaved
-    repeats; then the packed (SIMD) double-precision instructions of the lanes' right-hand-side loop."""
-    from simd_probe import packed_ops
-
-    from vessel_gym.physics import lanes
-
-    print(
-        f"\nlane drivers (kvlcc2 in wind): vessel-RK4-steps/s wall (CPU ns per vessel-step), median of {repeats} "
-        f"interleaved repeats; goal {TARGET_SOA / 1e6:g} M/s on 2 idle cores"
-    )
-    print(f"{'N':>6s} {'nsteps':>6s} {'driver':26s} {'steps/s':>10s} {'CPU ns':>8s} {'vs scalar':>9s}  goal")
-    for n, nsteps in LANE_CASES:
-        sim = make_sim("kvlcc2", n)
-        sim.step(50)
-        scalar = sim_drivers(sim)
-        exact = lanes.lane_drivers_for(sim.Ps, sim.ship_index, sim.env, "exact")
-        vector = lanes.lane_drivers_for(sim.Ps, sim.ship_index, sim.env, "vector")
-        kinds = {
-            "scalar serial": scalar[0],
-            "lanes exact serial": exact[0],
-            "lanes vector serial": vector[0],
-            "scalar threaded": scalar[1],
-            "lanes exact threaded": exact[1],
-            "lanes vector threaded": vector[1],
-        }
-        calls = {}
-        for name, run in kinds.items():  # each its own copy of the state (the vector flavour drifts apart)
-            a = list(driver_args(sim, nsteps))
-            a[2], a[9] = sim.state.copy(), sim.alive.copy()
-            calls[name] = lambda run=run, a=tuple(a): run(*a)
-            calls[name]()  # compile or load, warm-up
-        wall = {name: [] for name in calls}
-        cpu = {name: [] for name in calls}
-        for _ in range(repeats):
-            for name, call in calls.items():
-                k, t0, c0 = 0, time.perf_counter(), time.process_time()
-                while time.perf_counter() - t0 < MIN_TIMED_S:
-                    call()
-                    k += 1
-                wall[name].append((time.perf_counter() - t0) / k)
-                cpu[name].append((time.process_time() - c0) / k)
-        for name in calls:
-            rate = n * nsteps / statistics.median(wall[name])
-            ref = n * nsteps / statistics.median(wall["scalar " + name.split()[-1]])
-            cns = statistics.median(cpu[name]) / (n * nsteps) * 1e9
-            goal = gap(rate, TARGET_SOA) if "threaded" in name else ""
-            print(f"{n:6d} {nsteps:6d} {name:26s} {fmt_rate(rate):>10s} {cns:8.0f} {rate / ref:9.2f}  {goal}")
-    for flavour in lanes.FLAVOURS:
-        rhs = lanes._namespace(flavour)["_lanes_rhs"]
-        if rhs.signatures:  # compiled in this process (not loaded from the cache with its caller)
-            p, sc = packed_ops(rhs)
-            print(f"  right-hand-side lane loop, {flavour} math: {p} packed, {sc} scalar double instructions")
-        else:
-            print(f"  right-hand-side lane loop, {flavour} math: loaded from the cache (run with an empty cache)")
-
-
 def bench_cli(repeats: int) -> None:
     print("\nvessel-gym imo kvlcc2 (wall, median of runs after one warm-up run)")
     exe = shutil.which("vessel-gym")
@@ -408,7 +345,6 @@ def main(argv: list[str] | None = None) -> None:
         help="serial vs threaded vs step(), without and with a busy-loop process",
     )
     ap.add_argument("--setup", action="store_true", help="also time construction and reset up to N = 262144")
-    ap.add_argument("--lanes", action="store_true", help="scalar vs lane drivers (exact, vector), N 1024, 16384")
     ap.add_argument("--only", action="store_true", help="skip the Simulation.step and component sections")
     ap.add_argument("--quick", action="store_true", help="3 repeats, batches of 1 and 1024 only")
     args = ap.parse_args(argv)
@@ -427,8 +363,6 @@ def main(argv: list[str] | None = None) -> None:
         bench_load(repeats)
     if args.setup:
         bench_setup()
-    if args.lanes:
-        bench_lanes(repeats)
     if args.drivers:
         bench_drivers(repeats)
     if args.cli:

@@ -364,7 +364,3 @@ def test_old_import_paths_give_the_objects_of_the_new_homes():
     assert old_view3d.view3d is view3d.view3d and old_view3d.Viewer3D is view3d.Viewer3D
     assert old_view3d.LinkClient is view3d_link.LinkClient and old_view3d.prism is view3d_scene.prism
     assert old_view3d.sea_elevation is view3d_scene.sea_elevation
-    from vessel_gym.physics import drivers, runaway, simulation, steady
-
-    assert simulation.steady_state is steady.steady_state and simulation.SimulationError is steady.SimulationError
-    assert simulation.flag_runaway is runaway.flag_runaway and simulation._DriverChoice is drivers._DriverChoice

@@ -556,7 +556,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _main(argv: Sequence[str] | None) -> int:
     from vessel_gym.manoeuvres.trials import ManoeuvreIncomplete
     from vessel_gym.physics.schema import SpecError
-    from vessel_gym.physics.simulation import SimulationError
+    from vessel_gym.physics.steady import SimulationError
 
     parser = build_parser()
     try:

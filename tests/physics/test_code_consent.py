@@ -12,7 +12,8 @@ import pytest
 
 from vessel_gym.cli import main
 from vessel_gym.physics import components
-from vessel_gym.physics.shipfile import ShipFileError, load_ship
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import load_ship
 
 ROOT = Path(__file__).resolve().parents[2]  # this checkout, whichever vessel-gym is installed
 SHIPS = ROOT / "vessel_gym" / "physics" / "data" / "ships"

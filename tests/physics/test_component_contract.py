@@ -18,7 +18,8 @@ from vessel_gym.physics.components.registry import BUILTINS
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.integrate import forces_batch
 from vessel_gym.physics.kinematics import coriolis_forces
-from vessel_gym.physics.shipfile import ShipFileError, load_ship
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives
 

@@ -34,7 +34,8 @@ from vessel_gym.physics.components.gearbox import (
     gearbox_drive,
 )
 from vessel_gym.physics.schema import read_toml
-from vessel_gym.physics.shipfile import SHIP_DIR, ShipFileError, load_ship
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import SHIP_DIR, load_ship
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.vessel import pack
 

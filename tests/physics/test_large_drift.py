@@ -19,7 +19,8 @@ from vessel_gym.physics.crossflow import LargeDrift, mmg_weight
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.hull import hull_forces
 from vessel_gym.physics.schema import read_toml
-from vessel_gym.physics.shipfile import ShipFileError, load_ship, parse_ship, resolve_ship_path
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import load_ship, parse_ship, resolve_ship_path
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.vessel import pack
 

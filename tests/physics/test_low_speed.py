@@ -11,13 +11,9 @@ import pytest
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import Environment
+from vessel_gym.physics.runaway import RUNAWAY_RATE, RUNAWAY_SPEED, runaway_limits
 from vessel_gym.physics.shipfile import builtin_ships, load_ship
-from vessel_gym.physics.simulation import (
-    RUNAWAY_RATE,
-    RUNAWAY_SPEED,
-    Simulation,
-    runaway_limits,
-)
+from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.vessel import N_OUT, forces
 
 SHIPS = Path(__file__).resolve().parents[2] / "vessel_gym" / "physics" / "data" / "ships"

@@ -20,7 +20,8 @@ from vessel_gym.physics.hull import hull_forces
 from vessel_gym.physics.propeller4q import BOLLARD_FACTOR, TABLE_NAMES, ct_cq_star
 from vessel_gym.physics.propulsion import propeller_thrust_torque
 from vessel_gym.physics.schema import read_toml
-from vessel_gym.physics.shipfile import ShipFileError, load_ship, parse_ship, resolve_ship_path
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import load_ship, parse_ship, resolve_ship_path
 from vessel_gym.physics.vessel import pack
 
 # Oosterveld & van Oossanen (1975) Table 1: K_T = sum C (J^s) (P/D)^t (A_E/A_0)^u Z^v, rows (C, s, t, u, v)

@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.shipfile import ShipFileError, load_ship, resolve_ship_path
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import load_ship, resolve_ship_path
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.vessel import pack
 

@@ -17,7 +17,8 @@ from vessel_gym.physics.atmosphere import air_density
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.integrate import run_parallel, run_serial
 from vessel_gym.physics.shipfile import builtin_ships, load_ship
-from vessel_gym.physics.simulation import Simulation, steady_state
+from vessel_gym.physics.simulation import Simulation
+from vessel_gym.physics.steady import steady_state
 from vessel_gym.physics.units import DEG, R_DRY_AIR_J_KGK
 from vessel_gym.physics.vessel import FORCE_NAMES, N_OUT, derivatives, forces, pack
 

@@ -14,7 +14,8 @@ from vessel_gym.physics import layout as lo
 from vessel_gym.physics import simulation as simmod
 from vessel_gym.physics.environment import CALM, Environment, EnvironmentList
 from vessel_gym.physics.schema import SpecError
-from vessel_gym.physics.simulation import STEADY_CACHE_SIZE, Simulation, _DriverChoice, steady_state
+from vessel_gym.physics.simulation import STEADY_CACHE_SIZE, Simulation
+from vessel_gym.physics.steady import SimulationError, steady_state
 from vessel_gym.physics.units import DEG
 
 WIND = Environment(wind_speed_m_s=12.0, wind_from_deg=30.0)
@@ -139,7 +140,7 @@ def test_approaches_solved_over_the_threads_equal_the_serial_loop(monkeypatch):
     errors = []
     for threshold in (8, 10**9):
         monkeypatch.setattr(steady, "STEADY_THREADED_MIN", threshold)
-        with pytest.raises(simmod.SimulationError) as err:
+        with pytest.raises(SimulationError) as err:
             sim.reset(speed_m_s=speeds, heading_deg=headings + 1.0)
         errors.append(str(err.value))
     assert errors[0] == errors[1]
@@ -238,7 +239,7 @@ def test_construction_and_reset_call_the_solver_once_per_distinct_approach(monke
     from vessel_gym.physics import environment as envmod
 
     counts = {"row": 0, "steady": 0}
-    row, solve = envmod.Environment.row, simmod.steady_state
+    row, solve = envmod.Environment.row, steady_state
 
     def counted_row(self, *a, **kw):
         counts["row"] += 1
@@ -255,36 +256,3 @@ def test_construction_and_reset_call_the_solver_once_per_distinct_approach(monke
         sim = Simulation("kvlcc2", n=n)
         sim.reset(heading_deg=np.linspace(0.0, 360.0, n))
         assert counts == {"row": 1, "steady": 1}
-
-
-def test_driver_choice_follows_the_measured_cost():
-    choice = _DriverChoice()
-    assert [choice.pick(), choice.record(1, 1.0, 1000)] == [1, None]  # first calls not timed (code, threads)
-    assert [choice.pick(), choice.record(0, 1.0, 1000)] == [0, None]
-    for _ in range(simmod.DRIVER_FIRST_TIMINGS):
-        assert choice.pick() == 1
-        choice.record(1, 6e-3, 1000)  # threaded: 6 us per vessel-step (threads waiting for a busy core)
-        assert choice.pick() == 0
-        choice.record(0, 1e-3, 1000)  # serial: 1 us
-    picks = [choice.pick() for _ in range(1000)]
-    # the slower driver is tried again now and then, at most DRIVER_TRIAL_COST of the time in extra cost
-    assert 0 < sum(picks) <= 1000 * simmod.DRIVER_TRIAL_COST / (6.0 - 1.0) + 1
-    for _ in range(simmod.DRIVER_WINDOW):  # the load goes away: the threaded driver becomes the faster one
-        choice.record(1, 0.5e-3, 1000)
-    assert choice.pick() == 1
-
-
-def test_simulation_step_results_do_not_depend_on_the_driver_chosen():
-    a = Simulation("kvlcc2", n=128, environment=WIND)
-    a.reset(heading_deg=np.linspace(0.0, 360.0, 128))
-    a.set_helm(rudder_order_rad=10 * DEG)
-    b = Simulation("kvlcc2", n=128, environment=WIND)
-    b.reset(heading_deg=np.linspace(0.0, 360.0, 128))
-    b.set_helm(rudder_order_rad=10 * DEG)
-    b._driver.times = ([1.0] * simmod.DRIVER_WINDOW, [2.0] * simmod.DRIVER_WINDOW)  # b always serial, a explores
-    b._driver.warm = [True, True]
-    b._driver.every = 10**9
-    for _ in range(20):
-        a.step(10)
-        b.step(10)
-    assert np.array_equal(a.state, b.state)

@@ -15,13 +15,8 @@ import pytest
 from vessel_gym.cli import main
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.schema import SpecError
-from vessel_gym.physics.shipfile import (
-    MAX_SHIP_FILE_BYTES,
-    SHIP_DIR,
-    ShipFileError,
-    builtin_ships,
-    load_ship,
-)
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import MAX_SHIP_FILE_BYTES, SHIP_DIR, builtin_ships, load_ship
 
 BUILTIN_TEXT = {name: (SHIP_DIR / f"{name}.toml").read_text() for name in builtin_ships()}
 

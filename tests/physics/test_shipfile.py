@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.shipfile import ShipFileError, builtin_ships, load_ship
+from vessel_gym.physics.shipchecks import ShipFileError
+from vessel_gym.physics.shipfile import builtin_ships, load_ship
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.vessel import pack
 

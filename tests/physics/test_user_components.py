@@ -6,8 +6,10 @@ import numpy as np
 import pytest
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.shipfile import abkowitz_term, load_ship
-from vessel_gym.physics.simulation import STEADY_MAX_ITERATIONS, Simulation
+from vessel_gym.physics.shipchecks import abkowitz_term
+from vessel_gym.physics.shipfile import load_ship
+from vessel_gym.physics.simulation import Simulation
+from vessel_gym.physics.steady import STEADY_MAX_ITERATIONS
 
 
 class PolynomialHull:

@@ -223,8 +223,12 @@ DRIFT_TEST_MARGIN = 1e-9
 
 @njit(cache=True)
 def yoshimura_forces(P, u, v, r):
-    """:func:`yoshimura_forces_at_depth` in deep water. Returns (X, Y, N) in N, N, N m."""
-    return yoshimura_forces_at_depth(P, u, v, r, 0.0)
+    """:func:`yoshimura_forces_at_depth` in deep water. Returns (X, Y, N) in N, N, N m.
+
+    H is the integer 0, as in the deep-water drivers, so that one specialisation of the cross-flow functions
+    serves both (hull.hull_forces says why)."""
+    H = 0
+    return yoshimura_forces_at_depth(P, u, v, r, H)
 
 
 @njit(cache=True)

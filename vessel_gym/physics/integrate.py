@@ -1,11 +1,12 @@
-"""Fixed-step integrators over batched state arrays (RK4 default, explicit Euler for comparison).
+"""The fixed-step integrator over batched state arrays (RK4 default, explicit Euler for comparison).
 
-One compiled source serves a single ship and a batch of 16384: the per-vessel step below is called by a
-serial driver and by a parallel (``prange``) driver, so both give bitwise identical results. The stages of a
-step (:func:`stage_state`, :func:`finish_step`) are the same functions in the driver with a hook for forces
-computed in Python (:func:`run_with_components`), which runs them for the whole batch stage by stage and calls
-the hook once per stage in between. Parameters are indexed per vessel through ``ship_index`` so that a batch
-of identical ships shares one cached parameter row.
+One definition of the method: :func:`rk_stage` is one stage of one vessel's step (the right-hand side at the
+stage state, then the next stage's state or the committed result). Two loops run it: the compiled drivers
+(:func:`drivers`, serial or threaded over vessels) run the stages vessel by vessel (:func:`step_vessel`), and
+:func:`run_with_components` runs them stage by stage over the whole batch, calling the user's Python components
+between the stages. The same compiled calls in the same order, so a ship gives the same bits alone, in a
+batch of 16384, serially or threaded, with or without a (zero) Python component. Parameters are indexed per
+vessel through ``ship_index`` so that a batch of identical ships shares one parameter row.
 A vessel whose state would become non-finite stops integrating, keeps its last finite state and is flagged
 (divergence detection): a diverged vessel never shows a NaN.
 
@@ -24,6 +25,7 @@ percent of a step (the right-hand side dominates), and fastmath's no-NaN/no-Inf 
 compiler delete the divergence check.
 """
 
+
 from __future__ import annotations
 
 import math
@@ -34,7 +36,7 @@ from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.steering import steering_gear_angle
-from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives, derivatives_of, forces
+from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives_of, forces
 
 # The threaded driver's worker threads sleep between calls rather than spin (GNU OpenMP spins for up to
 # ~300000 polls after a parallel region by default). Spinning buys a few microseconds per call on an idle
@@ -70,11 +72,27 @@ def n_stages(method):
     return 1 if method == EULER else 4
 
 
+@njit(cache=True)
+def stage_h(stage, dt):
+    """How far into the step (s) RK4 stage ``stage`` (1, 2 or 3; 0 is the step's start) evaluates the right-hand
+    side: dt/2, dt/2, dt (the c of the classical tableau, Hairer, Norsett & Wanner, Solving ODEs I, sec. II.1)."""
+    return 0.5 * dt if stage < 3 else dt
+
+
+@njit(cache=True)
+def combined(x, k1, k2, k3, k4, dt, method):
+    """One state one step on from its stage rates: RK4 x + dt/6 (k1 + 2 k2 + 2 k3 + k4), Euler x + dt k1 (the
+    b of the tableau; k2..k4 unused by Euler)."""
+    if method == EULER:
+        return x + dt * k1
+    return x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
 @njit(cache=True, **NO_REFCOUNT)
 def stage_state(x, k, h, delta, xt, nx):
-    """Fill ``xt`` with the state at which an RK4 stage evaluates the right-hand side, x + h k (h = c dt with
-    c = 1/2, 1/2, 1 of the classical tableau, k the stage before's derivative), with the rudder angle
-    ``delta`` (rad) at that stage's time; the first ``nx`` states (layout.NX, or NX_3DOF in a 3-DOF kernel).
+    """Fill ``xt`` with the state at which an RK4 stage evaluates the right-hand side, x + h k (h from
+    :func:`stage_h`, k the stage before's derivative), with the rudder angle ``delta`` (rad) at that stage's
+    time; the first ``nx`` states (layout.NX, or NX_3DOF in a 3-DOF kernel).
 
     The rudder angle is not integrated by the method: with the order held over the step, the steering gear's
     equation has an exact solution (:func:`~vessel_gym.physics.steering.steering_gear_angle`), which every
@@ -86,27 +104,14 @@ def stage_state(x, k, h, delta, xt, nx):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def combine_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
-    """Form in ``xt`` the state one step on from the stage derivatives (RK4: x + dt/6 (k1 + 2 k2 + 2 k3 + k4);
-    Euler: x + dt k1, k2..k4 unused), with the rudder angle ``delta_end`` at t + dt; the first ``nx`` states
-    (as :func:`stage_state`). Commits nothing: :func:`finish_step` and the lane driver
-    (:mod:`~vessel_gym.physics.lanes`) check it and commit it."""
-    if method == EULER:
-        for i in range(nx):
-            xt[i] = x[i] + dt * k1[i]
-    else:
-        sixth = dt / 6.0
-        for i in range(nx):
-            xt[i] = x[i] + sixth * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+def finish_step(x, K, dt, method, delta_end, xt, nx):
+    """Form in ``xt`` the state one step on from the stage derivatives ``K`` (4, NX) (:func:`combined`), with
+    the rudder angle ``delta_end`` at t + dt, and commit it to ``x`` only if finite; the first ``nx`` states
+    (as :func:`stage_state`). Returns False on divergence, with ``x`` left at the last finite state."""
+    k1, k2, k3, k4 = K[0], K[1], K[2], K[3]
+    for i in range(nx):
+        xt[i] = combined(x[i], k1[i], k2[i], k3[i], k4[i], dt, method)
     xt[lo.X_DELTA] = delta_end
-
-
-@njit(cache=True, **NO_REFCOUNT)
-def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
-    """Combine the stage derivatives into the state one step on (:func:`combine_step`), formed in ``xt``, and
-    commit it to ``x`` only if finite; the first ``nx`` states (as :func:`stage_state`). Returns False on
-    divergence, with ``x`` left at the last finite state."""
-    combine_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx)
     if not _finite(xt, nx):
         return False
     for i in range(nx):
@@ -115,31 +120,58 @@ def finish_step(x, k1, k2, k3, k4, dt, method, delta_end, xt, nx):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, k1, k2, k3, k4, xt, H, roll, ext, nx):
-    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held.
+def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, nx):
+    """Stage ``stage`` (0..3 for RK4, 0 for Euler) of one step of one vessel: the right-hand side at the stage
+    state ``xs`` (``x`` itself at stage 0) into ``K[stage]``, then either the state the next stage evaluates at,
+    formed in ``xt`` (:func:`stage_state`), or after the last stage the step's result committed to ``x``
+    (:func:`finish_step`). Returns False only when the step diverged (``x`` then keeps its last finite state).
 
-    ``k1``..``k4`` and ``xt`` are scratch rows of length NX. ``H``, ``roll`` and ``ext`` choose the kernel
-    (:func:`~vessel_gym.physics.vessel.derivatives_of`), ``nx`` how many states it integrates (layout.NX,
-    or NX_3DOF without roll: the roll states of a 3-DOF vessel have zero rates and are left as they are).
-    Returns False on divergence, with ``x`` left at the last finite state. The stages are
-    :func:`stage_state` and :func:`finish_step`, which the batch driver with Python components
-    (:func:`run_with_components`) runs as well.
+    The one definition of the method: the compiled driver (:func:`step_vessel`) runs the stages vessel by
+    vessel, the driver with Python components (:func:`run_with_components`) stage by stage over the batch,
+    calling the components in between; the same calls in the same order, so both give the same bits.
+
+    ``H``, ``roll`` and ``ext`` choose the kernel (:func:`~vessel_gym.physics.vessel.derivatives_of`). The rudder
+    angle of each stage is the steering gear's exact solution at that stage's time, solved from the step's
+    start; where a user's steering gear gives the rudder rate (``P_SG_EXT``, with ``F`` carrying it as
+    ``F_DELTA_RATE``) the angle is a state like any other, x + h k.
     """
-    half = 0.5 * dt
     D = lo.X_DELTA
-    for _ in range(nsteps):
+    k = K[stage]
+    derivatives_of(P, xs, inp, env, F, k, H, roll, ext)
+    user_gear = ext and F.shape[0] > lo.F_DELTA_RATE and P[lo.P_SG_EXT] > 0.0
+    if user_gear:
+        k[D] = F[lo.F_DELTA_RATE]
+    if method != EULER and stage < 3:
+        h = stage_h(stage + 1, dt)
+        if user_gear:
+            d = x[D] + h * k[D]
+        elif stage == 1:  # stage 2 is at t + dt/2 as stage 1, whose angle xt holds
+            d = xt[D]
+        else:
+            d = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], h)
+        stage_state(x, k, h, d, xt, nx)
+        return True
+    if user_gear:
+        d_end = combined(x[D], K[0, D], K[1, D], K[2, D], K[3, D], dt, method)
+    elif method == EULER:
         d_end = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], dt)
-        derivatives_of(P, x, inp, env, F_ext, k1, H, roll, ext)
-        if method != EULER:
-            d_half = steering_gear_angle(P, x[D], inp[lo.U_DELTA_C], half)
-            stage_state(x, k1, half, d_half, xt, nx)
-            derivatives_of(P, xt, inp, env, F_ext, k2, H, roll, ext)
-            stage_state(x, k2, half, d_half, xt, nx)
-            derivatives_of(P, xt, inp, env, F_ext, k3, H, roll, ext)
-            stage_state(x, k3, dt, d_end, xt, nx)
-            derivatives_of(P, xt, inp, env, F_ext, k4, H, roll, ext)
-        if not finish_step(x, k1, k2, k3, k4, dt, method, d_end, xt, nx):
-            return False
+    else:  # stage 4's state, at t + dt
+        d_end = xt[D]
+    return finish_step(x, K, dt, method, d_end, xt, nx)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt, H, roll, ext, nx):
+    """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held: the
+    stages of :func:`rk_stage` in turn. ``K`` (4, NX) and ``xt`` (NX) are scratch; ``nx`` is how many states
+    the kernel integrates (layout.NX, or NX_3DOF without roll: the roll states of a 3-DOF vessel have zero
+    rates and are left as they are). Returns False on divergence, with ``x`` left at the last finite state."""
+    ns = n_stages(method)
+    for _ in range(nsteps):
+        for stage in range(ns):
+            xs = x if stage == 0 else xt
+            if not rk_stage(P, x, inp, env, F_ext, K, stage, xs, xt, dt, method, H, roll, ext, nx):
+                return False
     return True
 
 
@@ -166,10 +198,7 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
                 dt,
                 nsteps,
                 method,
-                S[0],
-                S[1],
-                S[2],
-                S[3],
+                S[:4],
                 S[4],
                 H,
                 roll,
@@ -295,67 +324,50 @@ run_serial, run_parallel = drivers(True, True, True)
 
 
 @njit(cache=True)
-def stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt):
-    """The states ``Xt`` (N, NX) at which RK4 stage ``stage`` (1, 2 or 3; 0 is the step's start ``X``) of
-    every vessel evaluates the right-hand side, from the stage derivatives ``K`` (N, 4, NX)
-    (:func:`stage_state`).
-
-    Stage 2 is called with ``Xt`` still holding stage 1's states and takes their rudder angles (both at
-    t + dt/2), as :func:`step_vessel` solves each stage time's angle once. Where a user's steering gear
-    drives the rudder (``P_SG_EXT``), its angle is a stage state like any other, x + h k."""
-    h = 0.5 * dt if stage < 3 else dt
-    D = lo.X_DELTA
-    for b in range(X.shape[0]):
-        P = Ps[ship_index[b]]
-        if P[lo.P_SG_EXT] > 0.0:
-            d = X[b, D] + h * K[b, stage - 1, D]
-        elif stage == 2:
-            d = Xt[b, D]
-        else:
-            d = steering_gear_angle(P, X[b, D], U[b, lo.U_DELTA_C], h)
-        stage_state(X[b], K[b, stage - 1], h, d, Xt[b], lo.NX)
-
-
-@njit(cache=True)
-def stage_derivatives_batch(Ps, ship_index, X, U, E, F, K, stage):
-    """Right-hand side of every vessel of a batch at the stage states ``X`` with what the Python components
-    give, ``F`` (N, NF): forces, a user engine's shaft torque, a user steering gear's rudder rate (layout
-    F_*), into ``K[:, stage]``."""
-    for b in range(X.shape[0]):
-        P = Ps[ship_index[b]]
-        derivatives(P, X[b], U[b], E[b], F[b], K[b, stage])
-        if P[lo.P_SG_EXT] > 0.0:
-            K[b, stage, lo.X_DELTA] = F[b, lo.F_DELTA_RATE]
-
-
-@njit(cache=True)
-def finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt):
-    """:func:`finish_step` of every alive vessel of a batch (``Xt`` holding the last stage's states); marks
-    diverged vessels dead. Returns the number alive. A rudder angle driven by a user's steering gear is
-    combined from its stage rates by the method, as every other state."""
-    D = lo.X_DELTA
+def stage_batch(Ps, ship_index, X, U, E, F, K, stage, dt, method, alive, Xt):
+    """:func:`rk_stage` ``stage`` of every vessel of a batch, with what the Python components gave at the stage
+    states, ``F`` (N, NF), and the stage derivatives ``K`` (N, 4, NX): every vessel's right-hand side is
+    evaluated (the components see the whole batch), only alive vessels finish a step. Returns the number
+    alive after the last stage, else -1."""
+    last = method == EULER or stage == 3
     count = 0
     for b in range(X.shape[0]):
-        if alive[b]:
-            Kb = K[b]
-            if Ps[ship_index[b], lo.P_SG_EXT] > 0.0:
-                if method == EULER:
-                    d_end = X[b, D] + dt * Kb[0, D]
-                else:  # finish_step's combination
-                    d_end = X[b, D] + (dt / 6.0) * (Kb[0, D] + 2.0 * Kb[1, D] + 2.0 * Kb[2, D] + Kb[3, D])
-            elif method == EULER:
-                d_end = steering_gear_angle(Ps[ship_index[b]], X[b, D], U[b, lo.U_DELTA_C], dt)
-            else:  # stage 4's state, at t + dt
-                d_end = Xt[b, D]
-            ok = finish_step(X[b], Kb[0], Kb[1], Kb[2], Kb[3], dt, method, d_end, Xt[b], lo.NX)
+        if last and not alive[b]:
+            continue
+        xs = X[b] if stage == 0 else Xt[b]
+        H = E[b, lo.E_T_OVER_H]
+        P = Ps[ship_index[b]]
+        ok = rk_stage(P, X[b], U[b], E[b], F[b], K[b], stage, xs, Xt[b], dt, method, H, True, True, lo.NX)
+        if last:
             alive[b] = ok
             count += ok
-    return count
+    return count if last else -1
+
+
+@njit(cache=True)
+def own_states_stage(Z, KZ, stage, dt, Zt):
+    """The components' own states ``Zt`` (N, NZ) at which stage ``stage`` (1..3) evaluates, Z + h k from the
+    stage before's rates ``KZ`` (N, 4, NZ), as :func:`rk_stage` forms the vessel's."""
+    h = stage_h(stage, dt)
+    for b in range(Z.shape[0]):
+        for i in range(Z.shape[1]):
+            Zt[b, i] = Z[b, i] + h * KZ[b, stage - 1, i]
+
+
+@njit(cache=True)
+def own_states_end(Z, KZ, dt, method, alive, Zend):
+    """The components' own states one step on (:func:`combined`) into ``Zend``; a vessel whose own states would
+    become non-finite is marked dead (it is then not advanced, as on any divergence)."""
+    for b in range(Z.shape[0]):
+        for i in range(Z.shape[1]):
+            Zend[b, i] = combined(Z[b, i], KZ[b, 0, i], KZ[b, 1, i], KZ[b, 2, i], KZ[b, 3, i], dt, method)
+            if not math.isfinite(Zend[b, i]):
+                alive[b] = False
 
 
 def run_with_components(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, components, Z=None):
-    """Integrate a batch whose right-hand side includes Python components, with the same stages as
-    :func:`run_serial` (:func:`stage_state`, :func:`finish_step`).
+    """Integrate a batch whose right-hand side includes Python components: the stages of :func:`rk_stage`
+    (the compiled drivers' own), run stage by stage over the whole batch (:func:`stage_batch`).
 
     ``components(Xs, Zs)`` returns, for the batch of stage states ``Xs`` (N, NX) and the components' own
     states ``Zs`` (N, NZ), what the components give the kernel, (N, NF) (forces X N, Y N, N N m, a user
@@ -372,30 +384,25 @@ def run_with_components(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, c
     K = np.zeros((n, 4, lo.NX))
     KZ = np.zeros((n, 4, nz))
     Xt = np.empty((n, lo.NX))
+    Zt = np.empty((n, nz))
+    Zend = np.empty((n, nz))
     Fs = np.empty((n, lo.NF))
     count = int(alive.sum())
+    ns = n_stages(method)
     for _ in range(nsteps):
-        for stage in range(n_stages(method)):
-            if stage == 0:
-                Xs, Zs = X, Z
-            else:
-                stage_states_batch(Ps, ship_index, X, U, K, stage, dt, Xt)
-                Xs = Xt
-                Zs = Z + (0.5 * dt if stage < 3 else dt) * KZ[:, stage - 1]
-            Fc, Zdot = components(Xs, Zs)
+        for stage in range(ns):
+            if stage > 0 and nz:
+                own_states_stage(Z, KZ, stage, dt, Zt)
+            Fc, Zdot = components(X, Z) if stage == 0 else components(Xt, Zt)
             Fs[:] = np.asarray(Fc, dtype=float).reshape(n, lo.NF)
             np.add(Fs[:, : lo.F_N + 1], F, out=Fs[:, : lo.F_N + 1])
             KZ[:, stage] = np.asarray(Zdot, dtype=float).reshape(n, nz)
-            stage_derivatives_batch(Ps, ship_index, Xs, U, E, Fs, K, stage)
+            if stage == ns - 1 and nz:
+                own_states_end(Z, KZ, dt, method, alive, Zend)
+            done = stage_batch(Ps, ship_index, X, U, E, Fs, K, stage, dt, method, alive, Xt)
+        count = done
         if nz:
-            if method == EULER:
-                Z_end = Z + dt * KZ[:, 0]
-            else:
-                Z_end = Z + (dt / 6.0) * (KZ[:, 0] + 2.0 * KZ[:, 1] + 2.0 * KZ[:, 2] + KZ[:, 3])
-            alive &= np.isfinite(Z_end).all(axis=1)
-        count = finish_batch(Ps, ship_index, X, U, K, dt, method, alive, Xt)
-        if nz:
-            Z[alive] = Z_end[alive]
+            Z[alive] = Zend[alive]
     return count
 
 

@@ -15,6 +15,14 @@ Which sources count: every ``.py`` file under ``vessel_gym/physics`` and ``vesse
 module of the package that mentions numba. Kernels may inline functions and read module constants only from
 these.
 
+numba internals: this is the one module of the package that uses numba's private API -- the cache locator
+classes of ``numba.core.caching`` (``_CacheLocator``, ``_SourceFileBackedLocatorMixin``, the locator list of
+``CacheImpl``) and the compile events of ``numba.core.event`` -- because numba has no public way to say where a
+function's cache lives or to key it by more than its own file. Private names may change in any numba release,
+so numba is pinned to the minor versions CI tests (pyproject.toml; the lowest in .ci/constraints-lowest.txt);
+``tests/physics/test_jitcache.py`` fails first when a new numba moves them. The rest of the physics uses
+numba's public decorators only (``njit``, ``prange``, ``config``).
+
 Compiling the kernels takes tens of seconds on a small machine, so the first compilation in a process prints
 one line on stderr ("compiling kernels (first run only) ..."); runs that load everything from the cache print
 nothing. Like other progress output (pip's, git's) the line is shown when stderr is a terminal;

@@ -22,19 +22,7 @@ from vessel_gym.physics.schema import (
     read_toml,
     resolve_data_path,
 )
-from vessel_gym.physics.shipchecks import (  # noqa: F401  (ShipFileError, abkowitz_term, the bands: their old home)
-    CB_IMPLIED,
-    ENGINE_RUNUP_S,
-    KZZ_OVER_L,
-    MASS_CB_FACTOR,
-    NO_FUEL_TORQUE_MIN,
-    SHAFT_INERTIA_RHO_D5,
-    ShipFileError,
-    abkowitz_term,
-    check_abkowitz,
-    check_engine,
-    check_plausible,
-)
+from vessel_gym.physics.shipchecks import ShipFileError, check_abkowitz, check_engine, check_plausible
 
 SHIP_DIR = Path(__file__).parent / "data" / "ships"
 

@@ -16,27 +16,16 @@ readings of the vessels (:mod:`~vessel_gym.physics.readings`).
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Sequence
 from typing import Protocol
 
 import numpy as np
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.bridge import BridgeReading  # noqa: F401  (what Simulation.bridge returns)
 from vessel_gym.physics.components import ForceRecord
 from vessel_gym.physics.components.batch import ComponentBatch
 from vessel_gym.physics.components.compose import compose, named_forces
-from vessel_gym.physics.drivers import (  # noqa: F401  (DRIVER_*: their old home)
-    DRIVER_FIRST_TIMINGS,
-    DRIVER_TRIAL_COST,
-    DRIVER_TRIAL_EVERY,
-    DRIVER_WINDOW,
-    PARALLEL_MIN_BATCH,
-    PARALLEL_MIN_WORK,
-    _DriverChoice,
-    _LaneChoice,
-)
+from vessel_gym.physics.drivers import threaded
 from vessel_gym.physics.environment import (
     CALM,
     FIELDS,
@@ -46,47 +35,13 @@ from vessel_gym.physics.environment import (
     environment_values,
 )
 from vessel_gym.physics.helm import Helm
-from vessel_gym.physics.integrate import (  # noqa: F401  (run_serial, run_parallel: the general drivers)
-    EULER,
-    RK4,
-    drivers_for,
-    run_parallel,
-    run_serial,
-    run_with_components,
-)
-from vessel_gym.physics.lanes import lane_drivers_for
-from vessel_gym.physics.readings import (  # noqa: F401  (imported here before the readings moved out)
-    FORCE_NAMES,
-    KNOT_M_S,
-    N_OUT,
-    Readings,
-    forces,
-    forces_batch,
-    ground_velocity,
-    local_to_latlon,
-    speed_over_ground,
-    wrap_deg,
-)
-from vessel_gym.physics.runaway import (  # noqa: F401  (RUNAWAY_* and the factors: their old home)
-    FULL_POWER_SPEED_FACTOR,
-    RUNAWAY_HEEL,
-    RUNAWAY_HEEL_DEG,
-    RUNAWAY_NONFINITE,
-    RUNAWAY_OK,
-    RUNAWAY_RATE,
-    RUNAWAY_RATE_PRIME,
-    RUNAWAY_SHAFT,
-    RUNAWAY_SHAFT_FACTOR,
-    RUNAWAY_SPEED,
-    RUNAWAY_SPEED_FACTOR,
-    flag_runaway,
-    runaway_limits,
-)
+from vessel_gym.physics.integrate import EULER, RK4, drivers_for, run_with_components
+from vessel_gym.physics.readings import Readings
+from vessel_gym.physics.runaway import RUNAWAY_OK, flag_runaway, runaway_limits
 from vessel_gym.physics.shallow_water import check_hull
 from vessel_gym.physics.shipfile import Ship, load_ship
-from vessel_gym.physics.steady import (  # noqa: F401  (SimulationError: its old home)
+from vessel_gym.physics.steady import (
     STEADY_MAX_ITERATIONS,
-    SimulationError,
     _SteadyApproach,
     distinct_rows,
     steady_rows,
@@ -126,22 +81,6 @@ class ForceComponent(Protocol):
     def forces(self, sim: Simulation, x: np.ndarray) -> np.ndarray: ...
 
 
-def _compiled_small_call(serial_driver, args: tuple, why: np.ndarray, limits: np.ndarray) -> tuple | None:
-    """(the serial driver's code, flag_runaway's code, Ps, ship_index, state, inputs, env, F_ext, alive, why_dead,
-    runaway limits) for the driver arguments ``args`` of :meth:`Simulation.step`, or None if the kernels are
-    not compiled (``NUMBA_DISABLE_JIT=1``) or have no code for these types."""
-    serial, runaway = getattr(serial_driver, "overloads", None), getattr(flag_runaway, "overloads", None)
-    if not serial or not runaway:
-        return None
-    from numba import typeof
-
-    a = serial.get(tuple(typeof(x) for x in args))
-    b = runaway.get(tuple(typeof(x) for x in (args[2], args[1], limits, args[9], why)))
-    if a is None or b is None:
-        return None
-    return (a.entry_point, b.entry_point, *args[:6], args[9], why, limits)
-
-
 class Simulation(Readings, Helm):
     """N vessels integrated together with a fixed step.
 
@@ -161,11 +100,6 @@ class Simulation(Readings, Helm):
             gives the rudder rate). A component in a slot a built-in fills without ``replace``, or two in one
             slot, raise ValueError (docs/components.md).
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
-        math: None (default) integrates with the scalar drivers; "exact" lets a batch of one ship run on the
-            lane drivers (:mod:`~vessel_gym.physics.lanes`, same results to the bit) on calls where they are
-            measured faster; "vector" runs a batch of one ship on the lane drivers with branch-free exp, sin,
-            cos and atan2 on every call (results within ~1e-13 relative per step of the scalar drivers, not
-            bitwise). Other batches use the scalar drivers (docs/performance.md, "Structure-of-arrays kernel").
     """
 
     def __init__(
@@ -179,7 +113,6 @@ class Simulation(Readings, Helm):
         components: Sequence[ForceComponent] = (),
         replace: Sequence[str] = (),
         reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
-        math: str | None = None,
     ) -> None:
         seq = [ships] if isinstance(ships, (str, Ship)) or not isinstance(ships, Sequence) else list(ships)
         self.ships: list[Ship] = [load_ship(s) for s in seq]
@@ -196,7 +129,7 @@ class Simulation(Readings, Helm):
             or self.ship_index.max() >= len(self.ships)
         ):
             raise ValueError(f"ship_index must have {n} entries in [0, {len(self.ships) - 1}]")
-        if not (dt > 0.0 and np.isfinite(dt)):  # (``math`` is the argument here)
+        if not (dt > 0.0 and np.isfinite(dt)):
             raise ValueError(f"dt must be a positive number of seconds, got {dt}")
         if method not in ("rk4", "euler"):
             raise ValueError(f"method must be 'rk4' or 'euler', got {method!r}")
@@ -230,23 +163,18 @@ class Simulation(Readings, Helm):
         # why each vessel stopped (RUNAWAY_*, 0 while alive) and the bounds it is held to, by ship
         self.why_dead = np.zeros(n, dtype=np.int64)
         self._runaway_limits = np.array([runaway_limits(s) for s in self.ships], dtype=float)
-        # compiled code of the serial driver and flag_runaway for small calls, and the arrays it was resolved for
-        self._small_call: tuple | None = None
         # steady approaches solved so far, by (parameter row, speed, heading, environment row): environments
         # reset ships one at a time, mostly to the same approach
         self._steady_cache: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
         self.t = 0.0
         self.reference_latlon_deg = reference_latlon_deg
         self.environments = EnvironmentList(environment, n)
-        self._lane_choice = _LaneChoice(math)  # scalar or lane drivers (drivers._LaneChoice)
         # the compiled batch drivers (serial, threaded) of this batch's kind: deep or shallow water, with or
         # without roll (integrate.drivers); set_environment chooses them, step again when the kind changed
         self.set_environment(environment)
         # Ps rows as bytes, by ship, for the steady-state cache keys: one object shared by every entry of a
         # ship while its parameters are unchanged (a row is ~7.5 kB; one copy per entry would dominate)
         self._param_bytes: dict[int, bytes] = {}
-        # serial or threaded driver, chosen by measured time per vessel-step (see _DriverChoice)
-        self._driver = _DriverChoice()
 
     # --- set-up -------------------------------------------------------------------------------------------
     def ship(self, k: int = 0) -> Ship:
@@ -261,8 +189,6 @@ class Simulation(Readings, Helm):
             self.env[:] = rows[self.ship_index]
             self.environments[:] = [environment] * self.n
             self._kernels = drivers_for(self.Ps, self.env)
-            self._lanes = self._lane_drivers()
-            self._small_call = None  # resolved again for the new drivers at the next small call
             return
         # one vessel: the drivers check the batch's kind themselves and :meth:`step` chooses again when needed
         s = self.ship(k)
@@ -500,25 +426,9 @@ class Simulation(Readings, Helm):
             return _Repeat(float(value))
         return np.broadcast_to(np.asarray(value, dtype=float), (self.n,))
 
-    def __getstate__(self) -> dict:
-        state = self.__dict__.copy()
-        state["_small_call"] = None  # compiled code does not pickle; resolved again at the next small call
-        state["_lanes"] = None  # built from closures over compiled functions: chosen again when unpickled
-        return state
-
-    def __setstate__(self, state: dict) -> None:
-        self.__dict__.update(state)
-        self._lanes = self._lane_drivers()
-
-    def _lane_drivers(self):
-        """The lane drivers of this batch's kind and math flavour, or None (no flavour, or several ships)."""
-        m = self._lane_choice.math
-        return lane_drivers_for(self.Ps, self.ship_index, self.env, m) if m else None
-
     # --- integration ----------------------------------------------------------------------------------------
     def _driver_args(self, nsteps: int) -> tuple:
-        """The batch drivers' arguments for a call of ``nsteps`` steps, in their order (scalar and lane
-        drivers alike)."""
+        """The batch drivers' arguments for a call of ``nsteps`` steps, in their order."""
         return (
             self.Ps,
             self.ship_index,
@@ -542,55 +452,12 @@ class Simulation(Readings, Helm):
             with np.errstate(all="ignore"):
                 run_with_components(*args, self._evaluate_components, self.component_states)
         else:
-            work = self.n * nsteps
-            large = self.n >= PARALLEL_MIN_BATCH and work >= PARALLEL_MIN_WORK
-            # the lane drivers (lanes.py) where this simulation asked for them and they hold its batch
-            lane = self._lane_choice.pick(large) if self._lanes is not None else -1
-            choice = self._lane_choice.threads if lane == 1 else self._driver
-            if large:
-                driver = choice.pick()
-                t0 = time.perf_counter()
-            elif lane == 1:
-                driver = 0
-            else:
-                driver = -1
-                c = self._small_call
-                # a small call (one ship: an environment's step) through the compiled code of both kernels,
-                # skipping numba's dispatcher, which types all their arguments on every call (~1 us, a third
-                # of a one-ship step); only while every argument is of the types the code was compiled for
-                if (
-                    c is not None
-                    and c[2] is args[0]
-                    and c[3] is args[1]
-                    and c[4] is args[2]
-                    and c[5] is args[3]
-                    and c[6] is args[4]
-                    and c[7] is args[5]
-                    and c[8] is args[9]
-                    and c[9] is self.why_dead
-                    and c[10] is self._runaway_limits
-                    and type(args[6]) is float
-                    and type(nsteps) is int
-                    and type(args[8]) is int
-                    and c[0](*args) >= 0
-                ):
-                    self.t += nsteps * self.dt
-                    return c[1](args[2], args[1], c[10], args[9], c[9])
-            if (self._lanes if lane == 1 else self._kernels)[driver == 1](*args) < 0:
+            which = threaded(self.n, nsteps)  # serial or threaded by problem size (drivers.threaded)
+            if self._kernels[which](*args) < 0:
                 # the batch is no longer of the kind its drivers were compiled for (Ps or env written
                 # directly): nothing was integrated; choose the drivers again
                 self._kernels = drivers_for(self.Ps, self.env)
-                self._lanes = self._lane_drivers()
-                self._small_call = None
-                (self._lanes if lane == 1 and self._lanes else self._kernels)[driver == 1](*args)
-            if large:
-                seconds = time.perf_counter() - t0
-                choice.record(driver, seconds, work)
-                self._lane_choice.record(lane, seconds, work)
-            elif lane != 1 and self._small_call is None:
-                self._small_call = _compiled_small_call(
-                    self._kernels[0], args, self.why_dead, self._runaway_limits
-                )
+                self._kernels[which](*args)
         self.t += nsteps * self.dt
         return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))
 

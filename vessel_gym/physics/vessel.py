@@ -44,7 +44,8 @@ from vessel_gym.physics.propulsion import (
 from vessel_gym.physics.roll import pack_roll, roll_forces
 from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
 from vessel_gym.physics.shallow_water import thrust_deduction
-from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull, abkowitz_term
+from vessel_gym.physics.shipchecks import abkowitz_term
+from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull
 from vessel_gym.physics.sonnomoto import son_nomoto_rudder_forces, son_nomoto_wake
 from vessel_gym.physics.steering import mmg_rudder_forces_beta, steering_gear_rate
 from vessel_gym.physics.units import DEG, RPM

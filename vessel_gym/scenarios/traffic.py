@@ -37,7 +37,8 @@ from vessel_gym.control import (
 from vessel_gym.net.ais import NAV_MOORED, NAV_UNDER_WAY_ENGINE
 from vessel_gym.net.protocol import Target
 from vessel_gym.physics.shipfile import Ship, load_ship
-from vessel_gym.physics.simulation import Simulation, SimulationError, steps_for
+from vessel_gym.physics.simulation import Simulation, steps_for
+from vessel_gym.physics.steady import SimulationError
 from vessel_gym.physics.units import DEG, KNOT_M_S
 from vessel_gym.scenarios.scenario import Scenario, ScenarioError, TrafficShip
 
