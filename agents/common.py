@@ -51,7 +51,6 @@ from agents.config import (  # noqa: F401
 )
 from agents.envs import VEC_KINDS, EnvFactory, make_env, make_vec_env  # noqa: F401
 from agents.evaluation import (  # noqa: F401
-    env_kind,
     evaluate,
     load_agent,
     load_json_sidecar,

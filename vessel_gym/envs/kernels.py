@@ -2,7 +2,7 @@
 reset in :mod:`vessel_gym.envs.tasks`, and the names are re-exported here:
 
 * what every task shares (motion features, shared reward terms, closing a row): :mod:`vessel_gym.envs.tasks.common`;
-* ZigZag-v0 and v1: :mod:`vessel_gym.envs.tasks.zigzag`, :mod:`vessel_gym.envs.tasks.zigzag_v1`;
+* ZigZag: :mod:`vessel_gym.envs.tasks.zigzag`;
 * TurningCircle: :mod:`vessel_gym.envs.tasks.turning`;
 * HarbourApproach and its chart: :mod:`vessel_gym.envs.tasks.harbour`, :mod:`vessel_gym.envs.tasks.chart`;
 * the continuous helm's clipping: :mod:`vessel_gym.envs.helm`.
@@ -46,7 +46,6 @@ from vessel_gym.envs.tasks.common import (
 from vessel_gym.envs.tasks.harbour import harbour_update, harbour_update_parallel
 from vessel_gym.envs.tasks.turning import turning_update
 from vessel_gym.envs.tasks.zigzag import zigzag_update
-from vessel_gym.envs.tasks.zigzag_v1 import zigzag_v1_update
 
 __all__ = [
     "CONTACT",
@@ -78,5 +77,4 @@ __all__ = [
     "wrap_pi",
     "zigzag_execute",
     "zigzag_update",
-    "zigzag_v1_update",
 ]
