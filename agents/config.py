@@ -41,10 +41,10 @@ class UsageError(ValueError):
 
 # --- names -----------------------------------------------------------------------------------------------------
 def registered_ids() -> list[str]:
-    """The vessel-gym environment ids (from the task declarations)."""
-    from vessel_gym.envs.registration import register_envs
+    """The registered task ids (from the task declarations: the built-in ones and any task imported)."""
+    from vessel_gym.envs.registration import known_ids
 
-    return register_envs()
+    return known_ids()
 
 
 def resolve_env_id(name: str) -> str:
@@ -58,7 +58,7 @@ def resolve_env_id(name: str) -> str:
 
 
 def env_short_name(env_id: str) -> str:
-    """``vessel_gym/ZigZag-v0`` -> ``ZigZag-v0`` (used in file names)."""
+    """``vessel_gym/ZigZag-v1`` -> ``ZigZag-v1`` (used in file names)."""
     return env_id.split("/")[-1]
 
 

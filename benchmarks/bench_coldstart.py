@@ -27,7 +27,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-IDS = ("vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0")
+IDS = ("vessel_gym/ZigZag-v1", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v2")
 ENV_STEP = (
     "import gymnasium as gym, vessel_gym; env = gym.make({id!r}); env.reset(seed=0); "
     "env.step(env.action_space.sample())"

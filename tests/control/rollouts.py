@@ -1,4 +1,4 @@
-"""Short fixed-action rollouts of ZigZag-v0 and TurningCircle-v0 (shared by the regression tests)."""
+"""Short fixed-action rollouts of ZigZag-v1 and TurningCircle-v0 (shared by the regression tests)."""
 
 from __future__ import annotations
 

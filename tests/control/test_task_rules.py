@@ -36,7 +36,7 @@ PIN = pytest.approx  # regression pin: see the module docstring
 
 @pytest.fixture(scope="module")
 def zigzag_run():
-    return rollout("vessel_gym/ZigZag-v0", zigzag_action, seed=3)
+    return rollout("vessel_gym/ZigZag-v1", zigzag_action, seed=3)
 
 
 @pytest.fixture(scope="module")

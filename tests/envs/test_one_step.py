@@ -19,12 +19,10 @@ def bind_at_once(monkeypatch):
     monkeypatch.setattr(env_module, "ONE_CALL_AFTER_STEPS", 1)
 
 CASES = [
-    ("vessel_gym/ZigZag-v0", {}),
-    ("vessel_gym/ZigZag-v0", {"action_type": "discrete", "engine_control": True}),
     ("vessel_gym/ZigZag-v1", {}),
+    ("vessel_gym/ZigZag-v1", {"action_type": "discrete", "engine_control": True}),
     ("vessel_gym/ZigZagRandom-v1", {}),
     ("vessel_gym/TurningCircle-v0", {"engine_control": True}),
-    ("vessel_gym/HarbourApproach-v0", {}),
     ("vessel_gym/HarbourApproach-v1", {}),
     ("vessel_gym/HarbourApproach-v2", {}),
 ]
@@ -66,15 +64,6 @@ def test_one_compiled_call_equals_the_separate_calls(env_id, kw):
             resets += 1
     assert np.array_equal(fused.unwrapped.sim.state, separate.unwrapped.sim.state)
     assert np.array_equal(fused.unwrapped.task.ts, separate.unwrapped.task.ts)
-
-
-def test_random_schedule_of_v0_keeps_the_separate_calls():
-    """ZigZag-v0's random schedule starts a leg in Python before its kernel: never one call."""
-    env = gym.make("vessel_gym/ZigZag-v0", schedule="random")
-    env.reset(seed=0)
-    for _ in range(3):
-        env.step(env.action_space.sample())
-    assert env.unwrapped._fast is False
 
 
 def test_python_components_keep_the_separate_calls():

@@ -374,7 +374,7 @@ def test_serve_runs_the_ship_files_component(peers, tmp_path, monkeypatch):
 
 
 def test_serve_makes_its_env_without_an_upgrade_warning():
-    """serve chooses HarbourApproach-v0 itself: the user is not told to upgrade an id they never named."""
+    """serve chooses HarbourApproach-v2 itself: the user is not told to upgrade an id they never named."""
     import warnings
 
     from vessel_gym.net.serve import _make_served

@@ -77,8 +77,8 @@ class HarbourApproachEnv(ShipEnv):
     | speed_excess | 1.0 | -max(0, SOG - allowed) / U_T; allowed falls from U_T to the goal speed within slow_down_L |
     | proximity | 0.5 | -(1 - clearance / (safe_clearance_L L)) when the hull is closer than that to an obstacle |
     | rudder_activity | 0.05 | -abs(change of rudder order) / (2 x rudder limit) |
-    | time | 0.01 | -1 |
-    | success | 20.0 | +1 on arrival |
+    | time | 0.5 | -control interval x U_T / L: -1 per time the ship sails its length |
+    | success | 50.0 | +1 on arrival |
     | collision | 20.0 | -1 on contact, grounding or divergence |
     | out_of_bounds | 20.0 | -1 on leaving the chart bounds |
 

@@ -51,10 +51,11 @@ class Declaration:
     pilots: Mapping[str, Any] = field(default_factory=dict)
     metrics: Any = None
     train: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    namespace: str = NAMESPACE
 
     @property
     def ids(self) -> list[str]:
-        return [f"{NAMESPACE}/{p}" for p in self.presets]
+        return [f"{self.namespace}/{p}" for p in self.presets]
 
     def entry_points(self) -> tuple[str, str]:
         env = self.env or f"{self.module}:{env_class_name(self.name)}"
@@ -79,14 +80,15 @@ def register_task(
     pilots: Mapping[str, Any] | None = None,
     metrics: Callable[..., dict[str, Any]] | None = None,
     train: Mapping[str, Mapping[str, Any]] | None = None,
+    namespace: str = NAMESPACE,
 ) -> Callable[[type], type]:
     """Class decorator of a :class:`~vessel_gym.envs.task.Task`: declare its ids (presets of its config) and
     capabilities, register the ids with Gymnasium, and (``env`` None) make its environment classes
     ``<Name>Env`` and ``<Name>VectorEnv`` in the task's module.
 
-    Every id names a preset: ``{"Berthing-v0": {}, "BerthingWindy-v0": {"wind_speed_m_s": [5, 10]}}``. A later
-    version of an id's name (``-v2`` after ``-v1``) makes Gymnasium raise ``DeprecatedEnv`` for a version no
-    longer declared.
+    Every id names a preset: ``{"Berthing-v0": {}, "BerthingWindy-v0": {"wind_speed_m_s": [5, 10]}}``, registered
+    as ``<namespace>/<preset>`` (a task of your own: your own namespace). A later version of an id's name
+    (``-v2`` after ``-v1``) makes Gymnasium raise ``DeprecatedEnv`` for a version no longer declared.
     """
 
     def decorate(cls: type) -> type:
@@ -103,6 +105,7 @@ def register_task(
             pilots=dict(pilots or {}),
             metrics=metrics,
             train={k: dict(v) for k, v in (train or {}).items()},
+            namespace=namespace,
         )
         cls.declaration = decl
         if env is None:
@@ -189,17 +192,23 @@ def register_envs() -> list[str]:
     return ids
 
 
+def known_ids() -> list[str]:
+    """Every registered id, built-in (from source, cheap) and of any task module imported since."""
+    register_envs()
+    return list(_REGISTRY)
+
+
 def import_builtin_tasks() -> None:
     """Import every built-in task module (its decorator then holds the full declaration)."""
     for decl in builtin_declarations():
         importlib.import_module(decl.module)
 
 
-def registered() -> dict[str, Declaration]:
-    """id -> declaration of every registered task (the built-in ones imported, so complete), in declaration
-    order."""
+def registered(namespace: str | None = NAMESPACE) -> dict[str, Declaration]:
+    """id -> declaration of every registered task of ``namespace`` (None: of every namespace), the built-in
+    ones imported (so complete), in registration order."""
     import_builtin_tasks()
-    return dict(_REGISTRY)
+    return {i: d for i, d in _REGISTRY.items() if namespace is None or d.namespace == namespace}
 
 
 def task_class(env_id: str) -> type:

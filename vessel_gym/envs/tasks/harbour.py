@@ -457,6 +457,17 @@ def chart_depth(north, east, verts, areas, area, water_depth, T, depth, env):
         set_charted_depth(env, k, h, T)
 
 
+def own_ship(scenario: Scenario) -> dict[str, Any]:
+    """Config values that sail ``scenario`` with its own ship and the chart's depth where that ship's hull has
+    the shallow-water corrections (an MMG hull; any other sails in deep water)."""
+    ship = scenario.load_ship()
+    try:
+        check_hull(ship, scenario.water_depth_m)
+    except ValueError:
+        return {"ship": ship.path or ship.name, "chart_depth": False}
+    return {"ship": ship.path or ship.name, "chart_depth": True}
+
+
 # --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
 def pid_pilot(env: Any) -> Any:
     """The harbour pilot (:class:`~vessel_gym.envs.policies.HarbourPilot`) with heading gains from the ship's
