@@ -10,26 +10,19 @@ import yaml
 
 from agents import common
 from agents.common import UsageError
+from vessel_gym.envs.registration import registered
 from vessel_gym.policy import sb3_algorithm
 
-ENV_IDS = [
-    "vessel_gym/ZigZag-v1",
-    "vessel_gym/ZigZagRandom-v1",
-    "vessel_gym/TurningCircle-v0",
-    "vessel_gym/HarbourApproach-v2",
-]
-
-
-#: blocks only some algorithms have (the goal's harbour task is trained with PPO only)
-EXTRA_IDS = {"ppo": ["vessel_gym/HarbourApproach-v1"]}
+ENV_IDS = sorted(registered())
 
 
 @pytest.mark.parametrize("algo", sorted(common.ALGOS))
 def test_every_hyperparameter_block_is_valid(algo: str) -> None:
+    """Every block of the file names a registered id, and every registered id gets a valid configuration (its
+    task's defaults, with its block merged over them if it has one)."""
     data = yaml.safe_load((common.HYPERPARAMS_DIR / f"{algo}.yml").read_text())
-    ids = ENV_IDS + EXTRA_IDS.get(algo, [])
-    assert sorted(data) == sorted(ids), f"{algo}.yml should have one block per registered id"
-    for env_id in ids:
+    assert set(data) <= set(ENV_IDS), f"{algo}.yml has blocks of unregistered ids: {set(data) - set(ENV_IDS)}"
+    for env_id in ENV_IDS:
         cfg = common.run_config(algo, env_id, common.load_hyperparams(algo, env_id))
         assert cfg.n_timesteps >= 1000 and cfg.n_envs >= 1
         common.make_env(env_id, cfg.env_kwargs).close()
@@ -65,19 +58,23 @@ def test_linear_schedule_and_nested_overrides() -> None:
     over = common.parse_assignments(
         ["learning_rate=lin_1e-3", "policy_kwargs.net_arch=[32, 32]", "env_kwargs.reward.overshoot=2"], "x"
     )
-    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", overrides=over)
-    cfg = common.run_config("ppo", "vessel_gym/ZigZag-v1", hp)
+    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZagRandom-v1", overrides=over)
+    cfg = common.run_config("ppo", "vessel_gym/ZigZagRandom-v1", hp)
     assert cfg.algo_kwargs["learning_rate"](0.5) == pytest.approx(5e-4)
     assert cfg.policy_kwargs["net_arch"] == [32, 32]
-    assert cfg.env_kwargs["reward"]["overshoot"] == 2  # merged into the file's other reward weights
-    assert cfg.env_kwargs["schedule"] == "random"  # merged, not replaced
+    assert cfg.env_kwargs["reward"]["overshoot"] == 2
+    assert cfg.env_kwargs["reward"]["rudder_activity"] == 1.0  # merged into the file's other reward weights
 
 
 def test_missing_block_and_file(tmp_path: Path) -> None:
     f = tmp_path / "h.yml"
     f.write_text("vessel_gym/ZigZag-v1: {n_timesteps: 1000}\n")
-    with pytest.raises(UsageError, match="no hyperparameters for vessel_gym/HarbourApproach-v2"):
-        common.load_hyperparams("ppo", "vessel_gym/HarbourApproach-v2", f)
+    assert common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", f)["n_timesteps"] == 1000
+    # an id without a block trains on its task's declared defaults
+    hp = common.load_hyperparams("ppo", "vessel_gym/HarbourApproach-v2", f)
+    assert hp == common.task_defaults("ppo", "vessel_gym/HarbourApproach-v2") and hp["n_timesteps"] >= 100_000
+    with pytest.raises(UsageError, match="no registered task id"):
+        common.load_hyperparams("ppo", "vessel_gym/CartPole-v1", f)
     with pytest.raises(UsageError, match="cannot read"):
         common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", tmp_path / "nope.yml")
     f.write_text("[1, 2")
@@ -104,9 +101,10 @@ def test_names() -> None:
 
 
 def test_baseline_metrics_zigzag() -> None:
-    res = common.evaluate("ZigZag-v1", "scripted", episodes=1, seed=0)
+    kw = {"first_change_s": [0.0, 0.0]}  # the schedule from the first step on: the rule's rudder always 10 deg
+    res = common.evaluate("ZigZag-v1", "scripted", episodes=1, seed=0, env_kwargs=kw)
     s = res["summary"]
-    assert s["episodes"] == 1 and res["env_kwargs"] == {}
+    assert s["episodes"] == 1 and res["env_kwargs"] == kw
     # the scripted rule in the registered env is the IMO 10/10 zig-zag: +-10 deg rudder, overshoots measured
     assert s["rudder_deg_mean"] == pytest.approx(10.0, abs=1e-6)
     assert s["overshoot_deg_mean"] > 1.0 and s["reached_pct_mean"] > 50.0

@@ -309,7 +309,7 @@ def test_service_is_throttled_on_a_fast_wall_clock():
 
 def test_harbour_traffic_reaches_viewers_as_targets(peers):
     clock = Clock()
-    env = _wrap(clock=clock)
+    env = _wrap(clock=clock, make_kw={"control_interval_s": 0.25})  # 40 steps: 10 s
     try:
         assert env.traffic is not None and env.traffic.n == 2
         env.reset(seed=0)

@@ -157,27 +157,30 @@ def _register(decl: Declaration, replace: bool = False) -> None:
 @functools.cache
 def builtin_declarations() -> tuple[Declaration, ...]:
     """The declarations of the tasks in :mod:`vessel_gym.envs.tasks`, read from their source (no import):
-    each module's ``@register_task(...)`` with literal ``presets``, ``max_episode_steps`` and ``env``."""
+    each module's ``@register_task(...)`` (at the start of a line, before its class) with literal ``presets``,
+    ``max_episode_steps``, ``env`` and ``namespace``."""
     out = []
     for path in sorted(TASKS_DIR.glob("*.py")):
         text = path.read_text()
-        if "@register_task(" not in text:
-            continue
-        for node in ast.parse(text).body:
-            if not isinstance(node, ast.ClassDef):
-                continue
-            for deco in node.decorator_list:
-                if isinstance(deco, ast.Call) and getattr(deco.func, "id", None) == "register_task":
-                    kw = {k.arg: k.value for k in deco.keywords}
-                    out.append(
-                        Declaration(
-                            module=f"vessel_gym.envs.tasks.{path.stem}",
-                            name=node.name,
-                            presets=ast.literal_eval(kw["presets"]),
-                            max_episode_steps=ast.literal_eval(kw["max_episode_steps"]),
-                            env=ast.literal_eval(kw["env"]) if "env" in kw else None,
-                        )
-                    )
+        start = text.find("\n@register_task(")
+        while start >= 0:
+            # the decorator and its class line only: parsing the whole module would cost 10x more
+            line = text.index("\nclass ", start)
+            end = text.index("\n", line + 1)
+            node = ast.parse(text[start + 1 : end] + "\n    pass\n").body[0]
+            assert isinstance(node, ast.ClassDef)
+            kw = {k.arg: k.value for k in node.decorator_list[0].keywords}  # type: ignore[attr-defined]
+            out.append(
+                Declaration(
+                    module=f"vessel_gym.envs.tasks.{path.stem}",
+                    name=node.name,
+                    presets=ast.literal_eval(kw["presets"]),
+                    max_episode_steps=ast.literal_eval(kw["max_episode_steps"]),
+                    env=ast.literal_eval(kw["env"]) if "env" in kw else None,
+                    namespace=ast.literal_eval(kw["namespace"]) if "namespace" in kw else NAMESPACE,
+                )
+            )
+            start = text.find("\n@register_task(", end)
     return tuple(out)
 
 
