@@ -74,23 +74,23 @@ def test_shipped_agent_reproduces_its_recorded_test_episodes(name: str) -> None:
 @pytest.mark.slow
 def test_tiny_agent_shipped_and_evaluated_through_evaluate_py(tmp_path: Path) -> None:
     """Train a few hundred steps, ship with its sidecar, evaluate the shipped file as a script with --json."""
-    res = common.train("ppo", "ZigZag-v1", 4, timesteps=256, n_envs=2, out=tmp_path / "run", threads=1)
+    res = common.train("ppo", "ZigZagRandom-v1", 4, timesteps=256, n_envs=2, out=tmp_path / "run", threads=1)
     meta = shipped.make_sidecar(common.run_record(res.model_path), validation_episodes=10, test_episodes=20)
     target = shipped.ship(res.model_path, meta, tmp_path / "trained")
-    assert target.name == "ppo_ZigZag-v1_seed4.zip" and shipped.list_shipped(tmp_path / "trained") == [target]
+    assert target.name == "ppo_ZigZagRandom-v1_seed4.zip" and shipped.list_shipped(tmp_path / "trained") == [target]
     meta = shipped.read_sidecar(target)
-    assert meta["env_id"] == "vessel_gym/ZigZag-v1" and meta["seed"] == 4 and meta["num_timesteps"] >= 256
+    assert meta["env_id"] == "vessel_gym/ZigZagRandom-v1" and meta["seed"] == 4 and meta["num_timesteps"] >= 256
     assert meta["validation_seeds"] == f"{seeds.VALIDATION_START}..{seeds.VALIDATION_START + 9}"
-    assert meta["hyperparams"]["n_timesteps"] == 256 and meta["eval_env_kwargs"] == {"schedule": "random"}
+    assert meta["hyperparams"]["n_timesteps"] == 256 and meta["eval_env_kwargs"] == {}
     with pytest.raises(common.UsageError, match="exists"):
         shipped.ship(res.model_path, meta, tmp_path / "trained", overwrite=False)
-    cmd = [sys.executable, str(REPO / "agents" / "evaluate.py"), "--env", "ZigZag-v1", "--agent", str(target)]
+    cmd = [sys.executable, str(REPO / "agents" / "evaluate.py"), "--env", "ZigZagRandom-v1", "--agent", str(target)]
     cmd += ["--episodes", "2", "--seed", "7", "--json"]
     proc = subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path, timeout=600)
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)  # exactly one JSON object on stdout
     assert set(CONTRACT) <= set(out) and out["episodes"] == 2 and out["seeds"] == [7, 8]
-    assert out["env_kwargs"] == {"schedule": "random"}  # from the sidecar
+    assert out["env_kwargs"] == {}  # from the sidecar (the ZigZagRandom-v1 block evaluates as registered)
     assert "episode 1 (seed 7)" in proc.stderr
 
 
