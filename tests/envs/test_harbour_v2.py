@@ -124,7 +124,7 @@ def test_depth_reaches_the_dynamics_and_v1_stays_deep():
 
 
 def test_a_ship_without_an_mmg_hull_is_refused():
-    with pytest.raises(SpecError, match="HarbourApproach-v2 config ship: 'mariner' has a 'abkowitz' hull.*MMG"):
+    with pytest.raises(SpecError, match="HarbourApproach config ship: 'mariner' has a 'abkowitz' hull.*MMG"):
         gym.make(ID, ship="mariner")
 
 

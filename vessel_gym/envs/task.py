@@ -373,9 +373,6 @@ class Task(abc.ABC):
         """A new array of the current observations (N, obs_dim)."""
         return self.obs.copy()
 
-    def weighted_terms(self, k: int) -> dict[str, float]:
-        return dict(zip(self.term_names, self.terms[k].tolist()))
-
     def terms_dict(self, terms: list[float]) -> dict[str, float]:
         """``info["reward_terms"]`` of one vessel from its weighted terms as a list (:meth:`info_snapshot`)."""
         return dict(zip(self.term_names, terms))

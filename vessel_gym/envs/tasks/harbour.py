@@ -627,9 +627,10 @@ class HarbourApproachTask(Task):
                 check_hull(self.ship, self.scenario.water_depth_m)
             except ValueError:
                 raise SpecError(
-                    f"HarbourApproach-v2 config ship: {self.ship.name!r} has a {self.ship.hull.model!r} hull; v2 applies "
-                    "the chart's depth through the shallow-water corrections of the MMG hull (Taimuri et al. 2020): "
-                    "choose an MMG ship (default kvlcc2_l7_harbour) or HarbourApproach-v1"
+                    f"HarbourApproach config ship: {self.ship.name!r} has a "
+                    f"{self.ship.hull.model!r} hull; chart_depth applies the chart's depth through the shallow-water "
+                    "corrections of the MMG hull (Taimuri et al. 2020): choose an MMG ship (default "
+                    "kvlcc2_l7_harbour), chart_depth=False or HarbourApproach-v1"
                 ) from None
             self.depth_verts, self.depth_areas, self.depth_area = depth_tables(self.scenario)
             #: charted depth under each ship's midship point (m), as the physics sees it from the next control
