@@ -130,7 +130,7 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     ]
     assert shipped.read_sidecar(ship_dir / names[0])["method"] == "bc"
     meta = shipped.read_sidecar(ship_dir / names[1])
-    assert set(shipped.REQUIRED_KEYS) <= set(meta) and meta["seed"] == 1 and meta["env_version"] == 0
+    assert set(shipped.REQUIRED_KEYS) <= set(meta) and meta["seed"] == 1 and meta["env_version"] == 1
     assert meta["test_seeds"] == f"{seeds.TEST_START}..{seeds.TEST_START}"
     assert results.main([*argv, "--skip-train", "--no-ship"]) == 0
     # --resume trains only what is missing: one PPO and one cloned model

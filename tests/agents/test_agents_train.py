@@ -102,34 +102,32 @@ def test_time_budget_stops_training(tmp_path: Path) -> None:
 
 def test_periodic_evaluation_keeps_the_best_model(tmp_path: Path) -> None:
     res = common.train(
-        "ppo", "ZigZag-v1", seed=0, timesteps=2048, n_envs=2, out=tmp_path, overrides=SMALL, eval_freq=1024
+        "ppo", "ZigZagRandom-v1", seed=0, timesteps=2048, n_envs=2, out=tmp_path, overrides=SMALL, eval_freq=1024
     )
-    assert res.best_model_path == tmp_path / "ppo_ZigZag-v1_s0_best.zip" and res.best_model_path.is_file()
+    assert res.best_model_path == tmp_path / "ppo_ZigZagRandom-v1_s0_best.zip" and res.best_model_path.is_file()
     rec = yaml.safe_load(res.best_model_path.with_suffix(".yml").read_text())
-    assert rec["selected_at_timesteps"] in (1024, 2048) and rec["selected_from"] == "ppo_ZigZag-v1_s0.zip"
-    env = gym.make("vessel_gym/ZigZag-v1", **rec["eval_env_kwargs"])
+    assert rec["selected_at_timesteps"] in (1024, 2048) and rec["selected_from"] == "ppo_ZigZagRandom-v1_s0.zip"
+    env = gym.make("vessel_gym/ZigZagRandom-v1", **rec["eval_env_kwargs"])
     policy = load_policy(str(res.best_model_path), env)  # the <algo>_ prefix names the class
     obs, _ = env.reset(seed=0)
     assert env.action_space.contains(np.asarray(policy(obs), dtype=np.float32))
-    assert common.evaluate("ZigZag-v1", res.best_model_path, episodes=1)["env_kwargs"] == {
-        "schedule": "random"
-    }
+    assert common.evaluate("ZigZagRandom-v1", res.best_model_path, episodes=1)["env_kwargs"] == {}
 
 
 def test_train_and_evaluate_command_lines(tmp_path: Path, capsys) -> None:
-    argv = ["--env", "ZigZag-v1", "--algo", "ppo", "--seed", "2", "--timesteps", "512", "--n-envs", "2"]
+    argv = ["--env", "ZigZagRandom-v1", "--algo", "ppo", "--seed", "2", "--timesteps", "512", "--n-envs", "2"]
     argv += ["--out", str(tmp_path), "--no-progress", "--log-format", "csv", "--hyperparams", "n_steps=256"]
     assert train.main([*argv, "--test-episodes", "2"]) == 0
-    model = tmp_path / "ppo_ZigZag-v1_s2.zip"
+    model = tmp_path / "ppo_ZigZagRandom-v1_s2.zip"
     text = capsys.readouterr().out
     assert (
         model.is_file()
         and "saved" in text
         and "test (final model, 2 episodes, seeds 2000000..2000001)" in text
     )
-    assert evaluate.main(["--env", "ZigZag-v1", "--agent", str(model), "--episodes", "1"]) == 0
+    assert evaluate.main(["--env", "ZigZagRandom-v1", "--agent", str(model), "--episodes", "1"]) == 0
     text = capsys.readouterr().out
-    assert "mean |heading error| (deg)" in text and "schedule" in text
+    assert "mean |heading error| (deg)" in text
     # a model of one environment is refused on another
     assert evaluate.main(["--env", "TurningCircle-v0", "--agent", str(model), "--episodes", "1"]) == 2
-    assert "trained on vessel_gym/ZigZag-v1" in capsys.readouterr().err
+    assert "trained on vessel_gym/ZigZagRandom-v1" in capsys.readouterr().err
