@@ -48,10 +48,10 @@ from agents.config import (  # noqa: F401
     resolve_env_id,
     run_config,
     sidecar,
+    task_defaults,
 )
 from agents.envs import VEC_KINDS, EnvFactory, make_env, make_vec_env  # noqa: F401
 from agents.evaluation import (  # noqa: F401
-    env_kind,
     evaluate,
     load_agent,
     load_json_sidecar,
@@ -79,6 +79,7 @@ __all__ = [
     "model_stem",
     "parse_assignments",
     "resolve_env_id",
+    "task_defaults",
     "run_config",
     "run_episode",
     "summarize",

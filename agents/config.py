@@ -41,15 +41,14 @@ class UsageError(ValueError):
 
 # --- names -----------------------------------------------------------------------------------------------------
 def registered_ids() -> list[str]:
-    """The vessel-gym environment ids."""
-    from vessel_gym.envs.registration import ENVIRONMENTS, register_envs
+    """The registered task ids (from the task declarations: the built-in ones and any task imported)."""
+    from vessel_gym.envs.registration import known_ids
 
-    register_envs()
-    return list(ENVIRONMENTS)
+    return known_ids()
 
 
 def resolve_env_id(name: str) -> str:
-    """Full env id from ``vessel_gym/ZigZag-v0`` or the short ``ZigZag-v0``."""
+    """Full env id from ``vessel_gym/ZigZag-v1`` or the short ``ZigZag-v1``."""
     ids = registered_ids()
     if name in ids:
         return name
@@ -59,7 +58,7 @@ def resolve_env_id(name: str) -> str:
 
 
 def env_short_name(env_id: str) -> str:
-    """``vessel_gym/ZigZag-v0`` -> ``ZigZag-v0`` (used in file names)."""
+    """``vessel_gym/ZigZag-v1`` -> ``ZigZag-v1`` (used in file names)."""
     return env_id.split("/")[-1]
 
 
@@ -95,18 +94,34 @@ def merge(base: Mapping[str, Any], over: Mapping[str, Any]) -> dict[str, Any]:
 
 
 # --- hyperparameters -------------------------------------------------------------------------------------------
+def task_defaults(algo: str, env_id: str) -> dict[str, Any]:
+    """The training hyperparameters ``env_id``'s task declares (``train`` of its ``register_task``: the
+    ``common`` block, then the block of ``algo``)."""
+    from vessel_gym.envs.registration import declaration
+
+    try:
+        train = declaration(env_id).train
+    except KeyError as exc:
+        raise UsageError(str(exc.args[0])) from None
+    return merge(train.get("common", {}), train.get(check_algo(algo), {}))
+
+
 def load_hyperparams(
     algo: str,
     env_id: str,
     path: str | Path | None = None,
     overrides: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """The hyperparameter block of ``env_id`` in ``path`` (default ``agents/hyperparams/<algo>.yml``),
-    with ``overrides`` merged in."""
+    """The hyperparameters of ``env_id``: its task's defaults (:func:`task_defaults`), the block of ``env_id``
+    in ``path`` (default ``agents/hyperparams/<algo>.yml``; an id without a block trains on the defaults) merged
+    over them, then ``overrides``."""
     import yaml
 
     algo = check_algo(algo)
+    defaults = task_defaults(algo, env_id)
     file = Path(path) if path is not None else HYPERPARAMS_DIR / f"{algo}.yml"
+    if path is None and not file.is_file():
+        return merge(defaults, overrides or {})
     try:
         data = yaml.safe_load(file.read_text())
     except OSError as exc:
@@ -115,12 +130,10 @@ def load_hyperparams(
         raise UsageError(f"{file}: not valid YAML ({str(exc).splitlines()[0]})") from None
     if not isinstance(data, dict):
         raise UsageError(f"{file}: expected a mapping of env id -> hyperparameters")
-    block = data.get(env_id, data.get(env_short_name(env_id)))
-    if block is None:
-        raise UsageError(f"{file}: no hyperparameters for {env_id} (have: {', '.join(map(str, data))})")
+    block = data.get(env_id, data.get(env_short_name(env_id), {}))
     if not isinstance(block, dict):
         raise UsageError(f"{file}: the block of {env_id} is not a mapping")
-    return merge(block, overrides or {})
+    return merge(merge(defaults, block), overrides or {})
 
 
 class LinearSchedule:

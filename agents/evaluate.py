@@ -1,8 +1,8 @@
 """Evaluate a trained agent or a classical baseline over seeded episodes.
 
-    python agents/evaluate.py --env vessel_gym/ZigZag-v0 --agent runs/ppo_ZigZag-v0_s0.zip --episodes 20
-    python agents/evaluate.py --env ZigZag-v0 --agent pid --episodes 20 --seed 0 --json
-    python agents/evaluate.py --env HarbourApproach-v0 --agent scripted --episodes 5
+    python agents/evaluate.py --env vessel_gym/ZigZag-v1 --agent runs/ppo_ZigZag-v1_s0.zip --episodes 20
+    python agents/evaluate.py --env ZigZag-v1 --agent pid --episodes 20 --seed 0 --json
+    python agents/evaluate.py --env HarbourApproach-v2 --agent scripted --episodes 5
 
 Episode i starts from ``reset(seed=seed + i)``, so every agent meets the same starts; without ``--seed``
 the episodes are those of the test seed set (``agents/seeds.py``), never seen in training or model
@@ -69,7 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = OneLineParser(
         prog="evaluate.py", description="Evaluate an agent or baseline on a vessel-gym environment."
     )
-    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
+    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v1 (or ZigZag-v1)")
     p.add_argument("--agent", required=True, help="pid, scripted or a model .zip saved by train.py")
     p.add_argument("--episodes", type=int_at_least("--episodes", 1), default=20)
     p.add_argument(

@@ -84,48 +84,25 @@ def load_agent(agent: str | Path, env: Any) -> Any:
     return policy
 
 
-def env_kind(env: Any) -> str:
-    """``zigzag``, ``turning``, ``harbour`` (or the class name) of an environment."""
-    name = type(env.unwrapped).__name__
-    for key, kind in (("ZigZag", "zigzag"), ("Turning", "turning"), ("Harbour", "harbour")):
-        if key in name:
-            return kind
-    return name
-
-
 def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
     """One episode of ``policy`` in ``env`` from ``reset(seed=seed)``; returns its metrics.
 
     Every task: ``return``, ``length``, ``rudder_deg`` (mean |rudder order|), ``rudder_rate_deg_s`` (mean
-    |change of rudder order| per second: helm activity). ZigZag: ``heading_error_deg`` (mean |target -
-    heading| over the steps), ``overshoot_deg`` (IMO overshoots summed over the episode / course changes: the
-    mean excursion past the target per course change, 0 for a target not passed), ``max_overshoot_deg``,
-    ``reached_pct`` (targets reached / course changes); ZigZag-v1 and ZigZagRandom-v1 report these from
-    the environment's own per-course-change accounting (the open measurement included) and ``success``. TurningCircle: ``rate_error_pct`` (rate
-    mode: mean |r - r_c| / |r_c|), ``success``. HarbourApproach: ``success``, ``outcome``,
-    ``min_clearance_m``, ``time_s``.
+    |change of rudder order| per second: helm activity); then the metrics the task declares (``metrics`` of its
+    ``register_task``, from the episode's ``info`` dicts: e.g. ZigZag's overshoot per course change,
+    TurningCircle's rate error, HarbourApproach's outcome).
     """
-    from vessel_gym.control.zigzag import target_reached
-
     base = env.unwrapped
     layout = base.observation_layout
     dt = float(base.config.control_interval_s)
-    kind = env_kind(env)
+    metrics = getattr(getattr(base.task, "declaration", None), "metrics", None)
     obs, info = env.reset(seed=seed)
     policy.reset()
     ret, n = 0.0, 0
     prev_order = float(layout.value(obs, "rudder_order"))
     rudder: list[float] = []
     rudder_rate: list[float] = []
-    heading_err: list[float] = []
-    rate_err: list[float] = []
-    overshoots: list[float] = []
-    os_count = 0
-    legs = reached = 0
-    target = None
-    side0 = 0.0
-    leg_reached = False
-    imo = kind == "zigzag" and getattr(base.config, "schedule", "") == "imo"
+    infos: list[dict[str, Any]] = []
     while True:
         obs, reward, terminated, truncated, info = env.step(policy(obs))
         ret += float(reward)
@@ -134,23 +111,7 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
         rudder.append(abs(order))
         rudder_rate.append(abs(order - prev_order) / dt)
         prev_order = order
-        if kind == "zigzag":
-            e = float(info["heading_error_deg"])
-            heading_err.append(abs(e))
-            if "overshoot_count" in info and int(info["overshoot_count"]) > os_count:  # v0's finished ones
-                os_count = int(info["overshoot_count"])
-                overshoots.append(abs(float(info["last_overshoot_deg"])))
-            if not imo and "course_changes" not in info:
-                tgt = float(info["target_heading_deg"])
-                if target is None or abs(tgt - target) > 1e-9:
-                    target, side0, leg_reached, legs = tgt, math.copysign(1.0, e), False, legs + 1
-                # the heading error e = target - heading: the target is reached once the heading has passed it
-                if not leg_reached and target_reached(side0, 0.0, e):
-                    leg_reached, reached = True, reached + 1
-        elif kind == "turning":
-            rc = float(info.get("commanded_rate_deg_s", 0.0))
-            if rc != 0.0:
-                rate_err.append(abs(float(info["rate_of_turn_deg_s"]) - rc) / abs(rc))
+        infos.append(dict(info))
         if terminated or truncated:
             break
     out: dict[str, Any] = {
@@ -160,33 +121,8 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
         "rudder_deg": math.degrees(float(np.mean(rudder))),
         "rudder_rate_deg_s": math.degrees(float(np.mean(rudder_rate))),
     }
-    if kind == "zigzag" and "course_changes" in info:
-        # ZigZag-v1: the environment measures per course change, the open measurement included
-        legs = int(info["course_changes"])
-        out["heading_error_deg"] = float(np.mean(heading_err))
-        out["overshoot_deg"] = float(info["overshoot_deg"])
-        out["max_overshoot_deg"] = float(info["max_overshoot_deg"])
-        out["reached_pct"] = 100.0 * int(info["targets_reached"]) / max(legs, 1)
-        out["course_changes"] = legs
-        out["success"] = bool(info["is_success"])
-    elif kind == "zigzag":
-        if imo:
-            legs, reached = int(info["executes"]), int(info["executes"]) - 1
-        out["heading_error_deg"] = float(np.mean(heading_err))
-        out["overshoot_deg"] = float(np.sum(overshoots)) / max(legs, 1)
-        out["max_overshoot_deg"] = float(np.max(overshoots)) if overshoots else 0.0
-        out["reached_pct"] = 100.0 * reached / max(legs, 1)
-        out["course_changes"] = legs
-    elif kind == "turning":
-        out["rate_error_pct"] = 100.0 * float(np.mean(rate_err)) if rate_err else math.nan
-        out["success"] = bool(info.get("success", False))
-        for key in ("advance_m", "transfer_m", "tactical_diameter_m"):
-            out[key] = float(info[key])
-    elif kind == "harbour":
-        out["success"] = bool(info["success"])
-        out["outcome"] = str(info["outcome"]) if terminated else "timeout"
-        out["min_clearance_m"] = float(info["min_clearance_m"])
-        out["time_s"] = float(info["time_s"])
+    if metrics is not None:
+        out.update(metrics(infos, bool(terminated)))
     return out
 
 

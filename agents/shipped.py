@@ -1,6 +1,6 @@
 """Shipped agents: small SB3 zips under ``agents/trained/`` with a JSON sidecar saying how they were made.
 
-Convention: ``agents/trained/<algo>_<env>_seed<N>.zip`` (e.g. ``ppo_ZigZag-v0_seed0.zip``): the algorithm
+Convention: ``agents/trained/<algo>_<env>_seed<N>.zip`` (e.g. ``ppo_ZigZag-v1_seed0.zip``): the algorithm
 first (:func:`vessel_gym.policy.load_policy` reads it from the part before the first underscore), then the
 short env id with its version, then the training seed. Next to it ``<same stem>.json``:
 
@@ -52,7 +52,7 @@ REQUIRED_KEYS = (
 
 
 def shipped_stem(algo: str, env_id: str, seed: int) -> str:
-    """``ppo``, ``vessel_gym/ZigZag-v0``, 3 -> ``ppo_ZigZag-v0_seed3``."""
+    """``ppo``, ``vessel_gym/ZigZag-v1``, 3 -> ``ppo_ZigZag-v1_seed3``."""
     return f"{check_algo(algo)}_{env_short_name(env_id)}_seed{int(seed)}"
 
 

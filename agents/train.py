@@ -1,8 +1,8 @@
 """Train a Stable-Baselines3 agent on a vessel-gym environment.
 
-    python agents/train.py --env vessel_gym/ZigZag-v0 --algo ppo --seed 0
-    python agents/train.py --env ZigZag-v0 --algo sac --seed 1 --timesteps 50000 --n-envs 4 --vec dummy
-    python agents/train.py --env HarbourApproach-v0 --algo ppo --seed 0 --timesteps 200000 \
+    python agents/train.py --env vessel_gym/ZigZag-v1 --algo ppo --seed 0
+    python agents/train.py --env ZigZag-v1 --algo sac --seed 1 --timesteps 50000 --n-envs 4 --vec dummy
+    python agents/train.py --env HarbourApproach-v2 --algo ppo --seed 0 --timesteps 200000 \
         --eval-freq 20000 --eval-episodes 10 --test-episodes 20 --log-format csv tensorboard
 
 The budget is a number of environment steps (``--timesteps``, all copies together), so a run does the same
@@ -52,7 +52,7 @@ def _minutes(text: str) -> float:
 
 def build_parser() -> argparse.ArgumentParser:
     p = OneLineParser(prog="train.py", description="Train an SB3 agent on a vessel-gym environment.")
-    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
+    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v1 (or ZigZag-v1)")
     p.add_argument("--algo", required=True, type=str.lower, choices=sorted(ALGOS))
     p.add_argument("--seed", type=int_at_least("--seed", 0), default=0)
     p.add_argument(

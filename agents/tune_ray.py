@@ -1,8 +1,8 @@
 """Hyperparameter sweeps with Ray Tune and early stopping, on this machine or on a Ray cluster.
 
-    python agents/tune_ray.py --env ZigZag-v0 --algo ppo --samples 8 --timesteps 50000 --eval-every 10000
+    python agents/tune_ray.py --env ZigZag-v1 --algo ppo --samples 8 --timesteps 50000 --eval-every 10000
     ray start --head                      # on the head node; `ray start --address HEAD:6379` on the others
-    python agents/tune_ray.py --env ZigZag-v0 --algo ppo --samples 64 --address auto
+    python agents/tune_ray.py --env ZigZag-v1 --algo ppo --samples 64 --address auto
 
 Each trial samples a few hyperparameters of ``--algo`` (:func:`search_space`; the other keys come from the
 hyperparameter file's block of ``--env``) and trains SB3 for ``--timesteps`` steps with
@@ -169,7 +169,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = OneLineParser(
         prog="tune_ray.py", description="Ray Tune hyperparameter sweep over a vessel-gym environment."
     )
-    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v0 (or ZigZag-v0)")
+    p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v1 (or ZigZag-v1)")
     p.add_argument("--algo", required=True, type=str.lower, choices=sorted(ALGOS))
     p.add_argument("--samples", type=positive(int, "--samples"), default=8, help="number of trials")
     p.add_argument("--timesteps", type=positive(int, "--timesteps"), default=50_000, help="per trial")

@@ -31,22 +31,18 @@ import numpy as np
 import vessel_gym.envs  # noqa: F401  (registers the ids)
 
 IDS = (
-    "vessel_gym/ZigZag-v0",
     "vessel_gym/ZigZag-v1",
     "vessel_gym/ZigZagRandom-v1",
     "vessel_gym/TurningCircle-v0",
-    "vessel_gym/HarbourApproach-v0",
     "vessel_gym/HarbourApproach-v1",
     "vessel_gym/HarbourApproach-v2",
 )
 BASE = "CartPole-v1"
 # goals as multiples of CartPole's throughput in the same run: (single env, vector env, vector env under load)
 GOALS = {
-    "vessel_gym/ZigZag-v0": (1.0, 0.25, 0.1),
     "vessel_gym/ZigZag-v1": (1.0, 0.25, 0.1),
     "vessel_gym/ZigZagRandom-v1": (1.0, 0.25, 0.1),
     "vessel_gym/TurningCircle-v0": (1.0, 0.25, 0.1),
-    "vessel_gym/HarbourApproach-v0": (0.8, 0.15, 0.1),
     # the task's goals hold for every version of it (v1 and v2 add wind force, a chart query per control
     # step and, in v2, the depth under each ship)
     "vessel_gym/HarbourApproach-v1": (0.8, 0.15, 0.1),

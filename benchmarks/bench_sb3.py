@@ -1,6 +1,6 @@
 """PPO training throughput on the native vector environment (vessel_gym.sb3) against SB3's DummyVecEnv.
 
-    python benchmarks/bench_sb3.py [--env vessel_gym/ZigZag-v0] [--num-envs 64] [--steps 20000] [--repeats 2]
+    python benchmarks/bench_sb3.py [--env vessel_gym/ZigZag-v1] [--num-envs 64] [--steps 20000] [--repeats 2]
 
 Trains PPO (MlpPolicy 64x64, n_steps 128, batch 512, 5 epochs, one torch thread, CPU) for ``--steps``
 environment steps with ``--num-envs`` ships, once per vector environment kind and repeat, the kinds
@@ -72,7 +72,7 @@ def run(env_id: str, kind: str, num_envs: int, steps: int, env_kwargs: dict) -> 
 
 def main(argv: list[str] | None = None) -> dict[str, list[tuple[float, float]]]:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--env", default="vessel_gym/ZigZag-v0")
+    ap.add_argument("--env", default="vessel_gym/ZigZag-v1")
     ap.add_argument("--num-envs", type=int, default=64)
     ap.add_argument("--steps", type=int, default=20_000)
     ap.add_argument("--repeats", type=int, default=2)

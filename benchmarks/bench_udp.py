@@ -220,7 +220,7 @@ def bench_wrapper(repeats: int, block_steps: int, peers_s: float) -> None:
     from vessel_gym.net.wrapper import UdpLinkWrapper
 
     no_peers = LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=())
-    for env_id in ("vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0"):
+    for env_id in ("vessel_gym/ZigZag-v1", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v2"):
         wrapped = UdpLinkWrapper(gym.make(env_id), no_peers)
         bare = wrapped.env  # the same environment instance, stepped with and without the wrapper
         control = _PassThrough(bare)  # an empty wrapper: the noise floor of the comparison
@@ -262,7 +262,7 @@ def _wrapper_with_peers(traffic, block_steps: int, peers_s: float) -> None:
 
     sink, port = sink_port()
     config = LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=[("127.0.0.1", port)])
-    wrapped = UdpLinkWrapper(gym.make("vessel_gym/HarbourApproach-v0"), config, traffic=traffic)
+    wrapped = UdpLinkWrapper(gym.make("vessel_gym/HarbourApproach-v2"), config, traffic=traffic)
     bare = wrapped.env
     wrapped.reset(seed=0)
     action = _zero_action(bare)

@@ -3,9 +3,8 @@
 ``load_policy(spec, env)`` returns a callable ``action = policy(observation)`` (single or batched
 observations) with a ``reset(mask=None)`` method:
 
-* ``"scripted"`` - the IMO reference helm of the task (zig-zag rule, 35 deg turn; the pilot for harbours),
-* ``"pid"`` - the heading PID autopilot with gains from the ship's Nomoto model (HarbourApproach: the
-  line-of-sight pilot with the same gains),
+* ``"scripted"``, ``"pid"`` - the classical pilots the task declares (``pilots`` of its ``register_task``:
+  e.g. the IMO zig-zag rule and a heading PID with gains from the ship's Nomoto model),
 * a path to a Stable-Baselines3 ``.zip`` (the algorithm is read from the file; needs the ``rl`` extra).
 """
 
@@ -92,20 +91,12 @@ class RatePI:
 
 def load_policy(spec: str, env: Any, algo: str | None = None):
     """A policy for ``env`` from a baseline name or an SB3 model file (see the module docstring)."""
-    from vessel_gym.envs import policies as P
-
     base = env.unwrapped
-    kind = type(base).__name__
     if spec in BASELINES:
-        if "Harbour" in kind:
-            return P.HarbourPilot(env, **nomoto_pid_kwargs(env)) if spec == "pid" else P.HarbourPilot(env)
-        if "Turning" in kind:
-            return RatePI(env) if spec == "pid" else P.TurningRule(env)
-        if spec == "pid":
-            return P.PIDHeadingAutopilot(env, **nomoto_pid_kwargs(env))
-        if "ZigZag" in kind:
-            return P.ZigZagRule(env)
-        raise ValueError(f"no scripted helm for {kind}")
+        pilots = getattr(getattr(base.task, "declaration", None), "pilots", {})
+        if spec not in pilots:
+            raise ValueError(f"no {spec} helm declared for {type(base.task).__name__}")
+        return pilots[spec](env)
     path = Path(spec)
     if not path.exists():
         raise ValueError(f"agent {spec!r}: not a baseline ({', '.join(BASELINES)}) and no such file")

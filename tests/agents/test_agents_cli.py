@@ -14,32 +14,32 @@ REPO = Path(__file__).resolve().parents[2]
 
 BAD = [
     (train, ["--algo", "ppo"]),  # --env missing
-    (train, ["--env", "ZigZag-v0", "--algo", "dqn"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "dqn"]),
     (train, ["--env", "CartPole-v1", "--algo", "ppo"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--seed", "-1"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--timesteps", "0"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--vec", "ray"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--time-budget", "nan"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams", "n_step=64"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams", "gamma"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams", "env_kwargs.schedule=sometimes"]),
-    (train, ["--env", "ZigZag-v0", "--algo", "ppo", "--hyperparams-file", "/nonexistent.yml"]),
-    (evaluate, ["--env", "ZigZag-v0"]),  # --agent missing
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--episodes", "0"]),
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--episodes", "two"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--seed", "-1"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--timesteps", "0"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--vec", "ray"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--time-budget", "nan"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams", "n_step=64"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams", "gamma"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams", "env_kwargs.schedule=sometimes"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams-file", "/nonexistent.yml"]),
+    (evaluate, ["--env", "ZigZag-v1"]),  # --agent missing
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--episodes", "0"]),
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--episodes", "two"]),
     (evaluate, ["--env", "Nope-v0", "--agent", "pid"]),
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "lqr"]),
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "/nonexistent/ppo_x.zip"]),
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--env-kwargs", "speed=3"]),
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--video", "out.avi"]),
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--plot", "out.svg"]),
-    (evaluate, ["--env", "ZigZag-v0", "--agent", "pid", "--frame-every", "0"]),
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "lqr"]),
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "/nonexistent/ppo_x.zip"]),
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--env-kwargs", "speed=3"]),
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--video", "out.avi"]),
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--plot", "out.svg"]),
+    (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--frame-every", "0"]),
     (results, ["--seeds", "0"]),
     (results, ["--budget", "0"]),
     (results, ["--algos", "dqn"]),
     (results, ["--envs", "Nope-v0", "--skip-train"]),
-    (tune_ray, ["--env", "ZigZag-v0", "--algo", "ppo", "--samples", "0"]),
-    (tune_ray, ["--env", "ZigZag-v0"]),
+    (tune_ray, ["--env", "ZigZag-v1", "--algo", "ppo", "--samples", "0"]),
+    (tune_ray, ["--env", "ZigZag-v1"]),
 ]
 
 
@@ -71,7 +71,7 @@ def test_scripts_run_as_scripts(script: str) -> None:
 def test_evaluate_json_baseline(capsys) -> None:
     import json
 
-    assert evaluate.main(["--env", "ZigZag-v0", "--agent", "pid", "--episodes", "1", "--json"]) == 0
+    assert evaluate.main(["--env", "ZigZag-v1", "--agent", "pid", "--episodes", "1", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["agent"] == "pid" and out["episodes"] == 1 and out["summary"]["episodes"] == 1
     assert out["mean_heading_error_deg"] > 0.0 and out["mean_overshoot_deg"] >= 0.0

@@ -10,26 +10,19 @@ import yaml
 
 from agents import common
 from agents.common import UsageError
+from vessel_gym.envs.registration import registered
 from vessel_gym.policy import sb3_algorithm
 
-ENV_IDS = [
-    "vessel_gym/ZigZag-v0",
-    "vessel_gym/ZigZagRandom-v1",
-    "vessel_gym/TurningCircle-v0",
-    "vessel_gym/HarbourApproach-v0",
-]
-
-
-#: blocks only some algorithms have (the goal's harbour task is trained with PPO only)
-EXTRA_IDS = {"ppo": ["vessel_gym/HarbourApproach-v1"]}
+ENV_IDS = sorted(registered())
 
 
 @pytest.mark.parametrize("algo", sorted(common.ALGOS))
 def test_every_hyperparameter_block_is_valid(algo: str) -> None:
+    """Every block of the file names a registered id, and every registered id gets a valid configuration (its
+    task's defaults, with its block merged over them if it has one)."""
     data = yaml.safe_load((common.HYPERPARAMS_DIR / f"{algo}.yml").read_text())
-    ids = ENV_IDS + EXTRA_IDS.get(algo, [])
-    assert sorted(data) == sorted(ids), f"{algo}.yml should have one block per registered id"
-    for env_id in ids:
+    assert set(data) <= set(ENV_IDS), f"{algo}.yml has blocks of unregistered ids: {set(data) - set(ENV_IDS)}"
+    for env_id in ENV_IDS:
         cfg = common.run_config(algo, env_id, common.load_hyperparams(algo, env_id))
         assert cfg.n_timesteps >= 1000 and cfg.n_envs >= 1
         common.make_env(env_id, cfg.env_kwargs).close()
@@ -39,9 +32,9 @@ def test_every_hyperparameter_block_is_valid(algo: str) -> None:
 
 
 def test_unknown_hyperparameter_is_named() -> None:
-    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", overrides={"n_step": 64})
+    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", overrides={"n_step": 64})
     with pytest.raises(UsageError, match="n_step"):
-        common.run_config("ppo", "vessel_gym/ZigZag-v0", hp)
+        common.run_config("ppo", "vessel_gym/ZigZag-v1", hp)
 
 
 @pytest.mark.parametrize(
@@ -56,33 +49,37 @@ def test_unknown_hyperparameter_is_named() -> None:
     ],
 )
 def test_bad_values_raise_with_the_key(override: dict, match: str) -> None:
-    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", overrides=override)
+    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", overrides=override)
     with pytest.raises(UsageError, match=match):
-        common.run_config("ppo", "vessel_gym/ZigZag-v0", hp)
+        common.run_config("ppo", "vessel_gym/ZigZag-v1", hp)
 
 
 def test_linear_schedule_and_nested_overrides() -> None:
     over = common.parse_assignments(
         ["learning_rate=lin_1e-3", "policy_kwargs.net_arch=[32, 32]", "env_kwargs.reward.overshoot=2"], "x"
     )
-    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", overrides=over)
-    cfg = common.run_config("ppo", "vessel_gym/ZigZag-v0", hp)
+    hp = common.load_hyperparams("ppo", "vessel_gym/ZigZagRandom-v1", overrides=over)
+    cfg = common.run_config("ppo", "vessel_gym/ZigZagRandom-v1", hp)
     assert cfg.algo_kwargs["learning_rate"](0.5) == pytest.approx(5e-4)
     assert cfg.policy_kwargs["net_arch"] == [32, 32]
-    assert cfg.env_kwargs["reward"]["overshoot"] == 2  # merged into the file's other reward weights
-    assert cfg.env_kwargs["schedule"] == "random"  # merged, not replaced
+    assert cfg.env_kwargs["reward"]["overshoot"] == 2
+    assert cfg.env_kwargs["reward"]["rudder_activity"] == 1.0  # merged into the file's other reward weights
 
 
 def test_missing_block_and_file(tmp_path: Path) -> None:
     f = tmp_path / "h.yml"
-    f.write_text("vessel_gym/ZigZag-v0: {n_timesteps: 1000}\n")
-    with pytest.raises(UsageError, match="no hyperparameters for vessel_gym/HarbourApproach-v0"):
-        common.load_hyperparams("ppo", "vessel_gym/HarbourApproach-v0", f)
+    f.write_text("vessel_gym/ZigZag-v1: {n_timesteps: 1000}\n")
+    assert common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", f)["n_timesteps"] == 1000
+    # an id without a block trains on its task's declared defaults
+    hp = common.load_hyperparams("ppo", "vessel_gym/HarbourApproach-v2", f)
+    assert hp == common.task_defaults("ppo", "vessel_gym/HarbourApproach-v2") and hp["n_timesteps"] >= 100_000
+    with pytest.raises(UsageError, match="no registered task id"):
+        common.load_hyperparams("ppo", "vessel_gym/CartPole-v1", f)
     with pytest.raises(UsageError, match="cannot read"):
-        common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", tmp_path / "nope.yml")
+        common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", tmp_path / "nope.yml")
     f.write_text("[1, 2")
     with pytest.raises(UsageError, match="not valid YAML"):
-        common.load_hyperparams("ppo", "vessel_gym/ZigZag-v0", f)
+        common.load_hyperparams("ppo", "vessel_gym/ZigZag-v1", f)
 
 
 @pytest.mark.parametrize("bad", ["key", "=1", "a=[1,"])
@@ -92,21 +89,22 @@ def test_parse_assignments_rejects(bad: str) -> None:
 
 
 def test_names() -> None:
-    assert common.resolve_env_id("ZigZag-v0") == "vessel_gym/ZigZag-v0"
+    assert common.resolve_env_id("ZigZag-v1") == "vessel_gym/ZigZag-v1"
     with pytest.raises(UsageError, match="unknown environment"):
         common.resolve_env_id("CartPole-v1")
     with pytest.raises(UsageError, match="unknown algorithm"):
         common.check_algo("dqn")
     for algo in common.ALGOS:
-        stem = common.model_stem(algo, "vessel_gym/HarbourApproach-v0", 3)
-        assert stem == f"{algo}_HarbourApproach-v0_s3"
+        stem = common.model_stem(algo, "vessel_gym/HarbourApproach-v2", 3)
+        assert stem == f"{algo}_HarbourApproach-v2_s3"
         assert sb3_algorithm(f"runs/{stem}.zip") == common.ALGOS[algo]
 
 
 def test_baseline_metrics_zigzag() -> None:
-    res = common.evaluate("ZigZag-v0", "scripted", episodes=1, seed=0)
+    kw = {"first_change_s": [0.0, 0.0]}  # the schedule from the first step on: the rule's rudder always 10 deg
+    res = common.evaluate("ZigZag-v1", "scripted", episodes=1, seed=0, env_kwargs=kw)
     s = res["summary"]
-    assert s["episodes"] == 1 and res["env_kwargs"] == {}
+    assert s["episodes"] == 1 and res["env_kwargs"] == kw
     # the scripted rule in the registered env is the IMO 10/10 zig-zag: +-10 deg rudder, overshoots measured
     assert s["rudder_deg_mean"] == pytest.approx(10.0, abs=1e-6)
     assert s["overshoot_deg_mean"] > 1.0 and s["reached_pct_mean"] > 50.0
@@ -115,7 +113,7 @@ def test_baseline_metrics_zigzag() -> None:
 
 
 def test_baseline_metrics_harbour_and_turning() -> None:
-    h = common.evaluate("HarbourApproach-v0", "pid", episodes=1, seed=0)["summary"]
+    h = common.evaluate("HarbourApproach-v2", "pid", episodes=1, seed=0)["summary"]
     assert h["success_rate"] == 1.0 and h["outcomes"] == {"success": 1}
     assert h["min_clearance_m_mean"] > 0.0
     t = common.evaluate("TurningCircle-v0", "pid", episodes=1, seed=0)["summary"]
@@ -124,15 +122,15 @@ def test_baseline_metrics_harbour_and_turning() -> None:
 
 def test_evaluate_rejects_bad_input(tmp_path: Path) -> None:
     with pytest.raises(UsageError, match="no such file"):
-        common.evaluate("ZigZag-v0", str(tmp_path / "ppo_x.zip"), 1)
+        common.evaluate("ZigZag-v1", str(tmp_path / "ppo_x.zip"), 1)
     with pytest.raises(UsageError, match="episodes"):
-        common.evaluate("ZigZag-v0", "pid", 0)
+        common.evaluate("ZigZag-v1", "pid", 0)
     with pytest.raises(UsageError, match="schedul"):
-        common.evaluate("ZigZag-v0", "pid", 1, env_kwargs={"schedul": "random"})
+        common.evaluate("ZigZag-v1", "pid", 1, env_kwargs={"schedul": "random"})
     bogus = tmp_path / "ppo_bogus.zip"
     bogus.write_bytes(b"not a zip")
     with pytest.raises(UsageError, match="cannot load"):
-        common.evaluate("ZigZag-v0", str(bogus), 1)
+        common.evaluate("ZigZag-v1", str(bogus), 1)
 
 
 @pytest.mark.parametrize("env_id", ["vessel_gym/ZigZag-v1", "vessel_gym/ZigZagRandom-v1"])

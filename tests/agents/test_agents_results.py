@@ -39,14 +39,14 @@ def _zz(agent, he, os_, rud, rate, trained=False):
 
 def test_zigzag_verdict() -> None:
     pid = _zz("pid", 13.0, 1.0, 4.0, 2.0)
-    good = _zz("ppo_ZigZag-v0_s0", 9.0, 0.5, 5.0, 2.5, trained=True)
-    bad = _zz("ppo_ZigZag-v0_s0", 9.0, 0.5, 14.0, 7.0, trained=True)
+    good = _zz("ppo_ZigZag-v1_s0", 9.0, 0.5, 5.0, 2.5, trained=True)
+    bad = _zz("ppo_ZigZag-v1_s0", 9.0, 0.5, 14.0, 7.0, trained=True)
     assert results.verdict("zigzag", [pid, good]).startswith("**Beats")
     assert results.verdict("zigzag", [pid, bad]).startswith("**Does not beat")
     table = results.table("zigzag", [pid, good])
     assert "| pid | — | — | -40.0 ± 5.0 | 13.0 ± 1.0 |" in table
     assert "150k (budget) | 10.0 (3.3)" in table
-    assert "success %" not in table  # ZigZag-v0 has no success flag
+    assert "success %" not in table  # ZigZag-v1 has no success flag
     pid["summary"]["success_rate"], good["summary"]["success_rate"] = 0.0, 0.5
     assert "| 50 ± 10 | 50 | 5.0 ± 1.0 |" in results.table("zigzag", [pid, good])
 
@@ -57,7 +57,7 @@ def test_harbour_verdict_and_table() -> None:
     extra |= {"rudder_rate_deg_s_std": 0.1}
     pid = _row("pid", success_rate=1.0, outcomes={"success": 20}, **extra)
     rl = _row(
-        "sac_HarbourApproach-v0_s0", True, success_rate=0.25, outcomes={"success": 5, "contact": 15}, **extra
+        "sac_HarbourApproach-v2_s0", True, success_rate=0.25, outcomes={"success": 5, "contact": 15}, **extra
     )
     assert results.verdict("harbour", [pid, rl]).startswith("**Does not beat")
     seeds5 = _row("ppo (5 seeds)", True, success_rate=0.9, success_rate_median=0.95, seeds=5, **extra)
@@ -92,13 +92,13 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
 
     monkeypatch.setattr(results, "EXTRA_EVALS", {})
     # the behaviour-cloning row too, on this environment, with two tiny DAgger rounds
-    monkeypatch.setattr(results, "BC_PLAN", ("vessel_gym/ZigZag-v0",))
+    monkeypatch.setattr(results, "BC_PLAN", ("vessel_gym/ZigZag-v1",))
     bc_file = tmp_path / "bc.yml"
-    bc_file.write_text("vessel_gym/ZigZag-v0: {rounds: 2, steps_per_round: 64, epochs: 1, n_envs: 2}\n")
+    bc_file.write_text("vessel_gym/ZigZag-v1: {rounds: 2, steps_per_round: 64, epochs: 1, n_envs: 2}\n")
     monkeypatch.setattr(imitation, "BC_FILE", bc_file)
     doc = tmp_path / "results.md"
     ship_dir = tmp_path / "trained"
-    argv = ["--envs", "ZigZag-v0", "--algos", "ppo", "--timesteps", "256", "--episodes", "1"]
+    argv = ["--envs", "ZigZag-v1", "--algos", "ppo", "--timesteps", "256", "--episodes", "1"]
     argv += ["--seeds", "2", "--eval-freq", "128", "--eval-episodes", "2"]
     argv += ["--out", str(tmp_path / "out"), "--doc", str(doc), "--ship-dir", str(ship_dir)]
     assert results.main(argv) == 0
@@ -109,38 +109,38 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     rl = rows[2]
     assert [p["seed"] for p in rl["per_seed"]] == [0, 1] and rl["summary"]["seeds"] == 2
     assert rl["summary"]["return_std"] is not None and rl["training"]["seeds"] == 2
-    curves = data["curves"]["vessel_gym/ZigZag-v0:ppo"]
+    curves = data["curves"]["vessel_gym/ZigZag-v1:ppo"]
     assert curves["timesteps"] and len(curves["return"]) == 2
     assert Path(curves["png"]).stat().st_size > 0
     assert sorted(Path(t).name for t in data["tracks"].values()) == [
-        "ZigZag-v0_pid.png",
-        "ZigZag-v0_ppo_ZigZag-v0_s0.png",
-        "ZigZag-v0_scripted.png",
+        "ZigZag-v1_pid.png",
+        "ZigZag-v1_ppo_ZigZag-v1_s0.png",
+        "ZigZag-v1_scripted.png",
     ]
     text = doc.read_text()
-    assert "### vessel_gym/ZigZag-v0" in text and "256 environment steps per run" in text
+    assert "### vessel_gym/ZigZag-v1" in text and "256 environment steps per run" in text
     assert "over the 2 training seeds" in text
     assert data["eval_seed"] == seeds.TEST_START and data["training_seeds"] == [0, 1]
     names = sorted(str(p.relative_to(ship_dir)) for p in shipped.list_shipped(ship_dir))
     assert names == [
-        "bc/ppo_ZigZag-v0_seed0.zip",
-        "bc/ppo_ZigZag-v0_seed1.zip",
-        "ppo_ZigZag-v0_seed0.zip",
-        "ppo_ZigZag-v0_seed1.zip",
+        "bc/ppo_ZigZag-v1_seed0.zip",
+        "bc/ppo_ZigZag-v1_seed1.zip",
+        "ppo_ZigZag-v1_seed0.zip",
+        "ppo_ZigZag-v1_seed1.zip",
     ]
     assert shipped.read_sidecar(ship_dir / names[0])["method"] == "bc"
     meta = shipped.read_sidecar(ship_dir / names[1])
-    assert set(shipped.REQUIRED_KEYS) <= set(meta) and meta["seed"] == 1 and meta["env_version"] == 0
+    assert set(shipped.REQUIRED_KEYS) <= set(meta) and meta["seed"] == 1 and meta["env_version"] == 1
     assert meta["test_seeds"] == f"{seeds.TEST_START}..{seeds.TEST_START}"
     assert results.main([*argv, "--skip-train", "--no-ship"]) == 0
     # --resume trains only what is missing: one PPO and one cloned model
-    (tmp_path / "out" / "ppo_ZigZag-v0_s1.zip").unlink()
-    (tmp_path / "out" / "bc" / "ppo_ZigZag-v0_s0.zip").unlink()
-    kept = (tmp_path / "out" / "ppo_ZigZag-v0_s0.zip").stat().st_mtime_ns
+    (tmp_path / "out" / "ppo_ZigZag-v1_s1.zip").unlink()
+    (tmp_path / "out" / "bc" / "ppo_ZigZag-v1_s0.zip").unlink()
+    kept = (tmp_path / "out" / "ppo_ZigZag-v1_s0.zip").stat().st_mtime_ns
     assert results.main([*argv, "--resume", "--no-ship"]) == 0
-    assert (tmp_path / "out" / "ppo_ZigZag-v0_s1.zip").is_file()
-    assert (tmp_path / "out" / "bc" / "ppo_ZigZag-v0_s0.zip").is_file()
-    assert (tmp_path / "out" / "ppo_ZigZag-v0_s0.zip").stat().st_mtime_ns == kept
+    assert (tmp_path / "out" / "ppo_ZigZag-v1_s1.zip").is_file()
+    assert (tmp_path / "out" / "bc" / "ppo_ZigZag-v1_s0.zip").is_file()
+    assert (tmp_path / "out" / "ppo_ZigZag-v1_s0.zip").stat().st_mtime_ns == kept
 
 
 def test_interval95_and_aggregate() -> None:

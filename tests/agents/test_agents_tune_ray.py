@@ -20,7 +20,7 @@ def test_asha_sweep_three_tiny_trials_locally(tmp_path: Path) -> None:
 
     space = {"learning_rate": tune.choice([1e-3, 3e-4]), "n_steps": tune.choice([64])}
     result = tune_ray.sweep(
-        "ZigZag-v0",
+        "ZigZag-v1",
         "ppo",
         samples=3,
         timesteps=256,
@@ -38,13 +38,13 @@ def test_asha_sweep_three_tiny_trials_locally(tmp_path: Path) -> None:
     for t in trials:
         assert t["hp"]["n_steps"] == 64 and t["hp"]["learning_rate"] in (1e-3, 3e-4)
         assert 1 <= t["evaluations"] <= 2 and t["stopped_early"] == (t["evaluations"] < 2)
-        stem = f"ppo_ZigZag-v0_s{t['seed']}"
+        stem = f"ppo_ZigZag-v1_s{t['seed']}"
         assert t["checkpoint"] is not None and (Path(t["checkpoint"]) / f"{stem}.zip").is_file()
         rec = yaml.safe_load((Path(t["checkpoint"]) / f"{stem}.yml").read_text())
         assert rec["seed"] == t["seed"] and rec["num_timesteps"] == t["timesteps"]
     assert max(t["evaluations"] for t in trials) == 2  # the first trial runs to the end
     assert trials[0]["mean_return"] == result["best_mean_return"]
-    block = yaml.safe_load(result["block"])["vessel_gym/ZigZag-v0"]
+    block = yaml.safe_load(result["block"])["vessel_gym/ZigZag-v1"]
     assert block["n_steps"] == 64 and block["n_timesteps"] == 256
     assert (tmp_path / "tune" / "tiny").is_dir()
     # scored on the validation set, apart from the test set
@@ -56,9 +56,9 @@ def test_sweep_rejects_bad_settings(tmp_path: Path) -> None:
     from agents import common, tune_ray
 
     with pytest.raises(common.UsageError, match="eval every"):
-        tune_ray.sweep("ZigZag-v0", "ppo", samples=1, timesteps=100, eval_every=200, storage=tmp_path)
+        tune_ray.sweep("ZigZag-v1", "ppo", samples=1, timesteps=100, eval_every=200, storage=tmp_path)
     with pytest.raises(common.UsageError, match="training seed"):
-        tune_ray.sweep("ZigZag-v0", "ppo", samples=2, seed=seeds_limit(), n_envs=1, storage=tmp_path)
+        tune_ray.sweep("ZigZag-v1", "ppo", samples=2, seed=seeds_limit(), n_envs=1, storage=tmp_path)
 
 
 def seeds_limit() -> int:
@@ -74,5 +74,5 @@ def test_search_spaces_cover_every_algorithm() -> None:
     for algo in common.ALGOS:
         space = tune_ray.search_space(algo)
         assert {"learning_rate", "gamma"} <= set(space)
-        hp = common.load_hyperparams(algo, "vessel_gym/ZigZag-v0", overrides={k: 0.99 for k in ("gamma",)})
-        common.run_config(algo, "vessel_gym/ZigZag-v0", {**hp, **{k: 1 for k in space if k != "gamma"}})
+        hp = common.load_hyperparams(algo, "vessel_gym/ZigZag-v1", overrides={k: 0.99 for k in ("gamma",)})
+        common.run_config(algo, "vessel_gym/ZigZag-v1", {**hp, **{k: 1 for k in space if k != "gamma"}})

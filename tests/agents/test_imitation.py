@@ -25,7 +25,7 @@ def test_settings_block_checked(tmp_path: Path) -> None:
     with pytest.raises(common.UsageError, match="rounds must be an integer >= 1"):
         imitation.load_bc_settings("HarbourApproach-v1", bad)
     with pytest.raises(common.UsageError, match="no behaviour-cloning block"):
-        imitation.load_bc_settings("ZigZag-v0", bad)
+        imitation.load_bc_settings("ZigZag-v1", bad)
 
 
 def test_fit_regresses_the_mean_action_on_the_labels() -> None:

@@ -14,10 +14,10 @@ from vessel_gym.sb3 import VectorEnvAdapter, make_vec_env
 
 # (env id, env kwargs with a short time limit to force resets, number of ships, steps, rudder bias per ship)
 CASES = [
-    ("vessel_gym/ZigZag-v0", {"schedule": "random", "max_episode_steps": 37}, 3, 200, 0.0),
+    ("vessel_gym/ZigZag-v1", {"schedule": "random", "max_episode_steps": 37}, 3, 200, 0.0),
     # ("mode": "reverse"): ships 0 and 2 turn hard over and reach 180 deg, ship 1 meanders into the time limit
     ("vessel_gym/TurningCircle-v0", {"mode": "reverse", "max_episode_steps": 300}, 3, 420, (0.9, 0.0, 0.9)),
-    ("vessel_gym/HarbourApproach-v0", {"max_episode_steps": 40}, 2, 150, 0.0),
+    ("vessel_gym/HarbourApproach-v2", {"max_episode_steps": 40}, 2, 150, 0.0),
 ]
 
 
@@ -92,7 +92,7 @@ def test_adapter_steps_exactly_as_dummy_vec_env(env_id, kwargs, n, steps, bias) 
 def test_disabled_autoreset_and_gymnasium_sync_vector_env_translate_alike() -> None:
     """The adapter also takes a vector environment with autoreset disabled (it resets the finished ships
     itself) and Gymnasium's SyncVectorEnv in same-step mode (batched final_info)."""
-    env_id, kwargs, n, steps = "vessel_gym/ZigZag-v0", {"schedule": "random", "max_episode_steps": 23}, 2, 60
+    env_id, kwargs, n, steps = "vessel_gym/ZigZag-v1", {"schedule": "random", "max_episode_steps": 23}, 2, 60
     ref_env = _dummy(env_id, n, 3, kwargs)
     actions = _actions(ref_env, steps, 0.0)
     ref = _rollout(ref_env, actions)
@@ -113,7 +113,7 @@ def test_disabled_autoreset_and_gymnasium_sync_vector_env_translate_alike() -> N
 
 
 def test_next_step_autoreset_is_refused() -> None:
-    venv = gym.make_vec("vessel_gym/ZigZag-v0", 2, vectorization_mode="vector_entry_point")
+    venv = gym.make_vec("vessel_gym/ZigZag-v1", 2, vectorization_mode="vector_entry_point")
     with pytest.raises(ValueError, match="same-step or disabled autoreset"):
         VectorEnvAdapter(venv)
     venv.close()
@@ -121,7 +121,7 @@ def test_next_step_autoreset_is_refused() -> None:
 
 def test_is_success_reaches_sb3_and_render_tiles() -> None:
     venv = make_vec_env(
-        "vessel_gym/HarbourApproach-v0", 2, seed=0, max_episode_steps=3, render_mode="rgb_array"
+        "vessel_gym/HarbourApproach-v2", 2, seed=0, max_episode_steps=3, render_mode="rgb_array"
     )
     venv.reset()
     for _ in range(3):
@@ -140,11 +140,11 @@ def test_training_wrapper_twin_matches_the_single_env_wrapper() -> None:
 
     kwargs = {"schedule": "random", "max_episode_steps": 29}
     wrapper = [{"RudderEffortPenalty": {"weight": 0.3}}]
-    ref_env = common.make_vec_env("vessel_gym/ZigZag-v0", 3, 4, "dummy", kwargs, env_wrapper=wrapper)
+    ref_env = common.make_vec_env("vessel_gym/ZigZag-v1", 3, 4, "dummy", kwargs, env_wrapper=wrapper)
     actions = _actions(ref_env, 70, 0.0)
     ref = _rollout(ref_env, actions)
     got = _rollout(
-        common.make_vec_env("vessel_gym/ZigZag-v0", 3, 4, "native", kwargs, env_wrapper=wrapper), actions
+        common.make_vec_env("vessel_gym/ZigZag-v1", 3, 4, "native", kwargs, env_wrapper=wrapper), actions
     )
     assert _compare(ref, got)[1] >= 3
     assert "rudder_effort" in got[-1][3][0]["reward_terms"]
@@ -155,7 +155,7 @@ def test_a_wrapper_without_vector_twin_is_refused_on_native() -> None:
 
     with pytest.raises(common.UsageError, match="wraps single environments only; train with --vec dummy"):
         common.make_vec_env(
-            "vessel_gym/ZigZag-v0", 2, 0, "native", env_wrapper=["gymnasium.wrappers.RecordEpisodeStatistics"]
+            "vessel_gym/ZigZag-v1", 2, 0, "native", env_wrapper=["gymnasium.wrappers.RecordEpisodeStatistics"]
         )
 
 
@@ -166,7 +166,7 @@ def test_the_package_does_not_import_sb3() -> None:
 
     code = (
         "import sys, gymnasium as gym, vessel_gym\n"
-        "env = gym.make_vec('vessel_gym/ZigZag-v0', 2, vectorization_mode='vector_entry_point')\n"
+        "env = gym.make_vec('vessel_gym/ZigZag-v1', 2, vectorization_mode='vector_entry_point')\n"
         "env.reset(seed=0)\n"
         "assert 'stable_baselines3' not in sys.modules and 'torch' not in sys.modules\n"
     )

@@ -17,9 +17,9 @@ CONTRACT += ("mean_rudder_rate_deg_s",)
 
 
 def test_names_follow_the_convention() -> None:
-    assert shipped.shipped_stem("PPO", "vessel_gym/ZigZag-v0", 3) == "ppo_ZigZag-v0_seed3"
+    assert shipped.shipped_stem("PPO", "vessel_gym/ZigZag-v1", 3) == "ppo_ZigZag-v1_seed3"
     assert shipped.NAME_RE.match("sac_HarbourApproach-v1_seed12")
-    assert not shipped.NAME_RE.match("ppo_ZigZag-v0_s0")
+    assert not shipped.NAME_RE.match("ppo_ZigZag-v1_s0")
     assert shipped.env_version("vessel_gym/HarbourApproach-v1") == 1
     with pytest.raises(common.UsageError):
         shipped.env_version("ZigZag")
@@ -74,30 +74,30 @@ def test_shipped_agent_reproduces_its_recorded_test_episodes(name: str) -> None:
 @pytest.mark.slow
 def test_tiny_agent_shipped_and_evaluated_through_evaluate_py(tmp_path: Path) -> None:
     """Train a few hundred steps, ship with its sidecar, evaluate the shipped file as a script with --json."""
-    res = common.train("ppo", "ZigZag-v0", 4, timesteps=256, n_envs=2, out=tmp_path / "run", threads=1)
+    res = common.train("ppo", "ZigZagRandom-v1", 4, timesteps=256, n_envs=2, out=tmp_path / "run", threads=1)
     meta = shipped.make_sidecar(common.run_record(res.model_path), validation_episodes=10, test_episodes=20)
     target = shipped.ship(res.model_path, meta, tmp_path / "trained")
-    assert target.name == "ppo_ZigZag-v0_seed4.zip" and shipped.list_shipped(tmp_path / "trained") == [target]
+    assert target.name == "ppo_ZigZagRandom-v1_seed4.zip" and shipped.list_shipped(tmp_path / "trained") == [target]
     meta = shipped.read_sidecar(target)
-    assert meta["env_id"] == "vessel_gym/ZigZag-v0" and meta["seed"] == 4 and meta["num_timesteps"] >= 256
+    assert meta["env_id"] == "vessel_gym/ZigZagRandom-v1" and meta["seed"] == 4 and meta["num_timesteps"] >= 256
     assert meta["validation_seeds"] == f"{seeds.VALIDATION_START}..{seeds.VALIDATION_START + 9}"
-    assert meta["hyperparams"]["n_timesteps"] == 256 and meta["eval_env_kwargs"] == {"schedule": "random"}
+    assert meta["hyperparams"]["n_timesteps"] == 256 and meta["eval_env_kwargs"] == {}
     with pytest.raises(common.UsageError, match="exists"):
         shipped.ship(res.model_path, meta, tmp_path / "trained", overwrite=False)
-    cmd = [sys.executable, str(REPO / "agents" / "evaluate.py"), "--env", "ZigZag-v0", "--agent", str(target)]
+    cmd = [sys.executable, str(REPO / "agents" / "evaluate.py"), "--env", "ZigZagRandom-v1", "--agent", str(target)]
     cmd += ["--episodes", "2", "--seed", "7", "--json"]
     proc = subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path, timeout=600)
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)  # exactly one JSON object on stdout
     assert set(CONTRACT) <= set(out) and out["episodes"] == 2 and out["seeds"] == [7, 8]
-    assert out["env_kwargs"] == {"schedule": "random"}  # from the sidecar
+    assert out["env_kwargs"] == {}  # from the sidecar (the ZigZagRandom-v1 block evaluates as registered)
     assert "episode 1 (seed 7)" in proc.stderr
 
 
 @pytest.mark.slow
 def test_render_plot_and_gif(tmp_path: Path, capsys) -> None:
     """--render writes frames and a trajectory plot, --video a GIF; --json still prints one object."""
-    argv = ["--env", "HarbourApproach-v0", "--agent", "pid", "--episodes", "1", "--json"]
+    argv = ["--env", "HarbourApproach-v2", "--agent", "pid", "--episodes", "1", "--json"]
     argv += ["--frame-every", "200"]
     argv += ["--render", str(tmp_path / "frames"), "--video", str(tmp_path / "ep.gif")]
     argv += ["--plot", str(tmp_path / "track.png")]

@@ -22,7 +22,7 @@ def test_ppo_on_native_vector_ships_validates_and_tests(tmp_path: Path) -> None:
     over = {**SMALL, "env_kwargs": {"max_episode_steps": 40}, "eval_env_kwargs": {"max_episode_steps": 40}}
     res = common.train(
         "ppo",
-        "HarbourApproach-v0",
+        "HarbourApproach-v2",
         seed=3,
         timesteps=512,
         n_envs=4,
@@ -33,7 +33,7 @@ def test_ppo_on_native_vector_ships_validates_and_tests(tmp_path: Path) -> None:
         eval_episodes=3,
         test_episodes=2,
     )
-    stem = "ppo_HarbourApproach-v0_s3"
+    stem = "ppo_HarbourApproach-v2_s3"
     rec = yaml.safe_load(res.record_path.read_text())
     assert rec["vec"] == "native" and rec["num_timesteps"] == 512
     assert rec["validation_seeds"] == f"{seeds.VALIDATION_START}..{seeds.VALIDATION_START + 2}"
@@ -41,7 +41,7 @@ def test_ppo_on_native_vector_ships_validates_and_tests(tmp_path: Path) -> None:
     assert rec["test"]["seeds"] == f"{seeds.TEST_START}..{seeds.TEST_START + 1}"
     assert rec["test"]["episodes"] == 2 and "success_rate" in rec["test"]
     assert res.test["final"] == rec["test"] and "best" in res.test
-    again = common.evaluate("HarbourApproach-v0", res.model_path, 2, seeds.TEST_START)["summary"]
+    again = common.evaluate("HarbourApproach-v2", res.model_path, 2, seeds.TEST_START)["summary"]
     assert again["return_mean"] == pytest.approx(rec["test"]["return_mean"])
 
     logs = tmp_path / "logs" / stem
@@ -61,7 +61,7 @@ def test_fixed_validation_episodes_do_not_change_between_evaluations(tmp_path: P
     over["env_kwargs"]["schedule"] = "random"
     common.train(
         "ppo",
-        "ZigZag-v0",
+        "ZigZag-v1",
         seed=0,
         timesteps=768,
         n_envs=4,
@@ -70,13 +70,13 @@ def test_fixed_validation_episodes_do_not_change_between_evaluations(tmp_path: P
         eval_freq=256,
         eval_episodes=3,
     )
-    ev = np.load(tmp_path / "logs" / "ppo_ZigZag-v0_s0" / "evaluations.npz")
+    ev = np.load(tmp_path / "logs" / "ppo_ZigZag-v1_s0" / "evaluations.npz")
     assert ev["results"].shape == (3, 3)
     np.testing.assert_array_equal(ev["results"][1:], np.broadcast_to(ev["results"][0], (2, 3)))
 
 
 def test_training_seed_must_stay_below_the_validation_set(tmp_path: Path, capsys) -> None:
-    argv = ["--env", "ZigZag-v0", "--algo", "ppo", "--seed", str(seeds.VALIDATION_START - 2)]
+    argv = ["--env", "ZigZag-v1", "--algo", "ppo", "--seed", str(seeds.VALIDATION_START - 2)]
     argv += ["--n-envs", "4", "--out", str(tmp_path)]
     assert train.main(argv) == 2
     err = capsys.readouterr().err

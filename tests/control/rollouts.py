@@ -1,4 +1,4 @@
-"""Short fixed-action rollouts of ZigZag-v0 and TurningCircle-v0 (shared by the regression tests)."""
+"""Short fixed-action rollouts of TurningCircle-v0 (shared by the regression tests)."""
 
 from __future__ import annotations
 
@@ -10,11 +10,6 @@ import numpy as np
 import vessel_gym  # noqa: F401 (registers the ids)
 
 STEPS = 480  # 120 s at the default 0.25 s control interval
-
-
-def zigzag_action(i: int) -> np.ndarray:
-    """Full rudder, 10 s to starboard, then 20 s to each side in turn: five executes, four overshoots."""
-    return np.array([1.0 if ((i + 40) // 80) % 2 == 0 else -1.0], np.float32)
 
 
 def turning_action(i: int) -> np.ndarray:

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-from vessel_gym.envs.registration import register_envs
+from vessel_gym.envs.registration import builtin_declarations, register_envs, registered
 
 from .helpers import ENV_IDS, VARIANTS, rollout, same
 
@@ -25,20 +25,34 @@ def _id(p):
 
 
 def test_ids_registered_with_vector_entry_points():
-    assert ENV_IDS == [
-        "vessel_gym/HarbourApproach-v0",
-        "vessel_gym/HarbourApproach-v1",
-        "vessel_gym/HarbourApproach-v2",
-        "vessel_gym/TurningCircle-v0",
-        "vessel_gym/ZigZag-v0",
-        "vessel_gym/ZigZag-v1",
-        "vessel_gym/ZigZagRandom-v1",
-    ]
+    decls = registered()
+    assert ENV_IDS == sorted(decls) and ENV_IDS
+    assert set(ENV_IDS) == {i for i in gym.registry if i.startswith("vessel_gym/")}
     for env_id in ENV_IDS:
         spec = gym.spec(env_id)
         assert isinstance(spec.entry_point, str) and isinstance(spec.vector_entry_point, str)
-        # HarbourApproach-v1 and -v2 truncate themselves after time_limit_s (a limit in seconds, not steps)
-        assert spec.max_episode_steps or env_id.endswith(("HarbourApproach-v1", "HarbourApproach-v2"))
+        assert spec.max_episode_steps == decls[env_id].max_episode_steps
+        if spec.max_episode_steps is None:  # the task truncates itself (a time limit in seconds, not steps)
+            env = gym.make(env_id)
+            assert env.unwrapped._max_steps > 0
+            env.close()
+
+
+def test_builtin_declarations_read_from_source_match_the_imported_ones():
+    decls = registered()
+    for src in builtin_declarations():
+        for env_id in src.ids:
+            imported = decls[env_id]
+            assert (imported.module, imported.name) == (src.module, src.name)
+            assert imported.presets == src.presets and imported.max_episode_steps == src.max_episode_steps
+
+
+@pytest.mark.parametrize("old", ["ZigZag-v0", "HarbourApproach-v0"])
+def test_removed_versions_raise_deprecated_naming_the_current_id(old):
+    name = old.split("-")[0]
+    current = max((i for i in ENV_IDS if i.split("/")[1].split("-")[0] == name), key=lambda i: i[-1])
+    with pytest.raises(gym.error.DeprecatedEnv, match=current):
+        gym.make(f"vessel_gym/{old}")
 
 
 def test_registration_idempotent_without_warnings():
@@ -49,7 +63,7 @@ def test_registration_idempotent_without_warnings():
 
 def test_make_in_fresh_subprocess():
     code = (
-        "import gymnasium, vessel_gym.envs; e = gymnasium.make('vessel_gym/ZigZag-v0'); "
+        "import gymnasium, vessel_gym.envs; e = gymnasium.make('vessel_gym/ZigZag-v1'); "
         "o, _ = e.reset(seed=0); print(o.shape)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
@@ -226,7 +240,7 @@ def test_nan_action_raises_and_out_of_range_is_clipped(env_id):
 
 
 def test_discrete_action_out_of_range_raises():
-    env = gym.make("vessel_gym/HarbourApproach-v0", action_type="discrete")
+    env = gym.make("vessel_gym/HarbourApproach-v2", action_type="discrete")
     env.reset(seed=0)
     with pytest.raises(ValueError, match="out of range"):
         env.step(np.array([99, 0]))

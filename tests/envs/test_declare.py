@@ -13,8 +13,6 @@ import dataclasses
 import importlib
 import math
 import re
-import sys
-import types
 from pathlib import Path
 
 import gymnasium as gym
@@ -24,7 +22,8 @@ import pytest
 from tests.envs.helpers import ENV_IDS
 from vessel_gym.envs import tasks
 from vessel_gym.envs.declare import FeatureSpec, TaskSpec, Term, columns
-from vessel_gym.envs.tasks import zigzag, zigzag_v1
+from vessel_gym.envs.registration import builtin_declarations
+from vessel_gym.envs.tasks import zigzag
 from vessel_gym.envs.tasks.zigzag import ZigZagTask, zigzag_update
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -92,17 +91,17 @@ def _rollout_terms(env, steps: int = 60) -> list[dict[str, float]]:
 
 @pytest.mark.filterwarnings("ignore::DeprecationWarning")
 def test_a_reordered_declaration_relabels_nothing(monkeypatch):
-    """Reverse ZigZag-v0's reward terms in the declaration: the kernel's columns, the weights and the info keys
+    """Reverse ZigZag-v1's reward terms in the declaration: the kernel's columns, the weights and the info keys
     move with it, and every term keeps its value under its own name (the kernel runs un-jitted so that it reads
     the reordered columns)."""
-    reference = _rollout_terms(_make("vessel_gym/ZigZag-v0", observation_type="physical"))
+    reference = _rollout_terms(_make("vessel_gym/ZigZag-v1", observation_type="physical"))
     spec = zigzag.SPEC
     reordered = TaskSpec(spec.title, tuple(reversed(spec.terms)), spec.features)
     assert reordered.TERM.heading_error == len(spec.terms) - 1  # the heading error moved to the last column
     monkeypatch.setattr(zigzag, "TERM", reordered.TERM)
     monkeypatch.setattr(ZigZagTask, "spec", reordered)
     monkeypatch.setattr(ZigZagTask, "kernel", staticmethod(zigzag_update.py_func))
-    env = _make("vessel_gym/ZigZag-v0", observation_type="physical")
+    env = _make("vessel_gym/ZigZag-v1", observation_type="physical")
     assert env.unwrapped.task.term_names == tuple(reversed(spec.term_names))
     moved = _rollout_terms(env)
     assert [tuple(t) for t in moved] == [tuple(reversed(tuple(t))) for t in reference]
@@ -120,7 +119,7 @@ def test_terms_mean_what_their_names_say():
     w = task.config.reward
     obs, _info = env.reset(seed=1)
     prev_order = layout.value(obs, "rudder_order")
-    U0 = task.ts[0, zigzag_v1.S.U0]
+    U0 = task.ts[0, zigzag.S.U0]
     for i in range(40):
         a = np.array([0.5 if i < 20 else -0.5], dtype=np.float32)
         obs, _r, _te, _tr, info = env.step(a)
@@ -140,9 +139,22 @@ def test_terms_mean_what_their_names_say():
 
 
 def test_docs_carry_the_generated_tables():
-    """docs/envs.md holds the tables generated from the declarations, exactly (regenerate with
-    ``python -m vessel_gym.envs.tasks docs/envs.md``)."""
-    assert tasks.docs_block() in DOCS.read_text()
+    """docs/envs.md holds the tables generated from the registered tasks (ids and presets, config keys, reward
+    terms, features), exactly: ``python -m vessel_gym.envs.tasks --check docs/envs.md`` exits 0 (regenerate
+    with ``python -m vessel_gym.envs.tasks docs/envs.md``)."""
+    assert tasks.docs_block() in DOCS.read_text() and tasks.ids_block() in DOCS.read_text()
+    from vessel_gym.envs.tasks.__main__ import main
+
+    assert main(["--check", str(DOCS)]) == 0
+
+
+def test_docs_check_fails_on_a_stale_page(tmp_path, capsys):
+    from vessel_gym.envs.tasks.__main__ import main
+
+    stale = tmp_path / "envs.md"
+    stale.write_text(DOCS.read_text().replace("| `vessel_gym/ZigZag-v1` |", "| `vessel_gym/ZigZag-v9` |"))
+    assert main(["--check", str(stale)]) == 1
+    assert "stale" in capsys.readouterr().out
 
 
 def test_a_reordered_declaration_no_longer_matches_the_docs():
@@ -184,35 +196,6 @@ def test_tasks_ask_the_physics_by_name():
         assert not re.search(r"\blo\.[XUE]_", path.read_text()), path.name
 
 
-# --- a new task, declared as docs/envs.md shows -------------------------------------------------------------
-def _docs_example(monkeypatch) -> dict:
-    """The example's code run as a module ``docs_example`` (dataclasses look their module up)."""
-    text = DOCS.read_text()
-    block = text.split("<!-- example: a new task -->", 1)[1].split("```python", 1)[1].split("```", 1)[0]
-    module = types.ModuleType("docs_example")
-    monkeypatch.setitem(sys.modules, "docs_example", module)
-    exec(compile(block, "docs/envs.md", "exec"), module.__dict__)
-    return module.__dict__
-
-
-def test_the_docs_example_task_runs_single_and_vector(monkeypatch):
-    ns = _docs_example(monkeypatch)
-    env = ns["HoldCourseEnv"](observation_type="physical")
-    obs, info = env.reset(seed=4)
-    assert tuple(info["reward_terms"]) == ("heading_error", "rudder_activity")
-    assert env.observation_layout.names == ("u", "v", "r", "rudder", "rudder_order", "heading_error")
-    singles = []
-    for _ in range(10):
-        obs, r, _te, _tr, info = env.step(np.array([0.3], dtype=np.float32))
-        err = env.observation_layout.value(obs, "heading_error")
-        assert info["reward_terms"]["heading_error"] == pytest.approx(-abs(err) / math.pi, rel=1e-6)
-        singles.append(r)
-    venv = ns["HoldCourseVectorEnv"](num_envs=3, observation_type="physical")
-    venv.reset(seed=3)
-    rewards = [venv.step(np.full((3, 1), 0.3, dtype=np.float32))[1] for _ in range(10)]
-    assert [x[1] for x in rewards] == singles  # vessel 1 seeded 3 + 1 is the single environment seeded 4
-
-
 def _docstring_table(doc: str, section: str) -> list[list[str]]:
     """The rows (cells) of the first table under ``## section`` of a spec sheet, header and rule excluded."""
     part = doc.split(f"## {section}", 1)[1].split("\n    ## ", 1)[0]
@@ -220,13 +203,14 @@ def _docstring_table(doc: str, section: str) -> list[list[str]]:
     return [[c.strip() for c in row.strip("|").split("|")] for row in rows[2:]]
 
 
-@pytest.mark.parametrize("env_name", ["ZigZagEnv", "ZigZagV1Env", "TurningCircleEnv", "HarbourApproachEnv"])
-def test_spec_sheets_follow_the_declarations(env_name):
+@pytest.mark.parametrize("entry", sorted({d.entry_points()[0] for d in builtin_declarations()}))
+def test_spec_sheets_follow_the_declarations(entry):
     """Each environment's spec sheet (its class docstring) lists the declared reward terms in declaration order
     with their default weights, and observes only declared features."""
-    import vessel_gym.envs as envs
+    import importlib
 
-    cls = getattr(envs, env_name)
+    module, name = entry.split(":")
+    cls = getattr(importlib.import_module(module), name)
     spec = cls.Task.spec
     terms = _docstring_table(cls.__doc__, "Rewards")
     assert [row[0] for row in terms] == list(spec.term_names)

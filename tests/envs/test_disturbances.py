@@ -31,11 +31,6 @@ def test_bad_range_and_unknown_keys_raise(env_id):
         gym.make(env_id, ship="mariner", wind_speed_m_s=[5.0, 80.0])  # above the 60 m/s bound
 
 
-def test_zigzag_v0_has_no_disturbance_keys():
-    with pytest.raises(SpecError, match="current_speed_m_s"):
-        gym.make("vessel_gym/ZigZag-v0", current_speed_m_s=[0.1, 0.2])
-
-
 @pytest.mark.parametrize("env_id", IDS)
 def test_draws_per_episode_set_in_the_simulation(env_id):
     """Each reset draws from the ranges with the reset seed; directions relative to the original course."""

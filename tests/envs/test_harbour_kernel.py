@@ -15,10 +15,10 @@ from vessel_gym.physics.units import KNOT_M_S
 def test_threaded_harbour_kernel_matches_serial():
     n = harbour.PARALLEL_MIN_SHIPS
     threaded = gym.make_vec(
-        "vessel_gym/HarbourApproach-v0", num_envs=n, vectorization_mode="vector_entry_point"
+        "vessel_gym/HarbourApproach-v2", num_envs=n, vectorization_mode="vector_entry_point"
     )
     serial = gym.make_vec(
-        "vessel_gym/HarbourApproach-v0", num_envs=n, vectorization_mode="vector_entry_point"
+        "vessel_gym/HarbourApproach-v2", num_envs=n, vectorization_mode="vector_entry_point"
     )
     assert threaded.unwrapped.task.kernel is harbour.harbour_update_parallel
     serial.unwrapped.task.kernel = harbour.harbour_update
@@ -39,7 +39,7 @@ def test_observation_follows_set_environment():
     """A current and a wind set after reset reach the observation: speed over ground and apparent wind as the
     physics and the bridge see them (the task once kept copies of the environment from reset and reported
     0.708 m/s over ground here, the bridge 0.651 m/s)."""
-    env = gym.make("vessel_gym/HarbourApproach-v0", observation_type="physical")
+    env = gym.make("vessel_gym/HarbourApproach-v2", observation_type="physical")
     env.reset(seed=0, options={"environment": CALM})
     task = env.unwrapped.task
     sim = task.sim
@@ -122,7 +122,7 @@ def test_chart_query_matches_brute_force():
     """Range beams and clearance of the culled chart query against every beam x every edge, over random poses
     in the built-in harbour chart: open water, inside polygons, and close to edges and vertices (1 um to 10 m);
     with the task's beam fan and with an irregular one."""
-    task = gym.make("vessel_gym/HarbourApproach-v0").unwrapped.task
+    task = gym.make("vessel_gym/HarbourApproach-v2").unwrapped.task
     tables = (task.hull, task.edges, task.polys, task.pbox)
     R = task.beam_range
     rng = np.random.default_rng(7)

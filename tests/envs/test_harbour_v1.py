@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
-from vessel_gym.envs.harbour import DIFFICULTIES, HarbourApproachV1Env
+from vessel_gym.envs.harbour import HarbourApproachEnv
 from vessel_gym.envs.policies import HarbourPilot
+from vessel_gym.envs.tasks.harbour import DIFFICULTIES
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.scenarios import builtin_scenarios, load_scenario
@@ -21,17 +22,15 @@ from vessel_gym.scenarios.geometry import point_in_polygon
 ID = "vessel_gym/HarbourApproach-v1"
 
 
-def test_defaults_from_the_ship_time_scale_and_v0_unchanged():
+def test_defaults_from_the_ship_time_scale():
     """kvlcc2_l7: L / U_T = 7 m / 1.179 m/s = 5.94 s; control interval L / U_T / 6 = 0.99 s (2 digits), time
-    limit 100 L / U_T = 590 s (2 digits) = 596 steps. v0 keeps its 0.25 s and 1600-step limit."""
+    limit 100 L / U_T = 590 s (2 digits) = 596 steps."""
     env = gym.make(ID)
     u = env.unwrapped
     assert u.config.control_interval_s == pytest.approx(0.99)
     assert u.config.time_limit_s == pytest.approx(590.0)
     assert u.task.max_steps == math.ceil(590.0 / 0.99)
     assert env.spec.max_episode_steps is None  # the environment truncates by time, not a step wrapper
-    v0 = gym.make("vessel_gym/HarbourApproach-v0")
-    assert v0.unwrapped.config.control_interval_s == 0.25 and v0.spec.max_episode_steps == 1600
     full = gym.make(ID, ship="kvlcc2")  # full scale: 320 m / 7.97 m/s = 40.1 s -> 6.7 s
     assert full.unwrapped.config.control_interval_s == pytest.approx(6.7)
 
@@ -154,7 +153,7 @@ def test_pilot_outscores_loitering_at_the_default_difficulty():
     """Arrival is worth more than loitering: over 3 seeds at the default difficulty the harbour pilot arrives
     every time and its every return beats every return of full astern, circling and a stopped engine."""
     env = gym.make(ID)
-    assert isinstance(env.unwrapped, HarbourApproachV1Env) and env.unwrapped.difficulty == 3
+    assert isinstance(env.unwrapped, HarbourApproachEnv) and env.unwrapped.difficulty == 3
     pilot = HarbourPilot(env)
 
     def pilot_helm(obs):

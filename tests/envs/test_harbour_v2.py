@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
-from vessel_gym.envs.harbour import HarbourApproachV2Env, HarbourApproachV2VectorEnv
+from vessel_gym.envs.harbour import HarbourApproachEnv, HarbourApproachVectorEnv
 from vessel_gym.envs.policies import HarbourPilot
 from vessel_gym.physics.layout import E_T_OVER_H
 from vessel_gym.physics.schema import SpecError
@@ -44,7 +44,7 @@ def test_ship_is_the_windage_model_with_the_full_scale_cross_flow_table():
 def test_registers_and_runs_single_and_vector():
     env = gym.make(ID)
     u = env.unwrapped
-    assert isinstance(u, HarbourApproachV2Env)
+    assert isinstance(u, HarbourApproachEnv) and u.task.preset == "HarbourApproach-v2"
     assert u.task.ship.name == "kvlcc2_l7_harbour" and u.task.ship.large_drift is not None
     assert env.spec.max_episode_steps is None  # truncates by time, as v1
     assert u.config.control_interval_s == pytest.approx(0.99)  # v1's time scale defaults
@@ -55,7 +55,7 @@ def test_registers_and_runs_single_and_vector():
     sc = u.task.scenario
     assert u.depth_m == sc.depth_at(float(u.sim.north[0]), float(u.sim.east[0]))
     venv = gym.make_vec(ID, num_envs=3, vectorization_mode="vector_entry_point")
-    assert isinstance(venv, HarbourApproachV2VectorEnv)
+    assert isinstance(venv, HarbourApproachVectorEnv)
     vobs, _ = venv.reset(seed=[0, 1, 2])
     np.testing.assert_array_equal(  # set by the reset's task update, before any step
         venv.depth_m, [sc.depth_at(float(venv.sim.north[k]), float(venv.sim.east[k])) for k in range(3)]
@@ -124,7 +124,7 @@ def test_depth_reaches_the_dynamics_and_v1_stays_deep():
 
 
 def test_a_ship_without_an_mmg_hull_is_refused():
-    with pytest.raises(SpecError, match="HarbourApproach-v2 config ship: 'mariner' has a 'abkowitz' hull.*MMG"):
+    with pytest.raises(SpecError, match="HarbourApproach config ship: 'mariner' has a 'abkowitz' hull.*MMG"):
         gym.make(ID, ship="mariner")
 
 
@@ -223,12 +223,10 @@ def test_pilot_arrives_in_the_documented_v2_episodes():
     assert outcomes.count("success") >= 5, outcomes
 
 
-def test_docs_list_every_v2_config_key():
-    from pathlib import Path
-
-    from vessel_gym.envs.harbour import HarbourApproachV2Config
-
-    doc = (Path(__file__).parents[2] / "docs" / "envs.md").read_text()
-    assert "### HarbourApproach-v2 (`HarbourApproachV2Config`)" in doc
-    for f in dataclasses.fields(HarbourApproachV2Config):
-        assert f"`{f.name}`" in doc, f.name
+def test_v2_is_the_v1_preset_with_the_harbour_physics():
+    """The two ids are presets of one task: v2's config is v1's with the harbour ship and the chart's depth."""
+    v1 = gym.make("vessel_gym/HarbourApproach-v1").unwrapped.config
+    v2 = gym.make(ID).unwrapped.config
+    assert (v1.ship, v1.chart_depth) == ("kvlcc2_l7_windage", False)
+    assert (v2.ship, v2.chart_depth) == ("kvlcc2_l7_harbour", True)
+    assert dataclasses.replace(v1, ship=v2.ship, chart_depth=True) == v2

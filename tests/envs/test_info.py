@@ -101,7 +101,7 @@ def test_wrappers_that_add_to_or_copy_infos():
 
     def make():
         return Monitor(
-            gym.make("vessel_gym/HarbourApproach-v0", max_episode_steps=3), info_keywords=("is_success",)
+            gym.make("vessel_gym/HarbourApproach-v2", max_episode_steps=3), info_keywords=("is_success",)
         )
 
     venv = DummyVecEnv([make])

@@ -69,7 +69,7 @@ def test_steering_gear_angle_solves_the_steering_gear_equation():
     [(0.25, 0.25), (0.5, 0.25), (0.1, 0.1), (1.0, 0.25), (0.3, 0.15)],
 )
 def test_default_step_is_a_whole_fraction_within_the_stable_step(control_interval_s, expected_dt):
-    env = gym.make("vessel_gym/ZigZag-v0", control_interval_s=control_interval_s)
+    env = gym.make("vessel_gym/ZigZag-v1", control_interval_s=control_interval_s)
     task = env.unwrapped.task
     assert task.dt == pytest.approx(expected_dt)
     assert task.nsub * task.dt == pytest.approx(control_interval_s)
@@ -78,14 +78,14 @@ def test_default_step_is_a_whole_fraction_within_the_stable_step(control_interva
 
 def test_explicit_step_beyond_the_stable_step_raises():
     with pytest.raises(SpecError, match="dt_s = 0.5 s is beyond the stable rk4 step of ship 'kvlcc2_l7'"):
-        gym.make("vessel_gym/ZigZag-v0", dt_s=0.5, control_interval_s=1.0)
+        gym.make("vessel_gym/ZigZag-v1", dt_s=0.5, control_interval_s=1.0)
     gym.make(
-        "vessel_gym/ZigZag-v0", dt_s=0.375, control_interval_s=0.75
+        "vessel_gym/ZigZag-v1", dt_s=0.375, control_interval_s=0.75
     )  # within the limit: the user's choice
 
 
-def _rollout(env_id: str, dt_s: float | None, steps: int) -> np.ndarray:
-    env = gym.make(env_id) if dt_s is None else gym.make(env_id, dt_s=dt_s)
+def _rollout(env_id: str, dt_s: float | None, steps: int, **kw) -> np.ndarray:
+    env = gym.make(env_id, **kw) if dt_s is None else gym.make(env_id, dt_s=dt_s, **kw)
     env.reset(seed=3)
     orders = np.random.default_rng(1).uniform(-1.0, 1.0, size=(steps // 20 + 1, env.action_space.shape[0]))
     sim = env.unwrapped.sim
@@ -107,16 +107,17 @@ def _rollout(env_id: str, dt_s: float | None, steps: int) -> np.ndarray:
 @pytest.mark.parametrize(
     ("env_id", "pos_m", "heading_deg", "speed_m_s", "rev_full_ahead"),
     [
-        ("vessel_gym/ZigZag-v0", 0.007, 0.01, 0.0012, 0.01),
-        ("vessel_gym/HarbourApproach-v0", 0.07, 0.1, 0.0012, None),
+        ("vessel_gym/ZigZag-v1", 0.007, 0.01, 0.0012, 0.01),
+        ("vessel_gym/HarbourApproach-v2", 0.07, 0.1, 0.0012, None),
     ],
 )
 def test_default_step_matches_a_twenty_times_finer_step(
     env_id, pos_m, heading_deg, speed_m_s, rev_full_ahead
 ):
     steps = 400  # 100 s of random held helm orders (rudder; engine too in HarbourApproach)
-    coarse = _rollout(env_id, None, steps)
-    fine = _rollout(env_id, 0.0125, steps)
+    kw = {"control_interval_s": 0.25}  # the step under test: 0.25 s of control, 0.0125 s = a twentieth
+    coarse = _rollout(env_id, None, steps, **kw)
+    fine = _rollout(env_id, 0.0125, steps, **kw)
     err = np.abs(coarse - fine).max(axis=0)
     assert err[0] < pos_m and err[1] < pos_m
     assert err[2] < heading_deg
@@ -134,7 +135,7 @@ def test_default_step_resolves_the_rudder_of_a_full_scale_ship():
 
     def rollout(dt_s):
         kw = {} if dt_s is None else {"dt_s": dt_s}
-        env = gym.make("vessel_gym/ZigZag-v0", ship="mariner", control_interval_s=5.0, **kw)
+        env = gym.make("vessel_gym/ZigZag-v1", ship="mariner", control_interval_s=5.0, **kw)
         env.reset(seed=3)
         sim = env.unwrapped.sim
         orders = np.random.default_rng(1).uniform(-1.0, 1.0, size=(31, 1)).astype(np.float32)

@@ -19,7 +19,7 @@ from tests.envs import test_api as api
 from tests.physics.test_roll import _effective_roll_inertia
 from vessel_gym.envs import tasks
 from vessel_gym.envs.declare import TaskSpec, Term
-from vessel_gym.envs.tasks import turning, zigzag_v1
+from vessel_gym.envs.tasks import turning, zigzag
 from vessel_gym.physics.roll import G_M_S2, free_roll_frequency
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.shipfile import load_ship
@@ -169,7 +169,7 @@ def test_the_optional_term_is_declared_once():
     """The heel term is the declaration's optional block: its column follows the terms, it is not a field of the
     weights class, the generated docs table lists it marked as an option and the features table the roll
     features; an option may not reuse a term's name."""
-    for spec in (zigzag_v1.SPEC, turning.SPEC):
+    for spec in (zigzag.SPEC, turning.SPEC):
         assert spec.option_names == ("heel",)
         assert spec.OPT.heel == len(spec.term_names)
         assert spec.term_names_with(False) == spec.term_names
@@ -177,7 +177,7 @@ def test_the_optional_term_is_declared_once():
         assert "| `heel` (option) | 0 | heel_weight != 0: -(phi / heel ref)^2 |" in spec.reward_table()
         assert "| `phi` | rad | heel ref |" in spec.feature_table()
         assert "| `p` | rad/s | heel ref x omega_phi |" in spec.feature_table()
-    assert zigzag_v1.SPEC.reward_table() in tasks.docs_block()
+    assert zigzag.SPEC.reward_table() in tasks.docs_block()
     env = _roll_env("vessel_gym/ZigZag-v1")
     task = env.unwrapped.task
     assert task.weights[task.spec.OPT.heel] == HEEL_WEIGHT

@@ -200,7 +200,7 @@ def _pump(env):
 
 def test_wrapper_publishes_harbour_scene_and_episode_events(peers):
     t = [100.0]
-    env = gym.make("vessel_gym/HarbourApproach-v0", max_episode_steps=8)
+    env = gym.make("vessel_gym/HarbourApproach-v2", max_episode_steps=8, control_interval_s=0.25)
     cfg = {"json_bind": ("127.0.0.1", 0), "nmea_destinations": []}
     env = UdpLinkWrapper(env, cfg, clock=lambda: t[0])
     try:
@@ -234,7 +234,7 @@ def test_wrapper_publishes_harbour_scene_and_episode_events(peers):
 def test_wrapper_publishes_contact_before_the_outcome(peers):
     t = [100.0]
     env = UdpLinkWrapper(
-        gym.make("vessel_gym/HarbourApproach-v0"),
+        gym.make("vessel_gym/HarbourApproach-v2"),
         {"json_bind": ("127.0.0.1", 0), "nmea_destinations": []},
         clock=lambda: t[0],
     )

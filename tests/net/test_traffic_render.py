@@ -18,7 +18,7 @@ def _traffic_pixels(frame: np.ndarray) -> int:
 
 
 def test_harbour_frames_draw_the_traffic_moving():
-    env = gym.make("vessel_gym/HarbourApproach-v0", render_mode="rgb_array")
+    env = gym.make("vessel_gym/HarbourApproach-v2", render_mode="rgb_array")
     try:
         env.reset(seed=0)
         first = env.render()
@@ -41,7 +41,7 @@ def test_harbour_frames_draw_the_traffic_moving():
 
 
 def test_frames_without_render_or_traffic_simulate_none():
-    env = gym.make("vessel_gym/HarbourApproach-v0")
+    env = gym.make("vessel_gym/HarbourApproach-v2")
     env.reset(seed=0)
     env.step(np.zeros(2, dtype=np.float32))
     assert env.unwrapped._traffic is None

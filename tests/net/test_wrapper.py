@@ -16,7 +16,7 @@ from vessel_gym.net.wrapper import UdpLinkWrapper
 
 from .helpers import Peer
 
-IDS = ("vessel_gym/ZigZag-v0", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v0")
+IDS = ("vessel_gym/ZigZag-v1", "vessel_gym/TurningCircle-v0", "vessel_gym/HarbourApproach-v2")
 SETTLE_S = 0.005
 DT = 0.25  # control interval of every env here, s
 
@@ -34,7 +34,7 @@ class Clock:
         self.t += dt
 
 
-def _wrap(env_id="vessel_gym/HarbourApproach-v0", clock=None, link_kw=None, make_kw=None, **kw):
+def _wrap(env_id="vessel_gym/HarbourApproach-v2", clock=None, link_kw=None, make_kw=None, **kw):
     cfg = {"json_bind": ("127.0.0.1", 0), "nmea_destinations": [], **(link_kw or {})}
     env = gym.make(env_id, **(make_kw or {}))
     kw.setdefault("clock", clock if clock is not None else Clock())
@@ -309,7 +309,7 @@ def test_service_is_throttled_on_a_fast_wall_clock():
 
 def test_harbour_traffic_reaches_viewers_as_targets(peers):
     clock = Clock()
-    env = _wrap(clock=clock)
+    env = _wrap(clock=clock, make_kw={"control_interval_s": 0.25})  # 40 steps: 10 s
     try:
         assert env.traffic is not None and env.traffic.n == 2
         env.reset(seed=0)
@@ -357,7 +357,7 @@ def test_nmea_stream_carries_own_ship_and_ais(peers):
 
 
 def test_bad_arguments_raise_value_error():
-    env = gym.make("vessel_gym/ZigZag-v0")
+    env = gym.make("vessel_gym/ZigZag-v1")
     with pytest.raises(ValueError, match="takeover"):
         UdpLinkWrapper(env, {"json_bind": ("127.0.0.1", 0)}, takeover="sometimes")
     with pytest.raises(ValueError, match="agent_resume_s"):
@@ -378,7 +378,7 @@ def test_bad_arguments_raise_value_error():
 
 
 def test_sim_clock_runs_link_in_simulated_time(peers):
-    env = _wrap("vessel_gym/ZigZag-v0", clock="sim")
+    env = _wrap("vessel_gym/ZigZag-v1", clock="sim")
     try:
         env.reset(seed=0)
         viewer = peers()

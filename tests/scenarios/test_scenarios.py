@@ -32,10 +32,10 @@ def test_builtin_harbour_loads():
 
 def test_user_file_via_make(tmp_path):
     p = _write(tmp_path, HARBOUR.replace('name = "harbour"', 'name = "my port"'))
-    env = gym.make("vessel_gym/HarbourApproach-v0", scenario=str(p))
+    env = gym.make("vessel_gym/HarbourApproach-v2", scenario=str(p))
     env.reset(seed=0)
     assert env.unwrapped.task.scenario.name == "my port"
-    env = gym.make("vessel_gym/HarbourApproach-v0", scenario=load_scenario(p))
+    env = gym.make("vessel_gym/HarbourApproach-v2", scenario=load_scenario(p))
     assert env.unwrapped.task.scenario.path == str(p)
 
 

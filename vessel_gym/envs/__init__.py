@@ -1,8 +1,9 @@
-"""Gymnasium environments: ZigZag (``-v1``; ``-v0`` deprecated), ZigZagRandom (``-v1``), TurningCircle and
-HarbourApproach (``-v2``, ``-v1``; ``-v0`` deprecated), all as ``vessel_gym/<Name>-v<N>``.
+"""Gymnasium environments, one per task of :mod:`vessel_gym.envs.tasks`, each id a preset of its task's config
+(``vessel_gym/<Name>-v<N>``; :func:`vessel_gym.envs.registration.registered` lists them with their declarations).
 
-Importing this package registers the ids (cheaply: entry points are strings); the environment classes,
-configs and policies load on first attribute access.
+Importing this package registers the ids (cheaply: the declarations are read from the task files' source and
+the entry points are strings); each task's classes (``<Name>Task``, ``<Name>Config``, ``<Name>Reward``,
+``<Name>Env``, ``<Name>VectorEnv``) and the shared declaration types load on first attribute access.
 """
 
 from __future__ import annotations
@@ -10,50 +11,40 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from vessel_gym.envs.registration import ENVIRONMENTS, register_envs
+from vessel_gym.envs.registration import builtin_declarations, register_envs
 
 register_envs()
 
-_LAZY = {
-    "ZigZagEnv": "zigzag",
-    "ZigZagVectorEnv": "zigzag",
-    "ZigZagConfig": "zigzag",
-    "ZigZagReward": "zigzag",
-    "ZigZagV1Env": "zigzag",
-    "ZigZagV1VectorEnv": "zigzag",
-    "ZigZagV1Config": "zigzag",
-    "ZigZagV1Reward": "zigzag",
-    "ZigZagRandomEnv": "zigzag",
-    "ZigZagRandomVectorEnv": "zigzag",
-    "ZigZagRandomConfig": "zigzag",
-    "DisturbedOpenWaterConfig": "disturbances",
-    "TurningCircleEnv": "turning",
-    "TurningCircleVectorEnv": "turning",
-    "TurningCircleConfig": "turning",
-    "TurningCircleReward": "turning",
-    "HarbourApproachEnv": "harbour",
-    "HarbourApproachVectorEnv": "harbour",
-    "HarbourApproachConfig": "harbour",
-    "HarbourApproachReward": "harbour",
-    "HarbourApproachV1Env": "harbour",
-    "HarbourApproachV1VectorEnv": "harbour",
-    "HarbourApproachV1Config": "harbour",
-    "HarbourApproachV1Reward": "harbour",
-    "HarbourApproachV2Env": "harbour",
-    "HarbourApproachV2VectorEnv": "harbour",
-    "HarbourApproachV2Config": "harbour",
-    "ShipEnvConfig": "config",
-    "ObservationLayout": "observation",
-    "Feature": "declare",
-    "FeatureSpec": "declare",
-    "Term": "declare",
-    "TaskSpec": "declare",
+_SHARED = {
+    "DisturbedOpenWaterConfig": "vessel_gym.envs.disturbances",
+    "ShipEnvConfig": "vessel_gym.envs.config",
+    "ObservationLayout": "vessel_gym.envs.observation",
+    "Feature": "vessel_gym.envs.declare",
+    "FeatureSpec": "vessel_gym.envs.declare",
+    "Term": "vessel_gym.envs.declare",
+    "TaskSpec": "vessel_gym.envs.declare",
 }
 
-__all__ = ["ENVIRONMENTS", "register_envs", *_LAZY]
+
+def _lazy_names() -> dict[str, str]:
+    """Class name -> module, derived from the task declarations."""
+    out = dict(_SHARED)
+    for decl in builtin_declarations():
+        env_entry, vec_entry = decl.entry_points()
+        stem = decl.name.removesuffix("Task")
+        out.update({decl.name: decl.module, f"{stem}Config": decl.module, f"{stem}Reward": decl.module})
+        for entry in (env_entry, vec_entry):
+            module, name = entry.split(":")
+            out[name] = module
+    return out
+
+
+_LAZY = _lazy_names()
+
+__all__ = ["register_envs", *_LAZY]
 
 
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
-        return getattr(importlib.import_module(f"vessel_gym.envs.{_LAZY[name]}"), name)
+        return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'vessel_gym.envs' has no attribute {name!r}")

@@ -126,20 +126,27 @@ def _merge(base: dict, over: Mapping) -> dict:
 
 
 def make_config(
-    cls: type[C], config: C | Mapping | str | Path | None = None, where: str = "", **overrides: Any
+    cls: type[C],
+    config: C | Mapping | str | Path | None = None,
+    where: str = "",
+    base: Mapping | None = None,
+    **overrides: Any,
 ) -> C:
-    """Build config ``cls`` from a config instance, mapping or TOML path, plus keyword overrides (strict)."""
+    """Build config ``cls`` from a config instance, mapping or TOML path, plus keyword overrides (strict).
+
+    ``base`` (a preset: values over the class defaults) lies under a mapping or TOML ``config`` and the
+    overrides; a config instance is complete and takes no base."""
     where = where or f"{cls.__name__}"
-    table: dict = {}
+    table: dict = _merge({}, base or {})
     if isinstance(config, (str, Path)):
         where = str(config)
-        table = read_toml(Path(config))
+        table = _merge(table, read_toml(Path(config)))
     elif isinstance(config, cls):
         if not overrides:
             return config
         table = _as_table(config)
     elif isinstance(config, Mapping):
-        table = _merge({}, config)
+        table = _merge(table, config)
     elif config is not None:
         raise SpecError(f"{where}: config must be a {cls.__name__}, a mapping or a TOML path, got {config!r}")
     table = _merge(table, overrides)

@@ -15,7 +15,6 @@ import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from vessel_gym.envs.config import make_config
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
 
@@ -69,8 +68,7 @@ class ShipEnv(_Renders, gym.Env):
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
-        cfg = make_config(cls.Task.Config, config, where=f"{cls.env_name} config", **overrides)
-        return cls.Task(cfg, n)
+        return cls.Task.from_config(config, overrides, n)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)

@@ -1,67 +1,17 @@
-"""HarbourApproach environments: from outside a harbour, through the entrance, to a stop in the goal area.
+"""HarbourApproach environment: from outside a harbour, through the entrance, to a stop in the goal area.
 
-The environment classes and their spec sheets. The task's declaration, configuration, reset and compiled step are
-in :mod:`vessel_gym.envs.tasks.harbour` (v0), :mod:`vessel_gym.envs.tasks.harbour_v1` (v1) and
-:mod:`vessel_gym.envs.tasks.harbour_v2` (v2), the chart geometry in :mod:`vessel_gym.envs.tasks.chart`; their names
-are re-exported here.
+The environment class and its spec sheet; the task (declaration, presets ``HarbourApproach-v1`` and
+``HarbourApproach-v2``, configuration, reset and compiled step) is :mod:`vessel_gym.envs.tasks.harbour`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from typing import Any
 
 from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
-from vessel_gym.envs.task import Task
-from vessel_gym.envs.tasks.harbour import (
-    PARALLEL_MIN_SHIPS,
-    HarbourApproachConfig,
-    HarbourApproachReward,
-    HarbourApproachTask,
-    make_task,
-)
-from vessel_gym.envs.tasks.harbour_v1 import (
-    ACROSS_SPREAD_L,
-    ALONG_SPREAD,
-    CONTROL_FRACTION,
-    DIFFICULTIES,
-    HEADING_SPREAD_DEG,
-    START_SPEED_FRACTION,
-    TIME_LIMIT_TIME_SCALES,
-    TRACK_FRACTION,
-    HarbourApproachV1Config,
-    HarbourApproachV1Reward,
-    HarbourApproachV1Task,
-    difficulty_level,
-)
-from vessel_gym.envs.tasks.harbour_v2 import HarbourApproachV2Config, HarbourApproachV2Task
+from vessel_gym.envs.tasks.harbour import HarbourApproachTask
 
-__all__ = [
-    "ACROSS_SPREAD_L",
-    "ALONG_SPREAD",
-    "CONTROL_FRACTION",
-    "DIFFICULTIES",
-    "HEADING_SPREAD_DEG",
-    "PARALLEL_MIN_SHIPS",
-    "START_SPEED_FRACTION",
-    "TIME_LIMIT_TIME_SCALES",
-    "TRACK_FRACTION",
-    "HarbourApproachConfig",
-    "HarbourApproachEnv",
-    "HarbourApproachReward",
-    "HarbourApproachTask",
-    "HarbourApproachV1Config",
-    "HarbourApproachV1Env",
-    "HarbourApproachV1Reward",
-    "HarbourApproachV1Task",
-    "HarbourApproachV1VectorEnv",
-    "HarbourApproachV2Config",
-    "HarbourApproachV2Env",
-    "HarbourApproachV2Task",
-    "HarbourApproachV2VectorEnv",
-    "HarbourApproachVectorEnv",
-    "difficulty_level",
-]
+__all__ = ["HarbourApproachEnv", "HarbourApproachVectorEnv"]
 
 
 class HarbourApproachEnv(ShipEnv):
@@ -77,7 +27,6 @@ class HarbourApproachEnv(ShipEnv):
     built-in ``harbour``: a harbour sized for the 7 m ``kvlcc2_l7`` model, 17 m entrance, a pier and a shoal
     inside, turning basin in front of the north quay).
 
-    Physics step 0.25 s (chosen from the ship, docs/envs.md), control interval 0.25 s.
 
     ## Action Space
 
@@ -128,8 +77,8 @@ class HarbourApproachEnv(ShipEnv):
     | speed_excess | 1.0 | -max(0, SOG - allowed) / U_T; allowed falls from U_T to the goal speed within slow_down_L |
     | proximity | 0.5 | -(1 - clearance / (safe_clearance_L L)) when the hull is closer than that to an obstacle |
     | rudder_activity | 0.05 | -abs(change of rudder order) / (2 x rudder limit) |
-    | time | 0.01 | -1 |
-    | success | 20.0 | +1 on arrival |
+    | time | 0.5 | -control interval x U_T / L: -1 per time the ship sails its length |
+    | success | 50.0 | +1 on arrival |
     | collision | 20.0 | -1 on contact, grounding or divergence |
     | out_of_bounds | 20.0 | -1 on leaving the chart bounds |
 
@@ -161,7 +110,7 @@ class HarbourApproachEnv(ShipEnv):
 
     ## Arguments
 
-    ``gymnasium.make("vessel_gym/HarbourApproach-v0", render_mode=None, config=None, scenario="harbour",
+    ``gymnasium.make("vessel_gym/HarbourApproach-v2", render_mode=None, config=None, scenario="harbour",
     **overrides)``: ``scenario`` is a built-in name, a TOML path or a :class:`~vessel_gym.scenarios.Scenario`;
     further keys: the shared ones (``ship`` overrides the scenario's, ``dt_s``, ``control_interval_s`` (0.25),
     ``action_type``, ``engine_control`` (True), ``rudder_orders_deg``, ``telegraph_steps``,
@@ -169,127 +118,40 @@ class HarbourApproachEnv(ShipEnv):
     ``safe_clearance_L`` (0.5), ``reward``. Strict: unknown keys raise ``SpecError``.
     ``reset(options={"north_m", "east_m", "heading_deg", "speed_m_s", "environment"})`` fixes the start.
 
-    ## Vectorized environment
+    ## HarbourApproach-v1
 
-    ``gymnasium.make_vec("vessel_gym/HarbourApproach-v0", num_envs=N)``: :class:`HarbourApproachVectorEnv`.
-
-    ## Version History
-
-    * v0: initial version.
-    """
-
-    Task = HarbourApproachTask
-    env_name = "HarbourApproach-v0"
-
-    @classmethod
-    def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
-        return make_task(cls, config, overrides, n)
-
-
-class HarbourApproachVectorEnv(ShipVectorEnv):
-    """Native vector version of :class:`HarbourApproachEnv` (one simulation of ``num_envs`` ships)."""
-
-    Env = HarbourApproachEnv
-
-
-class HarbourApproachV1Env(HarbourApproachEnv):
-    """Bring a ship from outside a harbour through the entrance to a stop in the goal area (v1).
-
-    ## Description
-
-    The task, actions, observations, success and ``info`` of :class:`HarbourApproachEnv` (v0, deprecated),
-    with the changes below. Built-in scenarios ``harbour``, ``harbour_east``, ``harbour_channel``; or a
+    What v1 changed from v0 (removed), which the sections above do not say: Built-in scenarios ``harbour``, ``harbour_east``, ``harbour_channel``; or a
     generated harbour (``layout="procedural"``, :mod:`vessel_gym.scenarios.generator`), whose ``eval`` split
     is held out for evaluation. Wind acts on the ship: the default ship ``kvlcc2_l7_windage`` is the L7 model
     with a Froude-scaled windage table (an estimate); ``kvlcc2_l7`` itself, as tested in the tank, has none.
 
     Control interval L / U_T / 6 of the ship (0.99 s for ``kvlcc2_l7``; 4 RK4 steps of 0.2475 s).
 
-    ## Rewards
-
+    Rewards:
     As v0, except ``time`` (weight 0.5): -control interval x U_T / L per step (time in ship time scales),
     and ``success`` weight 50.
 
-    ## Starting State
-
+    Starting state:
     ``difficulty`` 3 (``open``, default): the scenario's ``[start]`` region, as v0. 0 ``basin``, 1
     ``entrance``, 2 ``approach``: on the scenario's track with 25 %, 45 % or 70 % of its length to go, spread
     +-5 % along and +-0.5 L across it, heading along it +-10 deg, at 50-90 % of the allowed speed there.
     Wind, current and waves uniform in the scenario's ``[weather]``, drawn by the reset seed.
 
-    ## Episode End
-
+    Episode end:
     As v0; truncation after ``time_limit_s`` (default 100 L / U_T: 590 s, 596 steps, for ``kvlcc2_l7``),
     counted by this environment (no step-count TimeLimit is registered).
 
-    ## Arguments
-
+    Arguments:
     ``gymnasium.make("vessel_gym/HarbourApproach-v1", difficulty=3, scenario="harbour", layout="scenario",
     layout_split="train", layout_index=0, control_interval_s=None, time_limit_s=None, **overrides)`` (v0
     keys otherwise). Curriculum hook: ``env.unwrapped.set_difficulty(k)`` (index or name), effective from
     the next reset; vector env: ``venv.set_difficulty(k)`` or ``venv.call("set_difficulty", k)``.
 
-    ## Version History
+    ## HarbourApproach-v2 (the config defaults)
 
-    * v1: control interval and time limit from the ship's time scale, time charged per ship time scale,
-      success 50, difficulty levels, wind with force, three built-in harbours and procedural layouts.
-    * v0: initial version (deprecated).
-    """
-
-    Task = HarbourApproachV1Task
-    env_name = "HarbourApproach-v1"
-
-    def __init__(self, render_mode: str | None = None, config: Any = None, **overrides: Any) -> None:
-        super().__init__(render_mode, config, **overrides)
-        self._max_steps = self.task.max_steps  # truncation after time_limit_s, counted by ShipEnv.step
-
-    @classmethod
-    def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
-        return make_task(cls, config, overrides, n, HarbourApproachV1Task)
-
-    @property
-    def difficulty(self) -> int:
-        """Current difficulty level (0 basin .. 3 open)."""
-        return self.task.difficulty
-
-    def set_difficulty(self, level: int | str) -> None:
-        """Curriculum hook: start region of the episodes reset from now on (index 0..3 or a name)."""
-        self.task.set_difficulty(level)
-
-
-class HarbourApproachV1VectorEnv(HarbourApproachVectorEnv):
-    """Native vector version of :class:`HarbourApproachV1Env`; ``set_difficulty(k)`` (also through
-    ``call("set_difficulty", k)``) applies to every sub-environment from its next reset on."""
-
-    Env = HarbourApproachV1Env
-
-    def __init__(self, num_envs: int = 1, max_episode_steps: int | None = None, **kwargs: Any) -> None:
-        super().__init__(num_envs, max_episode_steps, **kwargs)
-        if self.max_episode_steps is None:
-            self.max_episode_steps = self.task.max_steps
-
-    @property
-    def difficulty(self) -> int:
-        return self.task.difficulty
-
-    def set_difficulty(self, level: int | str) -> None:
-        self.task.set_difficulty(level)
-
-    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple:
-        """Call method ``name`` (or read attribute ``name``) once; one result per sub-environment, as
-        Gymnasium's ``SyncVectorEnv.call`` returns (the sub-environments share one task)."""
-        attr = getattr(self, name)
-        out = attr(*args, **kwargs) if callable(attr) else attr
-        return (out,) * self.num_envs
-
-
-class HarbourApproachV2Env(HarbourApproachV1Env):
-    """Bring a ship from outside a harbour through the entrance to a stop in the goal area (v2: harbour physics).
-
-    ## Description
-
-    The task of :class:`HarbourApproachV1Env` (actions, observations, rewards, start, episode end, ``info``,
-    arguments and curriculum hook unchanged), with two changes of the dynamics:
+    The v1 task (actions, observations, rewards, start, episode end, ``info``, arguments and curriculum hook
+    unchanged), with two changes of the dynamics (config ``ship`` and ``chart_depth``; the preset
+    ``HarbourApproach-v1`` sets ``ship="kvlcc2_l7_windage"``, ``chart_depth=False``):
 
     * the default ship ``kvlcc2_l7_harbour``: ``kvlcc2_l7_windage`` plus the cross-flow hull at large drift
       (``[large_drift]``, Yoshimura et al. 2009): at large drift, in sternway and turning on the spot the hull
@@ -303,35 +165,68 @@ class HarbourApproachV2Env(HarbourApproachV1Env):
 
     ``env.unwrapped.depth_m`` (vector env: ``venv.depth_m``, one per ship): the charted depth under each ship.
 
+    ``gymnasium.make_vec("vessel_gym/HarbourApproach-v2", num_envs=N)``: :class:`HarbourApproachVectorEnv`.
+
     ## Version History
 
     * v2: the cross-flow hull at large drift (default ship ``kvlcc2_l7_harbour``) and the depth from the chart
-      with the shallow-water corrections; v1 and v0 are unchanged.
+      with the shallow-water corrections; v1 unchanged.
     * v1: control interval and time limit from the ship's time scale, time charged per ship time scale,
       success 50, difficulty levels, wind with force, three built-in harbours and procedural layouts.
-    * v0: initial version (deprecated).
+    * v0: initial version; removed (``gymnasium.make("vessel_gym/HarbourApproach-v0")`` raises
+      ``DeprecatedEnv`` naming ``HarbourApproach-v2``). Its reward weights (time 0.01 per step, success 20),
+      0.25 s control interval and 1600-step limit are no longer a preset.
     """
 
-    Task = HarbourApproachV2Task
-    env_name = "HarbourApproach-v2"
+    Task = HarbourApproachTask
+    env_name = "HarbourApproach"
 
-    @classmethod
-    def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
-        return make_task(cls, config, overrides, n, HarbourApproachV2Task)
+    def __init__(self, render_mode: str | None = None, config: Any = None, **overrides: Any) -> None:
+        super().__init__(render_mode, config, **overrides)
+        self._max_steps = self.task.max_steps  # truncation after time_limit_s, counted by ShipEnv.step
+
+    @property
+    def difficulty(self) -> int:
+        """Current difficulty level (0 basin .. 3 open)."""
+        return self.task.difficulty
+
+    def set_difficulty(self, level: int | str) -> None:
+        """Curriculum hook: start region of the episodes reset from now on (index 0..3 or a name)."""
+        self.task.set_difficulty(level)
 
     @property
     def depth_m(self) -> float:
         """Charted depth under the ship's midship point (m), as the physics sees it over the next control step
-        (before the clamp to 1.2 x draught)."""
+        (before the clamp to 1.2 x draught; the scenario's water depth without ``chart_depth``)."""
         return float(self.task.depth_m[0])
 
 
-class HarbourApproachV2VectorEnv(HarbourApproachV1VectorEnv):
-    """Native vector version of :class:`HarbourApproachV2Env`."""
+class HarbourApproachVectorEnv(ShipVectorEnv):
+    """Native vector version of :class:`HarbourApproachEnv`; ``set_difficulty(k)`` (also through
+    ``call("set_difficulty", k)``) applies to every sub-environment from its next reset on."""
 
-    Env = HarbourApproachV2Env
+    Env = HarbourApproachEnv
+
+    def __init__(self, num_envs: int = 1, max_episode_steps: int | None = None, **kwargs: Any) -> None:
+        super().__init__(num_envs, max_episode_steps, **kwargs)
+        if self.max_episode_steps is None:
+            self.max_episode_steps = self.task.max_steps
+
+    @property
+    def difficulty(self) -> int:
+        return self.task.difficulty
+
+    def set_difficulty(self, level: int | str) -> None:
+        self.task.set_difficulty(level)
 
     @property
     def depth_m(self) -> Any:
-        """Charted depth under each ship's midship point (m), a copy (see :attr:`HarbourApproachV2Env.depth_m`)."""
+        """Charted depth under each ship's midship point (m), a copy (see :attr:`HarbourApproachEnv.depth_m`)."""
         return self.task.depth_m.copy()
+
+    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple:
+        """Call method ``name`` (or read attribute ``name``) once; one result per sub-environment, as
+        Gymnasium's ``SyncVectorEnv.call`` returns (the sub-environments share one task)."""
+        attr = getattr(self, name)
+        out = attr(*args, **kwargs) if callable(attr) else attr
+        return (out,) * self.num_envs

@@ -5,7 +5,7 @@ Each policy reads the observation through the environment's :class:`~vessel_gym.
 environment's action type (continuous or discrete helm). Observations may be one (obs_dim,) vector or a
 batch (N, obs_dim) from a vector environment; stateful policies keep one state per row (``reset(mask)``).
 
-* :class:`ZigZagRule`: the IMO zig-zag rule in ``ZigZag-v1`` / ``ZigZag-v0`` (rudder to the side of the
+* :class:`ZigZagRule`: the IMO zig-zag rule in ``ZigZag-v1`` (rudder to the side of the
   current target).
 * :class:`TurningRule`: a constant rudder (the IMO 35-degree turning circle) in ``TurningCircle-v0``.
 * :class:`PIDHeadingAutopilot`: PID on heading error with rate-of-turn damping (ZigZag, HarbourApproach).
@@ -80,7 +80,7 @@ class HelmPolicy:
 class ZigZagRule(HelmPolicy):
     """The IMO zig-zag: rudder ``rudder_deg`` to the side of the current target heading.
 
-    In ``ZigZag-v0`` with ``schedule="imo"`` the target flips when the heading reaches it, so this policy
+    In ``ZigZag-v1`` with ``schedule="imo"`` the target flips when the heading reaches it, so this policy
     performs the psi/delta zig-zag test (default delta = psi = ``zigzag_heading_deg``), the execute being
     detected at the control step after the heading passes the target.
     """
@@ -169,7 +169,7 @@ class HarbourPilot(PIDHeadingAutopilot):
     harbour pilot's kick ahead). Default: on (0.5, half ahead) in an environment whose physics takes the
     water depth from the chart (HarbourApproach-v2), where the shallow basin changes the ship's yaw response
     and the swing that the slow ship's rudder cannot check in the wake alone; off (0) otherwise, which leaves
-    the pilot of HarbourApproach-v0/v1 as it was (docs/envs.md, HarbourApproach-v2)."""
+    the pilot of HarbourApproach-v1 as it was (docs/envs.md, HarbourApproach-v2)."""
 
     def __init__(
         self,

@@ -15,7 +15,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from vessel_gym.envs.config import ShipEnvConfig
+from vessel_gym.envs.config import ShipEnvConfig, make_config
 from vessel_gym.envs.declare import Feature, TaskSpec
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.observation import ObservationLayout
@@ -83,6 +83,7 @@ class Task(abc.ABC):
     ) -> None:
         self.config = config
         self.n = n
+        self.preset: str | None = None  # the registered preset it was made with (from_config)
         ship = load_ship(ship if ship is not None else config.ship)
         self.dt = physics_step(config, ship)
         try:
@@ -128,6 +129,26 @@ class Task(abc.ABC):
         self._kernel_args: tuple | None = None
         self._kernel_call: Any = None  # the kernel's compiled code for _kernel_args (compiled_entry)
         self._call_args: tuple = ()  # _kernel_args as the compiled code takes them
+
+    @classmethod
+    def from_config(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
+        """The task of ``n`` vessels from a config (instance, mapping, TOML path or None) and keyword overrides;
+        ``overrides["preset"]`` names the registered preset (:mod:`vessel_gym.envs.registration`) whose values
+        lie under a mapping or TOML config and the overrides."""
+        over = dict(overrides)
+        preset = over.pop("preset", None)
+        task = cls(cls.build_config(config, over, preset), n)
+        task.preset = preset
+        return task
+
+    @classmethod
+    def build_config(cls, config: Any, overrides: Mapping[str, Any], preset: str | None) -> Any:
+        """:meth:`from_config`'s config: the class defaults, the preset's values, ``config``, ``overrides``."""
+        presets = getattr(getattr(cls, "declaration", None), "presets", {})
+        if preset is not None and preset not in presets:
+            raise SpecError(f"{cls.__name__}: no preset {preset!r} (have: {', '.join(presets)})")
+        where = f"{preset or cls.__name__} config"
+        return make_config(cls.Config, config, where=where, base=presets.get(preset), **overrides)
 
     # subclass interface
     @abc.abstractmethod
@@ -302,9 +323,6 @@ class Task(abc.ABC):
     def observe(self) -> np.ndarray:
         """A new array of the current observations (N, obs_dim)."""
         return self.obs.copy()
-
-    def weighted_terms(self, k: int) -> dict[str, float]:
-        return dict(zip(self.term_names, self.terms[k].tolist()))
 
     def terms_dict(self, terms: list[float]) -> dict[str, float]:
         """``info["reward_terms"]`` of one vessel from its weighted terms as a list (:meth:`info_snapshot`)."""

@@ -1,172 +1,18 @@
-"""ZigZag environments: a course-changing autopilot task built around the IMO zig-zag manoeuvre.
+"""ZigZag environment: a course-changing autopilot task built around the IMO zig-zag manoeuvre.
 
-The environment classes and their spec sheets. Each task's declaration, configuration, reset and compiled step
-are in :mod:`vessel_gym.envs.tasks.zigzag` (v0) and :mod:`vessel_gym.envs.tasks.zigzag_v1` (v1); their names
-are re-exported here.
+The environment class and its spec sheet; the task (declaration, presets ``ZigZag-v1`` and ``ZigZagRandom-v1``,
+configuration, reset and compiled step) is :mod:`vessel_gym.envs.tasks.zigzag`.
 """
 
 from __future__ import annotations
 
 from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
-from vessel_gym.envs.tasks.zigzag import ZigZagConfig, ZigZagReward, ZigZagTask
-from vessel_gym.envs.tasks.zigzag_v1 import (
-    LEG_TIME_LIMIT_L_U,
-    REACH_TIME_L_U,
-    ZigZagRandomConfig,
-    ZigZagRandomTask,
-    ZigZagV1Config,
-    ZigZagV1Reward,
-    ZigZagV1Task,
-)
+from vessel_gym.envs.tasks.zigzag import ZigZagTask
 
-__all__ = [
-    "LEG_TIME_LIMIT_L_U",
-    "REACH_TIME_L_U",
-    "ZigZagConfig",
-    "ZigZagEnv",
-    "ZigZagRandomConfig",
-    "ZigZagRandomEnv",
-    "ZigZagRandomTask",
-    "ZigZagRandomVectorEnv",
-    "ZigZagReward",
-    "ZigZagTask",
-    "ZigZagV1Config",
-    "ZigZagV1Env",
-    "ZigZagV1Reward",
-    "ZigZagV1Task",
-    "ZigZagV1VectorEnv",
-    "ZigZagVectorEnv",
-]
+__all__ = ["ZigZagEnv", "ZigZagVectorEnv"]
 
 
 class ZigZagEnv(ShipEnv):
-    """Course-changing autopilot built around the IMO zig-zag manoeuvre (MSC.137(76)).
-
-    Deprecated: use ``vessel_gym/ZigZag-v1`` (:class:`ZigZagV1Env`) and ``vessel_gym/ZigZagRandom-v1``.
-    v0 stays registered with unchanged behaviour, but its reward ranks badly: its overshoot term keeps
-    charging a target the ship has already left behind, a helm that stops just short of a target stalls
-    the IMO schedule, and every seed gives the same episode (version history below).
-
-    ## Description
-
-    A ship starts in a steady straight approach. Its target heading alternates between
-    ``original course + psi`` and ``original course - psi`` exactly as the IMO zig-zag schedule moves the
-    rudder: the target flips to the other side when the heading reaches the current target (the IMO
-    "execute"). The agent holds the helm and should turn onto each new target quickly, with as little
-    overshoot, rudder activity and speed loss as possible. With ``schedule="random"`` the targets are instead
-    random course changes of ``course_change_deg`` every ``leg_time_s`` seconds. ``info`` reports the
-    overshoot angles as IMO MSC.137(76) defines them: the first overshoot is the additional heading deviation
-    after the second execute, the second overshoot after the third execute (the largest excursion past the
-    target before the ship turns back). The scripted IMO rule
-    (:class:`vessel_gym.envs.policies.ZigZagRule`) applied here is the IMO zig-zag test itself.
-
-    Default ship: ``kvlcc2_l7`` (7 m KVLCC2 model, 1.18 m/s test speed), physics step 0.25 s (chosen from
-    the ship, docs/envs.md), control interval 0.25 s.
-
-    ## Action Space
-
-    ``action_type="continuous"`` (default): ``Box(-1, 1, (1,))`` (``(2,)`` with ``engine_control=True``).
-
-    | Num | Action | Unit | Mapping |
-    |-----|--------|------|---------|
-    | 0 | rudder order | - | x rudder limit (steering-gear max angle, 35 deg), + starboard |
-    | 1 | engine order (optional) | - | x full-ahead rpm (a > 0) or x full-astern rpm (a < 0) |
-
-    Out-of-range values are clipped to [-1, 1]; NaN raises ``ValueError``. Without engine control the
-    shaft-speed order stays at the approach value. ``action_type="discrete"``: ``Discrete(len(rudder_orders_deg))``
-    helm orders (default port 35 ... midships ... starboard 35), or ``MultiDiscrete`` helm order x telegraph
-    step with engine control; an index out of range raises ``ValueError``.
-
-    ## Observation Space
-
-    ``Box(-1, 1, (8,), float32)`` with ``observation_type="normalized"`` (value / scale, clipped); SI values
-    clipped to +-scale with ``"physical"``. U_T: ship test speed, L: ship length.
-
-    | Num | Name | Unit | Scale | Meaning |
-    |-----|------|------|-------|---------|
-    | 0 | u | m/s | 1.5 U_T | surge velocity through the water |
-    | 1 | v | m/s | 0.5 U_T | sway velocity through the water (+ starboard) |
-    | 2 | r | rad/s | 2 U_T / L | rate of turn (+ starboard) |
-    | 3 | rudder | rad | rudder max | actual rudder angle |
-    | 4 | rudder_order | rad | rudder max | rudder order |
-    | (5) | rev | rev/s | 1.5 full-ahead | shaft speed (only with ``engine_control``) |
-    | 5 | heading_error | rad | pi | target heading - heading, wrapped to [-pi, pi) |
-    | 6 | heading_deviation | rad | pi | heading - original course |
-    | 7 | target_deviation | rad | pi | target heading - original course (+-psi in the IMO schedule) |
-
-    ``env.unwrapped.observation_layout`` gives names, units and scales and decodes observations.
-
-    ## Rewards
-
-    reward = sum of weight x term over the terms below (weights: config ``reward`` table); the weighted
-    terms are in ``info["reward_terms"]`` and sum to the reward.
-
-    | Term | Default weight | Value per step |
-    |------|----------------|----------------|
-    | heading_error | 1.0 | -abs(heading error) / pi |
-    | overshoot | 1.0 | -min(excursion past the last reached target / psi, 1) while it lasts |
-    | rudder_activity | 0.1 | -abs(change of rudder order) / (2 x rudder limit) |
-    | speed_loss | 0.5 | -max(0, U0 - U) / U0 (U speed through the water, U0 approach speed) |
-
-    ## Starting State
-
-    Steady straight approach (rpm solved for zero surge acceleration) at ``approach_speed_m_s`` (default
-    the test speed), rudder amidships, heading uniform in ``initial_heading_deg`` (default 0), at the
-    origin. Calm water. First target: ``psi`` to ``first_side`` (default starboard).
-
-    ## Episode End
-
-    * Termination: the simulation diverged (non-finite state; ``info["diverged"]``).
-    * Truncation: 480 steps (120 s) by the registered time limit.
-
-    ## Info
-
-    ``reward_terms``, ``time_s``, ``target_heading_deg``, ``heading_error_deg``, ``executes`` (target
-    changes including the first order), ``overshoot_count``, ``overshoot_1_deg``, ``overshoot_2_deg``
-    (0 until measured), ``last_overshoot_deg``, ``diverged``. v0 measures overshoots with its own accounting
-    (the ``OVERSHOOT_V0`` mode of :mod:`vessel_gym.control.zigzag`, docs/control.md), which can differ from
-    the IMO trial's with coarse control steps or when the next target is reached before the ship turns back.
-
-    ZigZag has no success: the course changes go on until the time limit, so there is no end state to
-    reach, and ``info`` has no ``is_success`` (SB3 logs no success rate). An episode is judged by its
-    return and metrics (heading error, overshoot per course change, rudder effort).
-
-    ## Arguments
-
-    ``gymnasium.make("vessel_gym/ZigZag-v0", render_mode=None, config=None, **overrides)``: ``config`` is a
-    :class:`ZigZagConfig`, a mapping or a TOML file; keyword overrides are config keys. Unknown keys and
-    out-of-range values raise ``SpecError``; ``control_interval_s`` must be a whole multiple of ``dt_s``.
-    Keys: ``ship``, ``dt_s`` (default from the ship), ``control_interval_s`` (0.25), ``method``, ``action_type``,
-    ``engine_control`` (False), ``rudder_limit_deg``, ``rudder_orders_deg``, ``telegraph_steps``,
-    ``observation_type``, ``schedule`` ("imo" | "random"), ``zigzag_heading_deg`` (10), ``first_side``,
-    ``course_change_deg``, ``leg_time_s``, ``approach_speed_m_s``, ``initial_heading_deg``, ``reward``.
-    ``reset(options={"heading_deg": ..., "speed_m_s": ...})`` fixes the start.
-
-    ## Vectorized environment
-
-    ``gymnasium.make_vec("vessel_gym/ZigZag-v0", num_envs=N)`` steps N ships in one batched physics call
-    (:class:`ZigZagVectorEnv`); vessel k seeded with ``seed + k`` follows the single environment seeded so.
-
-    ## Version History
-
-    * v0: initial version. Deprecated in favour of v1: the overshoot term charges the running measurement
-      of the last reached target until the yaw rate reverses, also while the ship turns correctly toward a
-      new target in the same direction; ``overshoot_count`` and the overshoot angles count only finished
-      measurements; the IMO schedule waits for the target indefinitely, so a helm that aims 0.5-2 deg short
-      stalls it and scores better than one that completes it; the default episode ignores the seed.
-    """
-
-    Task = ZigZagTask
-    env_name = "ZigZag-v0"
-
-
-class ZigZagVectorEnv(ShipVectorEnv):
-    """Native vector version of :class:`ZigZagEnv` (one simulation of ``num_envs`` ships)."""
-
-    Env = ZigZagEnv
-
-
-class ZigZagV1Env(ShipEnv):
     """Course-changing autopilot around the IMO zig-zag manoeuvre, with honest overshoot accounting.
 
     ## Description
@@ -182,7 +28,7 @@ class ZigZagV1Env(ShipEnv):
       change (default 10 L / U_T, 59 s for ``kvlcc2_l7``, where the IMO 10/10 rule needs up to 6.7 L / U_T and a
       PID helm 2-3.3 L / U_T from one course change to the next). So the schedule
       cannot be stalled by stopping short of a target.
-    * ``schedule="random"`` (``vessel_gym/ZigZagRandom-v1``, :class:`ZigZagRandomEnv`): course changes of
+    * ``schedule="random"`` (``vessel_gym/ZigZagRandom-v1``: the preset ``schedule="random"``): course changes of
       ``course_change_deg`` either side every ``leg_time_s`` seconds (drawn with the reset seed).
 
     A target counts as reached when the heading reaches or passes it (:func:`vessel_gym.control.zigzag.
@@ -198,13 +44,13 @@ class ZigZagV1Env(ShipEnv):
 
     ## Action Space
 
-    As ZigZag-v0: ``Box(-1, 1, (1,))`` rudder order x rudder limit (+ starboard); ``(2,)`` with
+    ``Box(-1, 1, (1,))`` rudder order x rudder limit (+ starboard); ``(2,)`` with
     ``engine_control`` (engine order x full ahead / full astern rpm); clipped; NaN raises.
     ``action_type="discrete"``: helm orders (x telegraph steps).
 
     ## Observation Space
 
-    As ZigZag-v0 (``Box(-1, 1, (8,), float32)`` normalized): u, v, r, rudder, rudder_order, (rev),
+    ``Box(-1, 1, (8,), float32)`` normalized (value / scale, clipped; SI values with ``"physical"``): u, v, r, rudder, rudder_order, (rev),
     heading_error (target - heading), heading_deviation (heading - original course), target_deviation
     (target - original course). The original course itself is not observed (the task is the same on every
     course), nor are the disturbances (only their effect on the motion).
@@ -271,7 +117,7 @@ class ZigZagV1Env(ShipEnv):
     ## Arguments
 
     ``gymnasium.make("vessel_gym/ZigZag-v1", render_mode=None, config=None, **overrides)``; config class
-    :class:`ZigZagV1Config` (strict, as ZigZag-v0). Keys: the shared ones, ``schedule``,
+    :class:`~vessel_gym.envs.tasks.zigzag.ZigZagConfig` (strict: unknown keys and out-of-range values raise ``SpecError``). Keys: the shared ones, ``schedule``,
     ``zigzag_heading_deg``, ``first_side``, ``first_change_s``, ``leg_time_limit_s``,
     ``course_change_deg``, ``leg_time_s``, ``approach_speed_m_s``, ``initial_heading_deg``, the
     disturbance ranges above, ``success_overshoot_deg``, ``reward``.
@@ -279,8 +125,8 @@ class ZigZagV1Env(ShipEnv):
 
     ## Vectorized environment
 
-    ``gymnasium.make_vec("vessel_gym/ZigZag-v1", num_envs=N)`` (:class:`ZigZagV1VectorEnv`; and
-    ``ZigZagRandom-v1``, :class:`ZigZagRandomVectorEnv`): one simulation of N ships, the same task code;
+    ``gymnasium.make_vec("vessel_gym/ZigZag-v1", num_envs=N)`` (:class:`ZigZagVectorEnv`; and
+    ``ZigZagRandom-v1``): one simulation of N ships, the same task code;
     vessel k seeded with ``seed + k`` follows the single environment seeded so.
 
     ## Version History
@@ -290,30 +136,18 @@ class ZigZagV1Env(ShipEnv):
       counted only finished ones); IMO leg time limit; seeded original course, first side and first change
       time; target_reached term, speed-loss weight 0.1; wind, current and waves; ``is_success``; the
       random schedule registered as ``ZigZagRandom-v1``.
-    * v0: initial version (:class:`ZigZagEnv`, deprecated).
+    * v0: initial version; removed (``gymnasium.make("vessel_gym/ZigZag-v0")`` raises ``DeprecatedEnv`` naming
+      ``ZigZag-v1``).
+
+    Both ids are presets of the one task :class:`~vessel_gym.envs.tasks.zigzag.ZigZagTask` (its
+    ``register_task`` declaration): ``ZigZagRandom-v1`` is ``ZigZag-v1`` with ``schedule="random"``.
     """
 
-    Task = ZigZagV1Task
-    env_name = "ZigZag-v1"
+    Task = ZigZagTask
+    env_name = "ZigZag"
 
 
-class ZigZagV1VectorEnv(ShipVectorEnv):
-    """Native vector version of :class:`ZigZagV1Env` (one simulation of ``num_envs`` ships)."""
+class ZigZagVectorEnv(ShipVectorEnv):
+    """Native vector version of :class:`ZigZagEnv` (one simulation of ``num_envs`` ships)."""
 
-    Env = ZigZagV1Env
-
-
-class ZigZagRandomEnv(ZigZagV1Env):
-    """ZigZag-v1 with the random course-change schedule as its default (``schedule="random"``): course
-    changes of ``course_change_deg`` (10-40 deg, either side) every ``leg_time_s`` (20-40 s), the first after
-    ``first_change_s``. Everything else, the reward, the overshoot accounting and success included, is
-    :class:`ZigZagV1Env`'s; see its docstring."""
-
-    Task = ZigZagRandomTask
-    env_name = "ZigZagRandom-v1"
-
-
-class ZigZagRandomVectorEnv(ShipVectorEnv):
-    """Native vector version of :class:`ZigZagRandomEnv`."""
-
-    Env = ZigZagRandomEnv
+    Env = ZigZagEnv

@@ -133,24 +133,19 @@ def serve(
         return 0
 
 
-#: the task serve runs: v0's, any scenario's ship and chart with the step-count time limit its scenarios set
-SERVED_ID = "vessel_gym/HarbourApproach-v0"
+#: the task serve runs: the current harbour task, on the scenario's own ship
+SERVED_ID = "vessel_gym/HarbourApproach-v2"
 
 
 def _make_served(make_kw: dict[str, Any]):
-    """The served environment. Gymnasium warns that a newer HarbourApproach exists whenever v0 is made; serve
-    chooses v0 on purpose (above), so the user is not told to upgrade an id they never named."""
-    import warnings
-
+    """The served environment: HarbourApproach-v2 on the scenario's ship (``ship=None``); the chart's depth acts
+    on a ship whose hull has the shallow-water corrections (an MMG hull), any other sails it in deep water."""
     import gymnasium as gym
 
     import vessel_gym.envs  # noqa: F401  (registers the ids)
+    from vessel_gym.envs.tasks.harbour import own_ship
 
-    with warnings.catch_warnings():
-        warnings.filterwarnings(
-            "ignore", message=r".*HarbourApproach-v0 is out of date", category=DeprecationWarning
-        )
-        return gym.make(SERVED_ID, **make_kw)
+    return gym.make(SERVED_ID, **{**own_ship(make_kw["scenario"]), **make_kw})
 
 
 def _serve(

@@ -126,16 +126,20 @@ def play(
     """
     import pygame
 
+    from vessel_gym.envs.tasks.harbour import own_ship
+    from vessel_gym.scenarios import load_scenario
     from vessel_gym.scenarios.traffic import Traffic
     from vessel_gym.ui.chart import ChartRenderer
 
+    sc_loaded = load_scenario(scenario)
     env = HarbourApproachEnv(
-        scenario=scenario,
+        preset="HarbourApproach-v2",
+        scenario=sc_loaded,
         action_type="discrete",
         engine_control=True,
         rudder_orders_deg=RUDDER_ORDERS_DEG,
         telegraph_steps=TELEGRAPH_STEPS,
-        **env_overrides,
+        **{**own_ship(sc_loaded), **env_overrides},
     )
     task = env.task
     sc = task.scenario

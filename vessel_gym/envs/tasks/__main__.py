@@ -1,14 +1,30 @@
-"""``python -m vessel_gym.envs.tasks FILE``: rewrite the tables generated from the task declarations in FILE
-(docs/envs.md); without FILE, print them."""
+"""``python -m vessel_gym.envs.tasks FILE``: rewrite the tables generated from the registered tasks in FILE
+(docs/envs.md); ``--check FILE``: exit 1 naming the file if its tables are stale (CI); without FILE, print
+them."""
 
 from __future__ import annotations
 
 import sys
 
-from vessel_gym.envs.tasks import docs_block, write_docs
+from vessel_gym.envs.tasks import docs_block, ids_block, render, write_docs
+
+
+def main(argv: list[str]) -> int:
+    if argv[:1] == ["--check"] and len(argv) == 2:
+        text, new = render(argv[1])
+        if text != new:
+            print(f"{argv[1]}: generated tables are stale; run python -m vessel_gym.envs.tasks {argv[1]}")
+            return 1
+        return 0
+    if len(argv) == 1:
+        print("updated" if write_docs(argv[0]) else "unchanged")
+        return 0
+    if not argv:
+        print(ids_block() + "\n\n" + docs_block())
+        return 0
+    print("usage: python -m vessel_gym.envs.tasks [--check] [FILE]", file=sys.stderr)
+    return 2
+
 
 if __name__ == "__main__":
-    if len(sys.argv) > 1:
-        print("updated" if write_docs(sys.argv[1]) else "unchanged")
-    else:
-        print(docs_block())
+    sys.exit(main(sys.argv[1:]))

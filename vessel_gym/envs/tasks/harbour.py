@@ -1,12 +1,16 @@
-"""HarbourApproach-v0: from outside a harbour, through the entrance, to a stop in the goal area.
+"""HarbourApproach: from outside a harbour, through the entrance, to a stop in the goal area, in one file.
 
-Declaration, configuration, start of an episode and compiled step together (the chart geometry is
-:mod:`vessel_gym.envs.tasks.chart`); HarbourApproach-v1's changes are :mod:`vessel_gym.envs.tasks.harbour_v1`, the
-environment classes and their spec sheets :mod:`vessel_gym.envs.harbour`.
+Its versions are presets of one configuration, registered by :func:`~vessel_gym.envs.registration.register_task`:
+``HarbourApproach-v1`` (the L7 model with windage, calm-depth physics) and ``HarbourApproach-v2`` (v1 plus the
+harbour physics: the cross-flow hull at large drift, default ship ``kvlcc2_l7_harbour``, and the water depth
+under each ship read from the scenario's chart, ``chart_depth``). Declaration, configuration, start of an episode
+and compiled step sit together here (the chart geometry is :mod:`vessel_gym.envs.tasks.chart`); the environment
+class and its spec sheet are :class:`vessel_gym.envs.harbour.HarbourApproachEnv`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -16,9 +20,11 @@ import numpy as np
 from numba import njit, prange
 
 from vessel_gym.control.angles import wrap_pi
-from vessel_gym.envs.config import ShipEnvConfig, make_config
+from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.declare import FeatureSpec, Term, columns
-from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.generators import vessel_draws
+from vessel_gym.envs.registration import register_task
+from vessel_gym.envs.task import Task, _uniform, compiled_call
 from vessel_gym.envs.tasks.chart import (
     CONTACT,
     DIVERGED,
@@ -52,10 +58,13 @@ from vessel_gym.physics.kinematics import (
     ground_velocity,
     speed_over_ground,
 )
-from vessel_gym.physics.schema import param
+from vessel_gym.physics.schema import SpecError, param
+from vessel_gym.physics.shallow_water import check_hull, set_charted_depth
+from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.units import DEG
 from vessel_gym.physics.vessel import NO_REFCOUNT
 from vessel_gym.scenarios import Scenario, load_scenario
+from vessel_gym.scenarios import geometry as geo
 from vessel_gym.scenarios.geometry import hull_outline
 
 #: the scenario's [weather] ranges, in the order a reset draws them (each an Environment field)
@@ -70,16 +79,34 @@ WEATHER_DRAWS = (
 )
 
 
+#: default control interval as a fraction of the ship's time scale L / U_T (0.99 s for kvlcc2_l7, 6.7 s for the
+#: full-scale kvlcc2): about 1/6 of the time the ship needs to sail its own length, short enough for the rudder
+#: (15.8 deg/s on the model) to be re-ordered well within a turn, long enough that an episode is ~400 decisions
+CONTROL_FRACTION = 1.0 / 6.0
+#: default episode time limit in ship time scales L / U_T (590 s for kvlcc2_l7): the harbour pilot
+#: (envs.policies.HarbourPilot) needs 45-65 of them on the built-in and generated layouts
+TIME_LIMIT_TIME_SCALES = 100.0
+#: difficulty levels: where episodes start (level 3 is the scenario's own [start] region)
+DIFFICULTIES = ("basin", "entrance", "approach", "open")
+#: levels 0-2: fraction of the track length (start region centroid -> route_m -> goal point) still to go
+TRACK_FRACTION = (0.25, 0.45, 0.7)
+#: levels 0-2: spread of the start about its track point: along track (fraction of the track length),
+#: across track (ship lengths), heading about the track direction (deg)
+ALONG_SPREAD, ACROSS_SPREAD_L, HEADING_SPREAD_DEG = 0.05, 0.5, 10.0
+#: levels 0-2: start speed through the water, fraction of the speed the reward allows at that distance
+START_SPEED_FRACTION = (0.5, 0.9)
+
+
 # --- declaration ------------------------------------------------------------------------------------------------
 SPEC = task_spec(
-    "HarbourApproach-v0",
+    "HarbourApproach",
     terms=(
         Term("progress", 1.0, "decrease of the distance to the goal point / L"),
         Term("speed_excess", 1.0, "-(SOG above the allowed speed) / U_T"),
         Term("proximity", 0.5, "-(1 - clearance / safe clearance) when closer"),
         Term("rudder_activity", 0.05, RUDDER_ACTIVITY_DOC),
-        Term("time", 0.01, "-1 per step"),
-        Term("success", 20.0, "+1 on arrival"),
+        Term("time", 0.5, "-(control interval) x U_T / L per step: -1 per time the ship sails its length"),
+        Term("success", 50.0, "+1 on arrival"),
         Term("collision", 20.0, "-1 on contact, grounding or divergence"),
         Term("out_of_bounds", 20.0, "-1 on leaving the chart"),
     ),
@@ -145,16 +172,26 @@ P = columns(
 HarbourApproachReward = SPEC.weights_class(
     "HarbourApproachReward",
     __name__,
-    "Weights of the HarbourApproach reward terms (reward = sum of weight x term).",
+    "Weights of the HarbourApproach reward terms (reward = sum of weight x term); ``time`` is charged per ship "
+    "time scale.",
 )
 
 
 @dataclass(frozen=True, kw_only=True)
 class HarbourApproachConfig(ShipEnvConfig):
-    """HarbourApproach-v0 configuration (see :class:`~vessel_gym.envs.harbour.HarbourApproachEnv`)."""
+    """HarbourApproach configuration (see :class:`~vessel_gym.envs.harbour.HarbourApproachEnv`); its defaults are
+    HarbourApproach-v2, the preset ``HarbourApproach-v1`` sets ``ship`` and ``chart_depth``."""
 
     scenario: str = param("harbour", doc="built-in scenario name or scenario file path")
-    ship: str | None = param(None, doc="ship name or file (default: the scenario's ship)")
+    ship: str | None = param(
+        "kvlcc2_l7_harbour",
+        doc="ship name or file (default: the L7 model with its estimated windage and the cross-flow hull at large "
+        "drift; MMG hull with chart_depth; None: the scenario's ship)",
+    )
+    chart_depth: bool = param(
+        True,
+        doc="the physics sees the charted depth under each ship (shallow-water corrections of the MMG hull)",
+    )
     engine_control: bool = param(True, doc="the agent also gives the engine order")
     n_beams: int = param(16, unit="-", lo=0, hi=360, doc="range beams, evenly spaced clockwise from the bow")
     beam_range_L: float = param(10.0, unit="L", lo=0.1, hi=1000.0, doc="range-beam reach in ship lengths")
@@ -168,6 +205,30 @@ class HarbourApproachConfig(ShipEnvConfig):
     safe_clearance_L: float = param(
         0.5, unit="L", lo=0.001, hi=100.0, doc="proximity term below this clearance"
     )
+    control_interval_s: float | None = param(  # type: ignore[assignment]
+        None,
+        unit="s",
+        lo=1e-4,
+        hi=600.0,
+        doc="time between actions (default: L / U_T / 6 of the ship, rounded to 2 digits: 0.99 s for kvlcc2_l7)",
+    )
+    time_limit_s: float | None = param(
+        None, unit="s", lo=1.0, hi=1e6, doc="episode time limit (default: 100 L / U_T, 590 s for kvlcc2_l7)"
+    )
+    difficulty: int = param(
+        3,
+        unit="-",
+        lo=0,
+        hi=len(DIFFICULTIES) - 1,
+        doc="start region: 0 basin (inside the entrance), 1 entrance, 2 approach, 3 open (the scenario's [start])",
+    )
+    layout: str = param(
+        "scenario", choices=("scenario", "procedural"), doc="chart: the scenario file, or a generated harbour"
+    )
+    layout_split: str = param(
+        "train", choices=("train", "eval"), doc="procedural: seed range of the layout (eval: held out)"
+    )
+    layout_index: int = param(0, unit="-", lo=0, hi=99_999, doc="procedural: which layout of the split")
     reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
 
 
@@ -335,14 +396,178 @@ def harbour_update_parallel(phase, x, *args):
 PARALLEL_MIN_SHIPS = 256
 
 
+def _round2(x: float) -> float:
+    """``x`` rounded to 2 significant digits."""
+    return float(f"{x:.2g}")
+
+
+def difficulty_level(level: int | str) -> int:
+    """A difficulty as an index 0..3 from an index or a name of DIFFICULTIES; raises ValueError otherwise."""
+    if isinstance(level, str) and level in DIFFICULTIES:
+        return DIFFICULTIES.index(level)
+    if (
+        isinstance(level, (int, np.integer))
+        and not isinstance(level, bool)
+        and 0 <= level < len(DIFFICULTIES)
+    ):
+        return int(level)
+    raise ValueError(
+        f"difficulty: expected 0..{len(DIFFICULTIES) - 1} or one of {DIFFICULTIES}, got {level!r}"
+    )
+
+
+def depth_tables(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The chart's depth areas as :func:`chart_depth` reads them, shallowest first (so that the first area
+    containing a point is the shallowest, :meth:`Scenario.depth_at`'s rule): ``verts`` (n_vertices, 2)
+    (north, east) m; ``areas`` (n_areas, 2) int: first vertex row, vertex count; ``area`` (n_areas, 5): depth m,
+    then the bounding box (north min, north max, east min, east max) m."""
+    ds = sorted(scenario.depth_area, key=lambda d: d.depth_m)  # stable: equal depths keep the file's order
+    pts = [np.array([(p[0], p[1]) for p in d.points], dtype=np.float64).reshape(-1, 2) for d in ds]
+    verts = np.concatenate(pts) if pts else np.zeros((0, 2))
+    count = np.array([len(a) for a in pts], dtype=np.int64)
+    start = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64) if pts else count
+    areas = np.stack([start, count], axis=1).reshape(-1, 2)
+    area = np.array(
+        [(d.depth_m, a[:, 0].min(), a[:, 0].max(), a[:, 1].min(), a[:, 1].max()) for d, a in zip(ds, pts)],
+        dtype=np.float64,
+    ).reshape(-1, 5)
+    return verts, areas, area
+
+
+@njit(cache=True)
+def chart_depth(north, east, verts, areas, area, water_depth, T, depth, env):
+    """For each vessel k: ``depth[k]`` the charted depth (m) under its midship point (``north[k]``,
+    ``east[k]``): the first (shallowest) depth area containing it, else ``water_depth``; and that depth in the
+    physics' environment row ``env[k]`` for a ship of draught ``T`` (m), by
+    :func:`~vessel_gym.physics.shallow_water.set_charted_depth`: the Taimuri et al. (2020) corrections hold for
+    h/T >= 1.2, so water between the draught and 1.2 T acts as h/T = 1.2, as does a point over a shoal (the
+    task's grounding rule ends that episode)."""
+    xs = verts[:, 0]
+    ys = verts[:, 1]
+    for k in range(north.shape[0]):
+        n = north[k]
+        e = east[k]
+        h = water_depth
+        for a in range(areas.shape[0]):
+            if area[a, 1] <= n <= area[a, 2] and area[a, 3] <= e <= area[a, 4]:
+                if inside_polygon(n, e, xs, ys, areas[a, 0], areas[a, 1]):
+                    h = area[a, 0]
+                    break
+        depth[k] = h
+        set_charted_depth(env, k, h, T)
+
+
+def own_ship(scenario: Scenario) -> dict[str, Any]:
+    """Config values that sail ``scenario`` with its own ship and the chart's depth where that ship's hull has
+    the shallow-water corrections (an MMG hull; any other sails in deep water)."""
+    ship = scenario.load_ship()
+    try:
+        check_hull(ship, scenario.water_depth_m)
+    except ValueError:
+        return {"ship": ship.path or ship.name, "chart_depth": False}
+    return {"ship": ship.path or ship.name, "chart_depth": True}
+
+
+# --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
+def pid_pilot(env: Any) -> Any:
+    """The harbour pilot (:class:`~vessel_gym.envs.policies.HarbourPilot`) with heading gains from the ship's
+    Nomoto model."""
+    from vessel_gym.envs.policies import HarbourPilot
+    from vessel_gym.policy import nomoto_pid_kwargs
+
+    return HarbourPilot(env, **nomoto_pid_kwargs(env))
+
+
+def rule_pilot(env: Any) -> Any:
+    """The harbour pilot with its default gains."""
+    from vessel_gym.envs.policies import HarbourPilot
+
+    return HarbourPilot(env)
+
+
+def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[str, Any]:
+    """``success``, ``outcome`` (``timeout`` when truncated), ``min_clearance_m``, ``time_s``."""
+    last = infos[-1]
+    return {
+        "success": bool(last["success"]),
+        "outcome": str(last["outcome"]) if terminated else "timeout",
+        "min_clearance_m": float(last["min_clearance_m"]),
+        "time_s": float(last["time_s"]),
+    }
+
+
+# The time limit is the task's own (time_limit_s, from the ship's time scale): no step count is registered.
+@register_task(
+    presets={
+        "HarbourApproach-v1": {"ship": "kvlcc2_l7_windage", "chart_depth": False},
+        "HarbourApproach-v2": {},
+    },
+    max_episode_steps=None,
+    env="vessel_gym.envs.harbour:HarbourApproachEnv",
+    pilots={"pid": pid_pilot, "scripted": rule_pilot},
+    metrics=episode_metrics,
+    train={
+        "common": {
+            "n_timesteps": 1_000_000,
+            "policy": "MlpPolicy",
+            "n_envs": 16,
+            "normalize": {"norm_obs": False, "norm_reward": True},
+        },
+        # PPO as the shipped HarbourApproach-v1 agents were trained (agents/hyperparams/ppo.yml, docs/results.md)
+        "ppo": {
+            "n_steps": 256,
+            "batch_size": 1024,
+            "n_epochs": 5,
+            "gamma": 0.995,
+            "gae_lambda": 0.95,
+            "learning_rate": 3e-4,
+            "clip_range": 0.2,
+            "ent_coef": 0.0,
+            "use_sde": True,
+            "sde_sample_freq": 8,
+            "policy_kwargs": {"net_arch": [128, 128], "activation_fn": "tanh", "log_std_init": -1.0},
+        },
+    },
+)
 class HarbourApproachTask(Task):
     Config = HarbourApproachConfig
     spec = SPEC
     kernel = staticmethod(harbour_update)
 
+    @classmethod
+    def from_config(cls, config: Any, overrides: Mapping[str, Any], n: int) -> HarbourApproachTask:
+        """As :meth:`Task.from_config`; a ``Scenario`` object given as ``scenario`` is used as it is (the config
+        records its path or name)."""
+        over = dict(overrides)
+        preset = over.pop("preset", None)
+        scenario = over.get("scenario")
+        if isinstance(scenario, Scenario):
+            over["scenario"] = scenario.path or scenario.name
+        else:
+            scenario = None
+        task = cls(cls.build_config(config, over, preset), n, scenario=scenario)
+        task.preset = preset
+        return task
+
     def __init__(self, config: HarbourApproachConfig, n: int, scenario: Scenario | None = None) -> None:
-        self.scenario = scenario if scenario is not None else load_scenario(config.scenario)
-        sc = self.scenario
+        if scenario is None and config.layout == "procedural":
+            from vessel_gym.scenarios.generator import generate_harbour, split_seed
+
+            seed = split_seed(config.layout_split, config.layout_index)
+            scenario = generate_harbour(seed, config.ship if config.ship is not None else "kvlcc2_l7")
+        sc = scenario if scenario is not None else load_scenario(config.scenario)
+        ship = load_ship(config.ship if config.ship is not None else sc.load_ship())
+        time_scale = ship.particulars.L_m / ship.test_speed_m_s  # s
+        ci = config.control_interval_s
+        if ci is None:
+            ci = _round2(CONTROL_FRACTION * time_scale)
+        tl = (
+            config.time_limit_s
+            if config.time_limit_s is not None
+            else _round2(TIME_LIMIT_TIME_SCALES * time_scale)
+        )
+        config = dataclasses.replace(config, control_interval_s=ci, time_limit_s=tl)
+        self.scenario = sc
         ship = config.ship if config.ship is not None else sc.load_ship()
         angles = np.arange(config.n_beams) * (2.0 * math.pi / max(config.n_beams, 1))
         self.beam_dirs = np.stack([np.cos(angles), np.sin(angles)], axis=1).reshape(-1, 2)  # body-axis units
@@ -381,6 +606,39 @@ class HarbourApproachTask(Task):
             self.kernel = harbour_update_parallel
         else:  # harbour_update's loop with the chart query's scratch made once (kernel_args), not per call
             self.kernel = _harbour_range
+        #: steps per episode before truncation (time limit / control interval, rounded up)
+        self.max_steps = math.ceil(tl / ci - 1e-9)
+        # the time term is -1 per step in the kernel; charged per ship time scale here
+        self.weights[self.term_names.index("time")] *= ci / time_scale
+        self.difficulty = config.difficulty
+        track = [geo.centroid([(p[0], p[1]) for p in sc.start.points])]
+        track += [(p[0], p[1]) for p in sc.route_m] + [sc.goal_point]
+        self.track = np.array(track, dtype=np.float64)
+        seg = np.hypot(*np.diff(self.track, axis=0).T)
+        self.track_s = np.concatenate([[0.0], np.cumsum(seg)])  # arc length from the start centroid, m
+        #: the physics sees the charted depth under each ship (a pilot policy adapts to it: envs.policies)
+        self.depth_from_chart = bool(config.chart_depth)
+        #: charted depth under each ship's midship point (m), as the physics sees it from the next control
+        #: step on (before the clamp to 1.2 T; the scenario's water depth without chart_depth)
+        self.depth_m = np.full(n, float(self.scenario.water_depth_m))
+        self._depth_call: tuple | None = None  # chart_depth's compiled code and its arguments, bound once
+        if self.depth_from_chart:
+            try:  # the chart's depth is finite: the ship's hull must be one the corrections are for
+                check_hull(self.ship, self.scenario.water_depth_m)
+            except ValueError:
+                raise SpecError(
+                    f"HarbourApproach config ship: {self.ship.name!r} has a "
+                    f"{self.ship.hull.model!r} hull; chart_depth applies the chart's depth through the shallow-water "
+                    "corrections of the MMG hull (Taimuri et al. 2020): choose an MMG ship (default "
+                    "kvlcc2_l7_harbour), chart_depth=False or HarbourApproach-v1"
+                ) from None
+            self.depth_verts, self.depth_areas, self.depth_area = depth_tables(self.scenario)
+            #: charted depth under each ship's midship point (m), as the physics sees it from the next control
+            #: step on (before the clamp to 1.2 T)
+            self.depth_m = np.full(n, float(self.scenario.water_depth_m))
+            self._draught = float(self.ship.particulars.T_m)
+            self._depth_call: tuple | None = None  # chart_depth's compiled code and its arguments, bound once
+
 
     @property
     def beam_range(self) -> float:
@@ -422,7 +680,7 @@ class HarbourApproachTask(Task):
         )
         return flag == OK
 
-    def start_poses(self, idx: np.ndarray, rng: Any) -> tuple[Any, Any, Any, Any]:
+    def open_start_poses(self, idx: np.ndarray, rng: Any) -> tuple[Any, Any, Any, Any]:
         """(north, east, heading deg, speed) of the vessels ``idx``' starts, uniform in the scenario's
         ``[start]`` region: each vessel draws north, east and heading until its pose is inside the region and
         clear of the chart (the vessels still looking draw again together), then its speed."""
@@ -449,6 +707,85 @@ class HarbourApproachTask(Task):
             sc = self.scenario
             raise RuntimeError(f"{sc.path or sc.name}: no clear start pose found in [start] points")
         return n0, e0, heading, _uniform(rng, st.speed_m_s)
+
+    def set_difficulty(self, level: int | str) -> None:
+        """Start region of the episodes reset from now on (0 basin .. 3 open, or a name of DIFFICULTIES)."""
+        self.difficulty = difficulty_level(level)
+
+    def _track_point(self, s: float) -> tuple[float, float, float]:
+        """(north, east, direction rad) of the track at arc length ``s``."""
+        i = int(np.clip(np.searchsorted(self.track_s, s) - 1, 0, len(self.track) - 2))
+        a, b = self.track[i], self.track[i + 1]
+        f = (s - self.track_s[i]) / max(self.track_s[i + 1] - self.track_s[i], 1e-9)
+        d = b - a
+        return float(a[0] + f * d[0]), float(a[1] + f * d[1]), math.atan2(d[1], d[0])
+
+    def start_poses(self, idx: np.ndarray, rng: Any) -> tuple[Any, Any, Any, Any]:
+        if self.difficulty >= len(TRACK_FRACTION):  # the open region: the scenario's [start]
+            return self.open_start_poses(idx, rng)
+        poses = [self.start_pose(vessel_draws(rng, j)) for j in range(len(idx))]
+        n0, e0, heading, speed = (np.array(c, dtype=float) for c in zip(*poses))
+        return n0, e0, heading, speed
+
+    def start_pose(self, rng: Any) -> tuple[float, float, float, float]:
+        """(north, east, heading deg, speed) of one vessel's start on the track at this difficulty (``rng``: its
+        numpy Generator or :class:`~vessel_gym.envs.generators.OneVessel` draws)."""
+        total = float(self.track_s[-1])
+        to_go = TRACK_FRACTION[self.difficulty]
+        for tries in range(1000):
+            spread = 0.0 if tries >= 900 else 1.0  # last resort: on the track itself
+            s = total * (1.0 - to_go + spread * rng.uniform(-ALONG_SPREAD, ALONG_SPREAD))
+            n0, e0, chi = self._track_point(min(max(s, 0.0), total))
+            off = spread * rng.uniform(-ACROSS_SPREAD_L, ACROSS_SPREAD_L) * self.L
+            n0, e0 = n0 - off * math.sin(chi), e0 + off * math.cos(chi)
+            heading = math.degrees(chi) + spread * rng.uniform(-HEADING_SPREAD_DEG, HEADING_SPREAD_DEG)
+            if self._pose_clear(n0, e0, heading * DEG):
+                break
+        else:  # pragma: no cover - validated scenarios have a clear track
+            raise RuntimeError(
+                f"{self.scenario.path or self.scenario.name}: no clear start pose on the track"
+            )
+        dist = math.hypot(self.p[P.goal_north] - n0, self.p[P.goal_east] - e0)
+        allowed = max(self.p[P.goal_max_speed], self.U_T * min(1.0, dist / self.p[P.slow_distance]))
+        speed = allowed * rng.uniform(*START_SPEED_FRACTION)
+        return n0, e0, heading, speed
+
+    def update(self, phase: np.ndarray) -> None:
+        """The task update, then (``chart_depth``) the depth under every ship for the next control step (:func:`chart_depth`:
+        one compiled call over all vessels).
+
+        The depth is read once per control step, not in every physics step within it: over one
+        control step (L / U_T / 6: 0.99 s on kvlcc2_l7) the ship moves about a sixth of its length, while the
+        shallow-water corrections already take the depth at the midship point for the whole hull, and the
+        chart's depth areas change by steps at their edges: a reading per physics step would move where a
+        step in depth takes effect by at most a sixth of a ship length."""
+        super().update(phase)
+        if not self.depth_from_chart:
+            return
+        call = self._depth_call
+        if call is None:
+            sim = self.sim
+            # views of the simulation's state: the simulation keeps its arrays (and the task kernel binds them)
+            args = (
+                sim.north,
+                sim.east,
+                self.depth_verts,
+                self.depth_areas,
+                self.depth_area,
+                float(self.scenario.water_depth_m),
+                self._draught,
+                self.depth_m,
+                sim.env,
+            )
+            chart_depth(*args)  # compiles, or loads from the cache, the lookup for these arguments
+            self._depth_call = compiled_call(chart_depth, args)
+            return
+        call[0](*call[1])
+
+    def __getstate__(self) -> dict:
+        state = super().__getstate__()
+        state["_depth_call"] = None  # compiled code does not pickle; a copy binds its own at its first update
+        return state
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         self.reset_batch(np.array([k]), rng, options)
@@ -570,22 +907,3 @@ class HarbourApproachTask(Task):
             "outcome": OUTCOMES[int(self.flags[k])],
         }
 
-
-def make_task(
-    cls: type,
-    config: Any,
-    overrides: Mapping[str, Any],
-    n: int,
-    task_cls: type | None = None,
-) -> HarbourApproachTask:
-    """The task of ``cls`` (v0's unless ``task_cls`` says otherwise) from a config and keyword overrides; a
-    ``Scenario`` object given as ``scenario`` is used as it is (the config records its path or name)."""
-    task_cls = HarbourApproachTask if task_cls is None else task_cls
-    over = dict(overrides)
-    scenario = over.get("scenario")
-    if isinstance(scenario, Scenario):
-        over["scenario"] = scenario.path or scenario.name
-    else:
-        scenario = None
-    cfg = make_config(task_cls.Config, config, where=f"{cls.env_name} config", **over)
-    return task_cls(cfg, n, scenario=scenario)

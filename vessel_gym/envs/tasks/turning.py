@@ -25,6 +25,7 @@ from vessel_gym.control.turning import (
 from vessel_gym.envs.config import RollOptionsConfig
 from vessel_gym.envs.declare import FeatureSpec, Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
+from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
     HEEL_TERM,
@@ -227,6 +228,53 @@ def turning_update(
 
 
 # --- the task ---------------------------------------------------------------------------------------------------
+# --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
+def pid_pilot(env: Any) -> Any:
+    """PI on the rate-of-turn error, gains by pole placement on the ship's Nomoto model
+    (:class:`vessel_gym.policy.RatePI`)."""
+    from vessel_gym.policy import RatePI
+
+    return RatePI(env)
+
+
+def rule_pilot(env: Any) -> Any:
+    """The IMO turning-circle test as a helm: 35 deg to the commanded side (:class:`~vessel_gym.envs.policies.TurningRule`)."""
+    from vessel_gym.envs.policies import TurningRule
+
+    return TurningRule(env)
+
+
+def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[str, Any]:
+    """``rate_error_pct`` (rate mode: mean |r - r_c| / |r_c| over the steps), ``success``, and the IMO figures
+    ``advance_m``, ``transfer_m``, ``tactical_diameter_m``."""
+    errors = [
+        abs(float(i["rate_of_turn_deg_s"]) - float(i["commanded_rate_deg_s"])) / abs(float(i["commanded_rate_deg_s"]))
+        for i in infos
+        if float(i.get("commanded_rate_deg_s", 0.0)) != 0.0
+    ]
+    last = infos[-1]
+    return {
+        "rate_error_pct": 100.0 * float(np.mean(errors)) if errors else math.nan,
+        "success": bool(last.get("success", False)),
+        **{key: float(last[key]) for key in ("advance_m", "transfer_m", "tactical_diameter_m")},
+    }
+
+
+@register_task(
+    presets={"TurningCircle-v0": {}},
+    max_episode_steps=480,
+    env="vessel_gym.envs.turning:TurningCircleEnv",
+    pilots={"pid": pid_pilot, "scripted": rule_pilot},
+    metrics=episode_metrics,
+    train={
+        "common": {
+            "n_timesteps": 1_000_000,
+            "policy": "MlpPolicy",
+            "n_envs": 16,
+            "normalize": {"norm_obs": False, "norm_reward": True},
+        }
+    },
+)
 class TurningCircleTask(OpenWaterTask):
     S = S
     Config = TurningCircleConfig

@@ -1,9 +1,9 @@
-"""ZigZag-v0: a course-changing autopilot task built around the IMO zig-zag manoeuvre (deprecated for v1).
+"""ZigZag: a course-changing autopilot task built around the IMO zig-zag manoeuvre, in one file.
 
-The declaration (reward terms, features), the configuration, the start of an episode and the compiled step sit
-together here; the environment classes and their spec sheets are in :mod:`vessel_gym.envs.zigzag`. What ZigZag-v1
-shares with v0 (its features, the close of a vessel's row, the Python side in :class:`ZigZagCommon`) is defined
-here once.
+Its versions are presets of one configuration (``ZigZag-v1``: the IMO schedule; ``ZigZagRandom-v1``: random
+course changes), registered by :func:`~vessel_gym.envs.registration.register_task`. The declaration (reward terms,
+features), the configuration, the start of an episode and the compiled step sit together here; the environment
+class and its spec sheet are :class:`vessel_gym.envs.zigzag.ZigZagEnv`.
 """
 
 from __future__ import annotations
@@ -11,24 +11,28 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 from numba import njit
 
 from vessel_gym.control.angles import PI, wrap_pi
 from vessel_gym.control.zigzag import (
-    OVERSHOOT_V0,
+    OVERSHOOT_V1,
     overshoot_excursion,
     overshoot_step,
     target_reached,
     zigzag_execute,
 )
-from vessel_gym.envs.config import OpenWaterConfig
+from vessel_gym.envs.config import RollOptionsConfig
 from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.envs.generators import vessels_draws
-from vessel_gym.envs.task import PHASE_STEP, _uniform
+from vessel_gym.envs.registration import register_task
+from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
+    HEEL_TERM,
+    ROLL_FEATURES,
     RUDDER_ACTIVITY_DOC,
     SPEED_LOSS_DOC,
     OpenWaterTask,
@@ -36,9 +40,11 @@ from vessel_gym.envs.tasks.common import (
     draw_side,
     encode_row,
     finish,
+    heel,
     motion,
     motion_features,
     reset_options,
+    roll_features,
     rudder_activity,
     speed_loss,
     task_spec,
@@ -48,54 +54,89 @@ from vessel_gym.physics.schema import check_ranges, param
 from vessel_gym.physics.units import DEG
 from vessel_gym.physics.vessel import NO_REFCOUNT
 
+_ZERO = np.zeros(1, dtype=np.int64)  # the one vessel of a single environment
+
+#: the IMO schedule's next course change starts at the latest this many ship time scales L / U_T after the
+#: last one. It must not cut the zig-zag of a helm that completes it: the IMO 10/10 rule itself takes 4.5-6.7
+#: L / U_T from execute to execute on kvlcc2_l7 (27-40 s), a PID helm 2-3.3 L / U_T; so the limit bites only on
+#: a helm that stops short of a target or never gets there, and gives it the next course change anyway
+LEG_TIME_LIMIT_L_U = 10.0
+#: the target_reached bonus of a course change equals the heading_error charge of a turn whose error falls
+#: linearly to zero in 2 x this many L / U_T, the leg time limit: a helm that reaches a target within the
+#: limit earns about what the turn costs it or more, so completing a course change always beats stopping
+#: short of it, and, in the IMO schedule, a helm gains by completing more course changes
+REACH_TIME_L_U = 5.0
+
+
 # --- declaration ------------------------------------------------------------------------------------------------
-#: the features of both ZigZag versions after the motion
+#: the features after the motion
 ZIGZAG_FEATURES = (
     FeatureSpec("heading_error", "rad", (1.0, "pi"), "target heading - heading, wrapped"),
     FeatureSpec("heading_deviation", "rad", (1.0, "pi"), "heading - original course, wrapped"),
     FeatureSpec("target_deviation", "rad", (1.0, "pi"), "target heading - original course"),
 )
 SPEC = task_spec(
-    "ZigZag-v0",
+    "ZigZag",
     terms=(
         Term("heading_error", 1.0, "-|target - heading| / pi"),
-        Term("overshoot", 1.0, "-min(excursion past the reached target / psi, 1)"),
+        Term("overshoot", 1.0, "-growth of the course change's overshoot / overshoot scale"),
+        Term(
+            "target_reached",
+            1.0,
+            "on reaching a target: +|course change| / pi x 5 (L / U_T) / control interval",
+        ),
         Term("rudder_activity", 0.1, RUDDER_ACTIVITY_DOC),
-        Term("speed_loss", 0.5, SPEED_LOSS_DOC),
+        Term("speed_loss", 0.1, SPEED_LOSS_DOC),
     ),
-    features=ZIGZAG_FEATURES,
+    features=ZIGZAG_FEATURES + ROLL_FEATURES,
+    options=(HEEL_TERM,),
 )
 TERM = SPEC.TERM
 FEAT = SPEC.FEAT
+OPT = SPEC.OPT
 
+# One schedule for both target kinds: a course change starts when its start time comes (the first after the
+# seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
+# schedule, at the execute (the target reached). Overshoots are measured with the OVERSHOOT_V1 tracker.
 #: per-vessel task state (columns of ``ts``)
 S = columns(
     "psi0",  # original course, rad
-    "target",  # current target heading, rad (unwrapped, same branch as the heading)
-    "side",  # IMO schedule: side of the current target, +1 starboard / -1 port
-    "leg_sign",  # random schedule: direction of the course change of this leg
-    "reached",  # random schedule: target of this leg reached
-    "os_on",  # overshoot being measured
-    "os_sign",
-    "os_target",  # heading past which the overshoot is measured, rad
-    "os_max",  # largest excursion past it so far, rad
-    "os_n",  # overshoots completed
-    "os1",  # first overshoot angle, rad
-    "os2",  # second overshoot angle, rad
-    "os_last",  # last completed overshoot angle, rad
-    "executes",  # rudder executes (target changes) so far
+    "target",  # target of the current course change, rad (unwrapped, same branch as the heading)
+    "sign",  # direction in which the current target is reached, +1 starboard / -1 port; 0 before the first
+    "side",  # IMO schedule: side of the current target (the first change flips it: set -first side)
+    "reached",  # current target reached
+    "next",  # time at which the next course change starts, s
+    "dpsi",  # size of the current course change |target - previous target|, rad
+    "os_on",  # an overshoot measurement is open
+    "os_sign",  # its side (+1 starboard)
+    "os_target",  # its target, rad
+    "os_peak",  # its overshoot so far (largest excursion past the target), rad
+    "os_sum",  # overshoots of the closed measurements, summed, rad
+    "os_max",  # largest closed overshoot, rad
+    "os_n",  # closed measurements
+    "os1",  # first and second closed overshoot, rad (the IMO first and second overshoot angles)
+    "os2",
+    "changes",  # course changes started
+    "n_reached",  # targets reached
+    "missed",  # course changes that ended with their target not reached
     "prev_order",  # rudder order of the previous step, rad
     "U0",  # approach speed, m/s
     "t",  # time since the start of the episode, s
-    "next",  # random schedule: time of the next course change, s
+    "pending_change",  # random schedule: the next course change, drawn in advance (signed), rad
+    "pending_leg",  # random schedule: the duration of the leg it starts, s
+    "draw",  # random schedule: the pending change was used; the task draws the next one
     typename="ZigZagState",
 )
 #: the kernel's parameter row
 P = columns(
-    "psi_z",  # IMO heading deviation psi_z (or random-schedule overshoot reference), rad
+    "psi_z",  # IMO heading deviation psi_z, rad
+    "os_ref",  # overshoot scale of the reward, rad
     "rudder_max",  # rudder scale (limit), rad
     "imo",  # 1: IMO schedule, 0: random course changes
     "dt",  # control interval, s
+    "leg_limit",  # IMO schedule: the next change starts at the latest this long after the last, s
+    "reach",  # target_reached term per radian of course change, 1/rad
+    "heel_ref",  # heel reference of the heel term, rad; 0: the term is off (no column)
     typename="ZigZagParams",
 )
 
@@ -104,45 +145,45 @@ ZigZagReward = SPEC.weights_class(
 )
 
 
-# The keys both versions' configurations have, declared once (a dataclass field belongs to one class, so each
-# is made by a function; the configurations list them in their own order).
-def schedule_param(default: str = "imo") -> Any:
-    return param(default, choices=("imo", "random"), doc="target schedule")
+@dataclass(frozen=True, kw_only=True)
+class ZigZagConfig(RollOptionsConfig, DisturbedOpenWaterConfig):
+    """ZigZag configuration (see :class:`~vessel_gym.envs.zigzag.ZigZagEnv`)."""
 
-
-def zigzag_heading_param() -> Any:
-    return param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
-
-
-def first_side_param(default: str) -> Any:
-    return param(default, choices=("starboard", "port", "random"), doc="imo: first target side")
-
-
-def course_change_param() -> Any:
-    return param(
+    schedule: str = param("imo", choices=("imo", "random"), doc="target schedule")
+    zigzag_heading_deg: float = param(10.0, unit="deg", lo=1.0, hi=90.0, doc="imo: target deviation psi")
+    first_side: str = param(
+        "random", choices=("starboard", "port", "random"), doc="imo: first target side"
+    )
+    first_change_s: tuple[float, ...] = param(
+        (0.0, 10.0), unit="s", lo=0.0, hi=1e5, doc="[min, max] time of the first course change"
+    )
+    leg_time_limit_s: float | None = param(
+        None,
+        unit="s",
+        lo=0.01,
+        hi=1e5,
+        doc="imo: the next course change starts at the latest this long after the last (default 10 L / U_T)",
+    )
+    course_change_deg: tuple[float, ...] = param(
         (10.0, 40.0), unit="deg", lo=1.0, hi=180.0, doc="random: [min, max] course change, either side"
     )
-
-
-def leg_time_param() -> Any:
-    return param(
+    leg_time_s: tuple[float, ...] = param(
         (20.0, 40.0), unit="s", lo=0.01, hi=1e5, doc="random: [min, max] time between course changes"
     )
-
-
-@dataclass(frozen=True, kw_only=True)
-class ZigZagConfig(OpenWaterConfig):
-    """ZigZag-v0 configuration (see :class:`~vessel_gym.envs.zigzag.ZigZagEnv`)."""
-
-    schedule: str = schedule_param()
-    zigzag_heading_deg: float = zigzag_heading_param()
-    first_side: str = first_side_param("starboard")
-    course_change_deg: tuple[float, ...] = course_change_param()
-    leg_time_s: tuple[float, ...] = leg_time_param()
+    initial_heading_deg: tuple[float, ...] = param(
+        (0.0, 360.0), unit="deg", lo=-360.0, hi=360.0, doc="[min, max] original course"
+    )
+    success_overshoot_deg: float | None = param(
+        None,
+        unit="deg",
+        lo=0.0,
+        hi=180.0,
+        doc="success: mean overshoot per course change at most this (default half the overshoot scale)",
+    )
     reward: ZigZagReward = param(ZigZagReward(), doc="reward weights")
 
 
-# --- start of an episode (both versions) ------------------------------------------------------------------------
+# --- start of an episode ------------------------------------------------------------------------
 def course_change(c: Any, rng: Any) -> Any:
     """Random schedule: a signed course change of ``course_change_deg``, either side (- for a draw >= 0.5),
     rad (an array over the vessels of :class:`~vessel_gym.envs.generators.BatchDraws`)."""
@@ -150,22 +191,11 @@ def course_change(c: Any, rng: Any) -> Any:
 
 
 # --- compiled step ----------------------------------------------------------------------------------------------
-@njit(cache=True)
-def _finish_overshoot(s):
-    s[S.os_on] = 0.0
-    s[S.os_n] += 1.0
-    if s[S.os_n] == 1.0:
-        s[S.os1] = s[S.os_max]
-    elif s[S.os_n] == 2.0:
-        s[S.os2] = s[S.os_max]
-    s[S.os_last] = s[S.os_max]
-
-
 @njit(cache=True, inline="always")
 def close_row(k, s, i_psi0, i_target, i_prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done):
-    """End of a zig-zag step of vessel k, both versions: done, reward, rudder memory, features, observation.
+    """End of a zig-zag step of vessel k: done, reward, rudder memory, features, observation.
 
-    ``i_psi0``, ``i_target`` and ``i_prev_order``: where the version keeps the original course, the target and
+    ``i_psi0``, ``i_target`` and ``i_prev_order``: where the task keeps the original course, the target and
     the previous rudder order in its task state ``s``.
     """
     uk, vk, rk, psik, _n, _e, dk, dck, revk, _revc = motion(x, inp, k)
@@ -182,13 +212,40 @@ def close_row(k, s, i_psi0, i_target, i_prev_order, x, inp, alive, w, enc, feat,
     encode_row(feat, k, enc, obs)
 
 
-# The task kernels loop over vessels taking row views (ts[k], feat[k]); compiled without reference counting
-# (vessel.NO_REFCOUNT, which explains why) they allocate nothing: scratch comes from their caller.
+
+@njit(cache=True)
+def _close_overshoot(s):
+    s[S.os_on] = 0.0
+    s[S.os_n] += 1.0
+    peak = s[S.os_peak]
+    s[S.os_sum] += peak
+    s[S.os_max] = max(s[S.os_max], peak)
+    if s[S.os_n] == 1.0:
+        s[S.os1] = peak
+    elif s[S.os_n] == 2.0:
+        s[S.os2] = peak
+
+
 @njit(cache=True, **NO_REFCOUNT)
-def zigzag_update(phase, x, inp, alive, ts, p, w, enc, feat, obs, terms, reward, done):
-    """Zig-zag task: vessels in phase 1 advance one control step, phase 2 (just reset) get features only."""
+def zigzag_update(
+    phase,
+    x,
+    inp,
+    alive,
+    ts,
+    p,
+    w,
+    enc,
+    feat,
+    obs,
+    terms,
+    reward,
+    done,
+):
+    """The ZigZag step of every vessel in ``phase`` (0 skip, 1 step, 2 reset: features only); a course change due
+    at the reset starts there."""
     psiz = p[P.psi_z]
-    dmax = p[P.rudder_max]
+    osref = p[P.os_ref]
     imo = p[P.imo] > 0.0
     for k in range(x.shape[0]):
         if phase[k] == 0:
@@ -196,107 +253,150 @@ def zigzag_update(phase, x, inp, alive, ts, p, w, enc, feat, obs, terms, reward,
         uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
         s = ts[k]
         clear_row(terms, k)
+        reached_now = False
         if phase[k] == 1:
             s[S.t] += p[P.dt]
             if s[S.os_on] > 0.0:
-                s[S.os_max], _rose, finished = overshoot_step(
-                    s[S.os_sign], s[S.os_target], s[S.os_max], psik, rk, OVERSHOOT_V0
+                before = s[S.os_peak]
+                s[S.os_peak], _rose, _fin = overshoot_step(
+                    s[S.os_sign], s[S.os_target], before, psik, rk, OVERSHOOT_V1
                 )
-                if finished:
-                    _finish_overshoot(s)
-            crossed = False
-            sign = 0.0
-            if imo:
-                if target_reached(s[S.side], psik, s[S.target]):
-                    crossed = True
-                    sign = s[S.side]
-            elif s[S.reached] == 0.0 and target_reached(s[S.leg_sign], psik, s[S.target]):
-                crossed = True
-                sign = s[S.leg_sign]
+                terms[k, TERM.overshoot] = -(s[S.os_peak] - before) / osref
+            if s[S.sign] != 0.0 and s[S.reached] == 0.0 and target_reached(s[S.sign], psik, s[S.target]):
+                reached_now = True
                 s[S.reached] = 1.0
-            if crossed:
-                if s[S.os_on] > 0.0:  # v0: a measurement still running counts as complete
-                    _finish_overshoot(s)
+                s[S.n_reached] += 1.0
+                if s[S.os_on] > 0.0:  # the previous change's measurement ends where this one begins
+                    _close_overshoot(s)
                 s[S.os_on] = 1.0
-                s[S.os_sign] = sign
+                s[S.os_sign] = s[S.sign]
                 s[S.os_target] = s[S.target]
-                s[S.os_max] = overshoot_excursion(sign, s[S.target], psik)
-                if imo:  # the IMO execute: the target flips to the other side of the original course
-                    s[S.side], s[S.target] = zigzag_execute(s[S.psi0], s[S.side], psiz)
-                    s[S.executes] += 1.0
-            err = wrap_pi(s[S.target] - psik)
-            terms[k, TERM.heading_error] = -abs(err) / PI
-            if s[S.os_on] > 0.0:
-                exc = overshoot_excursion(s[S.os_sign], s[S.os_target], psik)
-                if exc > 0.0:
-                    terms[k, TERM.overshoot] = -min(exc / psiz, 1.0)
-            terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], dmax)
+                s[S.os_peak] = max(overshoot_excursion(s[S.sign], s[S.target], psik), 0.0)
+                terms[k, TERM.overshoot] -= s[S.os_peak] / osref
+                terms[k, TERM.target_reached] = s[S.dpsi] * p[P.reach]
+        if s[S.t] >= s[S.next] - 1e-9 or (imo and reached_now):  # a course change starts
+            if s[S.sign] != 0.0 and s[S.reached] == 0.0:
+                s[S.missed] += 1.0
+            # closed when the next change starts; the IMO execute starts a change at the very sample the
+            # measurement opens, and the change after that closes it
+            if s[S.os_on] > 0.0 and not (imo and reached_now):
+                _close_overshoot(s)
+            previous = s[S.target]
+            if imo:
+                s[S.side], s[S.target] = zigzag_execute(s[S.psi0], s[S.side], psiz)
+                s[S.sign] = s[S.side]
+                s[S.next] = s[S.t] + p[P.leg_limit]
+            else:
+                s[S.target] += s[S.pending_change]
+                s[S.sign] = 1.0 if s[S.target] >= psik else -1.0
+                s[S.next] = s[S.t] + s[S.pending_leg]
+                s[S.draw] = 1.0
+            s[S.dpsi] = abs(s[S.target] - previous)
+            s[S.reached] = 0.0
+            s[S.changes] += 1.0
+        if phase[k] == 1:
+            terms[k, TERM.heading_error] = -abs(wrap_pi(s[S.target] - psik)) / PI
+            terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
             terms[k, TERM.speed_loss] = speed_loss(speed_through_water(uk, vk), s[S.U0])
+            if p[P.heel_ref] > 0.0:
+                terms[k, OPT.heel] = heel(x, k, p[P.heel_ref])
+        roll_features(feat, x, k, FEAT.phi, FEAT.p)
         close_row(k, s, S.psi0, S.target, S.prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done)
 
 
+# --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
+def pid_pilot(env: Any) -> Any:
+    """PID heading autopilot with gains from the ship's Nomoto model (:func:`vessel_gym.policy.nomoto_pid_kwargs`)."""
+    from vessel_gym.envs.policies import PIDHeadingAutopilot
+    from vessel_gym.policy import nomoto_pid_kwargs
+
+    return PIDHeadingAutopilot(env, **nomoto_pid_kwargs(env))
+
+
+def rule_pilot(env: Any) -> Any:
+    """The IMO zig-zag rule (:class:`~vessel_gym.envs.policies.ZigZagRule`): the trial itself as a helm."""
+    from vessel_gym.envs.policies import ZigZagRule
+
+    return ZigZagRule(env)
+
+
+def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[str, Any]:
+    """``heading_error_deg`` (mean |target - heading| over the steps), ``overshoot_deg`` (per course change, the
+    open measurement included), ``max_overshoot_deg``, ``reached_pct`` (targets reached / course changes),
+    ``course_changes`` and ``success``, from the environment's own per-course-change accounting."""
+    last = infos[-1]
+    legs = int(last["course_changes"])
+    return {
+        "heading_error_deg": float(np.mean([abs(float(i["heading_error_deg"])) for i in infos])),
+        "overshoot_deg": float(last["overshoot_deg"]),
+        "max_overshoot_deg": float(last["max_overshoot_deg"]),
+        "reached_pct": 100.0 * int(last["targets_reached"]) / max(legs, 1),
+        "course_changes": legs,
+        "success": bool(last["is_success"]),
+    }
+
+
 # --- the task ---------------------------------------------------------------------------------------------------
-class ZigZagCommon(OpenWaterTask):
-    """What both ZigZag versions share on the Python side: the schedule, the parameter columns both kernels
-    read, the observation, the chart overlay and the head of the ``info`` (their task states and parameter rows
-    name the same quantities in different columns, ``S`` and ``P``)."""
+@register_task(
+    presets={"ZigZag-v1": {}, "ZigZagRandom-v1": {"schedule": "random"}},
+    max_episode_steps=480,
+    env="vessel_gym.envs.zigzag:ZigZagEnv",
+    pilots={"pid": pid_pilot, "scripted": rule_pilot},
+    metrics=episode_metrics,
+    train={
+        "common": {
+            "n_timesteps": 1_000_000,
+            "policy": "MlpPolicy",
+            "n_envs": 16,
+            "normalize": {"norm_obs": False, "norm_reward": True},
+        }
+    },
+)
+class ZigZagTask(OpenWaterTask):
+    """The zig-zag task: the schedule of course changes, honest overshoot accounting per course change, the
+    leg time limit, seeded starts and disturbances (spec sheet: :class:`vessel_gym.envs.zigzag.ZigZagEnv`)."""
 
-    P: ClassVar[Any]  # the columns of the parameter row
+    S = S
+    P = P
+    Config = ZigZagConfig
+    spec = SPEC
+    kernel = staticmethod(zigzag_update)
 
-    def __init__(self, config: Any, n: int) -> None:
+    def __init__(self, config: ZigZagConfig, n: int) -> None:
+        where = f"{type(config).__name__}"
+        check_ranges(
+            config, ("course_change_deg", "leg_time_s", "initial_heading_deg", "first_change_s"), where
+        )
         super().__init__(config, n)
         self.imo = config.schedule == "imo"
         self.psi_z = config.zigzag_heading_deg * DEG
-        self.ts = np.zeros((n, len(self.S)))
-        P = self.P
+        self.ts = np.zeros((n, len(S)))
         self.p = p = np.zeros(len(P))
         p[P.rudder_max] = self.rudder_scale()
         p[P.imo] = 1.0 if self.imo else 0.0
         p[P.dt] = config.control_interval_s
+        self.disturbances = Disturbances(config, self.ship, where)
+        self.overshoot_ref = self.psi_z if self.imo else config.course_change_deg[0] * DEG
+        self.leg_time_limit = (
+            config.leg_time_limit_s
+            if config.leg_time_limit_s is not None
+            else LEG_TIME_LIMIT_L_U * self.L / self.U_T
+        )
+        self.success_overshoot = (
+            config.success_overshoot_deg * DEG
+            if config.success_overshoot_deg is not None
+            else 0.5 * self.overshoot_ref
+        )
+        p[P.psi_z] = self.psi_z
+        p[P.os_ref] = self.overshoot_ref
+        p[P.leg_limit] = self.leg_time_limit
+        p[P.reach] = REACH_TIME_L_U * (self.L / self.U_T) / (math.pi * config.control_interval_s)
+        self.switch_on_heel(P.heel_ref)
 
     def observed(self) -> tuple[str, ...]:
-        return self.motion_observed(rev=self.config.engine_control) + tuple(f.name for f in ZIGZAG_FEATURES)
+        motion_and_heading = self.motion_observed(rev=self.config.engine_control)
+        return motion_and_heading + tuple(f.name for f in ZIGZAG_FEATURES) + self.roll_observed()
 
-    def heading_info(self, s: list[float], terms: list[float], f: list[float]) -> dict[str, Any]:
-        """The ``info`` entries of one vessel that both versions begin with, from its task state ``s``, weighted
-        terms and features ``f`` (:meth:`info_snapshot`)."""
-        S = self.S
-        return {
-            "reward_terms": self.terms_dict(terms),
-            "time_s": s[S.t],
-            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": math.degrees(f[FEAT.heading_error]),
-        }
-
-    def batch_heading_info(self, s: np.ndarray) -> dict[str, Any]:
-        """:meth:`heading_info` of all vessels; ``s`` is :meth:`task_columns`."""
-        S = self.S
-        return {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[S.t],
-            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
-        }
-
-    def overlay(self, k: int) -> dict[str, Any]:
-        return {
-            "target_heading_rad": float(self.ts[k, self.S.target]),
-            "original_course_rad": float(self.ts[k, self.S.psi0]),
-            "title": "ZigZag",
-        }
-
-
-class ZigZagTask(ZigZagCommon):
-    S = S
-    P = P
-    spec = SPEC
-    Config = ZigZagConfig
-    kernel = staticmethod(zigzag_update)
-
-    def __init__(self, config: ZigZagConfig, n: int) -> None:
-        check_ranges(config, ("course_change_deg", "leg_time_s", "initial_heading_deg"), "ZigZag config")
-        super().__init__(config, n)
-        self.p[P.psi_z] = self.psi_z if self.imo else config.course_change_deg[0] * DEG
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         self.reset_batch(np.array([k]), rng, options)
@@ -307,57 +407,107 @@ class ZigZagTask(ZigZagCommon):
         heading, speed, _ = reset_options(c, options, rng, self.U_T)
         self.start_vessels(idx, rng, heading, speed)
         ts = self.ts
-        psi0 = ts[idx, S.psi0]
+        ts[idx, S.target] = ts[idx, S.psi0]
+        ts[idx, S.next] = _uniform(rng, c.first_change_s)
         if self.imo:
             side = draw_side(c.first_side, rng)
-            ts[idx, S.side] = side
-            ts[idx, S.target] = psi0 + side * self.psi_z
-            ts[idx, S.executes] = 1.0  # the first execute is the rudder order at t = 0
+            ts[idx, S.side] = -side  # the first change flips it to the first side
         else:
-            ts[idx, S.target] = psi0
-            self._new_legs(idx, rng)
+            self._draw_changes(idx, rng)
 
-    def _new_legs(self, idx: np.ndarray, rng: Any) -> None:
-        """A new random leg for the vessels ``idx`` (their draws ``rng``), from their heading now."""
+    def _draw_changes(self, idx: np.ndarray, rng: Any) -> None:
+        """Draw the vessels ``idx``' next random course change and the duration of the leg it starts."""
         c = self.config
         ts = self.ts
-        ts[idx, S.target] += course_change(c, rng)
-        ts[idx, S.leg_sign] = np.where(ts[idx, S.target] >= self.sim.heading[idx], 1.0, -1.0)
-        ts[idx, S.reached] = 0.0
-        ts[idx, S.executes] += 1.0
-        ts[idx, S.next] = ts[idx, S.t] + _uniform(rng, c.leg_time_s)
+        ts[idx, S.pending_change] = course_change(c, rng)
+        ts[idx, S.pending_leg] = _uniform(rng, c.leg_time_s)
+        ts[idx, S.draw] = 0.0
 
     def update(self, phase: np.ndarray) -> None:
-        if not self.imo:  # random schedule: a new leg on vessels whose leg time is up
-            due = (phase == PHASE_STEP) & (
-                self.ts[:, S.t] + self.config.control_interval_s >= self.ts[:, S.next] - 1e-9
-            )
-            idx = np.flatnonzero(due)
-            if len(idx):
-                self._new_legs(idx, vessels_draws(self.rngs, idx))
         super().update(phase)
+        if not self.imo:
+            self._draw_started()
+
+    def _draw_started(self) -> None:
+        """Random schedule, after the kernel: the vessels whose kernel started a course change draw the one
+        after it."""
+        if self.n == 1:  # a scalar test: the one-ship step should not pay for flatnonzero
+            if self.ts[0, S.draw]:
+                self._draw_changes(_ZERO, self.rngs[0])
+            return
+        idx = np.flatnonzero(self.ts[:, S.draw])
+        if len(idx):
+            self._draw_changes(idx, vessels_draws(self.rngs, idx))
 
     # --- info -------------------------------------------------------------------------------------------
+    def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
+        """(overshoot per course change, largest overshoot, success) from the task columns ``s`` of all
+        vessels (the batched info): the open measurement counts with its overshoot so far."""
+        running = s[S.os_peak] * s[S.os_on]
+        per_change = (s[S.os_sum] + running) / np.maximum(s[S.changes], 1.0)
+        largest = np.maximum(s[S.os_max], running)
+        success = (s[S.missed] == 0.0) & (s[S.n_reached] >= 1.0) & (per_change <= self.success_overshoot)
+        return per_change, largest, success
+
     def info_from(self, snap: tuple) -> dict[str, Any]:
         s, terms, f, alive = snap
+        # as _metrics, on Python floats (the one-ship step should not pay for numpy scalar arithmetic)
+        running = s[S.os_peak] * s[S.os_on]
+        per_change = (s[S.os_sum] + running) / max(s[S.changes], 1.0)
+        success = s[S.missed] == 0.0 and s[S.n_reached] >= 1.0 and per_change <= self.success_overshoot
         return {
             **self.heading_info(s, terms, f),
-            "executes": int(s[S.executes]),
-            "overshoot_count": int(s[S.os_n]),
+            "course_changes": int(s[S.changes]),
+            "targets_reached": int(s[S.n_reached]),
+            "targets_missed": int(s[S.missed]),
+            "overshoot_deg": math.degrees(per_change),
+            "max_overshoot_deg": math.degrees(max(s[S.os_max], running)),
             "overshoot_1_deg": math.degrees(s[S.os1]),
             "overshoot_2_deg": math.degrees(s[S.os2]),
-            "last_overshoot_deg": math.degrees(s[S.os_last]),
+            "success": success,
+            "is_success": success,
             "diverged": not alive,
         }
 
     def batch_info(self) -> dict[str, Any]:
         s = self.task_columns()
+        per_change, largest, success = self._metrics(s)
         return {
             **self.batch_heading_info(s),
-            "executes": s[S.executes].astype(np.int64),
-            "overshoot_count": s[S.os_n].astype(np.int64),
+            "course_changes": s[S.changes].astype(np.int64),
+            "targets_reached": s[S.n_reached].astype(np.int64),
+            "targets_missed": s[S.missed].astype(np.int64),
+            "overshoot_deg": np.degrees(per_change),
+            "max_overshoot_deg": np.degrees(largest),
             "overshoot_1_deg": np.degrees(s[S.os1]),
             "overshoot_2_deg": np.degrees(s[S.os2]),
-            "last_overshoot_deg": np.degrees(s[S.os_last]),
+            "success": success,
+            "is_success": success.copy(),
             "diverged": ~self.sim.alive,
+        }
+
+    def heading_info(self, s: list[float], terms: list[float], f: list[float]) -> dict[str, Any]:
+        """The ``info`` entries of one vessel it begins with, from its task state ``s``, weighted
+        terms and features ``f`` (:meth:`info_snapshot`)."""
+        return {
+            "reward_terms": self.terms_dict(terms),
+            "time_s": s[S.t],
+            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": math.degrees(f[FEAT.heading_error]),
+        }
+
+    def batch_heading_info(self, s: np.ndarray) -> dict[str, Any]:
+        """:meth:`heading_info` of all vessels; ``s`` is :meth:`task_columns`."""
+        return {
+            "reward_terms": self.batch_weighted_terms(),
+            "time_s": s[S.t],
+            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
+            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
+        }
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        return {
+            "target_heading_rad": float(self.ts[k, S.target]),
+            "original_course_rad": float(self.ts[k, S.psi0]),
+            "title": "ZigZag",
         }
