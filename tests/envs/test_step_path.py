@@ -103,3 +103,20 @@ def test_nan_action_raises_and_changes_nothing(kw):
     with pytest.raises(ValueError, match="NaN"):
         env.step(bad)
     assert np.array_equal(sim.state, state) and np.array_equal(sim.inputs, inputs) and sim.t == t
+
+
+def test_no_code_replaces_a_step_method_on_an_instance():
+    """Pacing is declared (ShipEnv.pace), not patched in: nothing in the package assigns to an object's
+    ``advance``, ``update`` or ``step`` (serve once replaced the task's advance on the instance)."""
+    import ast
+    from pathlib import Path
+
+    package = Path(vessel_gym.__file__).resolve().parent
+    found = []
+    for path in package.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            for t in targets:
+                if isinstance(t, ast.Attribute) and t.attr in ("advance", "update", "step"):
+                    found.append(f"{path.relative_to(package)}:{node.lineno}")
+    assert not found, found
