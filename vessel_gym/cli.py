@@ -612,7 +612,7 @@ def _main(argv: Sequence[str] | None) -> int:
             try:
                 import viser  # noqa: F401
 
-                from vessel_gym.net.view3d import view3d
+                from vessel_gym.ui.view3d import view3d
             except ImportError:
                 raise UsageError(
                     "vessel-gym view3d: needs the 'view3d' extra: pip install 'vessel-gym[view3d]'"
