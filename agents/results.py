@@ -42,28 +42,21 @@ from typing import Any
 
 import numpy as np
 
-if __package__ in (None, ""):  # run as a script: make the repository root importable
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from agents import seeds  # noqa: E402
-from agents.common import (  # noqa: E402
+from agents import seeds
+from agents.common import (
     ALGOS,
     BASELINES,
-    OneLineParser,
-    UsageError,
     env_short_name,
     evaluate,
-    int_at_least,
     json_safe,
     load_hyperparams,
     model_stem,
-    positive,
     resolve_env_id,
     run_config,
     run_record,
     train,
 )
-from agents.results_doc import (  # noqa: E402, F401  (table, verdict, markers: re-exported)
+from agents.results_doc import (  # noqa: F401  (table, verdict, markers: re-exported)
     BEGIN,
     END,
     HARBOUR_GOAL,
@@ -72,6 +65,7 @@ from agents.results_doc import (  # noqa: E402, F401  (table, verdict, markers: 
     verdict,
     write_doc,
 )
+from vessel_gym.cli_args import OneLineParser, UsageError, int_in, positive
 
 #: ZigZagRandom-v1 is the course-changing comparison task (overshoot per course change, unfinished included)
 DEFAULT_ENVS = ("ZigZagRandom-v1", "HarbourApproach-v1", "TurningCircle-v0")
@@ -119,7 +113,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--seed",
-        type=int_at_least("--seed", 0),
+        type=int_in("--seed", 0),
         default=0,
         help="first training seed; evaluation episodes use the validation/test seeds (seeds.py)",
     )

@@ -35,7 +35,6 @@ import argparse
 import math
 import re
 import statistics
-import sys
 
 import numpy as np
 from numba import njit
@@ -202,8 +201,7 @@ def probe_libm(repeats: int) -> None:
 
 def turning_batch(ship: str):
     """(P, X (N, NX), env row) of N_LANES ``ship``s turning in wind, a minute into the turn."""
-    sys.path.insert(0, __file__.rsplit("/", 1)[0])
-    from bench_physics import make_sim
+    from bench_physics import make_sim  # run as a script: its own folder is on the path
 
     sim = make_sim(ship, N_LANES)
     sim.step(600)

@@ -53,8 +53,9 @@ PHYSICS_FORBIDDEN = (
     "socket",
 )
 # cfd uses vessel_gym only for the ship-file format and the physics (to validate the ship file it writes
-# and to run captive tests on the model): DESIGN.md, "cfd -> physics data format only".
-CFD_ALLOWED_FROM_VESSEL_GYM = ("vessel_gym.physics",)
+# and to run captive tests on the model): DESIGN.md, "cfd -> physics data format only"; and the command lines'
+# shared conventions (one-line errors, exit code 2, defaults in --help), whose one home is vessel_gym.cli_args.
+CFD_ALLOWED_FROM_VESSEL_GYM = ("vessel_gym.physics", "vessel_gym.cli_args")
 
 # vessel_gym.net is the link (UDP, protocol, NMEA, AIS, the panels' UDP client); what a person sees and drives
 # (pygame chart, keyboard play, helm and viewer panels) is vessel_gym.ui, which may use net but not the other
@@ -309,20 +310,36 @@ def test_ui_and_traffic_live_in_their_homes():
 OLD_HOMES = ("vessel_gym.render", "vessel_gym.play", "vessel_gym.net.traffic", "vessel_gym.net.view3d")
 
 
+def _imported_names(tree: ast.AST) -> Iterator[str]:
+    """Every dotted name an import statement of ``tree`` reaches: ``import a.b`` gives a.b, ``from a import b, c``
+    gives a.b and a.c (a submodule or a name, either way what the statement asks for)."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            yield from (alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            yield node.module
+            yield from (f"{node.module}.{alias.name}" for alias in node.names)
+
+
 @pytest.mark.parametrize("old", OLD_HOMES)
 def test_old_homes_are_gone(old):
     assert not [m for m in graph() if _within(m, (old,))], f"{old} is back: import the name from its one home"
-    pattern = re.compile(
-        rf"(from|import)\s+{re.escape(old)}\b|from\s+{re.escape(old.rpartition('.')[0])}\s+import\s+{old.rpartition('.')[2]}\b"
-    )
     users = [
         str(path.relative_to(ROOT))
         for folder in ("vessel_gym", "cfd", "agents", "tests", "benchmarks", "docs")
-        for path in sorted((ROOT / folder).rglob("*"))
-        if path.suffix in (".py", ".md")
-        and path.name != "test_architecture.py"
-        and pattern.search(path.read_text())
-    ] + (["README.md"] if pattern.search((ROOT / "README.md").read_text()) else [])
+        for path in sorted((ROOT / folder).rglob("*.py"))
+        if any(_within(name, (old,)) for name in _imported_names(ast.parse(path.read_text())))
+    ]
+    # the docs' code: "import a.b", "from a.b import c", "from a import b"
+    parent, _, leaf = old.rpartition(".")
+    pattern = re.compile(
+        rf"(from|import)\s+{re.escape(old)}\b|from\s+{re.escape(parent)}\s+import\s[^\n]*\b{leaf}\b"
+    )
+    users += [
+        str(path.relative_to(ROOT))
+        for path in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+        if pattern.search(path.read_text())
+    ]
     assert not users, f"{old} is still imported in {users}"
 
 
@@ -346,5 +363,50 @@ def test_old_import_paths_give_the_objects_of_the_new_homes():
     """Users' imports from the old homes keep working and get the very same objects."""
     from vessel_gym.physics import drivers, runaway, simulation, steady
 
-    assert simulation.steady_state is steady.steady_state and simulation.SimulationError is steady.SimulationError
-    assert simulation.flag_runaway is runaway.flag_runaway and simulation._DriverChoice is drivers._DriverChoice
+    assert (
+        simulation.steady_state is steady.steady_state
+        and simulation.SimulationError is steady.SimulationError
+    )
+    assert (
+        simulation.flag_runaway is runaway.flag_runaway and simulation._DriverChoice is drivers._DriverChoice
+    )
+
+
+def _python_files() -> Iterator[Path]:
+    for folder in ("vessel_gym", "cfd", "agents", "tests", "benchmarks"):
+        yield from sorted((ROOT / folder).rglob("*.py"))
+
+
+def test_no_sys_path_edits():
+    """Every import resolves through the installed package (vessel_gym, cfd and agents are one distribution):
+    no module, script, test or benchmark edits sys.path."""
+    found = []
+    for path in _python_files():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr == "path"
+                and isinstance(node.value, ast.Name)
+                and node.value.id == "sys"
+            ):
+                found.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert not found, f"sys.path used in {found}"
+
+
+def test_the_command_lines_share_one_home_for_their_conventions():
+    """One-line errors, exit code 2 and defaults in --help are vessel_gym.cli_args's: no command line defines its
+    own argparse parser or help formatter class, nor its own error printer."""
+    home = ROOT / "vessel_gym" / "cli_args.py"
+    copies = []
+    for path in _python_files():
+        if path == home or path.is_relative_to(ROOT / "tests"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            bases = [ast.unparse(b) for b in getattr(node, "bases", [])]
+            if isinstance(node, ast.ClassDef) and any(
+                b.endswith(("ArgumentParser", "HelpFormatter")) for b in bases
+            ):
+                copies.append(f"{path.relative_to(ROOT)}:{node.name}")
+            if isinstance(node, ast.FunctionDef) and node.name.lstrip("_") == "error_line":
+                copies.append(f"{path.relative_to(ROOT)}:{node.name}")
+    assert not copies, f"copies of vessel_gym.cli_args's helpers: {copies}"

@@ -155,9 +155,9 @@ def immediate_exits(monkeypatch, tmp_path):
     from cfd import gridstudy, pipeline
     from cfd.errors import CfdError
     from vessel_gym.manoeuvres import imo, trials
-    from vessel_gym.net import serve, view3d
+    from vessel_gym.net import serve
     from vessel_gym.scenarios import load_scenario
-    from vessel_gym.ui import panels, play
+    from vessel_gym.ui import panels, play, view3d
 
     def no_trials(*args, **kwargs):  # reached only after every input and output check has passed
         raise cli.UsageError("fuzz: trials replaced")

@@ -8,53 +8,46 @@ import json
 import sys
 from collections.abc import Sequence
 
-from vessel_gym.cli_args import (  # noqa: F401  (UsageError, SEED_MAX, TOKEN_ENV: their old home)
+from vessel_gym.cli_args import (
     SEED_MAX,
-    TOKEN_ENV,
+    OneLineParser,
     UsageError,
-    _finite,
-    _int_in,
     add_token_option,
     check_bindable,
+    error_line,
     host_port,
+    int_in,
+    number_in,
     resolve_address,
     token_arg,
 )
-
-
-def _error_line(message: str) -> None:
-    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
-    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
-    print(text, file=sys.stderr)
-
-
-class _DefaultsFormatter(argparse.HelpFormatter):
-    """Help that shows each option's default (where it has one worth showing)."""
-
-    def _get_help_string(self, action: argparse.Action) -> str:
-        text = action.help or ""
-        if (
-            "%(default)" not in text
-            and action.default not in (None, False, argparse.SUPPRESS)
-            and (action.option_strings or action.nargs in (argparse.OPTIONAL, argparse.ZERO_OR_MORE))
-        ):
-            text += " (default: %(default)s)"
-        return text
-
-
-class _Parser(argparse.ArgumentParser):
-    def __init__(self, *args, **kwargs) -> None:
-        kwargs.setdefault("formatter_class", _DefaultsFormatter)
-        super().__init__(*args, **kwargs)
-
-    def error(self, message: str) -> None:  # one line, exit 2 (argparse prints usage lines by default)
-        raise UsageError(f"{self.prog}: {message}")
 
 
 def _add_ship(sp: argparse.ArgumentParser) -> None:
     """A ship named either way: positional SHIP or --ship SHIP (main() checks that exactly one is given)."""
     sp.add_argument("ship", nargs="?", default=None, help="built-in ship name or ship file (.toml)")
     sp.add_argument("--ship", dest="ship_option", metavar="SHIP", default=None, help="the same, as an option")
+
+
+#: the agents' command lines, run by ``vessel-gym train|evaluate ARGS`` (the ``agents`` package is installed with
+#: vessel-gym; ``python agents/train.py`` and ``python agents/evaluate.py`` are the same commands)
+AGENT_COMMANDS = {
+    "train": "train an SB3 agent on an environment id (extra 'rl'); 'vessel-gym train --help'",
+    "evaluate": "evaluate a baseline (pid, scripted) or a trained agent over seeded episodes; "
+    "'vessel-gym evaluate --help'",
+}
+
+
+def _agent_command(name: str, argv: list[str]) -> int:
+    """``vessel-gym train|evaluate ARGS``: the agents' own command line, its prog named as the user typed it."""
+    import importlib
+
+    try:
+        return importlib.import_module(f"agents.{name}").main(argv, prog=f"vessel-gym {name}")
+    except SystemExit as exc:  # a bad argument, already told in one line (--help exits 0)
+        if exc.code != 2:
+            raise
+        return 2
 
 
 #: the link's JSON channel when none is given: where ``serve`` binds it and the clients look for it
@@ -101,7 +94,7 @@ def _add_depth(sp: argparse.ArgumentParser) -> None:
     sp.add_argument(
         "--depth",
         metavar="METRES",
-        type=_finite("--depth", 0.01, MAX_DEPTH_M),
+        type=number_in("--depth", 0.01, MAX_DEPTH_M),
         default=None,
         help="water depth, m (default: deep water); shallow-water corrections for h/T >= 1.2, MMG ships",
     )
@@ -128,9 +121,11 @@ def _environment(args, ship) -> dict:
 def build_parser() -> argparse.ArgumentParser:
     from vessel_gym import __version__
 
-    p = _Parser(prog="vessel-gym", description="Ship manoeuvring: IMO checks, manoeuvres, environments.")
+    p = OneLineParser(
+        prog="vessel-gym", description="Ship manoeuvring: IMO checks, manoeuvres, environments."
+    )
     p.add_argument("--version", action="version", version=f"vessel-gym {__version__}")
-    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", parser_class=OneLineParser)
 
     imo = sub.add_parser("imo", help="all IMO MSC.137(76) criteria for a ship (name or .toml path)")
     _add_ship(imo)
@@ -149,7 +144,7 @@ def build_parser() -> argparse.ArgumentParser:
     imo.add_argument("--force", action="store_true", help="replace existing plot and report files")
     imo.add_argument(
         "--heel-limit",
-        type=_finite("--heel-limit", 0.1, 89.9),
+        type=number_in("--heel-limit", 0.1, 89.9),
         default=None,
         metavar="DEG",
         help="also hold the largest heel of the 35 deg turning test to DEG (ships with roll only; the 2008 IS "
@@ -158,32 +153,32 @@ def build_parser() -> argparse.ArgumentParser:
     _add_depth(imo)
 
     man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
-    msub = man.add_subparsers(dest="manoeuvre", parser_class=_Parser)
+    msub = man.add_subparsers(dest="manoeuvre", parser_class=OneLineParser)
     tc = msub.add_parser("turning-circle")
-    tc.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=35.0, help="deg, + = starboard")
+    tc.add_argument("--rudder", type=number_in("--rudder", -70, 70), default=35.0, help="deg, + = starboard")
     zz = msub.add_parser("zigzag")
     zz.add_argument(
         "--rudder",
-        type=_finite("--rudder", -70, 70),
+        type=number_in("--rudder", -70, 70),
         default=10.0,
         help="deg; positive = first execute to starboard",
     )
     zz.add_argument(
-        "--heading", type=_finite("--heading", 0.1, 89.9), default=None, help="deg (default |rudder|)"
+        "--heading", type=number_in("--heading", 0.1, 89.9), default=None, help="deg (default |rudder|)"
     )
     zz.add_argument(
-        "--overshoots", type=_int_in("--overshoots", 1, 10), default=3, help="overshoots to measure"
+        "--overshoots", type=int_in("--overshoots", 1, 10), default=3, help="overshoots to measure"
     )
     it = msub.add_parser("initial-turning")
-    it.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=10.0, help="deg, + = starboard")
+    it.add_argument("--rudder", type=number_in("--rudder", -70, 70), default=10.0, help="deg, + = starboard")
     stp = msub.add_parser("stopping")
     po = msub.add_parser("pull-out")
-    po.add_argument("--rudder", type=_finite("--rudder", 1, 70), default=20.0, help="deg, to starboard")
+    po.add_argument("--rudder", type=number_in("--rudder", 1, 70), default=20.0, help="deg, to starboard")
     for sp in (tc, zz, it, stp, po):
         _add_ship(sp)
         sp.add_argument(
             "--speed",
-            type=_finite("--speed", 0.1, 60),
+            type=number_in("--speed", 0.1, 60),
             default=None,
             help="approach speed, kn (default: the ship's test speed)",
         )
@@ -205,16 +200,20 @@ def build_parser() -> argparse.ArgumentParser:
     ships.add_argument("ship", nargs="?", help="built-in ship name or ship file (.toml), with check")
     ships.add_argument("--json", action="store_true", help="machine-readable output")
     sub.add_parser("scenarios", help="list the built-in scenarios")
+    for name, text in AGENT_COMMANDS.items():  # listed here, parsed by the agents' own command line
+        sub.add_parser(name, help=text, add_help=False)
 
     pl = sub.add_parser("play", help="drive a scenario's ship with the keyboard (pygame), debrief at the end")
     pl.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
     pl.add_argument(
-        "--seed", type=_int_in("--seed", 0, SEED_MAX), default=None, help="start pose and weather draw"
+        "--seed", type=int_in("--seed", 0, SEED_MAX), default=None, help="start pose and weather draw"
     )
-    pl.add_argument("--speedup", type=_finite("--speedup", 0.25, 16), default=1.0, help="initial time factor")
+    pl.add_argument(
+        "--speedup", type=number_in("--speedup", 0.25, 16), default=1.0, help="initial time factor"
+    )
     pl.add_argument(
         "--max-steps",
-        type=_int_in("--max-steps", 1),
+        type=int_in("--max-steps", 1),
         default=None,
         help="stop after this many control steps (default: the 400 s time limit)",
     )
@@ -240,7 +239,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sv.add_argument(
         "--time-factor",
-        type=_finite("--time-factor", 0.1, 100),
+        type=number_in("--time-factor", 0.1, 100),
         default=1.0,
         help="simulated seconds per wall-clock second",
     )
@@ -256,12 +255,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sv.add_argument(
         "--duration",
-        type=_finite("--duration", 0.1, 1e7),
+        type=number_in("--duration", 0.1, 1e7),
         default=None,
         help="stop after this many wall-clock seconds",
     )
     sv.add_argument(
-        "--seed", type=_int_in("--seed", 0, SEED_MAX), default=None, help="seed of the first episode"
+        "--seed", type=int_in("--seed", 0, SEED_MAX), default=None, help="seed of the first episode"
     )
 
     hm = sub.add_parser("helm", help="pygame helm panel for a running 'vessel-gym serve'")
@@ -278,7 +277,7 @@ def build_parser() -> argparse.ArgumentParser:
     for sp in (hm, vw):
         sp.add_argument(
             "--duration",
-            type=_finite("--duration", 0.1, 1e7),
+            type=number_in("--duration", 0.1, 1e7),
             default=None,
             help="close after this many wall-clock seconds (default: when the window is closed)",
         )
@@ -305,13 +304,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     v3.add_argument(
         "--rate",
-        type=_finite("--rate", 1.0, 50.0),
+        type=number_in("--rate", 1.0, 50.0),
         default=20.0,
         help="state rate asked of the link, Hz (1-50)",
     )
     v3.add_argument(
         "--duration",
-        type=_finite("--duration", 0.1, 1e7),
+        type=number_in("--duration", 0.1, 1e7),
         default=None,
         help="stop after this many wall-clock seconds (default: at Ctrl-C)",
     )
@@ -533,7 +532,14 @@ def _main(argv: Sequence[str] | None) -> int:
             # argparse's version action prints and exits 0 at once, whatever follows it
             others = " ".join(w for w in words if w != "--version")
             raise UsageError(f"vessel-gym: --version takes no other arguments (got {others!r})")
-        args = parser.parse_args(words)
+        if words and words[0] in AGENT_COMMANDS:
+            return _agent_command(words[0], words[1:])
+        try:
+            args = parser.parse_args(words)
+        except SystemExit as exc:  # a bad argument, already told in one line: its exit code (--help exits)
+            if exc.code != 2:
+                raise
+            return 2
         if args.command is None:
             commands = ", ".join(sorted(parser.commands))
             raise UsageError(f"vessel-gym: no command given; choose one of {commands} (vessel-gym --help)")
@@ -628,19 +634,19 @@ def _main(argv: Sequence[str] | None) -> int:
             )
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
-        _error_line(str(exc))
+        error_line(str(exc))
         return 2
     except (SpecError, ValueError) as exc:
-        _error_line(f"vessel-gym: {exc}")
+        error_line(f"vessel-gym: {exc}")
         return 2
     except (ManoeuvreIncomplete, SimulationError) as exc:
-        _error_line(f"vessel-gym: {exc}")
+        error_line(f"vessel-gym: {exc}")
         return 1
     except BrokenPipeError:
         raise
     except OSError as exc:  # a path or address given on the command line that the system refuses
         where = f"{exc.filename}: " if exc.filename else ""
-        _error_line(f"vessel-gym: {where}{exc.strerror or exc}")
+        error_line(f"vessel-gym: {where}{exc.strerror or exc}")
         return 2
 
 
