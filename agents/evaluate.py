@@ -36,12 +36,14 @@ from pathlib import Path
 from typing import Any
 
 from agents import seeds
+from agents.cli_util import RL_MODULES
 from agents.common import (
+    BASELINES,
     evaluate,
     json_safe,
     parse_assignments,
 )
-from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in
+from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in, require_extra
 
 #: summary keys printed (when present) with their labels
 LABELS = (
@@ -159,6 +161,8 @@ def main(argv: list[str] | None = None, prog: str = "evaluate.py") -> int:
     parser = build_parser(prog)
     args = parser.parse_args(argv)
     try:
+        if args.agent not in BASELINES:  # a saved model; pid and scripted need no RL packages
+            require_extra(RL_MODULES, "rl", f"--agent {args.agent}")
         kwargs = parse_assignments(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None else None
         seed = args.seed if args.seed is not None else seeds.SPLITS[args.split]
         result, files = run(args, seed, kwargs)

@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 
 from agents import seeds
+from agents.cli_util import RL_MODULES
 from agents.common import (
     ALGOS,
     BASELINES,
@@ -65,7 +66,7 @@ from agents.results_doc import (  # noqa: F401  (table, verdict, markers: re-exp
     verdict,
     write_doc,
 )
-from vessel_gym.cli_args import OneLineParser, UsageError, int_in, positive
+from vessel_gym.cli_args import OneLineParser, UsageError, int_in, positive, require_extra
 
 #: ZigZagRandom-v1 is the course-changing comparison task (overshoot per course change, unfinished included)
 DEFAULT_ENVS = ("ZigZagRandom-v1", "HarbourApproach-v1", "TurningCircle-v0")
@@ -450,6 +451,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     try:
+        require_extra(RL_MODULES, "rl", "training")
         results = run(args, argv)
     except UsageError as exc:
         print(f"results.py: error: {exc}", file=sys.stderr)

@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from agents.cli_util import RL_MODULES
 from agents.common import (
     ALGOS,
     VEC_KINDS,
@@ -30,7 +31,7 @@ from agents.common import (
     resolve_env_id,
     train,
 )
-from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in
+from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in, require_extra
 
 
 def _minutes(text: str) -> float:
@@ -104,6 +105,7 @@ def main(argv: list[str] | None = None, prog: str = "train.py") -> int:
     parser = build_parser(prog)
     args = parser.parse_args(argv)
     try:
+        require_extra(RL_MODULES, "rl", "training")  # before any work: one line naming the extra
         env_id = resolve_env_id(args.env)
         result = train(
             args.algo,

@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from agents import seeds
+from agents.cli_util import RL_MODULES
 from agents.common import (
     ALGOS,
     check_algo,
@@ -40,7 +41,7 @@ from agents.common import (
     sidecar,
     train,
 )
-from vessel_gym.cli_args import OneLineParser, UsageError, int_in, positive
+from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in, positive, require_extra
 
 AGENTS_DIR = Path(__file__).resolve().parent
 
@@ -354,6 +355,11 @@ _METRICS = (
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    try:
+        require_extra(RL_MODULES, "rl", "tuning")
+    except UsageError as exc:
+        error_line(f"tune_ray.py: error: {exc}")
+        return 2
     try:
         import ray  # noqa: F401
     except ImportError:

@@ -47,3 +47,12 @@ def test_lane_passes_when_no_test_is_selected_and_fails_on_a_failure(tmp_path):
     (tmp_path / "test_none.py").write_text("def helper():\n    pass\n")
     assert _lane("-q", "-p", "no:cacheprovider", str(tmp_path / "test_none.py")) == 0
     assert _lane("-q", "-p", "no:cacheprovider", str(tmp_path / "test_fails.py")) == 1
+
+
+def test_the_cpu_only_torch_route_is_documented_and_used():
+    index = "https://download.pytorch.org/whl/cpu"
+    assert index in SCRIPT and "constraints.txt" in SCRIPT
+    agents_doc = (ROOT / "docs" / "agents.md").read_text()
+    assert f"pip install torch==2.13.0 --index-url {index}" in agents_doc
+    assert "CPU build)" not in agents_doc  # the pin alone does not choose the build
+    assert index in (ROOT / "README.md").read_text()

@@ -18,6 +18,7 @@ from vessel_gym.cli_args import (
     host_port,
     int_in,
     number_in,
+    require_extra,
     resolve_address,
     token_arg,
 )
@@ -419,6 +420,9 @@ def _cmd_imo(args) -> int:
     plot_out = report_file = None
     plot_is_dir = False
     # every output is checked before the trials run, so a refusal costs nothing
+    for opt in ("--plot", "--report"):
+        if getattr(args, opt[2:]):
+            require_extra(("matplotlib",), "plot", f"vessel-gym imo: {opt}")
     if args.plot:
         from vessel_gym.manoeuvres.plots import report_plot_names
 
@@ -468,6 +472,8 @@ def _cmd_manoeuvre(args) -> int:
     plot_file = None
     if args.plot:
         from vessel_gym.outputs import check_free, output_target, safe_name
+
+        require_extra(("matplotlib",), "plot", f"vessel-gym manoeuvre {kind}: --plot")
 
         target, is_dir = output_target(args.plot, (".png", ".svg", ".pdf"), "--plot")
         plot_file = target / f"{safe_name(ship.name)}_{kind}.png" if is_dir else target
