@@ -56,3 +56,15 @@ def test_the_cpu_only_torch_route_is_documented_and_used():
     assert f"pip install torch==2.13.0 --index-url {index}" in agents_doc
     assert "CPU build)" not in agents_doc  # the pin alone does not choose the build
     assert index in (ROOT / "README.md").read_text()
+
+
+def test_readme_says_what_the_ci_command_costs_and_gives_the_fast_lane():
+    readme = (ROOT / "README.md").read_text()
+    (extras,) = re.findall(r'pip install -e "\.\[([\w,]+)\]" && python -m pytest -m "not slow"', readme)
+    declared = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    assert set(extras.split(",")) <= set(declared) and "dev" in extras.split(",")
+    ci = readme[readme.index("bash .ci/run") :]
+    for fact in ("virtual environment", "OpenFOAM", "gpsd", "Chromium", "minutes", "GB"):
+        assert fact in ci[:1200], fact
+    installed = re.search(r'-e "\.\[([\w,]+)\]"', SCRIPT).group(1).split(",")
+    assert set(installed) <= set(declared)
