@@ -200,14 +200,25 @@ def build_parser() -> argparse.ArgumentParser:
     ships.add_argument("action", nargs="?", choices=("check",), help="check SHIP's hull model")
     ships.add_argument("ship", nargs="?", help="built-in ship name or ship file (.toml), with check")
     ships.add_argument("--json", action="store_true", help="machine-readable output")
-    sub.add_parser("scenarios", help="list the built-in scenarios")
+    ships.add_argument(
+        "--example",
+        metavar="FILE",
+        default=None,
+        help="write a ship file to start your own from (a built-in ship with every key's unit, range and "
+        "meaning as comments; docs/ship-file.md)",
+    )
+    ships.add_argument("--force", action="store_true", help="with --example: replace an existing FILE")
+    sub.add_parser("scenarios", help="list the built-in scenarios, each with one line of description")
     for name, text in AGENT_COMMANDS.items():  # listed here, parsed by the agents' own command line
         sub.add_parser(name, help=text, add_help=False)
 
     pl = sub.add_parser("play", help="drive a scenario's ship with the keyboard (pygame), debrief at the end")
     pl.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
     pl.add_argument(
-        "--seed", type=int_in("--seed", 0, SEED_MAX), default=None, help="start pose and weather draw"
+        "--seed",
+        type=int_in("--seed", 0, SEED_MAX),
+        default=None,
+        help="start pose and weather draw (default: a fresh random draw each run)",
     )
     pl.add_argument(
         "--speedup", type=number_in("--speedup", 0.25, 16), default=1.0, help="initial time factor"
@@ -236,7 +247,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="HOST:PORT",
         action="append",
         default=[],
-        help="listen-only JSON destination (a viewer that never says hello; repeatable)",
+        help="listen-only JSON destination (a viewer that never says hello; repeatable; default: none)",
     )
     sv.add_argument(
         "--time-factor",
@@ -258,10 +269,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--duration",
         type=number_in("--duration", 0.1, 1e7),
         default=None,
-        help="stop after this many wall-clock seconds",
+        help="stop after this many wall-clock seconds (default: run until Ctrl-C)",
     )
     sv.add_argument(
-        "--seed", type=int_in("--seed", 0, SEED_MAX), default=None, help="seed of the first episode"
+        "--seed",
+        type=int_in("--seed", 0, SEED_MAX),
+        default=None,
+        help="seed of the first episode; later episodes continue its random stream (default: a fresh random draw)",
     )
 
     hm = sub.add_parser("helm", help="pygame helm panel for a running 'vessel-gym serve'")
@@ -273,7 +287,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--listen",
         metavar="HOST:PORT",
         default=None,
-        help="wait for state sent to this address instead of saying hello (static destination)",
+        help="wait for state sent to this address instead of saying hello (static destination; default: none, "
+        "say hello to --server)",
     )
     for sp in (hm, vw):
         sp.add_argument(
@@ -337,73 +352,6 @@ def _ship_name(args) -> str:
     if pos is None and opt is None:
         raise UsageError(f"{prog}: name a ship: SHIP or --ship SHIP (see 'vessel-gym ships')")
     return pos if pos is not None else opt
-
-
-def _cmd_ships_check(args) -> int:
-    """The hull model's checks (physics.plausibility): exit 1 if one finds the ship impossible."""
-    from vessel_gym.physics.plausibility import check_ship, impossible
-    from vessel_gym.physics.shipfile import load_ship
-
-    ship = load_ship(args.ship)
-    findings = check_ship(ship)
-    bad = impossible(findings)
-    text = [
-        f"hull model checks - {ship.name}",
-        "",
-        f"{'check':<34}{'value':>10}  {'expected':<9}{'result':>10}",
-    ]
-    text.append("-" * 65)
-    for f in findings:
-        text.append(f"{f.quantity:<34}{f.value:>10.4g}  {f.expected:<9}{f.status.upper():>10}")
-        text.append(f"    {f.note}; source: {f.source}" if f.note else f"    source: {f.source}")
-    verdict = "IMPOSSIBLE" if bad else "possible"
-    text += ["", f"overall: {verdict}" + (" (see 'impossible' above)" if bad else "")]
-    data = {"ship": ship.name, "findings": [f.to_dict() for f in findings], "possible": not bad}
-    _emit(data, args.json, "\n".join(text))
-    return 1 if bad else 0
-
-
-def _cmd_ships(args) -> int:
-    from vessel_gym.physics.shipfile import builtin_ships, load_ship
-
-    if args.action == "check":
-        if args.ship is None:
-            raise UsageError("vessel-gym ships check: name a ship: built-in name or ship file (.toml)")
-        return _cmd_ships_check(args)
-    if args.ship is not None:
-        raise UsageError(
-            f"vessel-gym ships: unexpected {args.ship!r} (did you mean 'ships check {args.ship}'?)"
-        )
-    rows = []
-    for name in builtin_ships():
-        ship = load_ship(name)
-        p = ship.particulars
-        rows.append(
-            {
-                "ship": name,
-                "hull_model": type(ship.hull).__name__.removesuffix("Hull"),
-                "L_m": p.L_m,
-                "B_m": p.B_m,
-                "T_m": p.T_m,
-                "displacement_t": round(ship.mass_kg / 1000.0, 1),
-                "test_speed_kn": p.test_speed_kn,
-                "source": ship.source.citation,
-            }
-        )
-    if args.json:
-        print(json.dumps(rows, allow_nan=False))
-        return 0
-    w = max([10, *(len(r["ship"]) for r in rows)]) + 2  # the name column fits the longest name
-    head = f"{'ship':<{w}}{'hull':<10}{'L m':>8}{'B m':>8}{'T m':>7}{'displ. t':>12}{'test kn':>9}"
-    lines = [head]
-    for r in rows:
-        lines.append(
-            f"{r['ship']:<{w}}{r['hull_model']:<10}{r['L_m']:8.2f}{r['B_m']:8.2f}{r['T_m']:7.2f}"
-            f"{r['displacement_t']:12,.1f}{r['test_speed_kn']:9.2f}"
-        )
-        lines.append(f"    source: {r['source']}")
-    print("\n".join(lines))
-    return 0
 
 
 def _cmd_imo(args) -> int:
@@ -565,11 +513,17 @@ def _main(argv: Sequence[str] | None) -> int:
                 )
             return _cmd_manoeuvre(args)
         if args.command == "ships":
-            return _cmd_ships(args)
-        if args.command == "scenarios":
-            from vessel_gym.scenarios import builtin_scenarios
+            from vessel_gym.cli_ships import cmd_ships
 
-            print("\n".join(builtin_scenarios()))
+            return cmd_ships(args, _emit)
+        if args.command == "scenarios":
+            from vessel_gym.scenarios import builtin_scenarios, load_scenario
+
+            names = builtin_scenarios()
+            w = max(len(n) for n in names) + 2
+            for name in names:  # each with the first sentence of its description
+                first = " ".join(load_scenario(name).description.split()).split(". ")[0].rstrip(".")
+                print(f"{name:<{w}}{first}.")
             return 0
         if args.command == "play":
             from vessel_gym.scenarios import load_scenario

@@ -25,10 +25,15 @@ def error_line(message: object) -> None:
 
 
 class DefaultsFormatter(argparse.HelpFormatter):
-    """Help that shows each option's default (where it has one worth showing and the help does not say it)."""
+    """Help that shows each option's allowed range (of the :func:`number_in` and :func:`int_in` types) and its
+    default (where it has one worth showing), unless the help text already says them."""
 
     def _get_help_string(self, action: argparse.Action) -> str:
         text = action.help or ""
+        bounds = getattr(action.type, "bounds", None)
+        if bounds is not None and not all(b in text for b in bounds if b not in ("-inf", "inf")):
+            lo, hi = bounds
+            text += f" (>= {lo})" if hi == "inf" else f" (<= {hi})" if lo == "-inf" else f" (range: [{lo}, {hi}])"
         if (
             "%(default)" not in text
             and "default" not in text.lower()
@@ -82,6 +87,7 @@ def number_in(kind: str, lo: float | None = None, hi: float | None = None):
             raise argparse.ArgumentTypeError(f"{kind} {x:g} outside [{low}, {high}]")
         return x
 
+    conv.bounds = ("-inf" if lo is None else f"{lo:g}", "inf" if hi is None else f"{hi:g}")  # type: ignore[attr-defined]
     return conv
 
 
@@ -99,6 +105,7 @@ def int_in(kind: str, lo: int, hi: int | None = None):
             raise argparse.ArgumentTypeError(f"{kind} {x} outside [{lo}, {hi}]")
         return x
 
+    conv.bounds = (str(lo), "inf" if hi is None else str(hi))  # type: ignore[attr-defined]
     return conv
 
 
