@@ -14,6 +14,7 @@ those).
 from __future__ import annotations
 
 import time
+from types import SimpleNamespace
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -184,8 +185,9 @@ def immediate_exits(monkeypatch, tmp_path):
     monkeypatch.setattr(gridstudy, "run_grid_study", no_grid_study)
     monkeypatch.setattr(play, "play", lambda scenario, **kw: _Stopped())
     monkeypatch.setattr(serve, "serve", serve_stub)
-    monkeypatch.setattr(panels, "run_helm", lambda server, **kw: None)
-    monkeypatch.setattr(panels, "run_viewer", lambda server, **kw: None)
+    received = SimpleNamespace(states_received=1)  # a panel that saw the server
+    monkeypatch.setattr(panels, "run_helm", lambda server, **kw: received)
+    monkeypatch.setattr(panels, "run_viewer", lambda server, **kw: received)
     monkeypatch.setattr(pipeline, "Pipeline", PipelineStub)
     monkeypatch.setattr("builtins.input", lambda prompt="": (_ for _ in ()).throw(EOFError()))
 

@@ -234,3 +234,40 @@ def test_ships_example_writes_a_documented_ship_file_that_loads(capsys, tmp_path
     code, out, err = run(capsys, "ships", "--example", str(target))
     assert code == 2 and len(err.strip().splitlines()) == 1 and "--force" in err
     assert run(capsys, "ships", "--example", str(target), "--force")[0] == 0
+
+
+def test_play_helm_and_view_without_a_display_say_so_in_one_line(capsys, monkeypatch):
+    from vessel_gym.ui import display, panels, play
+
+    assert display.no_display_reason({}, "linux") is not None
+    assert display.no_display_reason({"DISPLAY": ":0"}, "linux") is None
+    assert display.no_display_reason({"WAYLAND_DISPLAY": "wayland-0"}, "linux") is None
+    assert display.no_display_reason({"SDL_VIDEODRIVER": "dummy"}, "linux") is None  # headless on purpose
+    assert display.no_display_reason({}, "darwin") is None
+
+    def opened(*a, **kw):
+        raise AssertionError("a window was opened")
+
+    monkeypatch.setattr(play, "play", opened)
+    monkeypatch.setattr(panels, "run_helm", opened)
+    monkeypatch.setattr(panels, "run_viewer", opened)
+    monkeypatch.setattr(display.sys, "platform", "linux")
+    for var in ("SDL_VIDEODRIVER", "DISPLAY", "WAYLAND_DISPLAY"):
+        monkeypatch.delenv(var, raising=False)
+    for command in ("play", "helm", "view"):
+        code, out, err = run(capsys, command)
+        assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+        assert err.startswith(f"vessel-gym {command}: no display") and "SDL_VIDEODRIVER=dummy" in err
+
+
+def test_view_with_no_server_says_so(capsys, monkeypatch):
+    import socket
+
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:  # a free port nobody serves
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    code, out, err = run(capsys, "view", "--server", f"127.0.0.1:{port}", "--duration", "1")
+    assert code == 1 and out == ""
+    assert err.strip().splitlines()[-1].startswith(f"vessel-gym view: no state from 127.0.0.1:{port} in ")
+    assert "vessel-gym serve" in err

@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from collections.abc import Sequence
 
 from vessel_gym.cli_args import (
@@ -458,6 +459,18 @@ def _cmd_manoeuvre(args) -> int:
     return 0
 
 
+def _need_window(command: str) -> None:
+    """One line (exit 2) when no window can open, instead of running unseen."""
+    from vessel_gym.ui.display import no_display_reason
+
+    reason = no_display_reason()
+    if reason is not None:
+        raise UsageError(
+            f"vessel-gym {command}: {reason}: it needs a window; run it on a desktop, or with "
+            "SDL_VIDEODRIVER=dummy to run unseen"
+        )
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vessel-gym`` command; returns the exit code."""
     try:
@@ -530,6 +543,7 @@ def _main(argv: Sequence[str] | None) -> int:
             from vessel_gym.ui.play import play
 
             load_scenario(args.scenario)  # bad names fail here, before a window opens
+            _need_window(args.command)
             debrief = play(
                 args.scenario,
                 seed=args.seed,
@@ -566,13 +580,22 @@ def _main(argv: Sequence[str] | None) -> int:
 
             server = resolve_address(host_port(args.server, "--server"), "--server")
             token = token_arg(args)
+            listen = host_port(args.listen, "--listen") if getattr(args, "listen", None) else None
+            if listen is not None:
+                check_bindable(listen, "--listen")
+            _need_window(args.command)
+            start = time.monotonic()
             if args.command == "helm":
-                panels.run_helm(server, name=args.name, token=token, duration_s=args.duration)
+                result = panels.run_helm(server, name=args.name, token=token, duration_s=args.duration)
             else:
-                listen = host_port(args.listen, "--listen") if args.listen else None
-                if listen is not None:
-                    check_bindable(listen, "--listen")
-                panels.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
+                result = panels.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
+            if result.states_received == 0:  # the window said so; a log or a closed window needs the line
+                where = f"at --listen {args.listen}" if listen else f"from {args.server}"
+                error_line(
+                    f"vessel-gym {args.command}: no state {where} in {time.monotonic() - start:.0f} s: is "
+                    "'vessel-gym serve' running there (with the same --token)?"
+                )
+                return 1
             return 0
         if args.command == "view3d":
             try:
