@@ -51,3 +51,13 @@ def test_unknown_names_raise_attribute_error():
 
     with pytest.raises(AttributeError, match="no_such_name"):
         vessel_gym.no_such_name  # noqa: B018
+
+
+def test_docs_do_not_count_the_ids_by_hand():
+    """The number of ids changes with the tasks: the docs point at env_ids() instead of stating a count."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "envs.md").read_text()
+    counted = re.findall(r"registers (?:one|two|three|four|five|six|seven|eight|nine|ten|\d+) ", text)
+    assert not counted and "env_ids()" in text
