@@ -129,6 +129,7 @@ def main(argv: list[str] | None = None, prog: str = "train.py") -> int:
     except UsageError as exc:
         error_line(f"{parser.prog}: error: {exc}")
         return 2
+    evaluate_command = "vessel-gym evaluate" if prog.startswith("vessel-gym") else "python agents/evaluate.py"
     if result.best_model_path is not None:
         print(f"best model of the periodic evaluations: {result.best_model_path}")
     for label, test in result.test.items():
@@ -139,7 +140,7 @@ def main(argv: list[str] | None = None, prog: str = "train.py") -> int:
         )
     print(
         f"saved {result.model_path} ({result.n_timesteps} steps in {result.wall_time_s:.1f} s); "
-        f"evaluate: python agents/evaluate.py --env {env_id} --agent {result.model_path}"
+        f"evaluate: {evaluate_command} --env {env_id} --agent {result.model_path}"
     )
     return 0
 
