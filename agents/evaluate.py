@@ -183,6 +183,9 @@ def run(args: argparse.Namespace, seed: int, kwargs: dict[str, Any] | None) -> t
     from agents import visual
 
     pictures = args.render is not None or args.video is not None or args.plot is not None
+    for opt, value in (("--render", args.render), ("--plot", args.plot), ("--video", args.video)):
+        if value is not None:  # trajectory plots (matplotlib), frames and GIF (Pillow, with matplotlib)
+            require_extra(("matplotlib", "PIL"), "plot", opt)
     if args.video is not None:
         visual.check_video_path(args.video)
     for opt, path in (("--video", args.video), ("--plot", args.plot)):

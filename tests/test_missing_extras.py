@@ -77,3 +77,12 @@ def test_plots_without_matplotlib_name_the_plot_extra_before_any_trial(tmp_path,
     proc = _run(("matplotlib",), body, tmp_path)
     _one_line(proc, f"vessel-gym {argv[0]}", argv[-2], "'plot' extra", "vessel-gym[plot]")
     assert not list(tmp_path.iterdir()), "nothing is written"
+
+
+def test_evaluate_pictures_without_matplotlib_name_the_plot_extra(tmp_path):
+    body = """
+    from agents.evaluate import main
+    sys.exit(main(["--env", "ZigZag-v1", "--agent", "pid", "--episodes", "1", "--plot", "t.png"]))
+    """
+    _one_line(_run(("matplotlib",), body, tmp_path), "evaluate.py: error: --plot", "'plot' extra")
+    assert not list(tmp_path.iterdir())
