@@ -36,3 +36,10 @@ def test_readme_lists_every_built_in_ship():
     item = next(line for line in readme.split("\n- ") if line.startswith("**Ships**"))
     named = set(re.findall(r"`(\w+)`", item))
     assert set(builtin_ships()) <= named, sorted(set(builtin_ships()) - named)
+
+
+def test_the_agents_are_installed_with_the_package():
+    setuptools = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    assert {"vessel_gym*", "cfd*", "agents*"} <= set(setuptools["packages"]["find"]["include"])
+    data = setuptools["package-data"]["agents"]
+    assert "hyperparams/*.yml" in data and any(d.startswith("trained/") for d in data)
