@@ -19,16 +19,11 @@ Each job lives in its own module, and every name is importable from here as well
 :mod:`agents.config` (hyperparameter files, :class:`RunConfig`, schedules), :mod:`agents.envs` (environment
 factories, vector environments), :mod:`agents.training` (:func:`train`, :func:`build_model`, callbacks),
 :mod:`agents.evaluation` (:func:`load_agent`, :func:`run_episode`, :func:`summarize`, :func:`evaluate`) and
-:mod:`agents.cli_util` (parsers, argument types, :func:`json_safe`).
+:mod:`agents.cli_util` (``KEY=VALUE`` assignments, :func:`json_safe`); the parser and argument types of
+every command line are :mod:`vessel_gym.cli_args`'s.
 """
 
-from agents.cli_util import (  # noqa: F401  (re-exported: the scripts and users import them from here)
-    OneLineParser,
-    int_at_least,
-    json_safe,
-    parse_assignments,
-    positive,
-)
+from agents.cli_util import json_safe, parse_assignments  # noqa: F401  (re-exported: one import for users)
 from agents.config import (  # noqa: F401
     ACTIVATIONS,
     ALGOS,

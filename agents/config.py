@@ -15,6 +15,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from vessel_gym.cli_args import UsageError  # bad input: an unknown id, algorithm or key, a value out of range
+
 HYPERPARAMS_DIR = Path(__file__).resolve().parent / "hyperparams"
 ALGOS: dict[str, str] = {"ppo": "PPO", "sac": "SAC", "td3": "TD3", "a2c": "A2C"}
 BASELINES = ("pid", "scripted")
@@ -33,10 +35,6 @@ META_KEYS = (
 )
 NORMALIZE_KEYS = ("norm_obs", "norm_reward", "clip_obs", "clip_reward", "gamma", "epsilon")
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu", "gelu", "silu")
-
-
-class UsageError(ValueError):
-    """Bad input from the user: an unknown id, algorithm or key, or a value out of range."""
 
 
 # --- names -----------------------------------------------------------------------------------------------------

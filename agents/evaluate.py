@@ -35,18 +35,15 @@ import sys
 from pathlib import Path
 from typing import Any
 
-if __package__ in (None, ""):  # run as a script: make the repository root importable
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from agents import seeds  # noqa: E402
-from agents.common import (  # noqa: E402
-    OneLineParser,
-    UsageError,
+from agents import seeds
+from agents.cli_util import RL_MODULES
+from agents.common import (
+    BASELINES,
     evaluate,
-    int_at_least,
     json_safe,
     parse_assignments,
 )
+from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in, require_extra
 
 #: summary keys printed (when present) with their labels
 LABELS = (
@@ -65,15 +62,13 @@ LABELS = (
 )
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = OneLineParser(
-        prog="evaluate.py", description="Evaluate an agent or baseline on a vessel-gym environment."
-    )
+def build_parser(prog: str = "evaluate.py") -> argparse.ArgumentParser:
+    p = OneLineParser(prog=prog, description="Evaluate an agent or baseline on a vessel-gym environment.")
     p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v1 (or ZigZag-v1)")
     p.add_argument("--agent", required=True, help="pid, scripted or a model .zip saved by train.py")
-    p.add_argument("--episodes", type=int_at_least("--episodes", 1), default=20)
+    p.add_argument("--episodes", type=int_in("--episodes", 1), default=20)
     p.add_argument(
-        "--seed", type=int_at_least("--seed", 0), default=None, help="first episode seed (default: --split's)"
+        "--seed", type=int_in("--seed", 0), default=None, help="first episode seed (default: --split's)"
     )
     p.add_argument(
         "--split",
@@ -92,7 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--render", metavar="DIR", default=None, help="write chart frames and the trajectory plot")
     p.add_argument(
         "--frame-every",
-        type=int_at_least("--frame-every", 1),
+        type=int_in("--frame-every", 1),
         default=4,
         help="with --render/--video: one frame every N steps (default 4)",
     )
@@ -161,14 +156,18 @@ def format_summary(result: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+def main(argv: list[str] | None = None, prog: str = "evaluate.py") -> int:
+    """The command line (``vessel-gym evaluate`` and ``python agents/evaluate.py``); returns the exit code."""
+    parser = build_parser(prog)
+    args = parser.parse_args(argv)
     try:
+        if args.agent not in BASELINES:  # a saved model; pid and scripted need no RL packages
+            require_extra(RL_MODULES, "rl", f"--agent {args.agent}")
         kwargs = parse_assignments(args.env_kwargs, "--env-kwargs") if args.env_kwargs is not None else None
         seed = args.seed if args.seed is not None else seeds.SPLITS[args.split]
         result, files = run(args, seed, kwargs)
     except UsageError as exc:
-        print(f"evaluate.py: error: {exc}", file=sys.stderr)
+        error_line(f"{parser.prog}: error: {exc}")
         return 2
     if args.json:
         print(json.dumps(json_safe(contract(result, files))))
@@ -184,6 +183,9 @@ def run(args: argparse.Namespace, seed: int, kwargs: dict[str, Any] | None) -> t
     from agents import visual
 
     pictures = args.render is not None or args.video is not None or args.plot is not None
+    for opt, value in (("--render", args.render), ("--plot", args.plot), ("--video", args.video)):
+        if value is not None:  # trajectory plots (matplotlib), frames and GIF (Pillow, with matplotlib)
+            require_extra(("matplotlib", "PIL"), "plot", opt)
     if args.video is not None:
         visual.check_video_path(args.video)
     for opt, path in (("--video", args.video), ("--plot", args.plot)):

@@ -18,12 +18,12 @@ from agents.envs import make_env
 def run_record(agent: str | Path) -> dict[str, Any]:
     """The run record ``<stem>.yml`` written next to a trained model, else the JSON sidecar of a shipped
     agent (``agents/shipped.py``), else empty."""
-    import yaml
-
     if str(agent) in BASELINES:
         return {}
     path = sidecar(agent, ".yml")
     if path.is_file():
+        import yaml  # the rl extra's; a baseline needs none of it
+
         data = yaml.safe_load(path.read_text())
         return data if isinstance(data, dict) else {}
     path = sidecar(agent, ".json")

@@ -22,9 +22,10 @@ Writes ``<out>/results.json`` (every seed's test summary too), the learning curv
 ``<out>/curves/<env>_<algo>.png`` (mean over seeds of the validation return and its 95 % Student-t interval
 over seeds; success rate too where the task has one), the trajectory plots of the test episodes
 ``<out>/tracks/<env>_<agent>.png`` (each baseline and the first seed's agent of each algorithm), replaces the part of ``--doc`` between the markers
-``<!-- results:begin -->`` and ``<!-- results:end -->`` (the rest of the page, the discussion, is kept) and
-copies every trained model with its JSON sidecar to ``--ship-dir`` (default ``agents/trained/``, see
-``agents/shipped.py``; ``--no-ship`` to keep them out of the repository).
+``<!-- results:begin -->`` and ``<!-- results:end -->`` (the rest of the page, the discussion, is kept; default
+``<out>/results.md``, so that the committed ``docs/results.md`` changes only when it is named) and, with
+``--ship-dir DIR``, copies every trained model with its JSON sidecar to DIR (``agents/trained`` for the shipped
+agents, see ``agents/shipped.py``).
 """
 
 from __future__ import annotations
@@ -42,28 +43,22 @@ from typing import Any
 
 import numpy as np
 
-if __package__ in (None, ""):  # run as a script: make the repository root importable
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from agents import seeds  # noqa: E402
-from agents.common import (  # noqa: E402
+from agents import seeds
+from agents.cli_util import RL_MODULES
+from agents.common import (
     ALGOS,
     BASELINES,
-    OneLineParser,
-    UsageError,
     env_short_name,
     evaluate,
-    int_at_least,
     json_safe,
     load_hyperparams,
     model_stem,
-    positive,
     resolve_env_id,
     run_config,
     run_record,
     train,
 )
-from agents.results_doc import (  # noqa: E402, F401  (table, verdict, markers: re-exported)
+from agents.results_doc import (  # noqa: F401  (table, verdict, markers: re-exported)
     BEGIN,
     END,
     HARBOUR_GOAL,
@@ -72,6 +67,7 @@ from agents.results_doc import (  # noqa: E402, F401  (table, verdict, markers: 
     verdict,
     write_doc,
 )
+from vessel_gym.cli_args import OneLineParser, UsageError, int_in, positive, require_extra
 
 #: ZigZagRandom-v1 is the course-changing comparison task (overshoot per course change, unfinished included)
 DEFAULT_ENVS = ("ZigZagRandom-v1", "HarbourApproach-v1", "TurningCircle-v0")
@@ -89,7 +85,6 @@ BC_PLAN = ("vessel_gym/HarbourApproach-v1",)
 EXTRA_EVALS: dict[str, list[tuple[str, dict[str, Any]]]] = {
     "vessel_gym/ZigZagRandom-v1": [("IMO 10/10 schedule (ZigZag-v1's)", {"schedule": "imo"})],
 }
-REPO = Path(__file__).resolve().parents[1]
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -117,7 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--seed",
-        type=int_at_least("--seed", 0),
+        type=int_in("--seed", 0),
         default=0,
         help="first training seed; evaluation episodes use the validation/test seeds (seeds.py)",
     )
@@ -130,10 +125,21 @@ def build_parser() -> argparse.ArgumentParser:
         default=10,
         help="validation episodes per periodic evaluation (default 10)",
     )
-    p.add_argument("--ship-dir", default=str(REPO / "agents" / "trained"), help="where trained agents go")
-    p.add_argument("--no-ship", action="store_true", help="do not copy the trained agents to --ship-dir")
+    p.add_argument(
+        "--ship-dir",
+        metavar="DIR",
+        default=None,
+        help="copy every seed's final model with its JSON sidecar to DIR (default: none are copied; "
+        "name agents/trained to replace the shipped agents)",
+    )
     p.add_argument("--out", default="runs/results", help="models, logs and results.json")
-    p.add_argument("--doc", default=str(REPO / "docs" / "results.md"))
+    p.add_argument(
+        "--doc",
+        metavar="FILE",
+        default=None,
+        help="the results page to write: its tables between the markers are replaced, the rest is kept "
+        "(default: <out>/results.md; name docs/results.md to update the committed page)",
+    )
     p.add_argument("--skip-train", action="store_true", help="evaluate the models already in --out")
     p.add_argument(
         "--resume", action="store_true", help="train only the models not yet in --out, evaluate all"
@@ -395,7 +401,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                     per_seed.append(
                         {"path": str(p), "seed": rec.get("seed"), "summary": ev["summary"], "record": rec}
                     )
-                    if main and not args.no_ship:
+                    if main and args.ship_dir is not None:
                         meta = shipped.make_sidecar(
                             {**rec, "test": json_safe(ev["summary"])}, args.eval_episodes, args.episodes
                         )
@@ -454,6 +460,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
     try:
+        require_extra(RL_MODULES, "rl", "training")
         results = run(args, argv)
     except UsageError as exc:
         print(f"results.py: error: {exc}", file=sys.stderr)
@@ -461,8 +468,9 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     (out / "results.json").write_text(json.dumps(json_safe(results), indent=1))
-    write_doc(Path(args.doc), markdown(results))
-    _log(f"wrote {out / 'results.json'} and {args.doc}")
+    doc = Path(args.doc) if args.doc is not None else out / "results.md"
+    write_doc(doc, markdown(results))
+    _log(f"wrote {out / 'results.json'} and {doc}")
     return 0
 
 

@@ -22,22 +22,16 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
-from pathlib import Path
 
-if __package__ in (None, ""):  # run as a script: make the repository root importable
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from agents.common import (  # noqa: E402
+from agents.cli_util import RL_MODULES
+from agents.common import (
     ALGOS,
     VEC_KINDS,
-    OneLineParser,
-    UsageError,
-    int_at_least,
     parse_assignments,
     resolve_env_id,
     train,
 )
+from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in, require_extra
 
 
 def _minutes(text: str) -> float:
@@ -50,15 +44,13 @@ def _minutes(text: str) -> float:
     return v
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = OneLineParser(prog="train.py", description="Train an SB3 agent on a vessel-gym environment.")
+def build_parser(prog: str = "train.py") -> argparse.ArgumentParser:
+    p = OneLineParser(prog=prog, description="Train an SB3 agent on a vessel-gym environment.")
     p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v1 (or ZigZag-v1)")
     p.add_argument("--algo", required=True, type=str.lower, choices=sorted(ALGOS))
-    p.add_argument("--seed", type=int_at_least("--seed", 0), default=0)
-    p.add_argument(
-        "--timesteps", type=int_at_least("--timesteps", 1), default=None, help="override n_timesteps"
-    )
-    p.add_argument("--n-envs", type=int_at_least("--n-envs", 1), default=None, help="override n_envs")
+    p.add_argument("--seed", type=int_in("--seed", 0), default=0)
+    p.add_argument("--timesteps", type=int_in("--timesteps", 1), default=None, help="override n_timesteps")
+    p.add_argument("--n-envs", type=int_in("--n-envs", 1), default=None, help="override n_envs")
     p.add_argument(
         "--vec",
         choices=VEC_KINDS,
@@ -77,7 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=["csv", "stdout"],
         help="SB3 logger outputs (default csv stdout)",
     )
-    p.add_argument("--checkpoint-freq", type=int_at_least("--checkpoint-freq", 1), default=None, help="steps")
+    p.add_argument("--checkpoint-freq", type=int_in("--checkpoint-freq", 1), default=None, help="steps")
     p.add_argument(
         "--time-budget",
         type=_minutes,
@@ -87,32 +79,33 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--eval-freq",
-        type=int_at_least("--eval-freq", 1),
+        type=int_in("--eval-freq", 1),
         default=None,
         help="evaluate every STEPS steps on the validation seeds and keep the best model as <stem>_best.zip",
     )
     p.add_argument(
         "--eval-episodes",
-        type=int_at_least("--eval-episodes", 1),
+        type=int_in("--eval-episodes", 1),
         default=10,
         help="validation episodes per periodic evaluation (default 10)",
     )
     p.add_argument(
         "--test-episodes",
-        type=int_at_least("--test-episodes", 0),
+        type=int_in("--test-episodes", 0),
         default=20,
         help="episodes of the test seed set for the final evaluation (default 20; 0: none)",
     )
-    p.add_argument(
-        "--threads", type=int_at_least("--threads", 1), default=1, help="torch threads (default 1)"
-    )
+    p.add_argument("--threads", type=int_in("--threads", 1), default=1, help="torch threads (default 1)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+def main(argv: list[str] | None = None, prog: str = "train.py") -> int:
+    """The command line (``vessel-gym train`` and ``python agents/train.py``); returns the exit code."""
+    parser = build_parser(prog)
+    args = parser.parse_args(argv)
     try:
+        require_extra(RL_MODULES, "rl", "training")  # before any work: one line naming the extra
         env_id = resolve_env_id(args.env)
         result = train(
             args.algo,
@@ -134,8 +127,9 @@ def main(argv: list[str] | None = None) -> int:
             test_episodes=args.test_episodes,
         )
     except UsageError as exc:
-        print(f"train.py: error: {exc}", file=sys.stderr)
+        error_line(f"{parser.prog}: error: {exc}")
         return 2
+    evaluate_command = "vessel-gym evaluate" if prog.startswith("vessel-gym") else "python agents/evaluate.py"
     if result.best_model_path is not None:
         print(f"best model of the periodic evaluations: {result.best_model_path}")
     for label, test in result.test.items():
@@ -146,7 +140,7 @@ def main(argv: list[str] | None = None) -> int:
         )
     print(
         f"saved {result.model_path} ({result.n_timesteps} steps in {result.wall_time_s:.1f} s); "
-        f"evaluate: python agents/evaluate.py --env {env_id} --agent {result.model_path}"
+        f"evaluate: {evaluate_command} --env {env_id} --agent {result.model_path}"
     )
     return 0
 

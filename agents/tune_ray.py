@@ -27,26 +27,21 @@ import sys
 from pathlib import Path
 from typing import Any
 
-if __package__ in (None, ""):  # run as a script: make the repository root importable
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from agents import seeds  # noqa: E402
-from agents.common import (  # noqa: E402
+from agents import seeds
+from agents.cli_util import RL_MODULES
+from agents.common import (
     ALGOS,
-    OneLineParser,
-    UsageError,
     check_algo,
     evaluate,
-    int_at_least,
     load_hyperparams,
     merge,
     model_stem,
-    positive,
     resolve_env_id,
     run_config,
     sidecar,
     train,
 )
+from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in, positive, require_extra
 
 AGENTS_DIR = Path(__file__).resolve().parent
 
@@ -198,7 +193,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=10,
         help="validation episodes per evaluation (default 10)",
     )
-    p.add_argument("--seed", type=int_at_least("--seed", 0), default=0, help="seed of trial 0")
+    p.add_argument("--seed", type=int_in("--seed", 0), default=0, help="seed of trial 0")
     p.add_argument(
         "--hyperparams-file", default=None, help="YAML file instead of agents/hyperparams/<algo>.yml"
     )
@@ -360,6 +355,11 @@ _METRICS = (
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    try:
+        require_extra(RL_MODULES, "rl", "tuning")
+    except UsageError as exc:
+        error_line(f"tune_ray.py: error: {exc}")
+        return 2
     try:
         import ray  # noqa: F401
     except ImportError:

@@ -29,14 +29,9 @@ from __future__ import annotations
 import argparse
 import multiprocessing as mp
 import socket
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
-
-# Benchmark the checkout this file belongs to, whether or not (or wherever) vessel-gym is installed.
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from vessel_gym.net import protocol as P
 from vessel_gym.net.clients import ServerConnection

@@ -26,40 +26,14 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
+from vessel_gym.cli_args import OneLineParser, error_line
+
 from . import __version__
 from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_file, parse_list, parse_number
 from .errors import CfdError, InputError
 from .heel import RUN_OPTIONS as HEEL_OPTIONS
 
 EXIT_UNVERIFIED = 3  # the run finished but its verification gate failed
-
-
-def _error_line(message: str) -> None:
-    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
-    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
-    print(text, file=sys.stderr)
-
-
-class _DefaultsFormatter(argparse.HelpFormatter):
-    """Help that shows each option's argparse default where it has one."""
-
-    def _get_help_string(self, action: argparse.Action) -> str:
-        text = action.help or ""
-        if "%(default)" not in text and action.default not in (None, False, argparse.SUPPRESS):
-            text += " (default: %(default)s)"
-        return text
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with a one-line error, exit code 2 and defaults in the help."""
-
-    def __init__(self, *args, **kwargs) -> None:
-        kwargs.setdefault("formatter_class", _DefaultsFormatter)
-        super().__init__(*args, **kwargs)
-
-    def error(self, message: str) -> NoReturn:
-        _error_line(f"vessel-cfd: error: {message}")
-        raise SystemExit(2)
 
 
 RUN_OPTIONS: tuple[tuple[str, str], ...] = (
@@ -129,10 +103,12 @@ def _run_help(opt: str, text: str) -> str:
     return f"{text} (default: {shown})"
 
 
-def _parser() -> _Parser:
-    p = _Parser(prog="vessel-cfd", description="OpenFOAM PMM tests -> hydrodynamic derivatives -> ship file.")
+def _parser() -> OneLineParser:
+    p = OneLineParser(
+        prog="vessel-cfd", description="OpenFOAM PMM tests -> hydrodynamic derivatives -> ship file."
+    )
     p.add_argument("--version", action="version", version=f"vessel-cfd {__version__}")
-    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", parser_class=OneLineParser)
     run = sub.add_parser("run", help="run a study non-interactively")
     run.add_argument("--study", help="study TOML file (keys as the options below, with underscores)")
     for opt, text in RUN_OPTIONS:
@@ -574,17 +550,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         result = interactive()
         return result if isinstance(result, int) else 0
     except InputError as exc:
-        _error_line(f"vessel-cfd: error: {exc}")
+        error_line(f"vessel-cfd: error: {exc}")
         return 2
     except CfdError as exc:
-        _error_line(f"vessel-cfd: {exc}")
+        error_line(f"vessel-cfd: {exc}")
         return 1
     except OSError as exc:  # a file or directory given on the command line that the system refuses
         where = f"{exc.filename}: " if exc.filename else ""
-        _error_line(f"vessel-cfd: error: {where}{exc.strerror or exc}")
+        error_line(f"vessel-cfd: error: {where}{exc.strerror or exc}")
         return 2
     except KeyboardInterrupt:
-        _error_line("vessel-cfd: interrupted; running solvers stopped, finished cases kept (a rerun resumes)")
+        error_line("vessel-cfd: interrupted; running solvers stopped, finished cases kept (a rerun resumes)")
         return 130
     finally:
         if previous is not None:

@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
 from vessel_gym.physics.shipfile import SHIP_DIR
+
+# Tests never open windows: pygame's dummy drivers (also on a desktop, and where there is no display at all).
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 
 
 @pytest.fixture

@@ -24,6 +24,7 @@ Only modules of the two packages are nodes; third-party and standard-library imp
 from __future__ import annotations
 
 import ast
+import re
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from functools import cache
@@ -45,7 +46,6 @@ PHYSICS_FORBIDDEN = (
     "vessel_gym.envs",
     "vessel_gym.net",
     "vessel_gym.ui",
-    "vessel_gym.render",
     "vessel_gym.manoeuvres",
     "vessel_gym.control",
     "gymnasium",
@@ -53,24 +53,14 @@ PHYSICS_FORBIDDEN = (
     "socket",
 )
 # cfd uses vessel_gym only for the ship-file format and the physics (to validate the ship file it writes
-# and to run captive tests on the model): DESIGN.md, "cfd -> physics data format only".
-CFD_ALLOWED_FROM_VESSEL_GYM = ("vessel_gym.physics",)
+# and to run captive tests on the model): DESIGN.md, "cfd -> physics data format only"; and the command lines'
+# shared conventions (one-line errors, exit code 2, defaults in --help), whose one home is vessel_gym.cli_args.
+CFD_ALLOWED_FROM_VESSEL_GYM = ("vessel_gym.physics", "vessel_gym.cli_args")
 
 # vessel_gym.net is the link (UDP, protocol, NMEA, AIS, the panels' UDP client); what a person sees and drives
 # (pygame chart, keyboard play, helm and viewer panels) is vessel_gym.ui, which may use net but not the other
-# way round. The CLI launches both and may import both. The old homes of ui's modules (vessel_gym.render,
-# vessel_gym.play) are re-exports of ui, so net may not import them either.
-UI = ("vessel_gym.ui", "vessel_gym.render", "vessel_gym.play")
-# Imports from net into ui that exist today, as (importer, imported). Remove an entry when the import goes:
-# the test fails on an import not listed and on a listed one that no longer exists, so the list only shrinks.
-NET_INTO_UI_KNOWN: frozenset[tuple[str, str]] = frozenset(
-    {
-        # The browser 3D viewer's former home re-exports it from ui/ for existing imports.
-        ("vessel_gym.net.view3d", "vessel_gym.ui.view3d"),
-        ("vessel_gym.net.view3d", "vessel_gym.ui.view3d_link"),
-        ("vessel_gym.net.view3d", "vessel_gym.ui.view3d_scene"),
-    }
-)
+# way round. The CLI launches both and may import both.
+UI = ("vessel_gym.ui",)
 
 # A module doing one job stays short enough to read: at most MAX_MODULE_LINES lines in vessel_gym and agents
 # (cfd has its own, stricter limit below). These modules are longer today and wait to be split; each leaves
@@ -289,7 +279,7 @@ def test_no_cfd_module_over_600_lines():
 
 
 def test_net_imports_nothing_from_ui():
-    """The link works without a screen: net never imports ui (nor ui's old homes), except the known imports."""
+    """The link works without a screen: net never imports ui."""
     found = {
         (name, m)
         for name, mod in graph().items()
@@ -297,36 +287,60 @@ def test_net_imports_nothing_from_ui():
         for m in mod.internal
         if _within(m, UI)
     }
-    new = sorted(found - NET_INTO_UI_KNOWN)
-    assert not new, "net imports ui: " + ", ".join(f"{a} -> {b}" for a, b in new)
-    gone = sorted(NET_INTO_UI_KNOWN - found)
-    assert not gone, f"no longer imported, update NET_INTO_UI_KNOWN: {gone}"
+    assert not found, "net imports ui: " + ", ".join(f"{a} -> {b}" for a, b in sorted(found))
 
 
 def test_ui_and_traffic_live_in_their_homes():
-    """What a person sees is in ui/, the scenarios' traffic beside the scenarios; the old homes only re-export."""
+    """What a person sees is in ui/, the scenarios' traffic beside the scenarios; the old homes are gone."""
     g = graph()
     assert {
         "vessel_gym.ui.chart",
         "vessel_gym.ui.play",
         "vessel_gym.ui.panels",
+        "vessel_gym.ui.view3d",
         "vessel_gym.scenarios.traffic",
     } <= set(g)
     assert not any(
         _within(m, UI) for m in g["vessel_gym.net.clients"].internal | g["vessel_gym.net.clients"].external
     )
     assert "pygame" not in g["vessel_gym.net.clients"].external
-    shims = {
-        "vessel_gym.render": "vessel_gym.ui.chart",
-        "vessel_gym.render.chart": "vessel_gym.ui.chart",
-        "vessel_gym.play": "vessel_gym.ui.play",
-        "vessel_gym.net.traffic": "vessel_gym.scenarios.traffic",
-    }
-    for shim, home in shims.items():
-        tree = ast.parse(g[shim].path.read_text())
-        body = [n for n in tree.body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
-        assert len(body) == 1 and isinstance(body[0], ast.ImportFrom), f"{shim} does more than re-export"
-        assert g[shim].internal == {home}, f"{shim} imports {g[shim].internal}, not only {home}"
+
+
+# Former homes of moved modules: removed (version 0.1 keeps no re-exports), so each name has one home.
+OLD_HOMES = ("vessel_gym.render", "vessel_gym.play", "vessel_gym.net.traffic", "vessel_gym.net.view3d")
+
+
+def _imported_names(tree: ast.AST) -> Iterator[str]:
+    """Every dotted name an import statement of ``tree`` reaches: ``import a.b`` gives a.b, ``from a import b, c``
+    gives a.b and a.c (a submodule or a name, either way what the statement asks for)."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            yield from (alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            yield node.module
+            yield from (f"{node.module}.{alias.name}" for alias in node.names)
+
+
+@pytest.mark.parametrize("old", OLD_HOMES)
+def test_old_homes_are_gone(old):
+    assert not [m for m in graph() if _within(m, (old,))], f"{old} is back: import the name from its one home"
+    users = [
+        str(path.relative_to(ROOT))
+        for folder in ("vessel_gym", "cfd", "agents", "tests", "benchmarks", "docs")
+        for path in sorted((ROOT / folder).rglob("*.py"))
+        if any(_within(name, (old,)) for name in _imported_names(ast.parse(path.read_text())))
+    ]
+    # the docs' code: "import a.b", "from a.b import c", "from a import b"
+    parent, _, leaf = old.rpartition(".")
+    pattern = re.compile(
+        rf"(from|import)\s+{re.escape(old)}\b|from\s+{re.escape(parent)}\s+import\s[^\n]*\b{leaf}\b"
+    )
+    users += [
+        str(path.relative_to(ROOT))
+        for path in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+        if pattern.search(path.read_text())
+    ]
+    assert not users, f"{old} is still imported in {users}"
 
 
 def _line_counts() -> dict[str, int]:
@@ -345,22 +359,41 @@ def test_no_module_over_700_lines_outside_the_list_to_split():
     assert not done, f"gone or down to {SPLIT_TARGET_LINES} lines, remove from LONG_MODULES_TO_SPLIT: {done}"
 
 
-def test_old_import_paths_give_the_objects_of_the_new_homes():
-    """Users' imports from the old homes keep working and get the very same objects."""
-    from vessel_gym import play as old_play
-    from vessel_gym import render
-    from vessel_gym.net import traffic as old_traffic
-    from vessel_gym.render import chart as old_chart
-    from vessel_gym.scenarios import traffic
-    from vessel_gym.ui import chart, play
+def _python_files() -> Iterator[Path]:
+    for folder in ("vessel_gym", "cfd", "agents", "tests", "benchmarks"):
+        yield from sorted((ROOT / folder).rglob("*.py"))
 
-    assert render.ChartRenderer is old_chart.ChartRenderer is chart.ChartRenderer
-    assert old_chart.depth_colour is chart.depth_colour and old_chart.TRAFFIC == chart.TRAFFIC
-    assert old_play.play is play.play and old_play.score is play.score and old_play.Debrief is play.Debrief
-    assert old_traffic.Traffic is traffic.Traffic and old_traffic.LazyTargets is traffic.LazyTargets
-    from vessel_gym.net import view3d as old_view3d
-    from vessel_gym.ui import view3d, view3d_link, view3d_scene
 
-    assert old_view3d.view3d is view3d.view3d and old_view3d.Viewer3D is view3d.Viewer3D
-    assert old_view3d.LinkClient is view3d_link.LinkClient and old_view3d.prism is view3d_scene.prism
-    assert old_view3d.sea_elevation is view3d_scene.sea_elevation
+def test_no_sys_path_edits():
+    """Every import resolves through the installed package (vessel_gym, cfd and agents are one distribution):
+    no module, script, test or benchmark edits sys.path."""
+    found = []
+    for path in _python_files():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if (
+                isinstance(node, ast.Attribute)
+                and node.attr == "path"
+                and isinstance(node.value, ast.Name)
+                and node.value.id == "sys"
+            ):
+                found.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert not found, f"sys.path used in {found}"
+
+
+def test_the_command_lines_share_one_home_for_their_conventions():
+    """One-line errors, exit code 2 and defaults in --help are vessel_gym.cli_args's: no command line defines its
+    own argparse parser or help formatter class, nor its own error printer."""
+    home = ROOT / "vessel_gym" / "cli_args.py"
+    copies = []
+    for path in _python_files():
+        if path == home or path.is_relative_to(ROOT / "tests"):
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            bases = [ast.unparse(b) for b in getattr(node, "bases", [])]
+            if isinstance(node, ast.ClassDef) and any(
+                b.endswith(("ArgumentParser", "HelpFormatter")) for b in bases
+            ):
+                copies.append(f"{path.relative_to(ROOT)}:{node.name}")
+            if isinstance(node, ast.FunctionDef) and node.name.lstrip("_") == "error_line":
+                copies.append(f"{path.relative_to(ROOT)}:{node.name}")
+    assert not copies, f"copies of vessel_gym.cli_args's helpers: {copies}"

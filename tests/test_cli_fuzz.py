@@ -14,6 +14,7 @@ those).
 from __future__ import annotations
 
 import time
+from types import SimpleNamespace
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -155,9 +156,9 @@ def immediate_exits(monkeypatch, tmp_path):
     from cfd import gridstudy, pipeline
     from cfd.errors import CfdError
     from vessel_gym.manoeuvres import imo, trials
-    from vessel_gym.net import serve, view3d
+    from vessel_gym.net import serve
     from vessel_gym.scenarios import load_scenario
-    from vessel_gym.ui import panels, play
+    from vessel_gym.ui import panels, play, view3d
 
     def no_trials(*args, **kwargs):  # reached only after every input and output check has passed
         raise cli.UsageError("fuzz: trials replaced")
@@ -184,8 +185,9 @@ def immediate_exits(monkeypatch, tmp_path):
     monkeypatch.setattr(gridstudy, "run_grid_study", no_grid_study)
     monkeypatch.setattr(play, "play", lambda scenario, **kw: _Stopped())
     monkeypatch.setattr(serve, "serve", serve_stub)
-    monkeypatch.setattr(panels, "run_helm", lambda server, **kw: None)
-    monkeypatch.setattr(panels, "run_viewer", lambda server, **kw: None)
+    received = SimpleNamespace(states_received=1)  # a panel that saw the server
+    monkeypatch.setattr(panels, "run_helm", lambda server, **kw: received)
+    monkeypatch.setattr(panels, "run_viewer", lambda server, **kw: received)
     monkeypatch.setattr(pipeline, "Pipeline", PipelineStub)
     monkeypatch.setattr("builtins.input", lambda prompt="": (_ for _ in ()).throw(EOFError()))
 

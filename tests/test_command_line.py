@@ -45,11 +45,34 @@ def test_every_option_with_a_default_shows_it_in_help():
         for action in sp._actions:
             if action.default in (None, False, "==SUPPRESS==") or not action.option_strings:
                 continue
-            if action.dest == "help":
+            if action.dest == "help" or "default" in (action.help or ""):  # the help says it in words
                 continue
             assert f"(default: {action.default})" in text, (name, action.dest)
             checked += 1
     assert checked >= 15
+
+
+def test_live_commands_help_shows_every_default_and_range():
+    """play, serve, helm, view and view3d: every option that takes a value says its default (also when it is
+    "none"), and every numeric option its allowed range, in --help."""
+    parser = cli.build_parser()
+    subs = dict(_subparsers(parser))
+    checked = 0
+    for name in ("play", "serve", "helm", "view", "view3d"):
+        formatter = subs[name]._get_formatter()
+        for action in subs[name]._actions:
+            if not action.option_strings or action.nargs == 0 or action.dest == "help":
+                continue
+            opt = action.option_strings[0]
+            entry = formatter._expand_help(action)  # the help text as --help prints it
+            assert "default" in entry, (name, opt, entry)
+            bounds = getattr(action.type, "bounds", None)
+            if bounds is not None:
+                assert all(b in entry for b in bounds if b != "inf"), (name, opt, entry)
+            checked += 1
+    assert checked >= 15
+    play_help = " ".join(subs["play"].format_help().split())
+    assert "--speedup SPEEDUP initial time factor (range: [0.25, 16])" in play_help
 
 
 def test_cfd_help_shows_defaults():
@@ -178,3 +201,73 @@ def test_sigpipe_is_quiet():
     )
     assert "Traceback" not in proc.stderr and "BrokenPipeError" not in proc.stderr, proc.stderr
     assert proc.stdout.strip() in ("0", "1")
+
+
+def test_scenarios_each_with_one_line_of_description(capsys):
+    from vessel_gym.scenarios import builtin_scenarios
+
+    code, out, _ = run(capsys, "scenarios")
+    assert code == 0
+    lines = out.splitlines()
+    assert [line.split()[0] for line in lines] == builtin_scenarios()
+    for line in lines:
+        assert len(line.split()) > 5 and line.endswith(".")
+
+
+def test_ships_example_writes_a_documented_ship_file_that_loads(capsys, tmp_path):
+    from vessel_gym.cli_ships import TEMPLATE
+    from vessel_gym.physics.shipfile import load_ship
+
+    target = tmp_path / "my_ship.toml"
+    code, out, err = run(capsys, "ships", "--example", str(target))
+    assert code == 0 and out == "" and str(target) in err
+    text = target.read_text()
+    ship, template = load_ship(target), load_ship(TEMPLATE)
+    assert ship.name == "my_ship" and ship.particulars == template.particulars and ship.hull == template.hull
+    assert "docs/ship-file.md" in text and f"vessel-gym imo {target.name}" in text
+    # every key of [particulars] and [rudder] carries a comment: the schema's unit/range/meaning or its own
+    for table in ("particulars", "rudder"):
+        body = text.split(f"[{table}]\n", 1)[1].split("\n\n", 1)[0]
+        assert all("#" in line for line in body.splitlines() if "=" in line), body
+    assert "L_m = 7.0" in text and "m, [1, 500]: length between perpendiculars" in text
+    # an existing file is not replaced without --force
+    code, out, err = run(capsys, "ships", "--example", str(target))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--force" in err
+    assert run(capsys, "ships", "--example", str(target), "--force")[0] == 0
+
+
+def test_play_helm_and_view_without_a_display_say_so_in_one_line(capsys, monkeypatch):
+    from vessel_gym.ui import display, panels, play
+
+    assert display.no_display_reason({}, "linux") is not None
+    assert display.no_display_reason({"DISPLAY": ":0"}, "linux") is None
+    assert display.no_display_reason({"WAYLAND_DISPLAY": "wayland-0"}, "linux") is None
+    assert display.no_display_reason({"SDL_VIDEODRIVER": "dummy"}, "linux") is None  # headless on purpose
+    assert display.no_display_reason({}, "darwin") is None
+
+    def opened(*a, **kw):
+        raise AssertionError("a window was opened")
+
+    monkeypatch.setattr(play, "play", opened)
+    monkeypatch.setattr(panels, "run_helm", opened)
+    monkeypatch.setattr(panels, "run_viewer", opened)
+    monkeypatch.setattr(display.sys, "platform", "linux")
+    for var in ("SDL_VIDEODRIVER", "DISPLAY", "WAYLAND_DISPLAY"):
+        monkeypatch.delenv(var, raising=False)
+    for command in ("play", "helm", "view"):
+        code, out, err = run(capsys, command)
+        assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+        assert err.startswith(f"vessel-gym {command}: no display") and "SDL_VIDEODRIVER=dummy" in err
+
+
+def test_view_with_no_server_says_so(capsys, monkeypatch):
+    import socket
+
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:  # a free port nobody serves
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    code, out, err = run(capsys, "view", "--server", f"127.0.0.1:{port}", "--duration", "1")
+    assert code == 1 and out == ""
+    assert err.strip().splitlines()[-1].startswith(f"vessel-gym view: no state from 127.0.0.1:{port} in ")
+    assert "vessel-gym serve" in err

@@ -27,3 +27,19 @@ def test_readme_install_brings_rendering_and_plots():
     assert {"numpy", "numba", "gymnasium", "pygame", "matplotlib"} <= brought
     for picture in re.findall(r"!\[[^\]]*\]\(([^)]+)\)", readme):
         assert (ROOT / picture).is_file(), picture
+
+
+def test_readme_lists_every_built_in_ship():
+    from vessel_gym.physics.shipfile import builtin_ships
+
+    readme = (ROOT / "README.md").read_text()
+    item = next(line for line in readme.split("\n- ") if line.startswith("**Ships**"))
+    named = set(re.findall(r"`(\w+)`", item))
+    assert set(builtin_ships()) <= named, sorted(set(builtin_ships()) - named)
+
+
+def test_the_agents_are_installed_with_the_package():
+    setuptools = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    assert {"vessel_gym*", "cfd*", "agents*"} <= set(setuptools["packages"]["find"]["include"])
+    data = setuptools["package-data"]["agents"]
+    assert "hyperparams/*.yml" in data and any(d.startswith("trained/") for d in data)

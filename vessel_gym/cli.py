@@ -6,55 +6,50 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import time
 from collections.abc import Sequence
 
-from vessel_gym.cli_args import (  # noqa: F401  (UsageError, SEED_MAX, TOKEN_ENV: their old home)
+from vessel_gym.cli_args import (
     SEED_MAX,
-    TOKEN_ENV,
+    OneLineParser,
     UsageError,
-    _finite,
-    _int_in,
     add_token_option,
     check_bindable,
+    error_line,
     host_port,
+    int_in,
+    number_in,
+    require_extra,
     resolve_address,
     token_arg,
 )
-
-
-def _error_line(message: str) -> None:
-    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
-    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
-    print(text, file=sys.stderr)
-
-
-class _DefaultsFormatter(argparse.HelpFormatter):
-    """Help that shows each option's default (where it has one worth showing)."""
-
-    def _get_help_string(self, action: argparse.Action) -> str:
-        text = action.help or ""
-        if (
-            "%(default)" not in text
-            and action.default not in (None, False, argparse.SUPPRESS)
-            and (action.option_strings or action.nargs in (argparse.OPTIONAL, argparse.ZERO_OR_MORE))
-        ):
-            text += " (default: %(default)s)"
-        return text
-
-
-class _Parser(argparse.ArgumentParser):
-    def __init__(self, *args, **kwargs) -> None:
-        kwargs.setdefault("formatter_class", _DefaultsFormatter)
-        super().__init__(*args, **kwargs)
-
-    def error(self, message: str) -> None:  # one line, exit 2 (argparse prints usage lines by default)
-        raise UsageError(f"{self.prog}: {message}")
 
 
 def _add_ship(sp: argparse.ArgumentParser) -> None:
     """A ship named either way: positional SHIP or --ship SHIP (main() checks that exactly one is given)."""
     sp.add_argument("ship", nargs="?", default=None, help="built-in ship name or ship file (.toml)")
     sp.add_argument("--ship", dest="ship_option", metavar="SHIP", default=None, help="the same, as an option")
+
+
+#: the agents' command lines, run by ``vessel-gym train|evaluate ARGS`` (the ``agents`` package is installed with
+#: vessel-gym; ``python agents/train.py`` and ``python agents/evaluate.py`` are the same commands)
+AGENT_COMMANDS = {
+    "train": "train an SB3 agent on an environment id (extra 'rl'); 'vessel-gym train --help'",
+    "evaluate": "evaluate a baseline (pid, scripted) or a trained agent over seeded episodes; "
+    "'vessel-gym evaluate --help'",
+}
+
+
+def _agent_command(name: str, argv: list[str]) -> int:
+    """``vessel-gym train|evaluate ARGS``: the agents' own command line, its prog named as the user typed it."""
+    import importlib
+
+    try:
+        return importlib.import_module(f"agents.{name}").main(argv, prog=f"vessel-gym {name}")
+    except SystemExit as exc:  # a bad argument, already told in one line (--help exits 0)
+        if exc.code != 2:
+            raise
+        return 2
 
 
 #: the link's JSON channel when none is given: where ``serve`` binds it and the clients look for it
@@ -101,7 +96,7 @@ def _add_depth(sp: argparse.ArgumentParser) -> None:
     sp.add_argument(
         "--depth",
         metavar="METRES",
-        type=_finite("--depth", 0.01, MAX_DEPTH_M),
+        type=number_in("--depth", 0.01, MAX_DEPTH_M),
         default=None,
         help="water depth, m (default: deep water); shallow-water corrections for h/T >= 1.2, MMG ships",
     )
@@ -128,9 +123,11 @@ def _environment(args, ship) -> dict:
 def build_parser() -> argparse.ArgumentParser:
     from vessel_gym import __version__
 
-    p = _Parser(prog="vessel-gym", description="Ship manoeuvring: IMO checks, manoeuvres, environments.")
+    p = OneLineParser(
+        prog="vessel-gym", description="Ship manoeuvring: IMO checks, manoeuvres, environments."
+    )
     p.add_argument("--version", action="version", version=f"vessel-gym {__version__}")
-    sub = p.add_subparsers(dest="command", parser_class=_Parser)
+    sub = p.add_subparsers(dest="command", parser_class=OneLineParser)
 
     imo = sub.add_parser("imo", help="all IMO MSC.137(76) criteria for a ship (name or .toml path)")
     _add_ship(imo)
@@ -149,7 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
     imo.add_argument("--force", action="store_true", help="replace existing plot and report files")
     imo.add_argument(
         "--heel-limit",
-        type=_finite("--heel-limit", 0.1, 89.9),
+        type=number_in("--heel-limit", 0.1, 89.9),
         default=None,
         metavar="DEG",
         help="also hold the largest heel of the 35 deg turning test to DEG (ships with roll only; the 2008 IS "
@@ -158,32 +155,32 @@ def build_parser() -> argparse.ArgumentParser:
     _add_depth(imo)
 
     man = sub.add_parser("manoeuvre", help="one standard manoeuvre")
-    msub = man.add_subparsers(dest="manoeuvre", parser_class=_Parser)
+    msub = man.add_subparsers(dest="manoeuvre", parser_class=OneLineParser)
     tc = msub.add_parser("turning-circle")
-    tc.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=35.0, help="deg, + = starboard")
+    tc.add_argument("--rudder", type=number_in("--rudder", -70, 70), default=35.0, help="deg, + = starboard")
     zz = msub.add_parser("zigzag")
     zz.add_argument(
         "--rudder",
-        type=_finite("--rudder", -70, 70),
+        type=number_in("--rudder", -70, 70),
         default=10.0,
         help="deg; positive = first execute to starboard",
     )
     zz.add_argument(
-        "--heading", type=_finite("--heading", 0.1, 89.9), default=None, help="deg (default |rudder|)"
+        "--heading", type=number_in("--heading", 0.1, 89.9), default=None, help="deg (default |rudder|)"
     )
     zz.add_argument(
-        "--overshoots", type=_int_in("--overshoots", 1, 10), default=3, help="overshoots to measure"
+        "--overshoots", type=int_in("--overshoots", 1, 10), default=3, help="overshoots to measure"
     )
     it = msub.add_parser("initial-turning")
-    it.add_argument("--rudder", type=_finite("--rudder", -70, 70), default=10.0, help="deg, + = starboard")
+    it.add_argument("--rudder", type=number_in("--rudder", -70, 70), default=10.0, help="deg, + = starboard")
     stp = msub.add_parser("stopping")
     po = msub.add_parser("pull-out")
-    po.add_argument("--rudder", type=_finite("--rudder", 1, 70), default=20.0, help="deg, to starboard")
+    po.add_argument("--rudder", type=number_in("--rudder", 1, 70), default=20.0, help="deg, to starboard")
     for sp in (tc, zz, it, stp, po):
         _add_ship(sp)
         sp.add_argument(
             "--speed",
-            type=_finite("--speed", 0.1, 60),
+            type=number_in("--speed", 0.1, 60),
             default=None,
             help="approach speed, kn (default: the ship's test speed)",
         )
@@ -204,17 +201,32 @@ def build_parser() -> argparse.ArgumentParser:
     ships.add_argument("action", nargs="?", choices=("check",), help="check SHIP's hull model")
     ships.add_argument("ship", nargs="?", help="built-in ship name or ship file (.toml), with check")
     ships.add_argument("--json", action="store_true", help="machine-readable output")
-    sub.add_parser("scenarios", help="list the built-in scenarios")
+    ships.add_argument(
+        "--example",
+        metavar="FILE",
+        default=None,
+        help="write a ship file to start your own from (a built-in ship with every key's unit, range and "
+        "meaning as comments; docs/ship-file.md)",
+    )
+    ships.add_argument("--force", action="store_true", help="with --example: replace an existing FILE")
+    sub.add_parser("scenarios", help="list the built-in scenarios, each with one line of description")
+    for name, text in AGENT_COMMANDS.items():  # listed here, parsed by the agents' own command line
+        sub.add_parser(name, help=text, add_help=False)
 
     pl = sub.add_parser("play", help="drive a scenario's ship with the keyboard (pygame), debrief at the end")
     pl.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
     pl.add_argument(
-        "--seed", type=_int_in("--seed", 0, SEED_MAX), default=None, help="start pose and weather draw"
+        "--seed",
+        type=int_in("--seed", 0, SEED_MAX),
+        default=None,
+        help="start pose and weather draw (default: a fresh random draw each run)",
     )
-    pl.add_argument("--speedup", type=_finite("--speedup", 0.25, 16), default=1.0, help="initial time factor")
+    pl.add_argument(
+        "--speedup", type=number_in("--speedup", 0.25, 16), default=1.0, help="initial time factor"
+    )
     pl.add_argument(
         "--max-steps",
-        type=_int_in("--max-steps", 1),
+        type=int_in("--max-steps", 1),
         default=None,
         help="stop after this many control steps (default: the 400 s time limit)",
     )
@@ -236,11 +248,11 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="HOST:PORT",
         action="append",
         default=[],
-        help="listen-only JSON destination (a viewer that never says hello; repeatable)",
+        help="listen-only JSON destination (a viewer that never says hello; repeatable; default: none)",
     )
     sv.add_argument(
         "--time-factor",
-        type=_finite("--time-factor", 0.1, 100),
+        type=number_in("--time-factor", 0.1, 100),
         default=1.0,
         help="simulated seconds per wall-clock second",
     )
@@ -256,12 +268,15 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sv.add_argument(
         "--duration",
-        type=_finite("--duration", 0.1, 1e7),
+        type=number_in("--duration", 0.1, 1e7),
         default=None,
-        help="stop after this many wall-clock seconds",
+        help="stop after this many wall-clock seconds (default: run until Ctrl-C)",
     )
     sv.add_argument(
-        "--seed", type=_int_in("--seed", 0, SEED_MAX), default=None, help="seed of the first episode"
+        "--seed",
+        type=int_in("--seed", 0, SEED_MAX),
+        default=None,
+        help="seed of the first episode; later episodes continue its random stream (default: a fresh random draw)",
     )
 
     hm = sub.add_parser("helm", help="pygame helm panel for a running 'vessel-gym serve'")
@@ -273,12 +288,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--listen",
         metavar="HOST:PORT",
         default=None,
-        help="wait for state sent to this address instead of saying hello (static destination)",
+        help="wait for state sent to this address instead of saying hello (static destination; default: none, "
+        "say hello to --server)",
     )
     for sp in (hm, vw):
         sp.add_argument(
             "--duration",
-            type=_finite("--duration", 0.1, 1e7),
+            type=number_in("--duration", 0.1, 1e7),
             default=None,
             help="close after this many wall-clock seconds (default: when the window is closed)",
         )
@@ -305,13 +321,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     v3.add_argument(
         "--rate",
-        type=_finite("--rate", 1.0, 50.0),
+        type=number_in("--rate", 1.0, 50.0),
         default=20.0,
         help="state rate asked of the link, Hz (1-50)",
     )
     v3.add_argument(
         "--duration",
-        type=_finite("--duration", 0.1, 1e7),
+        type=number_in("--duration", 0.1, 1e7),
         default=None,
         help="stop after this many wall-clock seconds (default: at Ctrl-C)",
     )
@@ -360,73 +376,6 @@ def _ship_name(args) -> str:
     return pos if pos is not None else opt
 
 
-def _cmd_ships_check(args) -> int:
-    """The hull model's checks (physics.plausibility): exit 1 if one finds the ship impossible."""
-    from vessel_gym.physics.plausibility import check_ship, impossible
-    from vessel_gym.physics.shipfile import load_ship
-
-    ship = load_ship(args.ship)
-    findings = check_ship(ship)
-    bad = impossible(findings)
-    text = [
-        f"hull model checks - {ship.name}",
-        "",
-        f"{'check':<34}{'value':>10}  {'expected':<9}{'result':>10}",
-    ]
-    text.append("-" * 65)
-    for f in findings:
-        text.append(f"{f.quantity:<34}{f.value:>10.4g}  {f.expected:<9}{f.status.upper():>10}")
-        text.append(f"    {f.note}; source: {f.source}" if f.note else f"    source: {f.source}")
-    verdict = "IMPOSSIBLE" if bad else "possible"
-    text += ["", f"overall: {verdict}" + (" (see 'impossible' above)" if bad else "")]
-    data = {"ship": ship.name, "findings": [f.to_dict() for f in findings], "possible": not bad}
-    _emit(data, args.json, "\n".join(text))
-    return 1 if bad else 0
-
-
-def _cmd_ships(args) -> int:
-    from vessel_gym.physics.shipfile import builtin_ships, load_ship
-
-    if args.action == "check":
-        if args.ship is None:
-            raise UsageError("vessel-gym ships check: name a ship: built-in name or ship file (.toml)")
-        return _cmd_ships_check(args)
-    if args.ship is not None:
-        raise UsageError(
-            f"vessel-gym ships: unexpected {args.ship!r} (did you mean 'ships check {args.ship}'?)"
-        )
-    rows = []
-    for name in builtin_ships():
-        ship = load_ship(name)
-        p = ship.particulars
-        rows.append(
-            {
-                "ship": name,
-                "hull_model": type(ship.hull).__name__.removesuffix("Hull"),
-                "L_m": p.L_m,
-                "B_m": p.B_m,
-                "T_m": p.T_m,
-                "displacement_t": round(ship.mass_kg / 1000.0, 1),
-                "test_speed_kn": p.test_speed_kn,
-                "source": ship.source.citation,
-            }
-        )
-    if args.json:
-        print(json.dumps(rows, allow_nan=False))
-        return 0
-    w = max([10, *(len(r["ship"]) for r in rows)]) + 2  # the name column fits the longest name
-    head = f"{'ship':<{w}}{'hull':<10}{'L m':>8}{'B m':>8}{'T m':>7}{'displ. t':>12}{'test kn':>9}"
-    lines = [head]
-    for r in rows:
-        lines.append(
-            f"{r['ship']:<{w}}{r['hull_model']:<10}{r['L_m']:8.2f}{r['B_m']:8.2f}{r['T_m']:7.2f}"
-            f"{r['displacement_t']:12,.1f}{r['test_speed_kn']:9.2f}"
-        )
-        lines.append(f"    source: {r['source']}")
-    print("\n".join(lines))
-    return 0
-
-
 def _cmd_imo(args) -> int:
     from vessel_gym.manoeuvres.imo import imo_report
     from vessel_gym.outputs import check_free, output_target
@@ -441,6 +390,9 @@ def _cmd_imo(args) -> int:
     plot_out = report_file = None
     plot_is_dir = False
     # every output is checked before the trials run, so a refusal costs nothing
+    for opt in ("--plot", "--report"):
+        if getattr(args, opt[2:]):
+            require_extra(("matplotlib",), "plot", f"vessel-gym imo: {opt}")
     if args.plot:
         from vessel_gym.manoeuvres.plots import report_plot_names
 
@@ -491,6 +443,8 @@ def _cmd_manoeuvre(args) -> int:
     if args.plot:
         from vessel_gym.outputs import check_free, output_target, safe_name
 
+        require_extra(("matplotlib",), "plot", f"vessel-gym manoeuvre {kind}: --plot")
+
         target, is_dir = output_target(args.plot, (".png", ".svg", ".pdf"), "--plot")
         plot_file = target / f"{safe_name(ship.name)}_{kind}.png" if is_dir else target
         check_free([plot_file], args.force, "--plot")
@@ -537,6 +491,18 @@ def _cmd_fmu(args) -> int:
     return 0
 
 
+def _need_window(command: str) -> None:
+    """One line (exit 2) when no window can open, instead of running unseen."""
+    from vessel_gym.ui.display import no_display_reason
+
+    reason = no_display_reason()
+    if reason is not None:
+        raise UsageError(
+            f"vessel-gym {command}: {reason}: it needs a window; run it on a desktop, or with "
+            "SDL_VIDEODRIVER=dummy to run unseen"
+        )
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``vessel-gym`` command; returns the exit code."""
     try:
@@ -565,7 +531,14 @@ def _main(argv: Sequence[str] | None) -> int:
             # argparse's version action prints and exits 0 at once, whatever follows it
             others = " ".join(w for w in words if w != "--version")
             raise UsageError(f"vessel-gym: --version takes no other arguments (got {others!r})")
-        args = parser.parse_args(words)
+        if words and words[0] in AGENT_COMMANDS:
+            return _agent_command(words[0], words[1:])
+        try:
+            args = parser.parse_args(words)
+        except SystemExit as exc:  # a bad argument, already told in one line: its exit code (--help exits)
+            if exc.code != 2:
+                raise
+            return 2
         if args.command is None:
             commands = ", ".join(sorted(parser.commands))
             raise UsageError(f"vessel-gym: no command given; choose one of {commands} (vessel-gym --help)")
@@ -585,19 +558,26 @@ def _main(argv: Sequence[str] | None) -> int:
                 )
             return _cmd_manoeuvre(args)
         if args.command == "ships":
-            return _cmd_ships(args)
+            from vessel_gym.cli_ships import cmd_ships
+
+            return cmd_ships(args, _emit)
         if args.command == "fmu":
             return _cmd_fmu(args)
         if args.command == "scenarios":
-            from vessel_gym.scenarios import builtin_scenarios
+            from vessel_gym.scenarios import builtin_scenarios, load_scenario
 
-            print("\n".join(builtin_scenarios()))
+            names = builtin_scenarios()
+            w = max(len(n) for n in names) + 2
+            for name in names:  # each with the first sentence of its description
+                first = " ".join(load_scenario(name).description.split()).split(". ")[0].rstrip(".")
+                print(f"{name:<{w}}{first}.")
             return 0
         if args.command == "play":
             from vessel_gym.scenarios import load_scenario
             from vessel_gym.ui.play import play
 
             load_scenario(args.scenario)  # bad names fail here, before a window opens
+            _need_window(args.command)
             debrief = play(
                 args.scenario,
                 seed=args.seed,
@@ -634,19 +614,28 @@ def _main(argv: Sequence[str] | None) -> int:
 
             server = resolve_address(host_port(args.server, "--server"), "--server")
             token = token_arg(args)
+            listen = host_port(args.listen, "--listen") if getattr(args, "listen", None) else None
+            if listen is not None:
+                check_bindable(listen, "--listen")
+            _need_window(args.command)
+            start = time.monotonic()
             if args.command == "helm":
-                panels.run_helm(server, name=args.name, token=token, duration_s=args.duration)
+                result = panels.run_helm(server, name=args.name, token=token, duration_s=args.duration)
             else:
-                listen = host_port(args.listen, "--listen") if args.listen else None
-                if listen is not None:
-                    check_bindable(listen, "--listen")
-                panels.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
+                result = panels.run_viewer(server, listen=listen, token=token, duration_s=args.duration)
+            if result.states_received == 0:  # the window said so; a log or a closed window needs the line
+                where = f"at --listen {args.listen}" if listen else f"from {args.server}"
+                error_line(
+                    f"vessel-gym {args.command}: no state {where} in {time.monotonic() - start:.0f} s: is "
+                    "'vessel-gym serve' running there (with the same --token)?"
+                )
+                return 1
             return 0
         if args.command == "view3d":
             try:
                 import viser  # noqa: F401
 
-                from vessel_gym.net.view3d import view3d
+                from vessel_gym.ui.view3d import view3d
             except ImportError:
                 raise UsageError(
                     "vessel-gym view3d: needs the 'view3d' extra: pip install 'vessel-gym[view3d]'"
@@ -662,19 +651,19 @@ def _main(argv: Sequence[str] | None) -> int:
             )
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
-        _error_line(str(exc))
+        error_line(str(exc))
         return 2
     except (SpecError, ValueError) as exc:
-        _error_line(f"vessel-gym: {exc}")
+        error_line(f"vessel-gym: {exc}")
         return 2
     except (ManoeuvreIncomplete, SimulationError) as exc:
-        _error_line(f"vessel-gym: {exc}")
+        error_line(f"vessel-gym: {exc}")
         return 1
     except BrokenPipeError:
         raise
     except OSError as exc:  # a path or address given on the command line that the system refuses
         where = f"{exc.filename}: " if exc.filename else ""
-        _error_line(f"vessel-gym: {where}{exc.strerror or exc}")
+        error_line(f"vessel-gym: {where}{exc.strerror or exc}")
         return 2
 
 

@@ -1,18 +1,79 @@
-"""The ``vessel-gym`` command's argument checks: bad input is a :class:`UsageError` (one line, exit code 2)
-naming the option -- numbers in a range, HOST:PORT addresses that resolve and bind, the JSON channel's token."""
+"""The one home of the command lines' conventions, shared by ``vessel-gym``, ``vessel-cfd`` and the agent
+scripts: bad input is a :class:`UsageError` or an argparse error, printed as ONE line on stderr (control
+characters escaped) with exit code 2; ``--help`` shows each option's default; argument types check numbers
+against their range and name the option; a missing optional extra is one line naming it. Also the link's
+options: HOST:PORT addresses that resolve and bind, and the JSON channel's token."""
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import math
 import os
+import sys
+from typing import Any, NoReturn
 
 
-class UsageError(Exception):
+class UsageError(ValueError):
     """Bad command-line input (exit code 2)."""
 
 
-def _finite(kind: str, lo: float | None = None, hi: float | None = None):
+def error_line(message: object) -> None:
+    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
+    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
+    print(text, file=sys.stderr)
+
+
+class DefaultsFormatter(argparse.HelpFormatter):
+    """Help that shows each option's allowed range (of the :func:`number_in` and :func:`int_in` types) and its
+    default (where it has one worth showing), unless the help text already says them."""
+
+    def _get_help_string(self, action: argparse.Action) -> str:
+        text = action.help or ""
+        bounds = getattr(action.type, "bounds", None)
+        if bounds is not None and not all(b in text for b in bounds if b not in ("-inf", "inf")):
+            lo, hi = bounds
+            text += f" (>= {lo})" if hi == "inf" else f" (<= {hi})" if lo == "-inf" else f" (range: [{lo}, {hi}])"
+        if (
+            "%(default)" not in text
+            and "default" not in text.lower()
+            and action.default not in (None, False, argparse.SUPPRESS)
+            and (action.option_strings or action.nargs in (argparse.OPTIONAL, argparse.ZERO_OR_MORE))
+        ):
+            text += " (default: %(default)s)"
+        return text
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse with defaults in the help and a one-line error on stderr, exit code 2 (argparse prints the
+    usage lines too)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("formatter_class", DefaultsFormatter)
+        super().__init__(*args, **kwargs)
+
+    def error(self, message: str) -> NoReturn:
+        error_line(f"{self.prog}: error: {message}")
+        raise SystemExit(2)
+
+
+def require_extra(modules: tuple[str, ...], extra: str, what: str) -> None:
+    """UsageError naming the extra unless every module of ``modules`` can be imported (found, not imported:
+    the check costs nothing and runs before any work)."""
+    for name in modules:
+        try:
+            found = importlib.util.find_spec(name) is not None
+        except (ImportError, ValueError):  # a parent package missing, or a module set to None in sys.modules
+            found = False
+        if not found:
+            raise UsageError(
+                f"{what}: needs the '{extra}' extra ({name} is missing): pip install 'vessel-gym[{extra}]'"
+            )
+
+
+def number_in(kind: str, lo: float | None = None, hi: float | None = None):
+    """argparse type: a finite number in [lo, hi] (None: no bound), the message naming the option ``kind``."""
+
     def conv(text: str) -> float:
         try:
             x = float(text)
@@ -21,13 +82,16 @@ def _finite(kind: str, lo: float | None = None, hi: float | None = None):
         if not math.isfinite(x):
             raise argparse.ArgumentTypeError(f"{kind} must be finite, got {text!r}")
         if (lo is not None and x < lo) or (hi is not None and x > hi):
-            raise argparse.ArgumentTypeError(f"{kind} {x:g} outside [{lo:g}, {hi:g}]")
+            low = "-inf" if lo is None else f"{lo:g}"
+            high = "inf" if hi is None else f"{hi:g}"
+            raise argparse.ArgumentTypeError(f"{kind} {x:g} outside [{low}, {high}]")
         return x
 
+    conv.bounds = ("-inf" if lo is None else f"{lo:g}", "inf" if hi is None else f"{hi:g}")  # type: ignore[attr-defined]
     return conv
 
 
-def _int_in(kind: str, lo: int, hi: int | None = None):
+def int_in(kind: str, lo: int, hi: int | None = None):
     """argparse type: an integer in [lo, hi] (hi None: no upper bound)."""
 
     def conv(text: str) -> int:
@@ -41,7 +105,23 @@ def _int_in(kind: str, lo: int, hi: int | None = None):
             raise argparse.ArgumentTypeError(f"{kind} {x} outside [{lo}, {hi}]")
         return x
 
+    conv.bounds = (str(lo), "inf" if hi is None else str(hi))  # type: ignore[attr-defined]
     return conv
+
+
+def positive(kind: type, name: str):
+    """argparse type: a finite number > 0 of ``kind`` (int or float), the message naming the option."""
+
+    def parse(text: str) -> Any:
+        try:
+            v = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name}: not a number: {text!r}") from None
+        if not (math.isfinite(v) and v > 0):
+            raise argparse.ArgumentTypeError(f"{name} must be > 0, got {text}")
+        return v
+
+    return parse
 
 
 SEED_MAX = 2**32 - 1  # the seed range of numpy's legacy generators, which every seeded part accepts

@@ -1,6 +1,7 @@
-"""Regenerate the pictures of the README (run from the repository root; takes about a minute cold).
+"""Regenerate the pictures of the README (takes about a minute cold).
 
-    SDL_VIDEODRIVER=dummy python docs/img/make_images.py
+    python docs/img/make_images.py docs/img      # replace the committed pictures
+    python docs/img/make_images.py               # write them to out/img/ (ignored by git) to compare first
 
 - ``chart_harbour.png``: the pygame chart view (``render_mode="rgb_array"``) of HarbourApproach-v2 (seed 0)
   after 100 control steps (about 100 s) under the PID harbour pilot (``vessel_gym.policy.load_policy("pid", env)``).
@@ -19,7 +20,6 @@ from pathlib import Path
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-OUT = Path(__file__).resolve().parent
 WIDTH_PX = 640  # px, width of the committed pictures
 STEPS = 100  # control steps (about 100 s) before the chart is drawn (the ship is under way in the approach channel)
 
@@ -41,7 +41,7 @@ def _save_scaled(surface, path: Path) -> None:
     pygame.image.save(pygame.transform.smoothscale(surface, (WIDTH_PX, round(h * WIDTH_PX / w))), str(path))
 
 
-def chart() -> Path:
+def chart(out: Path) -> Path:
     import gymnasium as gym
     import pygame
 
@@ -57,12 +57,12 @@ def chart() -> Path:
             break
     frame = env.render()  # (height, width, 3) uint8
     env.close()
-    path = OUT / "chart_harbour.png"
+    path = out / "chart_harbour.png"
     _save_scaled(pygame.surfarray.make_surface(frame.swapaxes(0, 1)), path)
     return path
 
 
-def imo_plot() -> Path:
+def imo_plot(out: Path) -> Path:
     import pygame
 
     from vessel_gym.manoeuvres.imo import imo_report
@@ -72,13 +72,29 @@ def imo_plot() -> Path:
     try:
         files = plot_report(imo_report("kvlcc2"), tmp / "plots")
         src = next((f for f in files if "turning" in Path(f).name), files[0])
-        path = OUT / "imo_turning_circle.png"
+        path = out / "imo_turning_circle.png"
         _save_scaled(pygame.image.load(str(src)), path)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return path
 
 
-if __name__ == "__main__":
+def main(argv: list[str] | None = None) -> int:
+    from vessel_gym.cli_args import OneLineParser
+
+    p = OneLineParser(prog="make_images.py", description="Regenerate the README's pictures.")
+    p.add_argument(
+        "out",
+        nargs="?",
+        default="out/img",
+        help="directory for the pictures; docs/img replaces the committed ones",
+    )
+    out = Path(p.parse_args(argv).out)
+    out.mkdir(parents=True, exist_ok=True)
     for make in (chart, imo_plot):
-        print(make())
+        print(make(out))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -77,3 +77,37 @@ def test_evaluate_json_baseline(capsys) -> None:
     assert out["mean_heading_error_deg"] > 0.0 and out["mean_overshoot_deg"] >= 0.0
     for key in ("mean_return", "mean_rudder_deg", "mean_rudder_rate_deg_s"):
         assert isinstance(out[key], float)
+
+
+def test_vessel_gym_evaluate_and_the_script_print_the_same_json(tmp_path: Path) -> None:
+    """``vessel-gym evaluate`` is the command; ``python agents/evaluate.py`` from another directory is its alias:
+    the same JSON, byte for byte (the episodes are seeded)."""
+    import json
+
+    argv = ["--env", "ZigZag-v1", "--agent", "pid", "--episodes", "1", "--json"]
+    script = subprocess.run(
+        [sys.executable, str(REPO / "agents" / "evaluate.py"), *argv],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    command = subprocess.run(
+        [sys.executable, "-m", "vessel_gym.cli", "evaluate", *argv],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
+    assert script.returncode == 0 and command.returncode == 0, script.stderr + command.stderr
+    assert script.stdout == command.stdout
+    assert json.loads(command.stdout)["env_id"] == "vessel_gym/ZigZag-v1"
+
+
+def test_vessel_gym_train_and_evaluate_errors_name_the_command(capsys) -> None:
+    from vessel_gym.cli import main
+
+    assert main(["train", "--env", "ZigZag-v1", "--algo", "dqn"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("vessel-gym train: error: ") and "dqn" in err and len(err.splitlines()) == 1
+    assert main(["evaluate", "--env", "Nope-v0", "--agent", "pid"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("vessel-gym evaluate: error: ") and "Nope-v0" in err and len(err.splitlines()) == 1

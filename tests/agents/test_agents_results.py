@@ -132,12 +132,14 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     meta = shipped.read_sidecar(ship_dir / names[1])
     assert set(shipped.REQUIRED_KEYS) <= set(meta) and meta["seed"] == 1 and meta["env_version"] == 1
     assert meta["test_seeds"] == f"{seeds.TEST_START}..{seeds.TEST_START}"
-    assert results.main([*argv, "--skip-train", "--no-ship"]) == 0
+    shipped_before = sorted(ship_dir.rglob("*"))
+    assert results.main([*argv[:-2], "--skip-train"]) == 0  # without --ship-dir: nothing shipped
     # --resume trains only what is missing: one PPO and one cloned model
     (tmp_path / "out" / "ppo_ZigZag-v1_s1.zip").unlink()
     (tmp_path / "out" / "bc" / "ppo_ZigZag-v1_s0.zip").unlink()
     kept = (tmp_path / "out" / "ppo_ZigZag-v1_s0.zip").stat().st_mtime_ns
-    assert results.main([*argv, "--resume", "--no-ship"]) == 0
+    assert results.main([*argv[:-2], "--resume"]) == 0
+    assert sorted(ship_dir.rglob("*")) == shipped_before
     assert (tmp_path / "out" / "ppo_ZigZag-v1_s1.zip").is_file()
     assert (tmp_path / "out" / "bc" / "ppo_ZigZag-v1_s0.zip").is_file()
     assert (tmp_path / "out" / "ppo_ZigZag-v1_s0.zip").stat().st_mtime_ns == kept

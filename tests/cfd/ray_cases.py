@@ -32,10 +32,13 @@ ray = pytest.importorskip("ray")
 TESTS = Path(__file__).resolve().parent
 ROOT = TESTS.parents[1]
 SOLVER = """#!{python}
-import os, sys, time
+import importlib.util, os, sys, time
 from pathlib import Path
-sys.path[:0] = [{tests!r}, {root!r}]
-from cfd_fake_foam import FakeFoam
+# the fake solver's module by its path (it is a test helper, not a package); cfd comes with vessel-gym
+spec = importlib.util.spec_from_file_location("cfd_fake_foam", {fake!r})
+fake = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(fake)
+FakeFoam = fake.FakeFoam
 case = Path.cwd()
 hang = case.parent.parent / "hang_in"  # names the case being solved when Ctrl-C comes
 if hang.is_file() and hang.read_text() == case.name:
@@ -68,7 +71,7 @@ def local_ray(tmp_path_factory):
     bindir = tmp_path_factory.mktemp("bin")
     for app in ("simpleFoam", "pimpleFoam"):
         script = bindir / app
-        script.write_text(SOLVER.format(python=sys.executable, tests=str(TESTS), root=str(ROOT), app=app))
+        script.write_text(SOLVER.format(python=sys.executable, fake=str(TESTS / "cfd_fake_foam.py"), app=app))
         script.chmod(script.stat().st_mode | stat.S_IEXEC)
     path = f"{bindir}{os.pathsep}{os.environ.get('PATH', '')}"
     # 2 Ray CPUs (a resource count, not cores) so that the case that hangs does not hold back the others

@@ -275,3 +275,18 @@ def test_pdf_report_has_a_summary_page_and_the_plots(tmp_path):
     assert data[:5] == b"%PDF-" and len(re.findall(rb"/Type /Page[^s]", data)) == 2  # summary + turning
     with pytest.raises(OutputExistsError):
         write_report(rep, out)
+
+
+def test_report_names_documentation_pages_not_repository_paths(imo_run):
+    """The report's reader has the file, not the repository: the ship file's notes name pages of the
+    documentation ("physics"), never a path such as docs/physics.md."""
+    from vessel_gym.manoeuvres.report import readable_refs
+
+    root, _ = imo_run
+    html = (root / "report" / f"imo_{SHIP}.html").read_text(encoding="utf-8")
+    assert "docs/" in load_ship(SHIP).source.notes  # what the notes say in the ship file
+    assert "docs/" not in html and ".md" not in html
+    assert "the vessel-gym documentation, page &quot;physics&quot;" in html
+    assert readable_refs('see docs/cfd-dtc-study.md, "Results"') == (
+        'see the vessel-gym documentation, page "cfd-dtc-study", "Results"'
+    )

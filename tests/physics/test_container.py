@@ -15,17 +15,13 @@ distance of the turn by well under 0.5 %, hence the tolerances: 1 % on distances
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from container_reference import container_rhs, rk4
 
 from vessel_gym.manoeuvres.trials import turning_circle, zigzag
 from vessel_gym.physics import layout as lo
-
-sys.path.insert(0, str(Path(__file__).parent))
-from container_reference import container_rhs, rk4  # noqa: E402
 
 DEG = math.pi / 180.0
 RUDDER_LIMIT_DEG = 35.0  # the ship file's steering gear; container.m's own 10 deg is its autopilot demo's

@@ -104,7 +104,7 @@ def test_functions_outside_the_package_keep_numbas_locators():
     assert jitcache.SourceHashCacheLocator.from_function(elsewhere, __file__) is None
 
 
-def test_notice_on_a_terminal_or_when_asked(monkeypatch):
+def test_notice_printed_on_a_terminal_logged_elsewhere_or_as_asked(monkeypatch):
     class Tty:
         def __init__(self, tty: bool):
             self.tty = tty
@@ -114,11 +114,50 @@ def test_notice_on_a_terminal_or_when_asked(monkeypatch):
 
     monkeypatch.delenv(jitcache.NOTICE_ENV, raising=False)
     monkeypatch.setattr("sys.stderr", Tty(True))
-    assert jitcache._notice_wanted()
+    assert jitcache._notice_route() == "print"
     monkeypatch.setattr("sys.stderr", Tty(False))
-    assert not jitcache._notice_wanted()
+    assert jitcache._notice_route() == "log"
     monkeypatch.setenv(jitcache.NOTICE_ENV, "1")
-    assert jitcache._notice_wanted()
+    assert jitcache._notice_route() == "print"
     monkeypatch.setenv(jitcache.NOTICE_ENV, "0")
     monkeypatch.setattr("sys.stderr", Tty(True))
-    assert not jitcache._notice_wanted()
+    assert jitcache._notice_route() is None
+
+
+PROBE_TWO = """
+from numba import njit
+
+
+@njit(cache=True)
+def other():
+    return 2.0
+"""
+
+
+def test_redirected_cold_start_says_so_once_on_stderr(package_copy: Path, tmp_path: Path):
+    """Outside a terminal (stderr a pipe, no logging set up, as for a redirected command or a log file), the first
+    compilation is one line on stderr, through the vessel_gym logger; two kernels compiled: still one line."""
+    (package_copy / "vessel_gym/physics/_probe_two.py").write_text(PROBE_TWO)
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_") and k != jitcache.NOTICE_ENV}
+    env["PYTHONPATH"] = str(package_copy)
+    env["NUMBA_CACHE_DIR"] = str(tmp_path / "cache")
+    code = RUN + "\nfrom vessel_gym.physics._probe_two import other; print(other())"
+    proc = subprocess.run(
+        [sys.executable, "-c", code], cwd=package_copy, env=env, capture_output=True, text=True
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["1.0", "2.0"]
+    assert proc.stderr.splitlines() == [jitcache.COMPILE_NOTICE]
+    # a program that sets up logging receives it as a record of the vessel_gym logger
+    logged = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "import logging; logging.basicConfig(format='LOG %(name)s %(message)s')\n" + code,
+        ],
+        cwd=package_copy,
+        env={**env, "NUMBA_CACHE_DIR": str(tmp_path / "cache2")},
+        capture_output=True,
+        text=True,
+    )
+    assert logged.stderr.splitlines() == [f"LOG vessel_gym {jitcache.COMPILE_NOTICE}"], logged.stderr

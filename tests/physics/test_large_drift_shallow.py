@@ -22,11 +22,10 @@ comparison, has the same tolerance; ranges that miss are strict expected failure
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
+import ocimf_reference as ref
 import pytest
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
@@ -36,9 +35,6 @@ from vessel_gym.physics.hull import hull_forces, hull_forces_at_depth
 from vessel_gym.physics.shallow_water import H_MAX, H_OVER_T_MIN, cross_flow_drag_factor, hull_factors
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.vessel import pack
-
-sys.path.insert(0, str(Path(__file__).parent))
-import ocimf_reference as ref  # noqa: E402
 
 KVLCC2 = load_ship("kvlcc2")
 P = pack(KVLCC2)

@@ -21,17 +21,12 @@ changes) with the measured gap; docs/physics.md discusses each.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
+import ocimf_reference as ref
 import pytest
 
 from vessel_gym.physics.constraints import static_drift
 from vessel_gym.physics.shipfile import load_ship
-
-sys.path.insert(0, str(Path(__file__).parent))
-import ocimf_reference as ref  # noqa: E402
 
 #: tow speed, m/s (about 2 kn, a design current of OCIMF's); every coefficient here is independent of speed
 #: (the cross-flow model is quadratic in the velocities, the MMG polynomial is non-dimensional above U_min)

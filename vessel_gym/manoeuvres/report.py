@@ -7,6 +7,7 @@ from __future__ import annotations
 import base64
 import datetime as _dt
 import html
+import re
 import textwrap
 from pathlib import Path
 
@@ -64,8 +65,18 @@ _CAPTIONS = {
 }
 
 
+#: a page of the project's documentation named by its path in the repository (ship files' notes do that)
+_DOC_PATH = re.compile(r"\bdocs/([\w-]+)\.md\b")
+
+
+def readable_refs(text: str) -> str:
+    """``docs/physics.md`` -> ``the vessel-gym documentation, page "physics"``: the report's reader has the
+    report, not the repository, and finds a page of the documentation by its name."""
+    return _DOC_PATH.sub(lambda m: f'the vessel-gym documentation, page "{m.group(1)}"', text)
+
+
 def _e(x) -> str:
-    return html.escape(str(x))
+    return html.escape(readable_refs(str(x)))
 
 
 def _particulars_rows(report: ImoReport) -> list[tuple[str, str]]:

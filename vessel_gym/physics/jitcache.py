@@ -23,15 +23,18 @@ so numba is pinned to the minor versions CI tests (pyproject.toml; the lowest in
 ``tests/physics/test_jitcache.py`` fails first when a new numba moves them. The rest of the physics uses
 numba's public decorators only (``njit``, ``prange``, ``config``).
 
-Compiling the kernels takes tens of seconds on a small machine, so the first compilation in a process prints
-one line on stderr ("compiling kernels (first run only) ..."); runs that load everything from the cache print
-nothing. Like other progress output (pip's, git's) the line is shown when stderr is a terminal;
-``VESSEL_GYM_COMPILE_NOTICE=1`` shows it always (logs, benchmarks), ``=0`` never.
+Compiling the kernels takes tens of seconds on a small machine, so the first compilation in a process says so
+once ("vessel-gym: compiling kernels (first run only) ..."); runs that load everything from the cache say
+nothing. On a terminal the line is printed on stderr. Anywhere else (a redirected command, a log, Jupyter, a
+library call such as ``gymnasium.make``) it is a WARNING of the ``vessel_gym`` logger: without a logging set-up
+Python prints it on stderr as the same one line, and a program that configures logging routes or silences it
+like any other record. ``VESSEL_GYM_COMPILE_NOTICE=1`` prints it on stderr always (benchmarks), ``=0`` never.
 """
 
 from __future__ import annotations
 
 import hashlib
+import logging
 import os
 import sys
 import threading
@@ -43,7 +46,8 @@ from numba.misc.appdirs import AppDirs
 PACKAGE_DIR = Path(__file__).resolve().parent.parent  # vessel_gym/
 KERNEL_DIRS = ("physics", "envs")  # subpackages whose every module a kernel may read
 COMPILE_NOTICE = "vessel-gym: compiling kernels (first run only) ..."
-NOTICE_ENV = "VESSEL_GYM_COMPILE_NOTICE"  # "1": always show the notice, "0": never; unset: on a terminal
+NOTICE_ENV = "VESSEL_GYM_COMPILE_NOTICE"  # "1": always print the notice, "0": never; unset: print or log it
+LOGGER = logging.getLogger("vessel_gym")
 
 # numba >= 0.64 names these without the leading underscore
 _CacheImpl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
@@ -116,18 +120,22 @@ _notice_lock = threading.Lock()
 _notice_shown = False
 
 
-def _notice_wanted() -> bool:
+def _notice_route() -> str | None:
+    """How the compile notice is given: "print" (stderr), "log" (the vessel_gym logger) or None."""
     choice = os.environ.get(NOTICE_ENV, "")
-    if choice in ("0", "1"):
-        return choice == "1"
+    if choice == "0":
+        return None
+    if choice == "1":
+        return "print"
     try:
-        return sys.stderr.isatty()
+        tty = sys.stderr.isatty()
     except (AttributeError, ValueError):  # replaced or closed stderr
-        return False
+        tty = False
+    return "print" if tty else "log"
 
 
 class _CompileNotice(event.Listener):
-    """Prints COMPILE_NOTICE once per process when numba starts compiling one of the package's kernels."""
+    """Gives COMPILE_NOTICE once per process when numba starts compiling one of the package's kernels."""
 
     def on_start(self, ev):
         global _notice_shown
@@ -136,12 +144,16 @@ class _CompileNotice(event.Listener):
         dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
         py_func = getattr(dispatcher, "py_func", None)
         module = getattr(py_func, "__module__", "") or ""
-        if not module.startswith("vessel_gym.") or not _notice_wanted():
+        route = _notice_route() if module.startswith("vessel_gym.") else None
+        if route is None:
             return
         with _notice_lock:
             if not _notice_shown:
                 _notice_shown = True
-                print(COMPILE_NOTICE, file=sys.stderr, flush=True)
+                if route == "print":
+                    print(COMPILE_NOTICE, file=sys.stderr, flush=True)
+                else:
+                    LOGGER.warning(COMPILE_NOTICE)
 
     def on_end(self, ev):
         pass
