@@ -223,8 +223,7 @@ def test_spec_sheets_follow_the_declarations(entry):
 
 def test_old_import_paths_give_the_objects_of_the_new_homes():
     """envs.core and envs.kernels, split into envs/{observation,helm,task,env}.py and envs/tasks/, re-export."""
-    from vessel_gym.envs import core, env, harbour, helm, kernels, observation, task
-    from vessel_gym.envs import zigzag as zigzag_env
+    from vessel_gym.envs import core, env, helm, kernels, observation, task
     from vessel_gym.envs.tasks import chart, turning
     from vessel_gym.envs.tasks import harbour as harbour_task
 
@@ -237,5 +236,3 @@ def test_old_import_paths_give_the_objects_of_the_new_homes():
     assert kernels.turning_update is turning.turning_update
     assert kernels.harbour_update_parallel is harbour_task.harbour_update_parallel
     assert kernels.chart_query is chart.chart_query and kernels.OUTCOMES == chart.OUTCOMES
-    assert zigzag_env.ZigZagTask is zigzag.ZigZagTask
-    assert harbour.HarbourApproachTask is harbour_task.HarbourApproachTask
