@@ -351,7 +351,7 @@ def build_parser() -> argparse.ArgumentParser:
     fm.add_argument("--force", action="store_true", help="replace an existing FMU file")
     fm.add_argument(
         "--dt",
-        type=_finite("--dt", 0.001, 5.0),
+        type=number_in("--dt", 0.001, 5.0),
         default=0.1,
         metavar="S",
         help="internal physics step, s (the importer's communication step must be a whole multiple of it)",

@@ -225,6 +225,6 @@ def test_spec_sheets_follow_the_declarations(entry):
 def test_envs_shim_modules_are_gone():
     """Every name has one home: the old envs.core and envs.kernels re-exports, the one-call step and the lazy
     info are not importable."""
-    for name in ("core", "kernels", "onestep", "info"):
+    for name in ("core", "kernels", "onestep", "info", "zigzag", "turning", "harbour"):
         with pytest.raises(ModuleNotFoundError):
             importlib.import_module(f"vessel_gym.envs.{name}")

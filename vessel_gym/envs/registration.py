@@ -91,7 +91,7 @@ def register_task(
     (``-v2`` after ``-v1``) makes Gymnasium raise ``DeprecatedEnv`` for a version no longer declared.
     """
 
-    def decorate(cls: type) -> type:
+    def decorate(cls: Any) -> Any:  # a Task subclass (its Config, spec and declaration are class attributes)
         for pid, values in presets.items():
             unknown = set(values) - {f.name for f in dataclasses.fields(cls.Config) if f.init}
             if unknown:

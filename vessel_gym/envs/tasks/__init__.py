@@ -22,7 +22,7 @@ IDS_BEGIN = "<!-- begin: ids generated from the task declarations -->"
 IDS_END = "<!-- end: ids -->"
 
 
-def tasks(decls: dict[str, Any] | None = None) -> list[type]:
+def tasks(decls: dict[str, Any] | None = None) -> list[Any]:
     """Every registered task class once, in registration order (built-in tasks first)."""
     from vessel_gym.envs.registration import registered, task_class
 
@@ -78,7 +78,7 @@ def config_table(cls: type) -> str:
         if not f.init or f.name == "reward":
             continue
         md = f.metadata
-        default = f.default if f.default is not dataclasses.MISSING else f.default_factory()  # type: ignore[misc]
+        default = f.default if f.default is not dataclasses.MISSING else f.default_factory()  # type: ignore[misc,operator]
         if isinstance(default, float) and not math.isfinite(default):
             default = str(default)
         rows.append(
@@ -104,7 +104,7 @@ def ids_table(decls: dict[str, Any] | None = None) -> str:
     return "\n".join(rows)
 
 
-def task_docs(cls: type) -> str:
+def task_docs(cls: Any) -> str:
     """A task's generated section: config keys, then its reward and feature tables."""
     spec = cls.spec
     head = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
@@ -115,7 +115,7 @@ def task_docs(cls: type) -> str:
     )
 
 
-def config_table_task(cls: type) -> str:
+def config_table_task(cls: Any) -> str:
     """:func:`config_table` of a task's config, without the keys it shares unchanged with every environment."""
     from vessel_gym.envs.config import ShipEnvConfig
 
