@@ -164,6 +164,7 @@ def _grid(args: argparse.Namespace) -> int:
     study = _study(args)
     rep = run_grid_study(study, gradings, Progress(quiet=args.quiet))
     print(f"grid study: {study.out / 'grid_study.md'}")
+    print(f"ship file:  {rep['ship_file']} (the finest grading's, with each derivative's grid uncertainty)")
     for k, q in rep["quantities"].items():
         gci = f", GCI {100 * q['gci_fine']:.2f} %" if "gci_fine" in q else ""
         unc = f", U {q['uncertainty']:.4g}" if "uncertainty" in q else ""

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .case.sizing import DOMAIN
 from .errors import InputError
 
 _VERTEX = re.compile(rb"vertex\s+(\S+)\s+(\S+)\s+(\S+)")
@@ -326,6 +327,14 @@ class PlacedHull:
         return pts.min(axis=0), pts.max(axis=0)
 
 
+def _unit_hint(ratio: float) -> str:
+    """A guess at the unit of an STL whose size is ``ratio`` times the particulars given in metres."""
+    for factor, unit in ((1000.0, "millimetres"), (100.0, "centimetres"), (25.4, "inches"), (1e-3, "kilometres")):
+        if 0.7 * factor <= ratio <= 1.4 * factor:
+            return f"the STL looks to be in {unit} while Lpp, Bwl and Tm are in metres: scale it to metres; "
+    return "check the STL's units (metres) and "
+
+
 def place_hull(
     triangles: np.ndarray,
     lpp: float,
@@ -355,9 +364,29 @@ def place_hull(
         mirrored = True
     zk = float(lo[2]) if z_keel is None else float(z_keel)
     z_wl = zk + tm
+    key = "tm" if z_keel is None else "z_keel"
     if hi[2] <= z_wl + 1e-3 * tm:
         raise InputError(
-            "tm", f"the hull STL must extend above the waterline z = {z_wl:.4g} m (top is {hi[2]:.4g} m)"
+            key,
+            f"the hull STL must extend above the waterline z = {z_wl:.4g} m (z_keel + tm; the STL's top is "
+            f"{hi[2]:.4g} m, so the whole hull would lie below the domain, whose top is the waterline)",
+        )
+    if lo[2] >= z_wl:
+        raise InputError(
+            "z_keel",
+            f"the hull STL lies wholly above the waterline z = {z_wl:.4g} m (z_keel + tm; the STL's lowest "
+            f"point is {lo[2]:.4g} m): nothing is under water",
+        )
+    # the domain is DOMAIN[2] Lpp deep below the waterline; the keel keeps at least half of it (as tm <= L/2)
+    # as water under the hull, or the bottom's symmetry plane sits in the hull's displacement flow
+    depth = z_wl - float(lo[2])
+    max_depth = -0.5 * DOMAIN[2][0] * lpp
+    if depth > max_depth:
+        raise InputError(
+            key,
+            f"the hull reaches {depth:.4g} m below the waterline (z_keel + tm = {z_wl:.4g} m), deeper than "
+            f"{max_depth:.4g} m = half the domain's depth of {-DOMAIN[2][0]:g} Lpp: the hull would reach into "
+            f"or below the domain's bottom (check z_keel and tm, and that the STL is in metres with z up)",
         )
     under = pts[pts[:, 2] <= z_wl]
     xa = float(under[:, 0].min()) if x_ap is None else float(x_ap)
@@ -368,8 +397,8 @@ def place_hull(
     if not 0.8 <= ratio <= 1.3:
         raise InputError(
             "lpp",
-            f"underwater length of the STL is {hydro.lwl_m:.4g} m, {ratio:.3g} x Lpp = {lpp:.4g} m "
-            "(allowed 0.8-1.3; check units and that the bow points to +x)",
+            f"underwater length of the STL is {hydro.lwl_m:.4g} m, {ratio:.4g} x Lpp = {lpp:.4g} m "
+            f"(allowed 0.8-1.3; {_unit_hint(ratio)}check that the bow points to +x)",
         )
     bratio = hydro.bwl_m / bwl
     if not 0.8 <= bratio <= 1.2:

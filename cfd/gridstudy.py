@@ -144,11 +144,76 @@ def run_grid_study(study, gradings, progress=None, plots: bool = True) -> dict[s
         "quantities": results,
     }
     out.mkdir(parents=True, exist_ok=True)
+    finest = out / f"grading_{runs[0]['grading']}" / "ship.toml"
+    report["ship_file"] = str(write_ship_with_uncertainty(finest, out / "ship.toml", report))
     (out / "grid_study.json").write_text(json.dumps(report, indent=1))
     (out / "grid_study.md").write_text(_markdown(report, study))
     if plots:
         _plot(report, out / "grid_convergence.png")
     return report
+
+
+def relative_uncertainty(q: dict) -> float | None:
+    """The numerical uncertainty of one quantity of a grid study as a fraction of its finest-grid value:
+    GCI_fine (monotonic), half the range over |φ1| (oscillatory), 0 (no change); None when divergent."""
+    phi1, u = q["phi"][0], q.get("uncertainty")
+    if u is None or phi1 == 0:
+        return None
+    return abs(u / phi1)
+
+
+def write_ship_with_uncertainty(src, dst, report: dict):
+    """The finest grading's ship file ``src`` written again to ``dst`` with the grid study's uncertainty of
+    every derivative in ``[source.provenance.grid_uncertainty]`` (the provenance table is free metadata of
+    the ship-file schema), and one sentence in ``[source] notes``. Returns ``dst``."""
+    from pathlib import Path  # noqa: PLC0415
+
+    from .shipfile import tomllib, validate_ship, write_ship  # noqa: PLC0415
+
+    src, dst = Path(src), Path(dst)
+    text = src.read_text()
+    ship = tomllib.loads(text)
+    header = "\n".join(line[1:].strip() for line in text.splitlines() if line.startswith("#"))
+    table: dict[str, object] = {
+        "method": "grid convergence index, Celik et al. (2008), F_s = 1.25; oscillatory: half the range (ITTC)",
+        "gradings": report["gradings"],
+        "cells": report["cells"],
+    }
+    worst = []
+    for k, q in report["quantities"].items():
+        rel = relative_uncertainty(q)
+        entry: dict[str, object] = {"condition": q["condition"], "fine": q["phi"][0]}
+        if rel is not None:
+            entry["relative"] = rel
+            if k != "R_T_N":
+                worst.append((rel, k))
+        table[k] = entry
+    source = ship.setdefault("source", {})
+    source.setdefault("provenance", {})["grid_uncertainty"] = table
+    divergent = [k for k, q in report["quantities"].items() if relative_uncertainty(q) is None]
+    note = "Derived from CFD; grid uncertainty (GCI, gradings " + ", ".join(map(str, report["gradings"])) + "): "
+    note += ", ".join(f"{k} ±{100 * r:.1f} %" for r, k in worst) or "none could be estimated"
+    if divergent:
+        note += "; no estimate (divergent on these grids) for " + ", ".join(divergent)
+    source["notes"] = (str(source.get("notes", "")).rstrip() + "\n" + note + ".").lstrip()
+    write_ship(dst, ship, header)
+    problem = validate_ship(dst)
+    if problem:
+        raise ValueError(f"{dst}: {problem}")
+    return dst
+
+
+def ship_uncertainty(provenance: dict) -> dict[str, float | None]:
+    """Per derivative, the relative grid uncertainty recorded by :func:`write_ship_with_uncertainty` in a
+    ship file's provenance (None: divergent, no estimate); empty when the file has none."""
+    table = provenance.get("grid_uncertainty") if isinstance(provenance, dict) else None
+    if not isinstance(table, dict):
+        return {}
+    return {
+        k: (float(v["relative"]) if "relative" in v else None)
+        for k, v in table.items()
+        if isinstance(v, dict) and k != "R_T_N"
+    }
 
 
 def _markdown(rep: dict, study) -> str:

@@ -209,8 +209,11 @@ class Pipeline:
         return Job(name, "mesh", label, key, action, params={"phi": phi})
 
     # ------------------------------------------------------------------ cases
-    def _steady_job(self, kind: str, U: float, beta: float, phi: float = 0.0) -> Job:
-        """A straight tow, a static drift or (kind "heel") a heeled tow or drift on the heel-``phi`` mesh."""
+    def _steady_job(self, kind: str, U: float, beta: float, phi: float = 0.0, base: Job | None = None) -> Job:
+        """A straight tow, a static drift or (kind "heel") a heeled tow or drift on the heel-``phi`` mesh.
+
+        ``base``: a finished steady case on the same mesh whose converged fields this one starts from
+        (cfd.case.flow.start_fields); the drift cases start from the straight tow at their speed."""
         s = self.study
         name = f"tow_U{U:.4f}" if kind == "tow" else f"drift_b{beta:05.2f}"
         label = f"tow U={U:g} m/s" if kind == "tow" else f"drift beta={beta:g} deg"
@@ -221,9 +224,16 @@ class Pipeline:
             label = f"heel phi={phi:g} deg beta={beta:g} deg"
         flow = FlowSpec(U=U, beta_deg=beta, rho=s.rho, nu=s.nu)
         key = {"mesh": self.mesh_keys[mesh], "flow": repr(flow), "iterations": s.steady_iterations}
+        if base is not None:
+            key["start"] = _hash(base.key)
 
         def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
-            write_steady_case(case, self.cases / mesh, flow, s.steady_iterations, procs=procs)
+            start = None
+            if base is not None:
+                start = (_latest_time(self.cases / base.name), FlowSpec(**base.params["flow"]))
+            started = write_steady_case(
+                case, self.cases / mesh, flow, s.steady_iterations, procs=procs, start=start
+            )
             stopped: list[int] = []
 
             def settle() -> None:
@@ -253,13 +263,20 @@ class Pipeline:
                 "stopped_on_settled_forces": bool(stopped),
                 "settled_at": stopped[0] if stopped else None,
                 "band": sf.band,
+                "initial_fields": started,
             }
             yplus = read_yplus(case, HULL_PATCH)
             if yplus is not None:
                 summary["yplus_min_max_mean"] = list(yplus)
             return summary
 
-        return Job(name, kind, label, key, action, params={"U": U, "beta": beta, "phi": phi})
+        params = {
+            "U": U,
+            "beta": beta,
+            "phi": phi,
+            "flow": {"U": U, "beta_deg": beta, "rho": s.rho, "nu": s.nu},
+        }
+        return Job(name, kind, label, key, action, params=params)
 
     def _pmm_job(self, kind: str, amplitude: float, base: Job, omega_prime: float | None = None) -> Job:
         """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw).
@@ -499,7 +516,7 @@ class Pipeline:
                 if not math.isclose(w, own, rel_tol=1e-6):
                     later += [self._pmm_job(kind, a, base, omega_prime=w) for a in amplitudes]
         if "drift" in s.tests:
-            later += [self._steady_job("drift", s.U_ref, b) for b in s.drift_deg]
+            later += [self._steady_job("drift", s.U_ref, b, base=base) for b in s.drift_deg]
         if "tow" in s.tests:
             later += [self._steady_job("tow", u, 0.0) for u in s.speeds if not math.isclose(u, s.U_ref)]
         if "heel" in s.tests:  # one mesh per heel angle, then the heeled tow and the heeled drift at ±angle
@@ -529,18 +546,19 @@ class Pipeline:
         s = self.study
         t0 = time.monotonic()
         STOP.clear()
+        # the hull first, silently: a bad STL or particulars is an input error (exit 2, its one line only)
+        # whether or not OpenFOAM is here
+        hull = self.prepare_hull()
         check_openfoam(parallel=s.mesh_procs > 1)
         if self.ray is not None:  # connected before the mesh: a wrong address fails at once
             from .raycases import connect  # noqa: PLC0415 - Ray is an optional extra
 
             self.cpus = connect(self.ray, s.procs)
             self.progress("ray", f"connected to {self.ray}: {self.cpus} CPUs for the cases")
-        self.progress("hull", f"preparing {s.hull}")
-        hull = self.prepare_hull()
         h = hull.hydro
         self.progress(
             "hull",
-            f"V = {h.volume_m3:.4g} m3, S = {h.wetted_area_m2:.4g} m2, "
+            f"{s.hull}: V = {h.volume_m3:.4g} m3, S = {h.wetted_area_m2:.4g} m2, "
             f"C_B = {h.volume_m3 / (s.lpp * s.bwl * s.tm):.3f}, mirrored = {hull.mirrored}",
         )
         jobs = self.plan()

@@ -83,7 +83,11 @@ def write_solution(system: Path, steady: bool, residual_p: float = 1e-5) -> None
                 "residualControl": {"p": residual_p, "U": residual_p / 10, '"(k|omega)"': residual_p},
             }
         }
-        relax = {"equations": {"U": 0.9, '".*"': 0.7}}
+        # U 0.7, k and omega 0.5: with 0.9 / 0.7 the drift cases of the Wigley quick start (grading 1) fell
+        # into a limit cycle of SIMPLE (a 24-iteration oscillation of N of 0.15 % about a value 0.4 % off
+        # the steady one) and never converged in 500 iterations; with these they converge to constant forces
+        # (residualControl) in 95-156 iterations (docs/cfd.md, "Convergence of the steady cases")
+        relax = {"equations": {"U": 0.7, '".*"': 0.5}}
     else:
         solvers["(p|pcorr)Final"] = {
             "solver": "GAMG",

@@ -7,9 +7,12 @@ A steady case is a straight tow or a static drift, by the inflow direction; the 
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from .. import foamdict
 from ..foamdict import Words
@@ -127,8 +130,19 @@ def flow_fields(flow: FlowSpec) -> dict[str, tuple[dict, str]]:
     }
 
 
-def write_steady_case(case: Path, mesh_case: Path, flow: FlowSpec, iterations: int, procs: int = 1) -> None:
-    """Double-body simpleFoam case (tow or static drift by inflow direction) on the finished mesh."""
+def write_steady_case(
+    case: Path,
+    mesh_case: Path,
+    flow: FlowSpec,
+    iterations: int,
+    procs: int = 1,
+    start: tuple[Path, FlowSpec] | None = None,
+) -> str:
+    """Double-body simpleFoam case (tow or static drift by inflow direction) on the finished mesh.
+
+    ``start``: a time directory of a converged case on the same mesh and its flow; the internal fields
+    start from it (:func:`start_fields`) instead of the uniform free stream. Returns how the fields
+    started: ``"uniform"`` or ``"from <case name>"``."""
     case.mkdir(parents=True, exist_ok=True)
     link_mesh(case, mesh_case)
     write_constant(case, flow.nu)
@@ -145,7 +159,8 @@ def write_steady_case(case: Path, mesh_case: Path, flow: FlowSpec, iterations: i
             "writeControl": "timeStep",
             "writeInterval": iterations,
             "purgeWrite": 1,
-            "writeFormat": "binary",
+            # ASCII: the drift cases start from the tow's fields, read back by start_fields()
+            "writeFormat": "ascii",
             "writePrecision": 10,
             "writeCompression": False,
             "timeFormat": "general",
@@ -159,4 +174,80 @@ def write_steady_case(case: Path, mesh_case: Path, flow: FlowSpec, iterations: i
     foamdict.write(system / "decomposeParDict", decompose_dict(procs))
     for name, (body, cls) in flow_fields(flow).items():
         foamdict.write(case / "0" / name, body, foam_class=cls)
+    started = "uniform"
+    if start is not None and start_fields(case / "0", start[0], start[1], flow):
+        started = f"from {start[0].parent.name}"
     make_stoppable(case)
+    return started
+
+
+_INTERNAL = re.compile(
+    r"^internalField\s+(?:uniform\s+(?P<u>\([^)]*\)|[-+0-9.eE]+)\s*;"
+    r"|nonuniform\s+List<(?P<t>scalar|vector)>\s*(?P<n>\d+)\s*\()",
+    re.M,
+)
+
+
+def read_internal_field(path: Path) -> np.ndarray | None:
+    """The internal field of an ASCII OpenFOAM field file: shape (n,) or (n, 3), or (1,)/(1, 3) when it is
+    uniform; None when the file is binary, missing or not understood."""
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError):
+        return None
+    m = _INTERNAL.search(text)
+    if m is None or re.search(r"format\s+binary", text[: m.start()]):
+        return None
+    if m.group("u") is not None:
+        vals = np.array(m.group("u").strip("()").split(), dtype=float)
+        return vals.reshape(1, -1) if len(vals) == 3 else vals
+    n, vector = int(m.group("n")), m.group("t") == "vector"
+    end = text.find(";", m.end())
+    body = text[m.end() : end].replace("(", " ").replace(")", " ").split()
+    try:
+        vals = np.array(body, dtype=float)
+    except ValueError:
+        return None
+    if len(vals) != (3 * n if vector else n):
+        return None
+    return vals.reshape(n, 3) if vector else vals
+
+
+def _internal_text(values: np.ndarray) -> str:
+    if values.ndim == 2:
+        if len(values) == 1:
+            return "uniform ({:.10g} {:.10g} {:.10g})".format(*values[0])
+        rows = "\n".join(f"({a:.10g} {b:.10g} {c:.10g})" for a, b, c in values)
+        return f"nonuniform List<vector>\n{len(values)}\n(\n{rows}\n)"
+    if len(values) == 1:
+        return f"uniform {values[0]:.10g}"
+    rows = "\n".join(f"{v:.10g}" for v in values)
+    return f"nonuniform List<scalar>\n{len(values)}\n(\n{rows}\n)"
+
+
+def start_fields(zero: Path, start_dir: Path, start_flow: FlowSpec, flow: FlowSpec) -> bool:
+    """Put the converged internal fields of ``start_dir`` (same mesh, free stream ``start_flow``) into the
+    uniform 0/ fields of ``zero`` (free stream ``flow``); the boundary conditions stay those of ``flow``.
+
+    Velocity is rotated about z by the change of inflow angle and scaled with the speed; p scales with U²,
+    k with U², omega and nut with U (the same flow at another Reynolds number, to first order). A drift case
+    started this way begins with the hull's boundary layer and wake in place, turned to the new inflow, and
+    SIMPLE only has to adjust the cross flow. False (nothing changed) when a start field cannot be read.
+    """
+    r = flow.U / start_flow.U
+    b = math.radians(flow.beta_deg - start_flow.beta_deg)
+    rot = np.array([[math.cos(b), -math.sin(b), 0.0], [math.sin(b), math.cos(b), 0.0], [0.0, 0.0, 1.0]])
+    scale = {"U": r, "p": r * r, "k": r * r, "omega": r, "nut": r}
+    fields = {}
+    for name in scale:
+        values = read_internal_field(start_dir / name)
+        if values is None:
+            return False
+        fields[name] = rot @ values.T * r if name == "U" else values * scale[name]
+    fields["U"] = fields["U"].T
+    for name, values in fields.items():
+        path = zero / name
+        entry = f"internalField   {_internal_text(values)};"
+        text = re.sub(r"^internalField\s+[^;]*;", lambda _, e=entry: e, path.read_text(), count=1, flags=re.M)
+        path.write_text(text)
+    return True

@@ -7,6 +7,7 @@ import itertools
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from cfd.cli import interactive, main
@@ -191,3 +192,63 @@ def test_interactive_set_up_saves_its_study_file_without_overwriting(capsys, tmp
     interactive(read=lambda prompt: next(answers))
     assert saved.read_text() == "# the user's own study file\n"
     assert load_study_file(saved.parent / "study-1.toml") == study
+
+
+# ------------------------------------------------------------------------------ hulls the tool refuses
+def _stl_case(tmp_path, triangles, *extra):
+    from cfd.geometry import write_stl
+
+    stl = write_stl(tmp_path / "hull.stl", triangles)
+    return ["run", "--hull", str(stl), "--lpp", "1", "--bwl", "0.1", "--tm", "0.0625", "--out", str(tmp_path / "o")]
+
+
+def _refused(argv, capsys, monkeypatch):
+    """Exit 2 with one line, before any OpenFOAM application could start (none is allowed to)."""
+    from cfd import pipeline
+
+    def no_foam(*a, **k):
+        raise AssertionError("OpenFOAM started for a hull that should have been refused")
+
+    monkeypatch.setattr(pipeline, "run_app", no_foam)
+    monkeypatch.setattr(pipeline, "check_openfoam", no_foam)
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("vessel-cfd: error: ")
+    return err[0]
+
+
+def _wigley_keel_at_zero():
+    from cfd.geometry import wigley_hull
+
+    return wigley_hull(1.0, 0.1, 0.0625) + np.array([0.5, 0.0, 0.0625])  # stern x = 0, keel z = 0, deck 2T
+
+
+def test_an_stl_with_a_hole_under_water_is_refused_with_the_reason(tmp_path, capsys, monkeypatch):
+    tris = _wigley_keel_at_zero()
+    wet = np.flatnonzero(tris[:, :, 2].mean(axis=1) < 0.03)
+    holed = np.delete(tris, wet[[10, len(wet) // 2]], axis=0)  # two triangles missing under water
+    line = _refused(_stl_case(tmp_path, holed), capsys, monkeypatch)
+    assert "hull: the STL is not closed below the waterline: 6 open" in line
+
+
+def test_a_millimetre_hull_with_particulars_in_metres_is_refused_naming_the_unit(tmp_path, capsys, monkeypatch):
+    line = _refused(_stl_case(tmp_path, _wigley_keel_at_zero() * 1000.0), capsys, monkeypatch)
+    assert "lpp:" in line and "millimetres" in line and "1000 x Lpp" in line
+
+
+@pytest.mark.parametrize(
+    ("z_keel", "named", "reason"),
+    [
+        (5.0, "z_keel", "whole hull would lie below the domain"),  # waterline above the STL's top
+        (0.9, "z_keel", "below the domain's bottom"),  # the STL reaches 0.96 m below the waterline
+        (-5.0, "z_keel", "nothing is under water"),  # waterline below the STL's keel
+    ],
+)
+def test_a_hull_outside_the_domain_is_refused_with_the_reason(tmp_path, capsys, monkeypatch, z_keel, named, reason):
+    tris = _wigley_keel_at_zero()
+    tall = tris.copy()
+    tall[:, :, 2] *= 8.0  # a hull 1 m deep: keel z = 0, deck z = 1 m
+    argv = _stl_case(tmp_path, tall if z_keel == 0.9 else tris) + ["--z-keel", str(z_keel)]
+    line = _refused(argv, capsys, monkeypatch)
+    assert f"error: {named}:" in line and reason in line, line

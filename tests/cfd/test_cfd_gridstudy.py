@@ -71,6 +71,23 @@ def test_study_command_recovers_the_fake_hull_by_richardson_extrapolation(tmp_pa
     assert (out / "grid_study.md").read_text().count("| monotonic |") >= 4
     assert (out / "grid_convergence.png").is_file() and (out / "grading_2" / "ship.toml").is_file()
     assert not math.isnan(rt["gci_fine"])
+    # the ship file of the finest grading again, with each derivative's uncertainty, shown by the IMO report
+    from vessel_gym.manoeuvres.imo import cfd_uncertainty_line
+    from vessel_gym.physics.shipfile import load_ship
+
+    assert rep["ship_file"] == str(out / "ship.toml")
+    ship = load_ship(out / "ship.toml")
+    table = ship.source.provenance["grid_uncertainty"]
+    assert table["gradings"] == [3, 2, 1]
+    for k in ("Y_v", "N_v"):
+        q = rep["quantities"][k]
+        assert table[k]["relative"] == pytest.approx(q["gci_fine"]) and table[k]["condition"] == "monotonic"
+    worst = max(v["relative"] for k, v in table.items() if isinstance(v, dict) and k != "R_T_N")
+    line = cfd_uncertainty_line(ship)
+    assert line.startswith(f"Derived from CFD, ±{100 * worst:.1f} % (grid uncertainty, GCI: ")
+    assert f"Y_v ±{100 * table['Y_v']['relative']:.1f} %" in line
+    assert "grid uncertainty (GCI, gradings 3, 2, 1)" in ship.source.notes
+    assert cfd_uncertainty_line(load_ship(out / "grading_3" / "ship.toml")) == ""
 
 
 def test_study_command_needs_three_gradings(capsys):

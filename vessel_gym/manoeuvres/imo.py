@@ -207,7 +207,26 @@ class ImoReport:
         lines.append("-" * 76)
         lines += [f"implausible: {why}" for why in self.implausible_reasons]
         lines.append(f"overall: {self.verdict}")
-        return "\n".join(lines)
+        cfd = cfd_uncertainty_line(self.spec)
+        return "\n".join(lines + ([cfd] if cfd else []))
+
+
+def cfd_uncertainty_line(spec: Ship | None) -> str:
+    """"Derived from CFD, ±x %" for a ship file whose derivatives come with a grid study's uncertainty
+    (``[source.provenance.grid_uncertainty]``, written by ``vessel-cfd study``): x is the largest relative
+    uncertainty of the derivatives, each one listed after it. Empty for other ship files."""
+    prov = spec.source.provenance if spec is not None else {}
+    table = prov.get("grid_uncertainty") if isinstance(prov, dict) else None
+    if not isinstance(table, dict):
+        return ""
+    rel = {k: v.get("relative") for k, v in table.items() if isinstance(v, dict) and k != "R_T_N"}
+    known = {k: float(v) for k, v in rel.items() if isinstance(v, (int, float))}
+    if not known:
+        return "Derived from CFD; no grid uncertainty could be estimated (divergent on the grids used)."
+    line = f"Derived from CFD, ±{100 * max(known.values()):.1f} % (grid uncertainty, GCI: "
+    line += ", ".join(f"{k} ±{100 * v:.1f} %" for k, v in known.items())
+    unknown = [k for k in rel if k not in known]
+    return line + (f"; none for {', '.join(unknown)}" if unknown else "") + ")."
 
 
 def implausibility(trial, ship: Ship, label: str) -> str:

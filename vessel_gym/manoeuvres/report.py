@@ -11,7 +11,7 @@ import re
 import textwrap
 from pathlib import Path
 
-from vessel_gym.manoeuvres.imo import ImoReport
+from vessel_gym.manoeuvres.imo import ImoReport, cfd_uncertainty_line
 from vessel_gym.manoeuvres.plots import report_plot_names, report_pngs
 
 _CSS = """
@@ -127,6 +127,9 @@ def report_html(report: ImoReport, pngs: dict[str, bytes] | None = None) -> str:
         f'<span class="note">({sum(c.passed for c in report.criteria)} of {len(report.criteria)} criteria '
         "met; simulated trials in deep, calm water at the test speed, both sides)</span></p>",
     ]
+    cfd = cfd_uncertainty_line(report.spec)
+    if cfd:
+        parts.append(f'<p class="note">{_e(cfd)}</p>')
     if report.implausible_reasons:
         parts.append(
             "<h2>Not a possible ship</h2><p>No criterion is scored in a trial that no ship could run:</p><ul>"
@@ -199,6 +202,9 @@ def summary_text(report: ImoReport, width: int = 86) -> str:
         lines += ["", "source:"] + textwrap.wrap(
             report.spec.source.citation, width, initial_indent="  ", subsequent_indent="  "
         )
+    cfd = cfd_uncertainty_line(report.spec)
+    if cfd:
+        lines += [""] + textwrap.wrap(cfd, width)
     lines += ["", report.table()]
     return "\n".join(lines)
 
