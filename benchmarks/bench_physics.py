@@ -286,7 +286,7 @@ def bench_load(repeats: int) -> None:
                     "threaded": lambda a=args, run=run_parallel: run(*a),
                     "step": lambda sim=sim, k=nsteps: sim.step(k),
                 }
-                for call in calls.values():  # warm-up, and the choice's first timings
+                for call in calls.values():  # warm-up (code loading, thread start)
                     for _ in range(20):
                         call()
                 per = {name: [] for name in calls}

@@ -9,10 +9,11 @@ import pytest
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import Environment
-from vessel_gym.physics.integrate import RK4, drivers, run_serial
+from vessel_gym.physics.integrate import RK4, derivatives_for, drivers, run_serial
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
+from vessel_gym.physics.vessel import derivatives
 
 # wind, a beam sea and a current: every force the kernel has is non-zero (the wave drift at speed included)
 WEATHER = dict(wind_speed_m_s=12.0, wind_from_deg=60.0, Hs_m=2.5, Tp_s=9.0, wave_from_deg=120.0)
@@ -70,3 +71,16 @@ def test_a_kernel_refuses_a_batch_not_of_its_kind_and_the_simulation_chooses_aga
     sim.step(50)
     assert sim._kernels is drivers(True, False, False)
     assert np.array_equal(sim.state, ref) and not np.array_equal(sim.state, before)
+
+
+@pytest.mark.parametrize("ship, depth_factor", [("kvlcc2", None), ("kvlcc2", 1.5), ("container", None)])
+def test_right_hand_side_of_the_narrowest_kind_is_the_general_one_to_the_bit(ship, depth_factor):
+    # the linearisation (linear.py) evaluates the drivers' kind of right-hand side, not the general form
+    T = load_ship(ship).particulars.T_m
+    sim = _sim(ship, 4, float("inf") if depth_factor is None else depth_factor * T)
+    for b in range(sim.n):
+        P, x, u, e = sim.Ps[sim.ship_index[b]], sim.state[b], sim.inputs[b], sim.env[b]
+        narrow, general = np.zeros(lo.NX), np.zeros(lo.NX)
+        derivatives_for(P, e)(P, x, u, e, np.zeros(3), narrow)
+        derivatives(P, x, u, e, np.zeros(3), general)
+        assert np.array_equal(narrow, general) and np.any(narrow != 0.0)

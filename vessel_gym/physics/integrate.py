@@ -318,6 +318,39 @@ def drivers_for(Ps: np.ndarray, E: np.ndarray):
     )
 
 
+def _make_rhs(shallow: bool, roll: bool, ext: bool):
+    SHALLOW, ROLL, EXT = shallow, roll, ext  # closure constants, as in _make_drivers
+
+    @njit(cache=True)
+    def rhs(P, x, inp, env, F, xdot):
+        shallow_env = env if SHALLOW else None
+        if shallow_env is None:
+            H = 0
+        else:
+            H = shallow_env[lo.E_T_OVER_H]
+        derivatives_of(P, x, inp, env, F, xdot, H, ROLL, EXT)
+
+    return rhs
+
+
+_RHS: dict[tuple[bool, bool, bool], object] = {}
+
+
+def derivatives_for(P: np.ndarray, env: np.ndarray):
+    """The right-hand side ``rhs(P, x, inp, env, F, xdot)`` (vessel.derivatives) compiled for the narrowest kind
+    that holds one vessel with parameter row ``P`` in environment row ``env``, as :func:`drivers_for` chooses
+    the drivers: the same specialisation of the equations as the drivers, so that a caller outside them (the
+    linearisation in linear.py) compiles nothing more, with the general form's results to the bit."""
+    key = (
+        bool(env[lo.E_T_OVER_H] != 0.0),
+        bool(P[lo.P_ROLL_ON] != 0.0),
+        bool(P[lo.P_ENGINE_EXT] != 0.0 or P[lo.P_SG_EXT] != 0.0),
+    )
+    if key not in _RHS:
+        _RHS[key] = _make_rhs(*key)
+    return _RHS[key]
+
+
 #: the general batch drivers: integrate every alive vessel of the batch, serially or with contiguous chunks of
 #: vessels spread over threads (large batches); mark diverged vessels dead; return the number alive
 run_serial, run_parallel = drivers(True, True, True)

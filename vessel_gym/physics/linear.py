@@ -15,9 +15,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.integrate import EULER, RK4, STABILITY_LIMIT
+from vessel_gym.physics.integrate import EULER, RK4, STABILITY_LIMIT, derivatives_for
 from vessel_gym.physics.shipfile import Ship, load_ship
-from vessel_gym.physics.vessel import derivatives, pack
+from vessel_gym.physics.vessel import pack
 
 
 @dataclass(frozen=True)
@@ -51,11 +51,14 @@ def sway_yaw_matrices(ship: str | Ship, speed_m_s: float | None = None) -> tuple
         def extra(x: np.ndarray) -> np.ndarray:
             return np.zeros(3)
 
+    env = np.zeros(lo.NE)
+    rhs = derivatives_for(P, env)  # the drivers' kernel of this kind: nothing more to compile
+
     def f(v: float, r: float, d: float) -> np.ndarray:
         x = np.zeros(lo.NX)
         x[lo.X_U], x[lo.X_V], x[lo.X_R], x[lo.X_DELTA] = U, v, r, d
         xd = np.zeros(lo.NX)
-        derivatives(P, x, np.zeros(lo.NU), np.zeros(lo.NE), extra(x), xd)
+        rhs(P, x, np.zeros(lo.NU), env, extra(x), xd)
         return np.array([xd[lo.X_V], xd[lo.X_R]])
 
     hv = 1e-6 * U
@@ -90,11 +93,12 @@ def fastest_rate(ship: str | Ship, speed_m_s: float | None = None) -> float:
     sim = Simulation(load_ship(ship), dt=1.0)
     sim.reset(speed_m_s=speed_m_s)
     P, x0, inp, env = sim.Ps[0], sim.state[0].copy(), sim.inputs[0], sim.env[0]
+    rhs = derivatives_for(P, env)
 
     def f(x: np.ndarray) -> np.ndarray:
         xd = np.zeros(lo.NX)
         F = sim._ext(x[None, :])[0] if sim.components else np.zeros(3)  # a ship file's own components
-        derivatives(P, x, inp, env, F, xd)
+        rhs(P, x, inp, env, F, xd)
         return xd
 
     J = np.zeros((lo.NX, lo.NX))

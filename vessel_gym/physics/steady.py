@@ -61,7 +61,7 @@ def _propeller_torque(P, x, env, shallow_env):
         H = 0
     else:
         H = shallow_env[lo.E_T_OVER_H]
-    return force_terms(P, x, env, H)[14]
+    return force_terms(P, x, env, H).Q_prop
 
 
 @njit(cache=True)

@@ -20,6 +20,7 @@ the manoeuvres, the captive (PMM) mode and the UDP server.
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
@@ -253,10 +254,40 @@ def pack(ship: Ship) -> np.ndarray:
 NO_REFCOUNT = {"_nrt": False}
 
 
+N_OUT = 20
+FORCE_NAMES = (
+    "X_H",
+    "Y_H",
+    "N_H",
+    "X_P",
+    "X_R",
+    "Y_R",
+    "N_R",
+    "X_W",
+    "Y_W",
+    "N_W",
+    "X_D",
+    "Y_D",
+    "N_D",
+    "thrust",
+    "Q_prop",
+    "w_P",
+    "V_rw",
+    "gamma_rw",
+    "current_n",
+    "current_e",
+)
+# The forces and flow quantities of one vessel at one state, by name (force_terms): FORCE_NAMES (X, Y in N and N in
+# N m of each component, the propeller's thrust N, torque N m and wake fraction, the relative wind m/s and rad, the
+# current m/s north and east), then cos and sin of the heading. A named tuple compiles to the plain tuple it was:
+# the fields are summed by name at no cost.
+VesselForces = namedtuple("VesselForces", (*FORCE_NAMES, "cos_psi", "sin_psi"))
+
+
 @njit(cache=True, **NO_REFCOUNT)
 def force_terms(P, x, env, H):
-    """All component forces for one vessel at state ``x``, as a tuple of N_OUT + 2 floats: the N_OUT values
-    of :func:`forces`, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
+    """All component forces for one vessel at state ``x``, a :data:`VesselForces` record: the N_OUT values of
+    :func:`forces` by their names, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
 
     ``H`` is the draught-to-depth ratio T/h the vessel is in (``env[E_T_OVER_H]``; 0 in deep water). A
     deep-water kernel passes the integer literal 0 (integrate.drivers): numba then compiles this function and
@@ -303,7 +334,7 @@ def force_terms(P, x, env, H):
         P, env[lo.E_ZETA2], env[lo.E_OMEGA_ZETA2], env[lo.E_WAVE_FROM], psi, u
     )
     XP = (1.0 - thrust_deduction(P, H)) * T
-    return (XH, YH, NH, XP, XR, YR, NR, XW, YW, NW, XD, YD, ND, T, Qp, wP, Vrw, gam, cn, ce, c, s)
+    return VesselForces(XH, YH, NH, XP, XR, YR, NR, XW, YW, NW, XD, YD, ND, T, Qp, wP, Vrw, gam, cn, ce, c, s)
 
 
 @njit(cache=True)
@@ -319,29 +350,6 @@ def forces(P, x, inp, env, out):
     return out
 
 
-N_OUT = 20
-FORCE_NAMES = (
-    "X_H",
-    "Y_H",
-    "N_H",
-    "X_P",
-    "X_R",
-    "Y_R",
-    "N_R",
-    "X_W",
-    "Y_W",
-    "N_W",
-    "X_D",
-    "Y_D",
-    "N_D",
-    "thrust",
-    "Q_prop",
-    "w_P",
-    "V_rw",
-    "gamma_rw",
-    "current_n",
-    "current_e",
-)
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -375,7 +383,7 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
     F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions), and on a vessel
     whose engine is a user's component (``P_ENGINE_EXT``) a fourth entry, its drive torque at the propeller
     shaft (N m; 0 when F_ext has three entries, as in a force-only balance). The forces
-    travel from :func:`force_terms` as a tuple, not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
+    travel from :func:`force_terms` as a named record (:data:`VesselForces`), not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
     out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
     f = force_terms(P, x, env, H)
@@ -387,12 +395,11 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
         u,
         v,
         r,
-        f[0] + f[3] + f[4] + f[7] + f[10] + F_ext[0],
-        f[1] + f[5] + f[8] + f[11] + F_ext[1],
-        f[2] + f[6] + f[9] + f[12] + F_ext[2],
+        f.X_H + f.X_P + f.X_R + f.X_W + f.X_D + F_ext[0],
+        f.Y_H + f.Y_R + f.Y_W + f.Y_D + F_ext[1],
+        f.N_H + f.N_R + f.N_W + f.N_D + F_ext[2],
     )
-    # cos(psi), sin(psi) from force_terms; f[18], f[19] the current (north, east)
-    vn, ve = ground_velocity(u, v, f[20], f[21], f[18], f[19])
+    vn, ve = ground_velocity(u, v, f.cos_psi, f.sin_psi, f.current_n, f.current_e)
     delta_dot = steering_gear_rate(P, x[lo.X_DELTA], inp[lo.U_DELTA_C])
     ndot = 0.0
     gdot = 0.0
@@ -402,10 +409,10 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
             # a user's engine (components.compose): its drive torque arrives as F_ext[3]; the built-in
             # governor and reversing gear are not part of the vessel (their states hold still)
             Q_drive = F_ext[lo.F_Q_SHAFT] if F_ext.shape[0] > lo.F_Q_SHAFT else 0.0
-            ndot = shaft_rate(P, x[lo.X_REV], Q_drive, f[14])
+            ndot = shaft_rate(P, x[lo.X_REV], Q_drive, f.Q_prop)
         else:
             ndot, cdot, gdot, _fuel, _ne, _qe = shaft_acceleration(
-                P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], inp[lo.U_REV_C], f[14]
+                P, x[lo.X_REV], x[lo.X_CAM], x[lo.X_GOV], inp[lo.U_REV_C], f.Q_prop
             )
     phidot = 0.0
     pdot = 0.0
@@ -418,7 +425,7 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
         X += Xr
         Y += Yr
         N += Nr
-        K = Kr - P[lo.P_ROLL_ZR] * f[5] + P[lo.P_ROLL_QSIGN] * f[14]  # rudder; shaft torque reaction
+        K = Kr - P[lo.P_ROLL_ZR] * f.Y_R + P[lo.P_ROLL_QSIGN] * f.Q_prop  # rudder; shaft torque reaction
         j = lo.P_ROLL_MINV
         udot = X / P[lo.P_M11]
         vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K
@@ -427,7 +434,7 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
         # Euler-angle kinematics with zero pitch (Fossen 2011 eq. 2.29): the heeled body y-axis spans the
         # horizontal by cos(phi), and the yaw rate about the heeled z-axis turns the heading by r cos(phi)
         cphi = math.cos(phi)
-        vn, ve = ground_velocity(u, v * cphi, f[20], f[21], f[18], f[19])
+        vn, ve = ground_velocity(u, v * cphi, f.cos_psi, f.sin_psi, f.current_n, f.current_e)
         psidot = r * cphi
         phidot = p
     else:
