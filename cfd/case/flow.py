@@ -1,7 +1,7 @@
 """Double-body flow cases: the free stream (:class:`FlowSpec`), the 0/ fields, the steady simpleFoam case.
 
-A steady case is a straight tow or a static drift, by the inflow direction; the PMM cases
-(:mod:`cfd.case.pmm`) start from the converged tow's fields.
+A steady case is a straight tow or a static drift, by the inflow direction; the drift cases
+(:func:`start_fields`) and the PMM cases (:mod:`cfd.case.pmm`) start from the converged tow's fields.
 """
 
 from __future__ import annotations

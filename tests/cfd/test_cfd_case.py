@@ -324,3 +324,29 @@ def test_wake_refinement_follows_the_drift_angle(tmp_path):
     region = sn["castellatedMeshControls"]["refinementRegions"]["wake_p10"]
     assert region["mode"] == "inside" and list(region["levels"][0]) == [1e15, w10.level]
     assert cell_count_estimate(spec) > cell_count_estimate(mesh_spec(L, B, T, 2, U=1.0, nu=1e-6))
+
+
+def test_a_drift_case_starts_from_the_converged_tow_turned_to_its_inflow(tmp_path):
+    from cfd.case.flow import flow_fields, read_internal_field, start_fields
+
+    tow = FlowSpec(U=1.0)
+    zero = tmp_path / "0"
+    for name, (body, cls) in flow_fields(FlowSpec(U=2.0, beta_deg=90.0)).items():
+        foamdict.write(zero / name, body, foam_class=cls)
+    done = tmp_path / "tow" / "150"  # three cells of a converged tow, as simpleFoam writes them in ASCII
+    done.mkdir(parents=True)
+    vec = "internalField   nonuniform List<vector> \n3\n(\n(-1 0 0)\n(-0.5 0.1 0)\n(0 0 0.2)\n)\n;\n"
+    (done / "U").write_text("FoamFile { format ascii; class volVectorField; }\n" + vec + "boundaryField {}\n")
+    for name, vals in (("p", "0.5 -0.25 0"), ("k", "1e-4 2e-4 3e-4"), ("omega", "10 20 30"), ("nut", "1 2 3")):
+        text = f"internalField   nonuniform List<scalar> 3({vals});\nboundaryField {{}}\n"
+        (done / name).write_text("FoamFile { format ascii; class volScalarField; }\n" + text)
+    assert start_fields(zero, done, tow, FlowSpec(U=2.0, beta_deg=90.0))
+    # turned by +90 deg about z (inflow from (-U, 0) to (0, -U)) and doubled with the speed
+    U = read_internal_field(zero / "U")
+    np.testing.assert_allclose(U, [[0, -2, 0], [-0.2, -1, 0], [0, 0, 0.4]], atol=1e-12)
+    np.testing.assert_allclose(read_internal_field(zero / "p"), [2.0, -1.0, 0.0])  # x U^2
+    np.testing.assert_allclose(read_internal_field(zero / "omega"), [20, 40, 60])  # x U
+    text = (zero / "U").read_text()  # the boundary conditions are the drift case's own
+    assert text.count("internalField") == 1 and "freestreamVelocity" in text and "movingWallVelocity" in text
+    (done / "k").write_text("FoamFile { format binary; }\ninternalField nonuniform List<scalar> 3(\x00\x01);\n")
+    assert not start_fields(zero, done, tow, FlowSpec(U=2.0))  # unreadable (binary): the caller keeps uniform

@@ -37,6 +37,14 @@ def test_second_order_data_extrapolate_exactly():
     assert g.uncertainty == pytest.approx(g.gci_fine * 1.3)
 
 
+def test_an_order_above_the_formal_one_is_capped_in_the_gci():
+    # phi = 1 + 0.01 h^4 on h = 1, 2, 4: p = 4 and phi_ext = 1 exactly, but the GCI uses p = 2 (Roache):
+    # 1.25 e_a / (2^2 - 1) with e_a = 0.15 / 1.01, where p = 4 would give 1.25 e_a / 15, five times less
+    g = grid_convergence((1.01, 1.16, 3.56), (1.0, 2.0, 4.0))
+    assert g.p == pytest.approx(4.0) and g.p_gci == 2.0 and g.phi_ext == pytest.approx(1.0)
+    assert g.gci_fine == pytest.approx(1.25 * (0.15 / 1.01) / 3.0)
+
+
 def test_oscillatory_and_divergent_data():
     osc = grid_convergence((6.0, 5.9, 6.2), (1.0, 1.5, 2.25))  # R = -0.1 / 0.3 < 0
     assert osc.condition == "oscillatory" and osc.R == pytest.approx(-1.0 / 3.0)
@@ -82,9 +90,10 @@ def test_study_command_recovers_the_fake_hull_by_richardson_extrapolation(tmp_pa
     for k in ("Y_v", "N_v"):
         q = rep["quantities"][k]
         assert table[k]["relative"] == pytest.approx(q["gci_fine"]) and table[k]["condition"] == "monotonic"
-    worst = max(v["relative"] for k, v in table.items() if isinstance(v, dict) and k != "R_T_N")
+    worst = max(table[k]["relative"] for k in ("Y_v", "N_v"))  # the linear ones of a tow-and-drift study
     line = cfd_uncertainty_line(ship)
-    assert line.startswith(f"Derived from CFD, ±{100 * worst:.1f} % (grid uncertainty, GCI: ")
+    assert line.startswith(f"Derived from CFD, ±{100 * worst:.1f} % (largest grid uncertainty of the linear")
+    assert f"Y_vvv ±{100 * table['Y_vvv']['relative']:.1f} %" in line
     assert f"Y_v ±{100 * table['Y_v']['relative']:.1f} %" in line
     assert "grid uncertainty (GCI, gradings 3, 2, 1)" in ship.source.notes
     assert cfd_uncertainty_line(load_ship(out / "grading_3" / "ship.toml")) == ""

@@ -211,22 +211,28 @@ class ImoReport:
         return "\n".join(lines + ([cfd] if cfd else []))
 
 
+# the linear derivatives: one motion variable after the force's letter (Y_v, N_r, Y_vdot, ...)
+_LINEAR = {"u", "v", "r", "p", "phi", "udot", "vdot", "rdot", "pdot"}
+
+
 def cfd_uncertainty_line(spec: Ship | None) -> str:
     """"Derived from CFD, ±x %" for a ship file whose derivatives come with a grid study's uncertainty
     (``[source.provenance.grid_uncertainty]``, written by ``vessel-cfd study``): x is the largest relative
-    uncertainty of the derivatives, each one listed after it. Empty for other ship files."""
+    uncertainty of the linear derivatives (those that decide course stability and the turning circle), each
+    derivative listed after it. Empty for other ship files."""
     prov = spec.source.provenance if spec is not None else {}
     table = prov.get("grid_uncertainty") if isinstance(prov, dict) else None
     if not isinstance(table, dict):
         return ""
     rel = {k: v.get("relative") for k, v in table.items() if isinstance(v, dict) and k != "R_T_N"}
     known = {k: float(v) for k, v in rel.items() if isinstance(v, (int, float))}
-    if not known:
-        return "Derived from CFD; no grid uncertainty could be estimated (divergent on the grids used)."
-    line = f"Derived from CFD, ±{100 * max(known.values()):.1f} % (grid uncertainty, GCI: "
+    linear = [v for k, v in known.items() if k.partition("_")[2] in _LINEAR]
+    if not linear:
+        return "Derived from CFD; no grid uncertainty of the linear derivatives could be estimated."
+    line = f"Derived from CFD, ±{100 * max(linear):.1f} % (largest grid uncertainty of the linear derivatives, GCI; "
     line += ", ".join(f"{k} ±{100 * v:.1f} %" for k, v in known.items())
     unknown = [k for k in rel if k not in known]
-    return line + (f"; none for {', '.join(unknown)}" if unknown else "") + ")."
+    return line + (f"; none for {', '.join(unknown)} (divergent)" if unknown else "") + ")."
 
 
 def implausibility(trial, ship: Ship, label: str) -> str:
