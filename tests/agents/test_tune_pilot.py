@@ -111,3 +111,14 @@ def test_runs_as_a_script():
     path = REPO / "agents" / "tune_pilot.py"
     ok = subprocess.run([sys.executable, str(path), "--help"], capture_output=True, text=True, cwd="/")
     assert ok.returncode == 0 and "usage" in ok.stdout
+
+
+def test_docs_section_states_the_gains_the_pilots_file_holds():
+    """docs/agents.md's generated section (``--docs``) names, per recorded search, the gains pid runs with."""
+    text = (REPO / "docs" / "agents.md").read_text()
+    block = text[text.index(tune_pilot.BEGIN) : text.index(tune_pilot.END)]
+    tuned = read_pilots()
+    for env_id in tune_pilot.SEARCHES:
+        chosen = ", ".join(f"{k} = {v:g}" for k, v in tuned[env_id]["pid"].items())
+        assert f"**`{env_id}`**" in block and f"chosen {chosen} (" in block, env_id
+        assert f"| `{env_id.split('/')[-1]}` | `pid` | {chosen} |" in block, env_id
