@@ -122,3 +122,19 @@ def test_docs_section_states_the_gains_the_pilots_file_holds():
         chosen = ", ".join(f"{k} = {v:g}" for k, v in tuned[env_id]["pid"].items())
         assert f"**`{env_id}`**" in block and f"chosen {chosen} (" in block, env_id
         assert f"| `{env_id.split('/')[-1]}` | `pid` | {chosen} |" in block, env_id
+
+
+def test_evaluate_command_takes_the_untuned_pilot_by_name(capsys):
+    """``evaluate.py --agent pid-nomoto --json``: the same flat keys as ``pid``, the untuned design's numbers."""
+    import json
+
+    from agents import evaluate as evaluate_cli
+
+    outs = {}
+    for agent in ("pid", "pid-nomoto"):
+        argv = ["--env", "ZigZagRandom-v1", "--agent", agent, "--episodes", "2", "--json"]
+        assert evaluate_cli.main(argv) == 0
+        outs[agent] = json.loads(capsys.readouterr().out)
+    assert outs["pid-nomoto"]["agent"] == "pid-nomoto"
+    assert list(outs["pid"]) == list(outs["pid-nomoto"])
+    assert outs["pid-nomoto"]["mean_overshoot_deg"] == 0.0 < outs["pid"]["mean_overshoot_deg"]
