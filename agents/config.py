@@ -19,6 +19,7 @@ from vessel_gym.cli_args import UsageError  # bad input: an unknown id, algorith
 
 HYPERPARAMS_DIR = Path(__file__).resolve().parent / "hyperparams"
 ALGOS: dict[str, str] = {"ppo": "PPO", "sac": "SAC", "td3": "TD3", "a2c": "A2C"}
+#: the baselines every results table carries (every pilot name `--agent` takes: vessel_gym.policy.BASELINES)
 BASELINES = ("pid", "scripted")
 
 #: keys of a hyperparameter block that are not constructor arguments of the algorithm

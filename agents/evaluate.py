@@ -7,9 +7,10 @@
 Episode i starts from ``reset(seed=seed + i)``, so every agent meets the same starts; without ``--seed``
 the episodes are those of the test seed set (``agents/seeds.py``), never seen in training or model
 selection (``--split validation`` for the validation set). ``--agent``: ``pid``
-(heading PID with Nomoto pole-placement gains; HarbourApproach: the line-of-sight pilot with those gains;
-TurningCircle: rate PI), ``scripted`` (IMO zig-zag rule / 35 deg turn / harbour pilot) or a model saved by
-``train.py``. A model is evaluated with the environment arguments it was trained with (its run record
+(heading PID by Nomoto pole placement with the natural frequency and damping tuned for the id,
+``agents/tune_pilot.py``; HarbourApproach: the line-of-sight pilot with those gains; TurningCircle: rate PI),
+``pid-nomoto`` (the same pilot with the untuned design), ``scripted`` (IMO zig-zag rule / 35 deg turn /
+harbour pilot) or a model saved by ``train.py``. A model is evaluated with the environment arguments it was trained with (its run record
 ``<stem>.yml``) unless ``--env-kwargs`` is given; compare baselines with the same ``--env-kwargs``.
 Bad arguments: exit code 2 and one line on stderr.
 
@@ -65,7 +66,9 @@ LABELS = (
 def build_parser(prog: str = "evaluate.py") -> argparse.ArgumentParser:
     p = OneLineParser(prog=prog, description="Evaluate an agent or baseline on a vessel-gym environment.")
     p.add_argument("--env", required=True, help="environment id, e.g. vessel_gym/ZigZag-v1 (or ZigZag-v1)")
-    p.add_argument("--agent", required=True, help="pid, scripted or a model .zip saved by train.py")
+    p.add_argument(
+        "--agent", required=True, help="pid, pid-nomoto, scripted or a model .zip saved by train.py"
+    )
     p.add_argument("--episodes", type=int_in("--episodes", 1), default=20)
     p.add_argument(
         "--seed", type=int_in("--seed", 0), default=None, help="first episode seed (default: --split's)"

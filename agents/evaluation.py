@@ -11,14 +11,15 @@ from typing import Any
 
 import numpy as np
 
-from agents.config import BASELINES, UsageError, resolve_env_id, sidecar
+from agents.config import UsageError, resolve_env_id, sidecar
 from agents.envs import make_env
+from vessel_gym.policy import BASELINES as PILOTS  # every classical pilot's name (the tasks declare them)
 
 
 def run_record(agent: str | Path) -> dict[str, Any]:
     """The run record ``<stem>.yml`` written next to a trained model, else the JSON sidecar of a shipped
     agent (``agents/shipped.py``), else empty."""
-    if str(agent) in BASELINES:
+    if str(agent) in PILOTS:
         return {}
     path = sidecar(agent, ".yml")
     if path.is_file():
@@ -66,13 +67,13 @@ def load_agent(agent: str | Path, env: Any) -> Any:
     from vessel_gym.policy import load_policy
 
     spec = str(agent)
-    if spec not in BASELINES and not spec.endswith(".zip") and Path(spec + ".zip").is_file():
+    if spec not in PILOTS and not spec.endswith(".zip") and Path(spec + ".zip").is_file():
         spec += ".zip"
     try:
         policy = load_policy(spec, env)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    vn = sidecar(spec, "_vecnormalize.pkl") if spec not in BASELINES else None
+    vn = sidecar(spec, "_vecnormalize.pkl") if spec not in PILOTS else None
     if vn is not None and vn.is_file():
         import pickle
 
@@ -169,8 +170,8 @@ def evaluate(
     if episodes < 1:
         raise UsageError(f"episodes must be >= 1, got {episodes}")
     spec = str(agent)
-    if spec not in BASELINES and not Path(spec).is_file() and not Path(spec + ".zip").is_file():
-        raise UsageError(f"agent {spec!r}: not a baseline ({', '.join(BASELINES)}) and no such file")
+    if spec not in PILOTS and not Path(spec).is_file() and not Path(spec + ".zip").is_file():
+        raise UsageError(f"agent {spec!r}: not a baseline ({', '.join(PILOTS)}) and no such file")
     rec = run_record(spec)
     if rec.get("env_id") not in (None, env_id):
         raise UsageError(f"agent {spec!r} was trained on {rec['env_id']}, not {env_id}")

@@ -257,7 +257,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulated seconds per wall-clock second",
     )
     sv.add_argument(
-        "--agent", default="pid", help="helm when no human holds it: pid, scripted or an SB3 .zip"
+        "--agent", default="pid", help="helm when no human holds it: pid, pid-nomoto, scripted or an SB3 .zip"
     )
     sv.add_argument("--allow-remote", action="store_true", help="allow binding to a non-loopback address")
     sv.add_argument(

@@ -3,8 +3,10 @@
 ``load_policy(spec, env)`` returns a callable ``action = policy(observation)`` (single or batched
 observations) with a ``reset(mask=None)`` method:
 
-* ``"scripted"``, ``"pid"`` - the classical pilots the task declares (``pilots`` of its ``register_task``:
-  e.g. the IMO zig-zag rule and a heading PID with gains from the ship's Nomoto model),
+* ``"scripted"``, ``"pid"``, ``"pid-nomoto"`` - the classical pilots the task declares (``pilots`` of its
+  ``register_task``: e.g. the IMO zig-zag rule, a heading PID with gains tuned for the id (``pid``, the tuned
+  parameters in ``vessel_gym/envs/pilots.toml``) and the same PID with the untuned Nomoto design
+  (``pid-nomoto``)),
 * a path to a Stable-Baselines3 ``.zip`` (the algorithm is read from the file; needs the ``rl`` extra).
 """
 
@@ -15,7 +17,9 @@ from typing import Any
 
 import numpy as np
 
-BASELINES = ("pid", "scripted")
+BASELINES = ("pid", "pid-nomoto", "scripted")
+#: the tuned parameters of the classical pilots, per environment id (docs/agents.md, "Classical pilots")
+PILOTS_FILE = Path(__file__).resolve().parent / "envs" / "pilots.toml"
 
 
 class _SB3Policy:
@@ -30,15 +34,56 @@ class _SB3Policy:
         return action
 
 
-def nomoto_pid_kwargs(env: Any) -> dict[str, float]:
+def nomoto_pid_kwargs(env: Any, omega_n_UL: float = 0.6, zeta: float = 0.9) -> dict[str, float]:
     """Gains of :class:`vessel_gym.envs.policies.PIDHeadingAutopilot` (nondimensional on L/U) from the
-    Nomoto pole placement of :func:`vessel_gym.control.nomoto_pid_gains` for the env's ship."""
+    Nomoto pole placement of :func:`vessel_gym.control.nomoto_pid_gains` for the env's ship: closed-loop
+    natural frequency ``omega_n_UL`` in units of U/L (the default 0.6 is the design's own) and relative
+    damping ``zeta``."""
     from vessel_gym.control import nomoto_pid_gains
 
     task = env.unwrapped.task
-    g = nomoto_pid_gains(task.ship, task.U_T)
+    if not (omega_n_UL > 0.0 and zeta > 0.0):
+        raise ValueError(f"omega_n_UL {omega_n_UL:g} and zeta {zeta:g} must be > 0")
+    g = nomoto_pid_gains(task.ship, task.U_T, omega_n=omega_n_UL * task.U_T / task.L, zeta=zeta)
     T = task.L / task.U_T
     return {"Kp": g.K_p, "Ki": g.K_i * T, "Kd": g.K_d / T}
+
+
+def read_pilots(path: str | Path = PILOTS_FILE) -> dict[str, dict[str, dict[str, float]]]:
+    """The tuned pilot parameters of ``path``: ``{env id: {pilot name: {parameter: value}}}``; a clear
+    ``ValueError`` for a file that is not of that shape."""
+    import sys
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    try:
+        data = tomllib.loads(Path(path).read_text())
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise ValueError(f"{path}: not a readable pilots file ({exc})") from None
+    for env_id, pilots in data.items():
+        if not isinstance(pilots, dict):
+            raise ValueError(f"{path}: {env_id!r} must be a table of pilots")
+        for name, values in pilots.items():
+            if not isinstance(values, dict) or not all(
+                isinstance(v, int | float) and not isinstance(v, bool) for v in values.values()
+            ):
+                raise ValueError(f"{path}: [{env_id!r}.{name}] must be a table of numbers")
+    return data
+
+
+def pilot_gains(env: Any, pilot: str = "pid") -> dict[str, float]:
+    """The parameters ``pilot`` is tuned with for ``env``'s id (:data:`PILOTS_FILE`), ``{}`` for an id not
+    tuned (the pilot's own defaults, the untuned design)."""
+    from vessel_gym.envs.registration import preset_of
+
+    base = env.unwrapped
+    preset = preset_of(base)
+    decl = getattr(base.task, "declaration", None)
+    if preset is None or decl is None:
+        return {}
+    return dict(read_pilots().get(f"{decl.namespace}/{preset}", {}).get(pilot, {}))
 
 
 ALGORITHMS = ("PPO", "A2C", "SAC", "TD3", "DDPG", "DQN")
@@ -58,11 +103,12 @@ def sb3_algorithm(path: str | Path) -> str:
 class RatePI:
     """TurningCircle baseline: PI on the rate-of-turn error e = r_cmd - r (the observation's ``rate_error``),
     the law of :func:`vessel_gym.control.pid.pid_rudder` (no derivative term), gains by pole placement on
-    Nomoto's first-order model (:func:`vessel_gym.control.pid.nomoto_rate_pi_gains`) at omega = U/L,
-    zeta = 1; the integral is held where K_i alone would give the rudder limit.
+    Nomoto's first-order model (:func:`vessel_gym.control.pid.nomoto_rate_pi_gains`) at omega = ``omega_UL``
+    U/L (default 1), relative damping ``zeta`` (default 1); the integral is held where K_i alone would give the
+    rudder limit.
     """
 
-    def __init__(self, env: Any, zeta: float = 1.0) -> None:
+    def __init__(self, env: Any, omega_UL: float = 1.0, zeta: float = 1.0) -> None:
         from vessel_gym.control.pid import nomoto_rate_pi_gains
         from vessel_gym.envs.policies import HelmPolicy
         from vessel_gym.physics.linear import nomoto
@@ -70,7 +116,9 @@ class RatePI:
         self.helm = HelmPolicy(env)
         task = env.unwrapped.task
         m = nomoto(task.ship, task.U_T)
-        self.Kp, self.Ki = nomoto_rate_pi_gains(m, task.U_T / task.L, zeta)
+        if not (omega_UL > 0.0 and zeta > 0.0):
+            raise ValueError(f"omega_UL {omega_UL:g} and zeta {zeta:g} must be > 0")
+        self.Kp, self.Ki = nomoto_rate_pi_gains(m, omega_UL * task.U_T / task.L, zeta)
         self.dt = float(env.unwrapped.config.control_interval_s)
         self.integral: np.ndarray | float = 0.0
 
@@ -122,4 +170,13 @@ def load_policy(spec: str, env: Any, algo: str | None = None):
     return _SB3Policy(model)
 
 
-__all__ = ["ALGORITHMS", "BASELINES", "RatePI", "load_policy", "nomoto_pid_kwargs"]
+__all__ = [
+    "ALGORITHMS",
+    "BASELINES",
+    "PILOTS_FILE",
+    "RatePI",
+    "load_policy",
+    "nomoto_pid_kwargs",
+    "pilot_gains",
+    "read_pilots",
+]

@@ -470,13 +470,21 @@ def own_ship(scenario: Scenario) -> dict[str, Any]:
 
 
 # --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
-def pid_pilot(env: Any) -> Any:
+def nomoto_pilot(env: Any, omega_n_UL: float = 0.6, zeta: float = 0.9, **pilot: float) -> Any:
     """The harbour pilot (:class:`~vessel_gym.envs.policies.HarbourPilot`) with heading gains from the ship's
-    Nomoto model."""
+    Nomoto model at ``omega_n_UL`` U/L and ``zeta``, and its other arguments ``pilot`` (the defaults: the
+    untuned design)."""
     from vessel_gym.envs.policies import HarbourPilot
     from vessel_gym.policy import nomoto_pid_kwargs
 
-    return HarbourPilot(env, **nomoto_pid_kwargs(env))
+    return HarbourPilot(env, **nomoto_pid_kwargs(env, omega_n_UL, zeta), **pilot)
+
+
+def pid_pilot(env: Any) -> Any:
+    """:func:`nomoto_pilot` with the parameters tuned for the id (:func:`vessel_gym.policy.pilot_gains`)."""
+    from vessel_gym.policy import pilot_gains
+
+    return nomoto_pilot(env, **pilot_gains(env, "pid"))
 
 
 def rule_pilot(env: Any) -> Any:
@@ -505,7 +513,7 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     },
     max_episode_steps=None,
     env="vessel_gym.envs.tasks.harbour:HarbourApproachEnv",
-    pilots={"pid": pid_pilot, "scripted": rule_pilot},
+    pilots={"pid": pid_pilot, "pid-nomoto": nomoto_pilot, "scripted": rule_pilot},
     metrics=episode_metrics,
     train={
         "common": {

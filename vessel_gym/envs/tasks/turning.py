@@ -231,12 +231,19 @@ def turning_update(
 
 # --- the task ---------------------------------------------------------------------------------------------------
 # --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
-def pid_pilot(env: Any) -> Any:
-    """PI on the rate-of-turn error, gains by pole placement on the ship's Nomoto model
-    (:class:`vessel_gym.policy.RatePI`)."""
+def nomoto_pilot(env: Any, omega_UL: float = 1.0, zeta: float = 1.0) -> Any:
+    """PI on the rate-of-turn error, gains by pole placement on the ship's Nomoto model at ``omega_UL`` U/L
+    and ``zeta`` (:class:`vessel_gym.policy.RatePI`; the defaults: the untuned design)."""
     from vessel_gym.policy import RatePI
 
-    return RatePI(env)
+    return RatePI(env, omega_UL, zeta)
+
+
+def pid_pilot(env: Any) -> Any:
+    """:func:`nomoto_pilot` with the parameters tuned for the id (:func:`vessel_gym.policy.pilot_gains`)."""
+    from vessel_gym.policy import pilot_gains
+
+    return nomoto_pilot(env, **pilot_gains(env, "pid"))
 
 
 def rule_pilot(env: Any) -> Any:
@@ -266,7 +273,7 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     presets={"TurningCircle-v0": {}},
     max_episode_steps=480,
     env="vessel_gym.envs.tasks.turning:TurningCircleEnv",
-    pilots={"pid": pid_pilot, "scripted": rule_pilot},
+    pilots={"pid": pid_pilot, "pid-nomoto": nomoto_pilot, "scripted": rule_pilot},
     metrics=episode_metrics,
     train={
         "common": {

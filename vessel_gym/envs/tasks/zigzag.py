@@ -306,12 +306,20 @@ def zigzag_update(
 
 
 # --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
-def pid_pilot(env: Any) -> Any:
-    """PID heading autopilot with gains from the ship's Nomoto model (:func:`vessel_gym.policy.nomoto_pid_kwargs`)."""
+def nomoto_pilot(env: Any, omega_n_UL: float = 0.6, zeta: float = 0.9) -> Any:
+    """PID heading autopilot, gains by pole placement on the ship's Nomoto model at ``omega_n_UL`` U/L and
+    ``zeta`` (:func:`vessel_gym.policy.nomoto_pid_kwargs`; the defaults: the untuned design)."""
     from vessel_gym.envs.policies import PIDHeadingAutopilot
     from vessel_gym.policy import nomoto_pid_kwargs
 
-    return PIDHeadingAutopilot(env, **nomoto_pid_kwargs(env))
+    return PIDHeadingAutopilot(env, **nomoto_pid_kwargs(env, omega_n_UL, zeta))
+
+
+def pid_pilot(env: Any) -> Any:
+    """:func:`nomoto_pilot` with the parameters tuned for the id (:func:`vessel_gym.policy.pilot_gains`)."""
+    from vessel_gym.policy import pilot_gains
+
+    return nomoto_pilot(env, **pilot_gains(env, "pid"))
 
 
 def rule_pilot(env: Any) -> Any:
@@ -342,7 +350,7 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     presets={"ZigZag-v1": {}, "ZigZagRandom-v1": {"schedule": "random"}},
     max_episode_steps=480,
     env="vessel_gym.envs.tasks.zigzag:ZigZagEnv",
-    pilots={"pid": pid_pilot, "scripted": rule_pilot},
+    pilots={"pid": pid_pilot, "pid-nomoto": nomoto_pilot, "scripted": rule_pilot},
     metrics=episode_metrics,
     train={
         "common": {
