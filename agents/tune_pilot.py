@@ -34,11 +34,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-if __package__ in (None, ""):  # run as a script: make the repository root importable
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-
-from agents import seeds  # noqa: E402
-from agents.common import OneLineParser, UsageError, int_at_least, json_safe  # noqa: E402
+from agents import seeds
+from agents.common import OneLineParser, UsageError, int_at_least, json_safe
 
 #: the recorded searches: id -> grid (parameter -> values) and validation episodes. The ranges bracket the
 #: untuned design (0.6 U/L, zeta 0.9; the rate PI's 1 U/L, zeta 1) and the best candidate on every side: a

@@ -228,9 +228,7 @@ class Pipeline:
             key["start"] = _hash(base.key)
 
         def action(job: Job, case: Path, procs: int) -> dict[str, Any]:
-            start = None
-            if base is not None:
-                start = (_latest_time(self.cases / base.name), FlowSpec(**base.params["flow"]))
+            start = None if base is None else (_latest_time(self.cases / base.name), FlowSpec(**base.params["flow"]))
             started = write_steady_case(
                 case, self.cases / mesh, flow, s.steady_iterations, procs=procs, start=start
             )
@@ -270,13 +268,8 @@ class Pipeline:
                 summary["yplus_min_max_mean"] = list(yplus)
             return summary
 
-        params = {
-            "U": U,
-            "beta": beta,
-            "phi": phi,
-            "flow": {"U": U, "beta_deg": beta, "rho": s.rho, "nu": s.nu},
-        }
-        return Job(name, kind, label, key, action, params=params)
+        flow_params = {"U": U, "beta_deg": beta, "rho": s.rho, "nu": s.nu}
+        return Job(name, kind, label, key, action, params={"U": U, "beta": beta, "phi": phi, "flow": flow_params})
 
     def _pmm_job(self, kind: str, amplitude: float, base: Job, omega_prime: float | None = None) -> Job:
         """Sway: amplitude = y0 (m). Yaw: amplitude = ψ0 (deg), y0 = U tan ψ0 / ω (pure yaw).

@@ -121,7 +121,7 @@ class FmuSlot:
             raise FmuError(
                 f"{where}: params step_s: expected a communication step in (0, 60] s, got {step!r}"
             )
-        self.step = float(step)
+        self.step_s = float(step)
         try:
             md = read_model_description(str(self.path), validate=True)
         except Exception as exc:  # noqa: BLE001 - a broken archive or XML: one line
@@ -315,15 +315,15 @@ class FmuSlot:
         if self._dt_checked != sim.dt:
             # the FMU steps at step_s; the slot's quantities are exchanged every max(step_s, dt): one of the two
             # steps must be a whole multiple of the other
-            m = max(self.step, sim.dt) / min(self.step, sim.dt)
+            m = max(self.step_s, sim.dt) / min(self.step_s, sim.dt)
             if abs(m - round(m)) > 1e-9 * m:
                 raise FmuError(
-                    f"{self.path}: params step_s = {self.step:g} s and the simulation's step {sim.dt:g} s: one must "
+                    f"{self.path}: params step_s = {self.step_s:g} s and the simulation's step {sim.dt:g} s: one must "
                     "be a whole multiple of the other"
                 )
-            self._substeps = round(sim.dt / self.step) if sim.dt > self.step else 1
+            self._substeps = round(sim.dt / self.step_s) if sim.dt > self.step_s else 1
             self._dt_checked = sim.dt
-        tol = CLOCK_TOLERANCE * self.step
+        tol = CLOCK_TOLERANCE * self.step_s
         values = self._slot_values(sim, x)
         out_vrs = [p.vr for p in self.outputs.values()]
         factors = np.array([p.factor for p in self.outputs.values()])
@@ -340,14 +340,14 @@ class FmuSlot:
             got = self._fmi(fmu.getReal, f"t = {t:g} s: reading outputs", out_vrs)
             self._held[k] = np.asarray(got, dtype=float) * factors
             for j in range(self._substeps):  # (several FMU steps per exchange when step_s < dt)
-                tj = t + j * self.step
+                tj = t + j * self.step_s
                 self._fmi(
                     fmu.doStep,
                     f"doStep at t = {tj:g} s",
                     currentCommunicationPoint=tj,
-                    communicationStepSize=self.step,
+                    communicationStepSize=self.step_s,
                 )
-            self._t[k] = t + self._substeps * self.step
+            self._t[k] = t + self._substeps * self.step_s
 
     def _held_output(self, sim: Any, x: np.ndarray, s: np.ndarray, quantity: str) -> np.ndarray:
         if x is sim.state:  # the first stage of a step (integrate.run_with_components): communicate
