@@ -7,21 +7,21 @@ import numpy as np
 import pytest
 
 import vessel_gym  # noqa: F401
-from vessel_gym.envs.tasks import chart, harbour
+from vessel_gym.envs.tasks import chart, harbour_kernel
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.units import KNOT_M_S
 
 
 def test_threaded_harbour_kernel_matches_serial():
-    n = harbour.PARALLEL_MIN_SHIPS
+    n = harbour_kernel.PARALLEL_MIN_SHIPS
     threaded = gym.make_vec(
         "vessel_gym/HarbourApproach-v2", num_envs=n, vectorization_mode="vector_entry_point"
     )
     serial = gym.make_vec(
         "vessel_gym/HarbourApproach-v2", num_envs=n, vectorization_mode="vector_entry_point"
     )
-    assert threaded.unwrapped.task.kernel is harbour.harbour_update_parallel
-    serial.unwrapped.task.kernel = harbour.harbour_update
+    assert threaded.unwrapped.task.kernel is harbour_kernel.harbour_update_parallel
+    serial.unwrapped.task.kernel = harbour_kernel.harbour_update
     o1, _ = threaded.reset(seed=5)
     o2, _ = serial.reset(seed=5)
     assert np.array_equal(o1, o2)

@@ -12,7 +12,8 @@ import pytest
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
 from vessel_gym.envs.policies import HarbourPilot
-from vessel_gym.envs.tasks.harbour import DIFFICULTIES, HarbourApproachEnv
+from vessel_gym.envs.tasks.harbour import DIFFICULTIES
+from vessel_gym.envs.tasks.harbour_env import HarbourApproachEnv
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.scenarios import builtin_scenarios, load_scenario

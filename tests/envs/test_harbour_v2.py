@@ -12,7 +12,7 @@ import pytest
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
 from vessel_gym.envs.policies import HarbourPilot
-from vessel_gym.envs.tasks.harbour import HarbourApproachEnv, HarbourApproachVectorEnv
+from vessel_gym.envs.tasks.harbour_env import HarbourApproachEnv, HarbourApproachVectorEnv
 from vessel_gym.physics.layout import E_T_OVER_H
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.shallow_water import H_OVER_T_MIN

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from vessel_gym.envs.tasks.harbour import HarbourApproachEnv
+from vessel_gym.envs.tasks.harbour_env import HarbourApproachEnv
 from vessel_gym.outputs import check_free, safe_name, write_new
 
 RUDDER_STEP_DEG = 5.0

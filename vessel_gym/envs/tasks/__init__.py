@@ -1,6 +1,8 @@
 """The built-in tasks, one file each: declaration (reward terms and features by name,
 :mod:`vessel_gym.envs.declare`), ids as presets of the configuration (``register_task``,
-:mod:`vessel_gym.envs.registration`), configuration, the start of an episode and the compiled step, together.
+:mod:`vessel_gym.envs.registration`), configuration, the start of an episode and the compiled step, together
+(HarbourApproach, too long for one module, has its columns, compiled step and environment classes beside
+``harbour.py`` in ``harbour_*.py``).
 
 docs/envs.md carries tables generated from the registered tasks (ids and presets, config keys, reward terms,
 features); ``python -m vessel_gym.envs.tasks docs/envs.md`` rewrites them and ``--check`` fails when they are

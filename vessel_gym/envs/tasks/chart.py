@@ -1,5 +1,6 @@
 """The harbour chart as the compiled task reads it: contact, grounding, clearance and range beams of a ship among
-chart polygons (:func:`chart_query` over the tables of :func:`chart_tables`), and the outcome flags of an episode.
+chart polygons (:func:`chart_query` over the tables of :func:`chart_tables`), the outcome flags of an episode, and
+the charted depth under each ship (:func:`chart_depth` over the tables of :func:`depth_tables`).
 """
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ from numba import njit
 
 from vessel_gym.envs.declare import columns
 from vessel_gym.physics.kinematics import body_point_to_earth, body_to_earth
+from vessel_gym.physics.shallow_water import set_charted_depth
+from vessel_gym.scenarios import Scenario
 
 #: outcome of a HarbourApproach step (flags as integers in the kernels, names in ``info["outcome"]``)
 OUTCOME = columns(
@@ -291,3 +294,43 @@ def poses_clear(n0, e0, psi, xs, ys, hull, edges, polys, pbox, beam_dirs, beam_r
             ok[j] = flag == OK
     return ok
 
+
+def depth_tables(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The chart's depth areas as :func:`chart_depth` reads them, shallowest first (so that the first area
+    containing a point is the shallowest, :meth:`Scenario.depth_at`'s rule): ``verts`` (n_vertices, 2)
+    (north, east) m; ``areas`` (n_areas, 2) int: first vertex row, vertex count; ``area`` (n_areas, 5): depth m,
+    then the bounding box (north min, north max, east min, east max) m."""
+    ds = sorted(scenario.depth_area, key=lambda d: d.depth_m)  # stable: equal depths keep the file's order
+    pts = [np.array([(p[0], p[1]) for p in d.points], dtype=np.float64).reshape(-1, 2) for d in ds]
+    verts = np.concatenate(pts) if pts else np.zeros((0, 2))
+    count = np.array([len(a) for a in pts], dtype=np.int64)
+    start = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64) if pts else count
+    areas = np.stack([start, count], axis=1).reshape(-1, 2)
+    area = np.array(
+        [(d.depth_m, a[:, 0].min(), a[:, 0].max(), a[:, 1].min(), a[:, 1].max()) for d, a in zip(ds, pts)],
+        dtype=np.float64,
+    ).reshape(-1, 5)
+    return verts, areas, area
+
+
+@njit(cache=True)
+def chart_depth(north, east, verts, areas, area, water_depth, T, depth, env):
+    """For each vessel k: ``depth[k]`` the charted depth (m) under its midship point (``north[k]``,
+    ``east[k]``): the first (shallowest) depth area containing it, else ``water_depth``; and that depth in the
+    physics' environment row ``env[k]`` for a ship of draught ``T`` (m), by
+    :func:`~vessel_gym.physics.shallow_water.set_charted_depth`: the Taimuri et al. (2020) corrections hold for
+    h/T >= 1.2, so water between the draught and 1.2 T acts as h/T = 1.2, as does a point over a shoal (the
+    task's grounding rule ends that episode)."""
+    xs = verts[:, 0]
+    ys = verts[:, 1]
+    for k in range(north.shape[0]):
+        n = north[k]
+        e = east[k]
+        h = water_depth
+        for a in range(areas.shape[0]):
+            if area[a, 1] <= n <= area[a, 2] and area[a, 3] <= e <= area[a, 4]:
+                if inside_polygon(n, e, xs, ys, areas[a, 0], areas[a, 1]):
+                    h = area[a, 0]
+                    break
+        depth[k] = h
+        set_charted_depth(env, k, h, T)

@@ -1,11 +1,13 @@
-"""HarbourApproach: from outside a harbour, through the entrance, to a stop in the goal area, in one file.
+"""HarbourApproach: from outside a harbour, through the entrance, to a stop in the goal area.
 
 Its versions are presets of one configuration, registered by :func:`~vessel_gym.envs.registration.register_task`:
 ``HarbourApproach-v1`` (the L7 model with windage, calm-depth physics) and ``HarbourApproach-v2`` (v1 plus the
 harbour physics: the cross-flow hull at large drift, default ship ``kvlcc2_l7_harbour``, and the water depth
-under each ship read from the scenario's chart, ``chart_depth``). Declaration, configuration, start of an episode,
-compiled step and the environment classes (the spec sheet: :class:`HarbourApproachEnv`) sit together here (the
-chart geometry is :mod:`vessel_gym.envs.tasks.chart`).
+under each ship read from the scenario's chart, ``chart_depth``). This module is the task: its declaration (ids
+as presets, configuration, reward weights, pilots, metrics, training defaults), the start of an episode and its
+``info``. Its other jobs have their own modules: the columns of its reward terms, features, state and parameters
+(:mod:`.harbour_columns`), the compiled step (:mod:`.harbour_kernel`), the chart's geometry and depth
+(:mod:`.chart`) and the environment classes with the spec sheet (:class:`.harbour_env.HarbourApproachEnv`).
 """
 
 from __future__ import annotations
@@ -17,12 +19,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import njit, prange
 
-from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.config import ShipEnvConfig
-from vessel_gym.envs.declare import FeatureSpec, Term, columns
-from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
 from vessel_gym.envs.generators import vessel_draws
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform, compiled_call
@@ -34,36 +32,23 @@ from vessel_gym.envs.tasks.chart import (
     OUT_OF_BOUNDS,
     OUTCOMES,
     SUCCESS,
+    chart_depth,
     chart_query,
     chart_tables,
-    inside_polygon,
+    depth_tables,
     poses_clear,
 )
-from vessel_gym.envs.tasks.common import (
-    RUDDER_ACTIVITY_DOC,
-    clear_row,
-    encode_row,
-    finish,
-    motion,
-    motion_features,
-    rudder_activity,
-    task_spec,
-)
-from vessel_gym.physics.integrate import MAX_CHUNKS
-from vessel_gym.physics.kinematics import (
-    air_velocity,
-    apparent_wind,
-    current_body,
-    current_velocity,
-    earth_to_body,
-    ground_velocity,
-    speed_over_ground,
+from vessel_gym.envs.tasks.harbour_columns import FEAT, SPEC, P, S
+from vessel_gym.envs.tasks.harbour_kernel import (
+    PARALLEL_MIN_SHIPS,
+    _harbour_range,
+    harbour_update,
+    harbour_update_parallel,
 )
 from vessel_gym.physics.schema import SpecError, param
-from vessel_gym.physics.shallow_water import check_hull, set_charted_depth
+from vessel_gym.physics.shallow_water import check_hull
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.units import DEG
-from vessel_gym.physics.vessel import NO_REFCOUNT
 from vessel_gym.scenarios import Scenario, load_scenario
 from vessel_gym.scenarios import geometry as geo
 from vessel_gym.scenarios.geometry import hull_outline
@@ -98,78 +83,6 @@ ALONG_SPREAD, ACROSS_SPREAD_L, HEADING_SPREAD_DEG = 0.05, 0.5, 10.0
 START_SPEED_FRACTION = (0.5, 0.9)
 
 
-# --- declaration ------------------------------------------------------------------------------------------------
-SPEC = task_spec(
-    "HarbourApproach",
-    terms=(
-        Term("progress", 1.0, "decrease of the distance to the goal point / L"),
-        Term("speed_excess", 1.0, "-(SOG above the allowed speed) / U_T"),
-        Term("proximity", 0.5, "-(1 - clearance / safe clearance) when closer"),
-        Term("rudder_activity", 0.05, RUDDER_ACTIVITY_DOC),
-        Term("time", 0.5, "-(control interval) x U_T / L per step: -1 per time the ship sails its length"),
-        Term("success", 50.0, "+1 on arrival"),
-        Term("collision", 20.0, "-1 on contact, grounding or divergence"),
-        Term("out_of_bounds", 20.0, "-1 on leaving the chart"),
-    ),
-    features=(
-        FeatureSpec("rev_order", "rev/s", (1.5, "full rev"), "shaft-speed order"),
-        FeatureSpec("goal_x", "m", (1.0, "R"), "goal point ahead of midship (body x)"),
-        FeatureSpec("goal_y", "m", (1.0, "R"), "goal point to starboard of midship (body y)"),
-        FeatureSpec("goal_distance", "m", (1.0, "R"), "distance to the goal point"),
-        FeatureSpec("goal_heading_error", "rad", (1.0, "pi"), "goal heading - heading, wrapped"),
-        FeatureSpec("sog", "m/s", (1.5, "U_T"), "speed over ground"),
-        FeatureSpec("wind_speed", "m/s", (1.0, "wind max + 2 U_T"), "apparent wind speed (anemometer)"),
-        FeatureSpec(
-            "wind_angle_sin", "-", (1.0, "1"), "sin of apparent wind angle from the bow (+ from starboard)"
-        ),
-        FeatureSpec("wind_angle_cos", "-", (1.0, "1"), "cos of apparent wind angle"),
-        FeatureSpec(
-            "current_x", "m/s", (1.0, "current max"), "current along the body x axis (GNSS minus log)"
-        ),
-        FeatureSpec("current_y", "m/s", (1.0, "current max"), "current along the body y axis"),
-        FeatureSpec(
-            "beam", "m", (1.0, "beam range"), "free range at {angle} deg clockwise from the bow", "n_beams"
-        ),
-    ),
-)
-TERM = SPEC.TERM
-FEAT = SPEC.FEAT
-
-#: per-vessel task state (columns of ``ts``); the current and the wind are not task state: the kernel asks the
-#: physics for those it applies
-S = columns(
-    "d_prev",  # distance to the goal point at the previous step, m
-    "prev_order",  # rudder order of the previous step, rad
-    "min_clearance",  # smallest clearance this episode, m
-    "clearance",  # clearance now, m
-    "t",  # time since the start of the episode, s
-    "path",  # distance sailed over ground, m
-    "prev_north",  # position at the previous step, m
-    "prev_east",
-    "sog",  # speed over ground, m/s
-    typename="HarbourState",
-)
-#: the kernel's parameter row
-P = columns(
-    "L",  # ship length, m
-    "rudder_max",  # rudder scale (limit), rad
-    "dt",  # control interval, s
-    "beam_range",  # m
-    "goal_north",  # goal point, m
-    "goal_east",
-    "goal_heading",  # rad
-    "goal_tolerance",  # heading tolerance, rad
-    "goal_max_speed",  # speed over ground at most, m/s
-    "U_T",  # ship test speed (speed scale), m/s
-    "slow_distance",  # distance from the goal inside which the allowed speed falls linearly, m
-    "clearance_ref",  # clearance below which the proximity term grows, m
-    "north_min",  # chart bounds, m
-    "north_max",
-    "east_min",
-    "east_max",
-    typename="HarbourParams",
-)
-
 HarbourApproachReward = SPEC.weights_class(
     "HarbourApproachReward",
     __name__,
@@ -180,8 +93,8 @@ HarbourApproachReward = SPEC.weights_class(
 
 @dataclass(frozen=True, kw_only=True)
 class HarbourApproachConfig(ShipEnvConfig):
-    """HarbourApproach configuration (see :class:`HarbourApproachEnv`); its defaults are
-    HarbourApproach-v2, the preset ``HarbourApproach-v1`` sets ``ship`` and ``chart_depth``."""
+    """HarbourApproach configuration (see :class:`~vessel_gym.envs.tasks.harbour_env.HarbourApproachEnv`); its
+    defaults are HarbourApproach-v2, the preset ``HarbourApproach-v1`` sets ``ship`` and ``chart_depth``."""
 
     scenario: str = param("harbour", doc="built-in scenario name or scenario file path")
     ship: str | None = param(
@@ -233,170 +146,7 @@ class HarbourApproachConfig(ShipEnvConfig):
     reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
 
 
-# --- compiled step ----------------------------------------------------------------------------------------------
-@njit(cache=True)
-def harbour_update(phase, *args):
-    """Harbour task for vessels k0..k1-1 (phases as :func:`zigzag_update`); ``flags`` get the outcome of
-    stepped vessels. ``args`` are :func:`_harbour_range`'s from ``x`` to ``k1`` (``env`` is the simulation's
-    environment rows, ``sim.env``: current and wind as the physics sees them; the range comes last, so that the
-    task binds (0, N) with the other arguments). Allocates the chart query's scratch and runs
-    :func:`_harbour_range`."""
-    hull, beam_dirs = args[6], args[11]
-    nb = beam_dirs.shape[0]
-    beams = np.empty(nb)
-    hn = np.empty(hull.shape[0])
-    he = np.empty(hull.shape[0])
-    bw = np.empty((2, nb))
-    _harbour_range(phase, *args, beams, hn, he, bw)
-
-
-@njit(cache=True, **NO_REFCOUNT)
-def _harbour_range(
-    phase,
-    x,
-    inp,
-    env,
-    alive,
-    ts,
-    p,
-    hull,
-    edges,
-    polys,
-    pbox,
-    goal_verts,
-    beam_dirs,
-    w,
-    enc,
-    feat,
-    obs,
-    terms,
-    reward,
-    flags,
-    done,
-    k0,
-    k1,
-    beams,
-    hn,
-    he,
-    bw,
-):
-    """:func:`harbour_update`'s loop over vessels k0..k1-1, with the chart query's scratch arrays."""
-    nb = beam_dirs.shape[0]
-    L = p[P.L]
-    UT = p[P.U_T]
-    for k in range(k0, k1):
-        if phase[k] == 0:
-            continue
-        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
-        s = ts[k]
-        clear_row(terms, k)
-        c = math.cos(psik)
-        sn = math.sin(psik)
-        cur_n, cur_e = current_velocity(env, k)
-        vn, ve = ground_velocity(uk, vk, c, sn, cur_n, cur_e)
-        sog = speed_over_ground(vn, ve)
-        flag, clear = chart_query(
-            nk,
-            ek,
-            psik,
-            hull,
-            edges,
-            polys,
-            pbox,
-            beam_dirs,
-            p[P.beam_range],
-            beams,
-            hn,
-            he,
-            bw,
-        )
-        gn = p[P.goal_north] - nk
-        ge = p[P.goal_east] - ek
-        dist = math.sqrt(gn * gn + ge * ge)
-        herr = wrap_pi(p[P.goal_heading] - psik)
-        if flag == OK:
-            if not alive[k]:
-                flag = DIVERGED
-            elif not (p[P.north_min] <= nk <= p[P.north_max] and p[P.east_min] <= ek <= p[P.east_max]):
-                flag = OUT_OF_BOUNDS
-            elif (
-                sog <= p[P.goal_max_speed]
-                and abs(herr) <= p[P.goal_tolerance]
-                and inside_polygon(nk, ek, goal_verts[:, 0], goal_verts[:, 1], 0, goal_verts.shape[0])
-            ):
-                flag = SUCCESS
-        s[S.clearance] = clear
-        if phase[k] == 1:
-            flags[k] = flag
-            s[S.t] += p[P.dt]
-            dpn = nk - s[S.prev_north]
-            dpe = ek - s[S.prev_east]
-            s[S.path] += math.sqrt(dpn * dpn + dpe * dpe)
-            if clear < s[S.min_clearance]:
-                s[S.min_clearance] = clear
-            terms[k, TERM.progress] = (s[S.d_prev] - dist) / L
-            allowed = max(p[P.goal_max_speed], UT * min(1.0, dist / p[P.slow_distance]))
-            if sog > allowed:
-                terms[k, TERM.speed_excess] = -(sog - allowed) / UT
-            if clear < p[P.clearance_ref]:
-                terms[k, TERM.proximity] = -(1.0 - clear / p[P.clearance_ref])
-            terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
-            terms[k, TERM.time] = -1.0
-            if flag == SUCCESS:
-                terms[k, TERM.success] = 1.0
-            elif flag == CONTACT or flag == GROUNDING or flag == DIVERGED:
-                terms[k, TERM.collision] = -1.0
-            elif flag == OUT_OF_BOUNDS:
-                terms[k, TERM.out_of_bounds] = -1.0
-            if flag == DIVERGED:
-                clear_row(terms, k)
-                terms[k, TERM.collision] = -1.0
-        else:
-            flags[k] = OK
-            s[S.min_clearance] = clear
-        done[k] = flags[k] != OK
-        finish(terms, k, w, reward)
-        s[S.d_prev] = dist
-        s[S.prev_order] = dck
-        s[S.prev_north] = nk
-        s[S.prev_east] = ek
-        s[S.sog] = sog
-        # body-frame quantities as sensed on the bridge
-        wind_n, wind_e = air_velocity(env, k)
-        Vrw, _gamma, cos_g, sin_g = apparent_wind(uk, vk, c, sn, cur_n, cur_e, wind_n, wind_e)
-        f = feat[k]
-        motion_features(f, uk, vk, rk, dk, dck, revk)
-        f[FEAT.rev_order] = revck
-        f[FEAT.goal_x], f[FEAT.goal_y] = earth_to_body(c, sn, gn, ge)
-        f[FEAT.goal_distance] = dist
-        f[FEAT.goal_heading_error] = herr
-        f[FEAT.sog] = sog
-        f[FEAT.wind_speed] = Vrw
-        f[FEAT.wind_angle_sin] = sin_g
-        f[FEAT.wind_angle_cos] = cos_g
-        f[FEAT.current_x], f[FEAT.current_y] = current_body(c, sn, cur_n, cur_e)
-        for j in range(nb):
-            f[FEAT.beam + j] = beams[j]
-        encode_row(feat, k, enc, obs)
-
-
-@njit(cache=True, parallel=True)
-def harbour_update_parallel(phase, x, *args):
-    """:func:`harbour_update` (same arguments; its range is ignored: all vessels) with contiguous chunks of
-    vessels spread over threads (large batches: the chart query costs about half a microsecond per vessel,
-    the threads' wake-up tens of microseconds)."""
-    n = x.shape[0]
-    nchunks = min(n, MAX_CHUNKS)
-    for c in prange(nchunks):
-        harbour_update(phase, x, *args[:-2], c * n // nchunks, (c + 1) * n // nchunks)
-
-
 # --- the task ---------------------------------------------------------------------------------------------------
-# batches from this size run the task kernel on all threads (about 0.6 us of work per ship; waking the threads
-# costs tens of microseconds on an idle machine)
-PARALLEL_MIN_SHIPS = 256
-
-
 def _round2(x: float) -> float:
     """``x`` rounded to 2 significant digits."""
     return float(f"{x:.2g}")
@@ -415,47 +165,6 @@ def difficulty_level(level: int | str) -> int:
     raise ValueError(
         f"difficulty: expected 0..{len(DIFFICULTIES) - 1} or one of {DIFFICULTIES}, got {level!r}"
     )
-
-
-def depth_tables(scenario: Scenario) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The chart's depth areas as :func:`chart_depth` reads them, shallowest first (so that the first area
-    containing a point is the shallowest, :meth:`Scenario.depth_at`'s rule): ``verts`` (n_vertices, 2)
-    (north, east) m; ``areas`` (n_areas, 2) int: first vertex row, vertex count; ``area`` (n_areas, 5): depth m,
-    then the bounding box (north min, north max, east min, east max) m."""
-    ds = sorted(scenario.depth_area, key=lambda d: d.depth_m)  # stable: equal depths keep the file's order
-    pts = [np.array([(p[0], p[1]) for p in d.points], dtype=np.float64).reshape(-1, 2) for d in ds]
-    verts = np.concatenate(pts) if pts else np.zeros((0, 2))
-    count = np.array([len(a) for a in pts], dtype=np.int64)
-    start = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64) if pts else count
-    areas = np.stack([start, count], axis=1).reshape(-1, 2)
-    area = np.array(
-        [(d.depth_m, a[:, 0].min(), a[:, 0].max(), a[:, 1].min(), a[:, 1].max()) for d, a in zip(ds, pts)],
-        dtype=np.float64,
-    ).reshape(-1, 5)
-    return verts, areas, area
-
-
-@njit(cache=True)
-def chart_depth(north, east, verts, areas, area, water_depth, T, depth, env):
-    """For each vessel k: ``depth[k]`` the charted depth (m) under its midship point (``north[k]``,
-    ``east[k]``): the first (shallowest) depth area containing it, else ``water_depth``; and that depth in the
-    physics' environment row ``env[k]`` for a ship of draught ``T`` (m), by
-    :func:`~vessel_gym.physics.shallow_water.set_charted_depth`: the Taimuri et al. (2020) corrections hold for
-    h/T >= 1.2, so water between the draught and 1.2 T acts as h/T = 1.2, as does a point over a shoal (the
-    task's grounding rule ends that episode)."""
-    xs = verts[:, 0]
-    ys = verts[:, 1]
-    for k in range(north.shape[0]):
-        n = north[k]
-        e = east[k]
-        h = water_depth
-        for a in range(areas.shape[0]):
-            if area[a, 1] <= n <= area[a, 2] and area[a, 3] <= e <= area[a, 4]:
-                if inside_polygon(n, e, xs, ys, areas[a, 0], areas[a, 1]):
-                    h = area[a, 0]
-                    break
-        depth[k] = h
-        set_charted_depth(env, k, h, T)
 
 
 def own_ship(scenario: Scenario) -> dict[str, Any]:
@@ -512,7 +221,7 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
         "HarbourApproach-v2": {},
     },
     max_episode_steps=None,
-    env="vessel_gym.envs.tasks.harbour:HarbourApproachEnv",
+    env="vessel_gym.envs.tasks.harbour_env:HarbourApproachEnv",
     pilots={"pid": pid_pilot, "pid-nomoto": nomoto_pilot, "scripted": rule_pilot},
     metrics=episode_metrics,
     train={
@@ -610,7 +319,6 @@ class HarbourApproachTask(Task):
         p[P.clearance_ref] = config.safe_clearance_L * self.L
         p[P.north_min], p[P.north_max], p[P.east_min], p[P.east_max] = sc.bounds_m
         self.p = p
-        self._beams = np.empty(config.n_beams)
         if n >= PARALLEL_MIN_SHIPS:
             self.kernel = harbour_update_parallel
         else:  # harbour_update's loop with the chart query's scratch made once (kernel_args), not per call
@@ -644,7 +352,6 @@ class HarbourApproachTask(Task):
             self.depth_verts, self.depth_areas, self.depth_area = depth_tables(self.scenario)
             self._draught = float(self.ship.particulars.T_m)
 
-
     @property
     def beam_range(self) -> float:
         return self.config.beam_range_L * self.L
@@ -668,21 +375,9 @@ class HarbourApproachTask(Task):
         }
 
     def _pose_clear(self, n: float, e: float, psi: float) -> bool:
-        flag, _c = chart_query(
-            n,
-            e,
-            psi,
-            self.hull,
-            self.edges,
-            self.polys,
-            self.pbox,
-            self.beam_dirs,
-            self.beam_range,
-            self._beams,
-            np.empty(len(self.hull)),
-            np.empty(len(self.hull)),
-            np.empty((2, len(self.beam_dirs))),
-        )
+        """The hull at this pose is clear of the chart (:func:`chart_query` with fresh scratch arrays)."""
+        tables = (self.hull, self.edges, self.polys, self.pbox, self.beam_dirs, self.beam_range)
+        flag, _c = chart_query(n, e, psi, *tables, *self._scratch())
         return flag == OK
 
     def open_start_poses(self, idx: np.ndarray, rng: Any) -> tuple[Any, Any, Any, Any]:
@@ -911,222 +606,3 @@ class HarbourApproachTask(Task):
             "clearance_m": float(self.ts[k, S.clearance]),
             "outcome": OUTCOMES[int(self.flags[k])],
         }
-
-
-# --- the environments (their docstrings are the spec sheets) -----------------------------------------------
-class HarbourApproachEnv(ShipEnv):
-    """Bring a ship from outside a harbour through the entrance to a stop in the goal area.
-
-    ## Description
-
-    The ship starts at a random pose and speed in the scenario's start region, under wind and current drawn
-    from the scenario's ranges. The agent gives rudder and engine orders and must pass the breakwater
-    entrance and stop in the goal area (berth or turning basin) with the required heading, without touching
-    land, breakwaters or quays and without grounding on depth areas shallower than the ship's draught. The
-    chart, start and goal regions, ship and weather come from a scenario file (:mod:`vessel_gym.scenarios`;
-    built-in ``harbour``: a harbour sized for the 7 m ``kvlcc2_l7`` model, 17 m entrance, a pier and a shoal
-    inside, turning basin in front of the north quay).
-
-
-    ## Action Space
-
-    ``Box(-1, 1, (2,), float32)`` (default ``action_type="continuous"``, ``engine_control=True``):
-
-    | Num | Action | Mapping |
-    |-----|--------|---------|
-    | 0 | rudder order | x rudder limit (35 deg), + starboard |
-    | 1 | engine order | x full-ahead rpm (a > 0) / x full-astern rpm (a < 0) of the telegraph table |
-
-    Clipped to [-1, 1]; NaN raises ``ValueError``. ``action_type="discrete"``: ``MultiDiscrete([helm orders,
-    telegraph steps])``, e.g. "port 20 / midships / starboard 10" x "half astern ... full ahead" from
-    ``rudder_orders_deg`` and ``telegraph_steps``; out-of-range indices raise.
-
-    ## Observation Space
-
-    ``Box(-1, 1, (17 + n_beams,), float32)`` normalized (value / scale, clipped) or ``"physical"`` (SI,
-    clipped to +-scale). U_T test speed, L ship length, R chart diagonal.
-
-    | Num | Name | Unit | Scale | Meaning |
-    |-----|------|------|-------|---------|
-    | 0 | u | m/s | 1.5 U_T | surge velocity through the water |
-    | 1 | v | m/s | 0.5 U_T | sway velocity (+ starboard) |
-    | 2 | r | rad/s | 2 U_T / L | rate of turn (+ starboard) |
-    | 3 | rudder | rad | rudder max | actual rudder angle |
-    | 4 | rudder_order | rad | rudder max | rudder order |
-    | 5 | rev | rev/s | 1.5 full rpm | shaft speed (tachometer) |
-    | 6 | rev_order | rev/s | 1.5 full rpm | shaft-speed order |
-    | 7 | goal_x | m | R | goal point ahead of midship (body frame) |
-    | 8 | goal_y | m | R | goal point to starboard (body frame) |
-    | 9 | goal_distance | m | R | distance to the goal point |
-    | 10 | goal_heading_error | rad | pi | required heading - heading |
-    | 11 | sog | m/s | 1.5 U_T | speed over ground |
-    | 12 | wind_speed | m/s | wind max + 2 U_T | apparent wind speed (anemometer) |
-    | 13-14 | wind_angle_sin, _cos | - | 1 | apparent wind angle from the bow (+ from starboard) |
-    | 15-16 | current_x, current_y | m/s | 1.5 current max | current in body axes (GNSS velocity - log) |
-    | 17.. | beam_j | m | beam_range_L x L | free range from midship, beam j at 360 j / n_beams deg from the bow |
-
-    Range beams see land, breakwaters, quays and depth areas shallower than the draught.
-
-    ## Rewards
-
-    reward = sum of weight x term (config ``reward``); weighted terms in ``info["reward_terms"]``.
-
-    | Term | Default weight | Value per step |
-    |------|----------------|----------------|
-    | progress | 1.0 | (previous - current distance to the goal point) / L |
-    | speed_excess | 1.0 | -max(0, SOG - allowed) / U_T; allowed falls from U_T to the goal speed within slow_down_L |
-    | proximity | 0.5 | -(1 - clearance / (safe_clearance_L L)) when the hull is closer than that to an obstacle |
-    | rudder_activity | 0.05 | -abs(change of rudder order) / (2 x rudder limit) |
-    | time | 0.5 | -control interval x U_T / L: -1 per time the ship sails its length |
-    | success | 50.0 | +1 on arrival |
-    | collision | 20.0 | -1 on contact, grounding or divergence |
-    | out_of_bounds | 20.0 | -1 on leaving the chart bounds |
-
-    ## Starting State
-
-    Midship point uniform in the scenario's ``[start] points`` (poses whose hull would touch an obstacle are
-    drawn again), heading and speed uniform in its ranges, steady approach (rpm solved), rudder amidships;
-    wind, current and waves uniform in ``[weather]``.
-
-    ## Episode End
-
-    * Termination, success: midship inside the goal polygon, speed over ground <= goal ``max_speed_m_s``,
-      heading within ``heading_tolerance_deg`` of the goal heading.
-    * Termination, failure: hull outline touching land, breakwater or quay (``info["contact"]``), or a depth
-      area shallower than the draught (``info["grounding"]``); midship outside ``bounds_m``
-      (``info["out_of_bounds"]``); divergence.
-    * Truncation: 1600 steps (400 s) by the registered time limit.
-
-    ## Info
-
-    ``reward_terms``, ``outcome`` (running/success/contact/grounding/out_of_bounds/diverged) and one flag per
-    outcome, ``time_s``, ``clearance_m`` (hull to the nearest obstacle edge, capped at the beam range),
-    ``min_clearance_m``, ``distance_to_goal_m``, ``speed_over_ground_m_s``, ``heading_error_deg``, ``path_m``.
-
-    Success means arrival: the success termination above (goal polygon, speed and heading). ``success`` and
-    ``is_success`` carry the same flag; ``is_success`` is the key Stable-Baselines3's ``Monitor`` and
-    ``EvalCallback`` read for their success rate, so it is True only on the step that ends an episode in the
-    berth.
-
-    ## Arguments
-
-    ``gymnasium.make("vessel_gym/HarbourApproach-v2", render_mode=None, config=None, scenario="harbour",
-    **overrides)``: ``scenario`` is a built-in name, a TOML path or a :class:`~vessel_gym.scenarios.Scenario`;
-    further keys: the shared ones (``ship`` overrides the scenario's, ``dt_s``, ``control_interval_s`` (0.25),
-    ``action_type``, ``engine_control`` (True), ``rudder_orders_deg``, ``telegraph_steps``,
-    ``observation_type``, ...), ``n_beams`` (16), ``beam_range_L`` (10), ``slow_down_L`` (8),
-    ``safe_clearance_L`` (0.5), ``reward``. Strict: unknown keys raise ``SpecError``.
-    ``reset(options={"north_m", "east_m", "heading_deg", "speed_m_s", "environment"})`` fixes the start.
-
-    ## HarbourApproach-v1
-
-    What v1 changed from v0 (removed), which the sections above do not say: Built-in scenarios ``harbour``, ``harbour_east``, ``harbour_channel``; or a
-    generated harbour (``layout="procedural"``, :mod:`vessel_gym.scenarios.generator`), whose ``eval`` split
-    is held out for evaluation. Wind acts on the ship: the default ship ``kvlcc2_l7_windage`` is the L7 model
-    with a Froude-scaled windage table (an estimate); ``kvlcc2_l7`` itself, as tested in the tank, has none.
-
-    Control interval L / U_T / 6 of the ship (0.99 s for ``kvlcc2_l7``; 4 RK4 steps of 0.2475 s).
-
-    Rewards:
-    As v0, except ``time`` (weight 0.5): -control interval x U_T / L per step (time in ship time scales),
-    and ``success`` weight 50.
-
-    Starting state:
-    ``difficulty`` 3 (``open``, default): the scenario's ``[start]`` region, as v0. 0 ``basin``, 1
-    ``entrance``, 2 ``approach``: on the scenario's track with 25 %, 45 % or 70 % of its length to go, spread
-    +-5 % along and +-0.5 L across it, heading along it +-10 deg, at 50-90 % of the allowed speed there.
-    Wind, current and waves uniform in the scenario's ``[weather]``, drawn by the reset seed.
-
-    Episode end:
-    As v0; truncation after ``time_limit_s`` (default 100 L / U_T: 590 s, 596 steps, for ``kvlcc2_l7``),
-    counted by this environment (no step-count TimeLimit is registered).
-
-    Arguments:
-    ``gymnasium.make("vessel_gym/HarbourApproach-v1", difficulty=3, scenario="harbour", layout="scenario",
-    layout_split="train", layout_index=0, control_interval_s=None, time_limit_s=None, **overrides)`` (v0
-    keys otherwise). Curriculum hook: ``env.unwrapped.set_difficulty(k)`` (index or name), effective from
-    the next reset; vector env: ``venv.set_difficulty(k)`` or ``venv.call("set_difficulty", k)``.
-
-    ## HarbourApproach-v2 (the config defaults)
-
-    The v1 task (actions, observations, rewards, start, episode end, ``info``, arguments and curriculum hook
-    unchanged), with two changes of the dynamics (config ``ship`` and ``chart_depth``; the preset
-    ``HarbourApproach-v1`` sets ``ship="kvlcc2_l7_windage"``, ``chart_depth=False``):
-
-    * the default ship ``kvlcc2_l7_harbour``: ``kvlcc2_l7_windage`` plus the cross-flow hull at large drift
-      (``[large_drift]``, Yoshimura et al. 2009): at large drift, in sternway and turning on the spot the hull
-      forces stay physical where the MMG polynomial runs away;
-    * the water depth under each ship from the scenario's chart (``Scenario.depth_at`` of the midship point:
-      the shallowest depth area containing it, else ``water_depth_m``), with the Taimuri et al. (2020)
-      shallow-water corrections of the MMG hull, propeller and rudder. The depth is read after every reset and
-      control step and acts over the next control step; depths between the draught and 1.2 T (the method's
-      range ends at h/T = 1.2) act as h/T = 1.2. The chart's depth replaces that of an ``environment`` reset
-      option. Grounding is v1's rule. The ship must have an MMG hull (others raise ``SpecError``).
-
-    ``env.unwrapped.depth_m`` (vector env: ``venv.depth_m``, one per ship): the charted depth under each ship.
-
-    ``gymnasium.make_vec("vessel_gym/HarbourApproach-v2", num_envs=N)``: :class:`HarbourApproachVectorEnv`.
-
-    ## Version History
-
-    * v2: the cross-flow hull at large drift (default ship ``kvlcc2_l7_harbour``) and the depth from the chart
-      with the shallow-water corrections; v1 unchanged.
-    * v1: control interval and time limit from the ship's time scale, time charged per ship time scale,
-      success 50, difficulty levels, wind with force, three built-in harbours and procedural layouts.
-    * v0: initial version; removed (``gymnasium.make("vessel_gym/HarbourApproach-v0")`` raises
-      ``DeprecatedEnv`` naming ``HarbourApproach-v2``). Its reward weights (time 0.01 per step, success 20),
-      0.25 s control interval and 1600-step limit are no longer a preset.
-    """
-
-    Task = HarbourApproachTask
-    env_name = "HarbourApproach"
-
-    def __init__(self, render_mode: str | None = None, config: Any = None, **overrides: Any) -> None:
-        super().__init__(render_mode, config, **overrides)
-        self._max_steps = self.task.max_steps  # truncation after time_limit_s, counted by ShipEnv.step
-
-    @property
-    def difficulty(self) -> int:
-        """Current difficulty level (0 basin .. 3 open)."""
-        return self.task.difficulty
-
-    def set_difficulty(self, level: int | str) -> None:
-        """Curriculum hook: start region of the episodes reset from now on (index 0..3 or a name)."""
-        self.task.set_difficulty(level)
-
-    @property
-    def depth_m(self) -> float:
-        """Charted depth under the ship's midship point (m), as the physics sees it over the next control step
-        (before the clamp to 1.2 x draught; the scenario's water depth without ``chart_depth``)."""
-        return float(self.task.depth_m[0])
-
-
-class HarbourApproachVectorEnv(ShipVectorEnv):
-    """Native vector version of :class:`HarbourApproachEnv`; ``set_difficulty(k)`` (also through
-    ``call("set_difficulty", k)``) applies to every sub-environment from its next reset on."""
-
-    Env = HarbourApproachEnv
-
-    def __init__(self, num_envs: int = 1, max_episode_steps: int | None = None, **kwargs: Any) -> None:
-        super().__init__(num_envs, max_episode_steps, **kwargs)
-        if self.max_episode_steps is None:
-            self.max_episode_steps = self.task.max_steps
-
-    @property
-    def difficulty(self) -> int:
-        return self.task.difficulty
-
-    def set_difficulty(self, level: int | str) -> None:
-        self.task.set_difficulty(level)
-
-    @property
-    def depth_m(self) -> Any:
-        """Charted depth under each ship's midship point (m), a copy (see :attr:`HarbourApproachEnv.depth_m`)."""
-        return self.task.depth_m.copy()
-
-    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple:
-        """Call method ``name`` (or read attribute ``name``) once; one result per sub-environment, as
-        Gymnasium's ``SyncVectorEnv.call`` returns (the sub-environments share one task)."""
-        attr = getattr(self, name)
-        out = attr(*args, **kwargs) if callable(attr) else attr
-        return (out,) * self.num_envs
