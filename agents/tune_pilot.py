@@ -35,7 +35,8 @@ from pathlib import Path
 from typing import Any
 
 from agents import seeds
-from agents.common import OneLineParser, UsageError, int_at_least, json_safe
+from agents.cli_util import json_safe
+from vessel_gym.cli_args import OneLineParser, UsageError, int_in
 
 #: the recorded searches: id -> grid (parameter -> values) and validation episodes. The ranges bracket the
 #: untuned design (0.6 U/L, zeta 0.9; the rate PI's 1 U/L, zeta 1) and the best candidate on every side: a
@@ -353,8 +354,8 @@ def build_parser() -> argparse.ArgumentParser:
     what.add_argument("--env", help="environment id, e.g. ZigZagRandom-v1")
     what.add_argument("--docs", metavar="FILE", help="run every recorded search and rewrite FILE's section")
     p.add_argument("--grid", nargs="+", metavar="NAME=V1,V2", default=None, help="the grid (default: recorded)")
-    p.add_argument("--episodes", type=int_at_least("--episodes", 1), default=None, help="validation episodes")
-    p.add_argument("--test-episodes", type=int_at_least("--test-episodes", 1), default=20, help="with --docs")
+    p.add_argument("--episodes", type=int_in("--episodes", 1), default=None, help="validation episodes")
+    p.add_argument("--test-episodes", type=int_in("--test-episodes", 1), default=20, help="with --docs")
     p.add_argument("--write", metavar="FILE", default=None, help="set the id's tuned gains in the pilots FILE")
     p.add_argument("--force", action="store_true", help="with --write: replace the id's entry if it differs")
     p.add_argument("--json", action="store_true", help="print the search as one JSON object")
