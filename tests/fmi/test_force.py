@@ -60,6 +60,9 @@ class DampingFin:
 
     slot = "extra"
 
+    def __init__(self, ship=None, params=None):  # the ship-file contract: cls(ship, params)
+        pass
+
     def forces(self, sim, x):
         u, v, r = x[:, lo.X_U], x[:, lo.X_V], x[:, lo.X_R]
         return np.column_stack([C_X * v * r * L_REF, -C_Y * u * v, -C_N * u * r])
@@ -138,3 +141,39 @@ def test_bad_force_map_is_one_line_exit_2(force_dir, tmp_path, code_allowed, cap
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1, err
     assert "fin.fmu" in err and "'Yaw_moment'" in err, err
+
+
+def test_fmu_force_in_a_vector_env(force_dir, code_allowed):
+    """make_vec with the FMU's ship: one instance per ship of the batch; the observations are those of the
+    same force in plain Python named by a ship file (physics step 0.25 s: the FMU makes five 0.05 s steps per
+    exchange, its force held over the physics step)."""
+    import gymnasium as gym
+
+    from vessel_gym.fmi.component import FmuForce
+
+    text = (SHIP_DIR / f"{SHIP}.toml").read_text()
+    (force_dir / "fin_0.05.toml").write_text(text + force_table("fin.fmu", 0.05))
+    (force_dir / "py.toml").write_text(
+        text + '\n[[components]]\nslot = "extra"\nmodel = "tests.fmi.test_force:DampingFin"\n'
+    )
+    obs, instances = {}, None
+    for name in (SHIP, "py.toml", "fin_0.05.toml"):
+        env = gym.make_vec(
+            "vessel_gym/ZigZag-v1", num_envs=3, ship=name if name == SHIP else str(force_dir / name)
+        )
+        env.reset(seed=3)
+        rng = np.random.default_rng(0)
+        rows = []
+        for _ in range(200):  # 50 s
+            o, *_ = env.step(rng.uniform(-1, 1, size=env.action_space.shape).astype(env.action_space.dtype))
+            rows.append(o)
+        obs[name] = np.array(rows)
+        fmus = [c for c in env.unwrapped.sim.components if isinstance(c, FmuForce)]
+        if fmus:
+            instances = sum(1 for f in fmus[0]._instances if f is not None)
+        env.close()
+    assert instances == 3
+    bare, py, fmu = obs.values()
+    # the fin changes what the agent sees; the FMU's fin is the Python one's to a hundredth of that change
+    assert np.abs(py - bare).max() > 1e-4
+    assert np.abs(fmu - py).max() < 0.01 * np.abs(py - bare).max()
