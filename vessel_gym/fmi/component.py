@@ -1,5 +1,6 @@
 """FMUs as components of a ship (docs/fmi.md): an FMI 2.0 co-simulation FMU in the engine slot (engine with
-its governor) or the steering-gear slot, chosen from a ship file's ``[[components]]`` and stepped with fmpy.
+its governor) or the steering-gear slot, or as a force component (slot ``extra``: :class:`FmuForce`), chosen
+from a ship file's ``[[components]]`` and stepped with fmpy.
 
 A ship file names it like any component (docs/components.md), with the FMU, the map from the slot's
 quantities to the FMU's variables (with their units), start values and the communication step::
