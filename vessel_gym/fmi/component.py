@@ -1,5 +1,6 @@
 """FMUs as components of a ship (docs/fmi.md): an FMI 2.0 co-simulation FMU in the engine slot (engine with
-its governor) or the steering-gear slot, chosen from a ship file's ``[[components]]`` and stepped with fmpy.
+its governor) or the steering-gear slot, or as a force component (slot ``extra``: :class:`FmuForce`), chosen
+from a ship file's ``[[components]]`` and stepped with fmpy.
 
 A ship file names it like any component (docs/components.md), with the FMU, the map from the slot's
 quantities to the FMU's variables (with their units), start values and the communication step::
@@ -47,7 +48,7 @@ import numpy as np
 
 from vessel_gym.fmi import require
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.components import Engine, State, SteeringGear
+from vessel_gym.physics.components import Component, Engine, State, SteeringGear
 
 #: unit names accepted for a slot's quantity and the factor from that unit to the slot's (SI) unit
 UNITS = {
@@ -55,6 +56,10 @@ UNITS = {
     "N.m": {"N.m": 1.0, "N m": 1.0, "Nm": 1.0, "kN.m": 1e3, "kNm": 1e3, "MN.m": 1e6},
     "rad": {"rad": 1.0, "deg": math.pi / 180.0},
     "rad/s": {"rad/s": 1.0, "deg/s": math.pi / 180.0},
+    "m/s": {"m/s": 1.0, "kn": 1852.0 / 3600.0},
+    "m": {"m": 1.0},
+    "s": {"s": 1.0},
+    "N": {"N": 1.0, "kN": 1e3, "MN": 1e6},
 }
 #: the time a communication point may be missed by, as a fraction of the step (round-off of the clock)
 CLOCK_TOLERANCE = 1e-6
@@ -95,6 +100,7 @@ class FmuSlot:
     INPUTS: dict[str, str] = {}
     OUTPUTS: dict[str, str] = {}
     HOLD: str | None = None  # the slot quantity a reset holds steady (unit in OUTPUTS), or None
+    OPTIONAL_INPUTS = False  # True: the map names any subset of INPUTS (a force FMU's state inputs)
     states = (
         State("clock", "s", 0.0, "time since the vessel's reset (tells the component where a stage is)"),
     )
@@ -138,7 +144,9 @@ class FmuSlot:
             raise FmuError(f"{where}: no binary for this platform {platform} (the FMU has: {have})")
         self.md = md
         self.variables = {v.name: v for v in md.modelVariables}
-        self.inputs = self._ports(params.get("inputs"), self.INPUTS, "inputs", ("input",))
+        self.inputs = self._ports(
+            params.get("inputs"), self.INPUTS, "inputs", ("input",), optional=self.OPTIONAL_INPUTS
+        )
         self.outputs = self._ports(params.get("outputs"), self.OUTPUTS, "outputs", ("output",))
         self.hold = None
         if params.get("hold_torque") is not None:
@@ -179,7 +187,9 @@ class FmuSlot:
             raise FmuError(f"{self.path}: {key}: no variable {name!r} in the FMU")
         return self.variables[name]
 
-    def _ports(self, spec: Any, quantities: dict[str, str], key: str, causalities: tuple) -> dict[str, _Port]:
+    def _ports(
+        self, spec: Any, quantities: dict[str, str], key: str, causalities: tuple, optional: bool = False
+    ) -> dict[str, _Port]:
         where = str(self.path)
         if not isinstance(spec, dict):
             raise FmuError(f"{where}: params {key}: expected a table {', '.join(quantities)} = variable")
@@ -187,6 +197,9 @@ class FmuSlot:
         if extra:
             raise FmuError(f"{where}: params {key}: {extra[0]!r} is not one of {', '.join(quantities)}")
         missing = sorted(set(quantities) - set(spec))
+        if optional:
+            quantities = {q: u for q, u in quantities.items() if q in spec}
+            missing = [] if spec else ["(any one)"]
         if missing:
             raise FmuError(f"{where}: params {key}: missing {missing[0]!r} (the slot needs it)")
         ports = {}
@@ -324,7 +337,7 @@ class FmuSlot:
             self._substeps = round(sim.dt / self.step_s) if sim.dt > self.step_s else 1
             self._dt_checked = sim.dt
         tol = CLOCK_TOLERANCE * self.step_s
-        values = self._slot_values(sim, x)
+        values = self._slot_values(sim, x, clock)
         out_vrs = [p.vr for p in self.outputs.values()]
         factors = np.array([p.factor for p in self.outputs.values()])
         for k in range(n):
@@ -359,7 +372,7 @@ class FmuSlot:
     def rates(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
         return np.ones((x.shape[0], 1))  # the clock
 
-    def _slot_values(self, sim: Any, x: np.ndarray) -> dict[str, np.ndarray]:
+    def _slot_values(self, sim: Any, x: np.ndarray, clock: np.ndarray) -> dict[str, np.ndarray]:
         raise NotImplementedError
 
 
@@ -387,7 +400,7 @@ class FmuEngine(FmuSlot, Engine):
     def shaft_inertia_kgm2(self) -> float:
         return self.inertia
 
-    def _slot_values(self, sim: Any, x: np.ndarray) -> dict[str, np.ndarray]:
+    def _slot_values(self, sim: Any, x: np.ndarray, clock: np.ndarray) -> dict[str, np.ndarray]:
         return {"shaft_speed": x[:, lo.X_REV], "rev_order": sim.rev_order}
 
     def shaft_torque(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -399,7 +412,7 @@ class FmuEngine(FmuSlot, Engine):
         # instances start now, from the approach's shaft speed and order (an order given after the reset, a
         # crash stop's, reaches the FMU at the first communication point, as it reaches a built-in engine)
         Q = np.asarray(Q_hold, dtype=float)
-        values = self._slot_values(sim, x)
+        values = self._slot_values(sim, x, np.zeros(x.shape[0]))
         for k in np.flatnonzero(Q != 0.0).tolist():
             self._hold_value[k] = Q[k]
             self._initialise(k, {q: float(v[k]) for q, v in values.items()})
@@ -421,11 +434,56 @@ class FmuSteeringGear(FmuSlot, SteeringGear):
             raise FmuError("params shaft_inertia_kgm2: a steering gear has no shaft inertia")
         self._setup(ship, params)
 
-    def _slot_values(self, sim: Any, x: np.ndarray) -> dict[str, np.ndarray]:
+    def _slot_values(self, sim: Any, x: np.ndarray, clock: np.ndarray) -> dict[str, np.ndarray]:
         return {"rudder_angle": x[:, lo.X_DELTA], "rudder_order": sim.rudder_order}
 
     def rudder_rate(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
         return self._held_output(sim, x, s, "rudder_rate")
 
 
-__all__ = ["FmuEngine", "FmuError", "FmuSteeringGear", "UNITS"]
+#: the state a force FMU may take as inputs: quantity -> (slot unit, column of the state, or None for the clock)
+FORCE_INPUTS = {
+    "u": ("m/s", lo.X_U),
+    "v": ("m/s", lo.X_V),
+    "r": ("rad/s", lo.X_R),
+    "x": ("m", lo.X_N),
+    "y": ("m", lo.X_E),
+    "heading": ("rad", lo.X_PSI),
+    "rudder_angle": ("rad", lo.X_DELTA),
+    "shaft_speed": ("rev/s", lo.X_REV),
+    "t": ("s", None),
+}
+
+
+class FmuForce(FmuSlot, Component):
+    """An FMU as a force component (slot ``extra``, any number of them): inputs any of :data:`FORCE_INPUTS`
+    (the vessel's state through the water, position, heading, rudder angle, shaft speed, and ``t``, s since
+    the vessel's reset); outputs ``X``, ``Y`` (N) and ``N`` (N m), body axes at midship, held over each
+    communication step like every FMU slot's outputs. The steady approach of a reset does not see the FMU's
+    force (it is 0 until the first communication, at t = 0): a force that is not zero in the straight
+    approach starts the ship out of its balance."""
+
+    slot = "extra"
+    INPUTS = {q: unit for q, (unit, _) in FORCE_INPUTS.items()}
+    OUTPUTS = {"X": "N", "Y": "N", "N": "N.m"}
+    OPTIONAL_INPUTS = True
+    states = FmuSlot.states
+
+    def __init__(self, ship: Any, params: Any) -> None:
+        Component.__init__(self, ship, params)
+        if isinstance(params, dict) and "shaft_inertia_kgm2" in params:
+            raise FmuError("params shaft_inertia_kgm2: a force component has no shaft inertia")
+        self._setup(ship, params)
+
+    def _slot_values(self, sim: Any, x: np.ndarray, clock: np.ndarray) -> dict[str, np.ndarray]:
+        return {q: (clock if FORCE_INPUTS[q][1] is None else x[:, FORCE_INPUTS[q][1]]) for q in self.inputs}
+
+    def forces(self, sim: Any, x: np.ndarray, s: np.ndarray | None = None) -> np.ndarray:
+        if s is not None and x is sim.state:  # the first stage of a step: communicate
+            self._communicate(sim, x, s[:, 0])
+        elif len(self._instances) < x.shape[0]:  # before any step (the steady approach, a read-out)
+            return np.zeros((x.shape[0], 3))
+        return self._held[: x.shape[0]].copy()
+
+
+__all__ = ["FORCE_INPUTS", "FmuEngine", "FmuError", "FmuForce", "FmuSteeringGear", "UNITS"]
