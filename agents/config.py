@@ -93,16 +93,27 @@ def merge(base: Mapping[str, Any], over: Mapping[str, Any]) -> dict[str, Any]:
 
 
 # --- hyperparameters -------------------------------------------------------------------------------------------
+#: what every task trains with unless its declaration says otherwise (its ``train`` blocks merge over this):
+#: 16 ships in one native vector env, rewards normalised (the tasks' terms have different scales), observations
+#: as the task scales them, a 1M-step budget (2-3 CPU-minutes of PPO on this size of machine, docs/agents.md)
+TRAIN_DEFAULTS: dict[str, Any] = {
+    "n_timesteps": 1_000_000,
+    "policy": "MlpPolicy",
+    "n_envs": 16,
+    "normalize": {"norm_obs": False, "norm_reward": True},
+}
+
+
 def task_defaults(algo: str, env_id: str) -> dict[str, Any]:
-    """The training hyperparameters ``env_id``'s task declares (``train`` of its ``register_task``: the
-    ``common`` block, then the block of ``algo``)."""
+    """The training hyperparameters of ``env_id``: :data:`TRAIN_DEFAULTS`, then what its task declares
+    (``train`` of its ``register_task``: the ``common`` block, then the block of ``algo``)."""
     from vessel_gym.envs.registration import declaration
 
     try:
         train = declaration(env_id).train
     except KeyError as exc:
         raise UsageError(str(exc.args[0])) from None
-    return merge(train.get("common", {}), train.get(check_algo(algo), {}))
+    return merge(merge(TRAIN_DEFAULTS, train.get("common", {})), train.get(check_algo(algo), {}))
 
 
 def load_hyperparams(

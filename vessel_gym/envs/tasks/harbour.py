@@ -225,12 +225,6 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     pilots={"pid": pid_pilot, "pid-nomoto": nomoto_pilot, "scripted": rule_pilot},
     metrics=episode_metrics,
     train={
-        "common": {
-            "n_timesteps": 1_000_000,
-            "policy": "MlpPolicy",
-            "n_envs": 16,
-            "normalize": {"norm_obs": False, "norm_reward": True},
-        },
         # PPO as the shipped HarbourApproach-v1 agents were trained (agents/hyperparams/ppo.yml, docs/results.md)
         "ppo": {
             "n_steps": 256,

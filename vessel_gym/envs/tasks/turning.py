@@ -275,14 +275,6 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     env="vessel_gym.envs.tasks.turning:TurningCircleEnv",
     pilots={"pid": pid_pilot, "pid-nomoto": nomoto_pilot, "scripted": rule_pilot},
     metrics=episode_metrics,
-    train={
-        "common": {
-            "n_timesteps": 1_000_000,
-            "policy": "MlpPolicy",
-            "n_envs": 16,
-            "normalize": {"norm_obs": False, "norm_reward": True},
-        }
-    },
 )
 class TurningCircleTask(OpenWaterTask):
     S = S

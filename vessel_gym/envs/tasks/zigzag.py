@@ -352,14 +352,6 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     env="vessel_gym.envs.tasks.zigzag:ZigZagEnv",
     pilots={"pid": pid_pilot, "pid-nomoto": nomoto_pilot, "scripted": rule_pilot},
     metrics=episode_metrics,
-    train={
-        "common": {
-            "n_timesteps": 1_000_000,
-            "policy": "MlpPolicy",
-            "n_envs": 16,
-            "normalize": {"norm_obs": False, "norm_reward": True},
-        }
-    },
 )
 class ZigZagTask(OpenWaterTask):
     """The zig-zag task: the schedule of course changes, honest overshoot accounting per course change, the
