@@ -18,8 +18,10 @@ from __future__ import annotations
 import math
 import os
 
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
-from pythonfmu.enums import Fmi2Initial, Fmi2Status
+from pythonfmu import Fmi2Slave
+from pythonfmu.enums import Fmi2Status
+
+from vessel_gym.fmi.slave_vars import register_real
 
 #: (name, causality, unit, description)
 VARIABLES = (
@@ -43,24 +45,9 @@ class VesselGymEngine(Fmi2Slave):
         self.hold_torque, self.max_step = 0.0, 0.05
         self.shaft_speed = self.rev_order = 0.0
         self.gov, self.cam, self.P = 0.0, 1.0, None
-        causality = {"parameter": Fmi2Causality.parameter, "input": Fmi2Causality.input}
         for name, kind, _, doc in VARIABLES:
-            if kind == "output":
-                self.register_variable(
-                    Real(
-                        name,
-                        causality=Fmi2Causality.output,
-                        variability=Fmi2Variability.continuous,
-                        initial=Fmi2Initial.calculated,
-                        description=doc,
-                        getter=(lambda n=name: self._drive()[0 if n == "shaft_torque" else 1]),
-                    )
-                )
-            else:
-                variability = Fmi2Variability.fixed if kind == "parameter" else Fmi2Variability.continuous
-                self.register_variable(
-                    Real(name, causality=causality[kind], variability=variability, description=doc)
-                )
+            getter = (lambda n=name: self._drive()[0 if n == "shaft_torque" else 1]) if kind == "output" else None
+            register_real(self, name, kind, doc, getter=getter)
 
     def exit_initialization_mode(self):
         from vessel_gym.physics import layout as lo

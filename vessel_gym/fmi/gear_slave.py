@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import os
 
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
-from pythonfmu.enums import Fmi2Initial
+from pythonfmu import Fmi2Slave
+
+from vessel_gym.fmi.slave_vars import register_real
 
 #: (name, causality, unit, description)
 VARIABLES = (
@@ -33,26 +34,7 @@ class VesselGymSteeringGear(Fmi2Slave):
         self.rudder_angle = self.rudder_order = 0.0
         self.P = None
         for name, kind, _, doc in VARIABLES:
-            if kind == "output":
-                self.register_variable(
-                    Real(
-                        name,
-                        causality=Fmi2Causality.output,
-                        variability=Fmi2Variability.continuous,
-                        initial=Fmi2Initial.calculated,
-                        description=doc,
-                        getter=self._rate,
-                    )
-                )
-            else:
-                self.register_variable(
-                    Real(
-                        name,
-                        causality=Fmi2Causality.input,
-                        variability=Fmi2Variability.continuous,
-                        description=doc,
-                    )
-                )
+            register_real(self, name, kind, doc, getter=self._rate if kind == "output" else None)
 
     def exit_initialization_mode(self):
         from vessel_gym.physics.shipfile import load_ship

@@ -17,8 +17,10 @@ import json
 import math
 import os
 
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real
-from pythonfmu.enums import Fmi2Initial, Fmi2Status
+from pythonfmu import Fmi2Slave
+from pythonfmu.enums import Fmi2Status
+
+from vessel_gym.fmi.slave_vars import register_real
 
 #: (name, unit, description) of the inputs, held over a communication step
 INPUTS = (
@@ -73,35 +75,12 @@ class VesselGymShip(Fmi2Slave):
         self._allow_code = bool(settings.get("allow_code", False))
         self._env = None
         for name, _, doc in PARAMETERS:
-            self.register_variable(
-                Real(
-                    name,
-                    causality=Fmi2Causality.parameter,
-                    variability=Fmi2Variability.fixed,
-                    description=doc,
-                )
-            )
+            register_real(self, name, "parameter", doc)
         self._rev_order_given = False  # until the importer sets it, the order of the approach solved at init
         for name, _, doc in INPUTS:
-            self.register_variable(
-                Real(
-                    name,
-                    causality=Fmi2Causality.input,
-                    variability=Fmi2Variability.continuous,
-                    description=doc,
-                    setter=self._set_rev_order if name == "rev_order" else None,
-                )
-            )
+            register_real(self, name, "input", doc, setter=self._set_rev_order if name == "rev_order" else None)
         for name, _, doc in OUTPUTS:
-            self.register_variable(
-                Real(
-                    name,
-                    causality=Fmi2Causality.output,
-                    variability=Fmi2Variability.continuous,
-                    initial=Fmi2Initial.calculated,
-                    description=doc,
-                )
-            )
+            register_real(self, name, "output", doc)
 
     def _set_rev_order(self, value):
         self.rev_order, self._rev_order_given = value, True
