@@ -257,6 +257,7 @@ class CollisionAvoidanceTask(Task):
     Config = CollisionAvoidanceConfig
     spec = SPEC
     kernel = staticmethod(colreg_update)
+    reset_options = ("scenario", "heading_deg")  # what reset(options=...) reads
 
     def __init__(self, config: CollisionAvoidanceConfig, n: int) -> None:
         if n % config.agents:
