@@ -91,7 +91,7 @@ def _rate(s: dict[str, Any], key: str) -> str:
 def table(results: dict[str, dict[str, dict[str, Any]]]) -> str:
     """Markdown table: one row per case and pilot, then the totals."""
     rows = [
-        "| case | pilot | success % [95 % CI] | collision % [95 % CI] | COLREG score | pairs violating % | "
+        "| case | pilot | success % [95 % CI] | collision % [95 % CI] | COLREG score | episodes violating % | "
         "closest range (L, min) | path ratio |",
         "|---|---|---|---|---|---|---|---|",
     ]

@@ -202,7 +202,7 @@ def vo_nomoto_pilot(env: Any) -> Any:
 
 @register_task(
     presets={"CollisionAvoidance-v0": {}},
-    max_episode_steps=300,
+    max_episode_steps=400,
     pilots={"pid": vo_pilot, "pid-nomoto": vo_nomoto_pilot, "scripted": route_pilot},
     metrics=episode_metrics,
     train={"common": {"n_timesteps": 1_000_000, "n_envs": 16}},
@@ -239,7 +239,7 @@ class CollisionAvoidanceTask(Task):
 
     * Termination: arrival (within ``goal_radius_L`` of the goal or abeam of it), collision, straying
       beyond ``max_cross_track_L`` from the route, divergence.
-    * Truncation: 300 steps (3000 s at the default 10 s control interval).
+    * Truncation: 400 steps (4000 s at the default 10 s control interval, twice the route at test speed).
 
     ## Info
 

@@ -5,7 +5,7 @@ detected as a risk of collision (its situation fixed then, :func:`~.colreg_geome
 episode ends: the own ship's course and speed at detection, its first course alteration of at least
 ``action_deg`` (time, side, TCPA then), its largest alterations to either side, the closest range and whether
 it was then ahead of the target, and, for a stand-on role, how far it left its course and speed while the
-range was above ``release_range_L``. :func:`pair_checks` turns a record into the rule checks that apply:
+range was above ``release_range_L`` and the CPA ahead. :func:`pair_checks` turns a record into the rule checks that apply:
 
 | check | applies to | passes when |
 |---|---|---|
@@ -53,6 +53,7 @@ R = columns(
     "ahead_at_cpa",  # 1: own ship forward of the target's beam at the closest range
     "stand_on_dev",  # rad, largest |alteration| while the range was above the release range
     "stand_on_speed_dev",  # largest |speed change| / U_detect then
+    "released",  # 1 once the range has fallen below the release range (or the CPA has passed)
     typename="PairRecord",
 )
 #: the rule checks, in the order of the docs and of info["colreg_passed"] / info["colreg_applied"]
@@ -79,6 +80,7 @@ def detect(row: np.ndarray, situation: int, t: float, psi: float, U: float, rng:
     row[R.ahead_at_cpa] = 0.0
     row[R.stand_on_dev] = 0.0
     row[R.stand_on_speed_dev] = 0.0
+    row[R.released] = 0.0
 
 
 def track(
@@ -94,7 +96,8 @@ def track(
 ) -> None:
     """One step of a detected pair: the own ship on ``psi`` at ``U``, the target at range ``rng`` with
     ``tcpa``; ``ahead``: the own ship is forward of the target's beam now; ``action_rad``: the alteration that
-    counts as an action; ``release_m``: the range below which a stand-on ship may act (rule 17(a)(ii), (b))."""
+    counts as an action; ``release_m``: the range below which a stand-on ship may act (rule 17(a)(ii), (b)):
+    its departures from course and speed count until the range first falls below it or the CPA passes."""
     dev = wrap_pi(psi - row[R.psi_detect])
     row[R.max_stbd] = max(row[R.max_stbd], dev)
     row[R.max_port] = max(row[R.max_port], -dev)
@@ -105,7 +108,9 @@ def track(
     if rng < row[R.min_range]:
         row[R.min_range] = rng
         row[R.ahead_at_cpa] = 1.0 if ahead else 0.0
-    if rng > release_m:
+    if rng <= release_m or tcpa <= 0.0:  # rule 17(a)(ii), (b): from here the stand-on ship may act
+        row[R.released] = 1.0
+    if row[R.released] == 0.0:
         row[R.stand_on_dev] = max(row[R.stand_on_dev], abs(dev))
         du = abs(U - row[R.U_detect]) / max(row[R.U_detect], 1e-9)
         row[R.stand_on_speed_dev] = max(row[R.stand_on_speed_dev], du)
