@@ -215,6 +215,7 @@ def test_route_follower_collides_and_the_episode_ends_as_a_collision():
     assert info["reward_terms"]["collision"] == -20.0
     assert info["min_separation_m"] < L  # the hulls touch: midships within a ship length
     assert info["colreg_passed"]["starboard"] == 0 and info["colreg_violations"] == 1
+    assert info["reaction_delay_s"] == -1.0  # it never alters course
 
 
 @pytest.mark.parametrize("case", [1, 2, 5, 13])
@@ -234,6 +235,7 @@ def test_velocity_obstacle_pilot_passes_imazu_cases_by_the_rules(case):
     p, a = info["colreg_passed"], info["colreg_applied"]
     assert p["starboard"] == a["starboard"] >= 1  # head-on and give-way: altered to starboard
     assert p["early"] == a["early"]
+    assert 0.0 <= info["reaction_delay_s"] <= 60.0  # acts within a few steps of detection
 
 
 def test_evaluation_reports_rates_and_colreg_scores():
@@ -245,3 +247,16 @@ def test_evaluation_reports_rates_and_colreg_scores():
     good = evaluate(ID, "pid", episodes=2, seed=0)["summary"]
     assert good["success_rate"] == 1.0 and good["collision_rate"] == 0.0
     assert good["colreg_score_mean"] > out["colreg_score_mean"]
+
+
+def test_evaluate_json_reports_success_and_collision_rates_and_colreg_scores(capsys):
+    import json
+
+    from agents.evaluate import main
+
+    assert main(["--env", ID, "--agent", "scripted", "--episodes", "2", "--seed", "0", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["success_rate"] == 0.0 and out["collision_rate"] == 1.0
+    for key in ("mean_colreg_score", "mean_colreg_violation", "mean_min_separation_L", "mean_path_ratio"):
+        assert key in out, key
+    assert "mean_starboard_ok" in out and "mean_rudder_reversals" in out

@@ -22,7 +22,7 @@ from vessel_gym.envs.task import Task, _uniform
 from vessel_gym.envs.tasks.colreg_columns import K_MAX, OUTCOMES, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
 from vessel_gym.envs.tasks.colreg_geometry import hull_outline
-from vessel_gym.envs.tasks.colreg_rules import CHECKS, R, new_record, pair_checks
+from vessel_gym.envs.tasks.colreg_rules import CHECKS, R, new_record, pair_checks, reaction_delay
 from vessel_gym.envs.tasks.colreg_step import colreg_update
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.simulation import Simulation
@@ -163,7 +163,8 @@ class World:
 def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
     """An episode's outcome and COLREG scores from its last ``info``: success and collision (0/1), the
     closest range (m, ship lengths), path ratio, rudder reversals, the COLREG score, whether a pair violated
-    a rule, and each check's pass fraction (NaN where it never applied)."""
+    a rule, the mean reaction delay (s; NaN without an alteration) and each check's pass fraction (NaN where
+    it never applied)."""
     last = infos[-1]
     out: dict[str, Any] = {
         "success": float(last["success"]),
@@ -174,6 +175,7 @@ def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
         "rudder_reversals": last["rudder_reversals"],
         "colreg_score": last["colreg_score"] if last["colreg_checks"] else math.nan,
         "colreg_violation": float(last["colreg_violations"] > 0),
+        "reaction_delay_s": last["reaction_delay_s"] if last["reaction_delay_s"] >= 0.0 else math.nan,
     }
     for c in CHECKS:
         n = last["colreg_applied"][c]
@@ -246,6 +248,7 @@ class CollisionAvoidanceTask(Task):
     ``reward_terms``, ``scenario``, ``outcome``, ``success``, ``is_success``, ``collision``, ``time_s``,
     ``min_separation_m``, ``min_separation_L``, ``planned_dcpa_m`` (smallest planned DCPA of the encounter),
     ``path_ratio``, ``rudder_reversals``, ``colreg_score``, ``colreg_checks``, ``colreg_violations``,
+    ``reaction_delay_s`` (mean over the pairs acted for, from detection to the first alteration; -1 before any),
     ``colreg_passed`` and ``colreg_applied`` (per check), ``diverged``.
 
     ## Arguments
@@ -425,7 +428,10 @@ class CollisionAvoidanceTask(Task):
             c.stand_on_tolerance_deg * DEG,
             c.stand_on_speed_fraction,
         )
+        delays = []
         for row in self.pairs[k]:
+            if row[R.situation] != 0 and math.isfinite(row[R.t_action]):
+                delays.append(reaction_delay(row))
             checks = pair_checks(row, *args)
             for name, ok in checks.items():
                 applied[name] += 1
@@ -450,6 +456,7 @@ class CollisionAvoidanceTask(Task):
             "colreg_score": sum(passed.values()) / n_checks if n_checks else 1.0,
             "colreg_checks": n_checks,
             "colreg_violations": violations,
+            "reaction_delay_s": sum(delays) / len(delays) if delays else -1.0,
             "colreg_passed": passed,
             "colreg_applied": applied,
             "diverged": not self.sim.alive.item(k),
