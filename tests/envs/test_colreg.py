@@ -20,11 +20,11 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     STAND_ON,
     classify,
     cpa,
-    hull_outline,
     hulls_touch,
     place,
 )
 from vessel_gym.envs.tasks.colreg_rules import R, detect, new_record, pair_checks, track
+from vessel_gym.scenarios.geometry import hull_outline
 
 ID = "vessel_gym/CollisionAvoidance-v0"
 L, B, U = 320.0, 58.0, 7.97
@@ -32,8 +32,8 @@ L, B, U = 320.0, 58.0, 7.97
 
 def test_hull_contact_is_of_outlines_not_circles():
     """Parallel ships 1.2 beams apart (centres 70 m, far inside a circle of a ship length) do not touch; at 0.9
-    beams they do. Head-on, the pointed bows touch at 320 m between centres only when in line: offset by a
-    beam, the bows' tapers pass where rectangles would overlap."""
+    beams they do. Head-on, the pointed bows touch at 320 m between centres only when in line: offset by 0.6
+    beam, the bows' tapers (the last 0.2 L) pass where rectangles would overlap."""
     hull = hull_outline(L, B)
     a = place(hull, 0.0, 0.0, 0.0)
     assert not hulls_touch(a, place(hull, 0.0, 1.2 * B, 0.0))

@@ -21,12 +21,12 @@ from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform
 from vessel_gym.envs.tasks.colreg_columns import K_MAX, OUTCOMES, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
-from vessel_gym.envs.tasks.colreg_geometry import hull_outline
 from vessel_gym.envs.tasks.colreg_rules import CHECKS, R, new_record, pair_checks, reaction_delay
 from vessel_gym.envs.tasks.colreg_step import colreg_update
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
+from vessel_gym.scenarios.geometry import hull_outline
 
 CollisionAvoidanceReward = SPEC.weights_class(
     "CollisionAvoidanceReward", __name__, "CollisionAvoidance reward weights."

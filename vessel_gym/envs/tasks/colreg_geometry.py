@@ -1,5 +1,5 @@
-"""The geometry of an encounter between two ships: hull outlines and their contact, the closest point of
-approach, relative bearings and the COLREG situation (rules 13-15) of a target at detection.
+"""The geometry of an encounter between two ships: the contact of their hull outlines (the chart's pointed-bow
+outline, ``vessel_gym.scenarios.geometry.hull_outline``), the closest point of approach, relative bearings and the COLREG situation (rules 13-15) of a target at detection.
 
 Frames (docs/colreg.md, "Frame convention"): earth-fixed x north, y east; heading psi clockwise from north;
 body x forward, y starboard. A *relative bearing* is measured clockwise from the own ship's bow, in [0, 2 pi):
@@ -10,6 +10,11 @@ Plain Python on scalars: an encounter has a handful of ships.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+
+from vessel_gym.control.angles import wrap_pi
+from vessel_gym.physics.kinematics import body_point_to_earth
+from vessel_gym.scenarios.geometry import Point, polygons_overlap
 
 #: the situations of a target for the own ship, as classified at detection (rules 13-15, 17)
 SAFE, HEAD_ON, OVERTAKING, GIVE_WAY, STAND_ON, OVERTAKEN = range(6)
@@ -25,46 +30,17 @@ ABAFT_BEAM = math.radians(112.5)  # rad, relative bearing where the stern sector
 HEAD_ON_HALF_WIDTH = math.radians(6.0)  # rad
 
 
-def wrap_pi(a: float) -> float:
-    """An angle in [-pi, pi), rad."""
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
-
-
-def hull_outline(L: float, B: float) -> tuple[tuple[float, float], ...]:
-    """A pointed-bow rectangle of length ``L`` and beam ``B`` (m) about midship, body frame (x forward,
-    y starboard), corners in order round the hull: the parallel body from the stern to ``L/2 - B`` forward,
-    then straight sides to the stem. Convex, as the separating-axis test needs."""
-    h = 0.5 * B
-    shoulder = 0.5 * L - B
-    return ((0.5 * L, 0.0), (shoulder, -h), (-0.5 * L, -h), (-0.5 * L, h), (shoulder, h))
-
-
-def place(
-    outline: tuple[tuple[float, float], ...], n: float, e: float, psi: float
-) -> list[tuple[float, float]]:
-    """The outline's corners on the chart (north, east, m) for a ship at (``n``, ``e``) heading ``psi``."""
+def place(outline: Sequence[Point], n: float, e: float, psi: float) -> list[Point]:
+    """A body-frame outline (``vessel_gym.scenarios.geometry.hull_outline``) on the chart (north, east, m) for a
+    ship with its midship point at (``n``, ``e``) heading ``psi`` (rad)."""
     c, s = math.cos(psi), math.sin(psi)
-    return [(n + x * c - y * s, e + x * s + y * c) for x, y in outline]
+    return [body_point_to_earth(n, e, c, s, x, y) for x, y in outline]
 
 
-def _separated(a: list[tuple[float, float]], b: list[tuple[float, float]]) -> bool:
-    """Whether an edge normal of polygon ``a`` separates the convex polygons ``a`` and ``b``."""
-    m = len(a)
-    for i in range(m):
-        x0, y0 = a[i]
-        x1, y1 = a[(i + 1) % m]
-        nx, ny = y1 - y0, x0 - x1  # an edge normal (either side will do)
-        pa = [nx * x + ny * y for x, y in a]
-        pb = [nx * x + ny * y for x, y in b]
-        if max(pa) < min(pb) or max(pb) < min(pa):
-            return True
-    return False
-
-
-def hulls_touch(a: list[tuple[float, float]], b: list[tuple[float, float]]) -> bool:
-    """Whether two convex hull outlines on the chart overlap (separating-axis theorem: convex polygons are
-    apart iff an edge normal of one of them separates their projections)."""
-    return not (_separated(a, b) or _separated(b, a))
+def hulls_touch(a: Sequence[Point], b: Sequence[Point]) -> bool:
+    """Whether two hull outlines on the chart touch: they share a point (edges meet or one contains the
+    other, ``vessel_gym.scenarios.geometry.polygons_overlap``)."""
+    return polygons_overlap(a, b)
 
 
 def cpa(pn: float, pe: float, wn: float, we: float) -> tuple[float, float]:

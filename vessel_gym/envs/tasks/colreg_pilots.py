@@ -23,8 +23,10 @@ from typing import Any
 
 import numpy as np
 
+from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.policies import PIDHeadingAutopilot
 
+_wrap = wrap_pi.py_func  # elementwise on arrays, rad in [-pi, pi)
 #: the target-slot fields the pilots read
 _FIELDS = (
     "valid",
@@ -55,7 +57,7 @@ class RouteFollower(PIDHeadingAutopilot):
         """Line-of-sight course - heading, rad (+ starboard)."""
         cross = self.get(obs, "cross_track")
         e = self.get(obs, "course_error") + np.arctan2(-cross, self.lookahead)
-        return (e + np.pi) % (2.0 * np.pi) - np.pi
+        return _wrap(e)
 
     def heading_error(self, obs: np.ndarray) -> np.ndarray:
         return self.los_error(obs)
@@ -117,9 +119,9 @@ class VelocityObstaclePilot(RouteFollower):
         u, v = float(self.get(obs, "u")), float(self.get(obs, "v"))
         speed = math.hypot(u, v)
         h = np.append(self.fan, psi_rel + los)  # candidate headings, route-relative
-        c = (h - psi_rel + np.pi) % (2.0 * np.pi) - np.pi  # the same, relative to the bow
+        c = _wrap(h - psi_rel)  # the same, relative to the bow
         vx, vy = speed * np.cos(c), speed * np.sin(c)
-        cost = np.abs((c - los + np.pi) % (2.0 * np.pi) - np.pi) / np.pi
+        cost = np.abs(_wrap(c - los)) / np.pi
         blocked = np.zeros(len(c))
         give_way_block = False
         for t in self._targets(obs):
@@ -144,7 +146,7 @@ class VelocityObstaclePilot(RouteFollower):
             if stand_on and t["bearing_sin"] < 0.0:
                 blocked += c < -math.radians(2.0)  # rule 17(c): no turn to port for a target on the port side
         if give_way_block:  # rule 8(b): an alteration large enough to be readily apparent
-            cost += (np.abs((c - los + np.pi) % (2.0 * np.pi) - np.pi) < self.substantial) * 0.5
+            cost += (np.abs(_wrap(c - los)) < self.substantial) * 0.5
         prev = self.chosen[i]
         if math.isfinite(prev):
             cost += 0.2 * np.abs(h - prev) / np.pi  # hold a choice rather than chatter

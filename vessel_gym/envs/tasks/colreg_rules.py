@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.declare import columns
 from vessel_gym.envs.tasks.colreg_geometry import (
     GIVE_WAY,
@@ -34,7 +35,6 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     SAFE,
     STAND_ON,
     STAND_ON_ROLES,
-    wrap_pi,
 )
 
 #: the columns of a pair's record (NaN: not yet)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.task import PHASE_STEP
 from vessel_gym.envs.tasks.colreg_columns import FEAT, OUTCOMES, SLOT, TARGET_FIELDS, TERM, P, S
 from vessel_gym.envs.tasks.colreg_geometry import (
@@ -24,7 +25,6 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     hulls_touch,
     place,
     relative_bearing,
-    wrap_pi,
 )
 from vessel_gym.envs.tasks.colreg_rules import R, detect, track
 from vessel_gym.envs.tasks.common import (
