@@ -260,3 +260,68 @@ def test_evaluate_json_reports_success_and_collision_rates_and_colreg_scores(cap
     for key in ("mean_colreg_score", "mean_colreg_violation", "mean_min_separation_L", "mean_path_ratio"):
         assert key in out, key
     assert "mean_starboard_ok" in out and "mean_rudder_reversals" in out
+
+
+def _situation(tmp_path, **over):
+    """A head-on traffic situation in the maritime-schema format: the target 5 NM north, 0.2 NM to the east,
+    on the reciprocal course; both at 12 kn; the own ship's goal 10 NM north."""
+    lat0, lon0 = 58.7, 10.5
+    dlat = 1.0 / 60.0  # deg per NM of latitude
+    dlon = 1.0 / (60.0 * math.cos(math.radians(lat0)))  # deg per NM of longitude there
+    data = {
+        "version": "0.8.1",
+        "title": "HO test",
+        "ownShip": {
+            "initial": {"position": {"lat": lat0, "lon": lon0}, "sog": 12.0, "cog": 0.0, "heading": 0.0},
+            "waypoints": [
+                {"position": {"lat": lat0, "lon": lon0}},
+                {"position": {"lat": lat0 + 10 * dlat, "lon": lon0}},
+            ],
+            "static": {"id": 1, "dimensions": {"length": 122.0, "width": 20.0}},
+        },
+        "targetShips": [
+            {
+                "initial": {
+                    "position": {"lat": lat0 + 5 * dlat, "lon": lon0 + 0.2 * dlon},
+                    "sog": 12.0,
+                    "cog": 180.0,
+                    "heading": 180.0,
+                },
+            }
+        ],
+    }
+    data.update(over)
+    path = tmp_path / "ho.json"
+    path.write_text(__import__("json").dumps(data))
+    return path
+
+
+def test_a_maritime_schema_traffic_situation_runs_as_an_encounter(tmp_path):
+    from vessel_gym.envs.tasks.colreg_situation import read_situation
+
+    nm, kn = 1852.0, 1852.0 / 3600.0  # positions within 1 %: one minute of arc is not 1852 m at 58.7 deg N
+    enc = read_situation(_situation(tmp_path))
+    (t,), ((d, tc),) = enc.targets, enc.planned_cpa
+    assert t.situation == HEAD_ON and enc.speed == pytest.approx(12 * kn)
+    assert d == pytest.approx(0.2 * nm, rel=1e-2) and tc == pytest.approx(5 * nm / (24 * kn), rel=1e-2)
+    assert enc.goal[0] == pytest.approx(10 * nm, rel=1e-2) and abs(enc.goal[1]) < 1.0
+    env = gym.make(ID, observation_type="physical", tcpa_L=40.0)  # the goal distance's scale: 80 L = 25.6 km
+    lay = env.unwrapped.observation_layout
+    obs, info = env.reset(seed=0, options={"scenario": f"file:{_situation(tmp_path)}", "heading_deg": 45.0})
+    assert info["scenario"] == "file:HO test" and info["planned_dcpa_m"] == pytest.approx(0.2 * nm, rel=1e-2)
+    assert lay.value(obs, "u") == pytest.approx(12 * kn, rel=1e-3)
+    assert lay.value(obs, "goal_distance") == pytest.approx(10 * nm, rel=1e-2)
+    assert lay.value(obs, "t0_head_on") == 1.0 and lay.value(obs, "t0_range") == pytest.approx(
+        5 * nm, rel=1e-2
+    )
+
+
+def test_a_malformed_traffic_situation_is_named(tmp_path):
+    from vessel_gym.envs.tasks.colreg_situation import read_situation
+
+    with pytest.raises(ValueError, match=r"targetShips: expected a list"):
+        read_situation(_situation(tmp_path, targetShips=[]))
+    with pytest.raises(ValueError, match=r"ownShip.initial.sog: expected a number"):
+        read_situation({"ownShip": {"initial": {"position": {"lat": 1.0, "lon": 2.0}, "sog": "fast"}}})
+    with pytest.raises(ValueError, match="not a readable traffic-situation file"):
+        read_situation(tmp_path / "missing.json")

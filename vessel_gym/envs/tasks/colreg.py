@@ -22,6 +22,7 @@ from vessel_gym.envs.task import Task, _uniform
 from vessel_gym.envs.tasks.colreg_columns import K_MAX, OUTCOMES, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
 from vessel_gym.envs.tasks.colreg_rules import CHECKS, R, new_record, pair_checks, reaction_delay
+from vessel_gym.envs.tasks.colreg_situation import read_situation
 from vessel_gym.envs.tasks.colreg_step import colreg_update
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.simulation import Simulation
@@ -253,8 +254,9 @@ class CollisionAvoidanceTask(Task):
 
     ## Arguments
 
-    ``reset(options={"scenario": "imazu:12" | "imazu" | "generated" | "generated:head_on+give_way",
-    "heading_deg": h})`` pins the encounter and the own ship's heading.
+    ``reset(options={"scenario": "imazu:12" | "imazu" | "generated" | "generated:head_on+give_way" |
+    "file:situation.json", "heading_deg": h})`` pins the encounter (``file:``: a maritime-schema traffic
+    situation, ``colreg_situation``) and the own ship's heading.
     """
 
     Config = CollisionAvoidanceConfig
@@ -362,8 +364,15 @@ class CollisionAvoidanceTask(Task):
             dcpa = tuple(rng.uniform(*c.generated_dcpa_L) * self.L for _ in types)
             tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
             return generate(types, dcpa, tcpa, self.U_T, rng)
+        if kind == "file" and arg:
+            enc = read_situation(arg)
+            if not need <= len(enc.targets) <= c.max_targets:
+                raise ValueError(
+                    f"{name}: {len(enc.targets)} targets; this task takes {need} to {c.max_targets}"
+                )
+            return enc
         raise ValueError(
-            f"unknown scenario {name!r} (imazu, imazu:1..22, generated, generated:<type>[+<type>...])"
+            f"unknown scenario {name!r} (imazu, imazu:1..22, generated, generated:<type>[+<type>...], file:<path>)"
         )
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
@@ -402,6 +411,10 @@ class CollisionAvoidanceTask(Task):
                 s[:] = 0.0
                 s[S.n0], s[S.e0] = n, e
                 s[S.n1], s[S.e1] = n + reach * math.cos(psi + h), e + reach * math.sin(psi + h)
+                if slot == 0 and enc.goal is not None:  # the situation's own goal
+                    gn, ge = enc.goal
+                    s[S.n1], s[S.e1] = gn * ch - ge * sh, gn * sh + ge * ch
+                    reach = math.hypot(gn, ge)
                 s[S.prev_n], s[S.prev_e] = n, e
                 s[S.prev_goal] = s[S.straight] = reach
                 s[S.min_sep] = math.inf

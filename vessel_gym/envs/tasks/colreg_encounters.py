@@ -95,9 +95,12 @@ class Encounter:
     speed: float
     targets: tuple[Target, ...]
     planned_cpa: tuple[tuple[float, float], ...]
+    goal: tuple[float, float] | None = None  # the own ship's goal (north, east, m); None: ahead on its course
 
 
-def _planned(t_n: float, t_e: float, psi: float, speed: float, own_speed: float) -> tuple[float, float]:
+def planned_cpa(t_n: float, t_e: float, psi: float, speed: float, own_speed: float) -> tuple[float, float]:
+    """(DCPA m, TCPA s) of a target at (``t_n``, ``t_e``) m on ``psi`` rad at ``speed`` m/s from the own ship at
+    the origin heading north at ``own_speed`` m/s, both keeping course and speed."""
     return cpa(t_n, t_e, speed * math.cos(psi) - own_speed, speed * math.sin(psi))
 
 
@@ -122,7 +125,7 @@ def imazu(
             speed *= 1.0 + rng.uniform(-ds, ds)
         n = meet_n - speed * math.cos(heading) * T
         e = -speed * math.sin(heading) * T
-        d, t = _planned(n, e, heading, speed, U)
+        d, t = planned_cpa(n, e, heading, speed, U)
         targets.append(Target(n, e, heading, speed, classify(n, e, 0.0, heading, True)))
         planned.append((d, t))
     return Encounter(f"imazu:{case}", U, tuple(targets), tuple(planned))
@@ -160,7 +163,7 @@ def generate(
             n, e = cn - wn * t, ce - we * t
             if classify(n, e, 0.0, psi, True) == want:
                 targets.append(Target(n, e, psi, speed, want))
-                planned.append(_planned(n, e, psi, speed, U))
+                planned.append(planned_cpa(n, e, psi, speed, U))
                 break
         else:
             raise ValueError(f"no {name} start found for DCPA {d:g} m, TCPA {t:g} s in {tries} draws")
