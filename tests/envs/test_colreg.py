@@ -325,3 +325,21 @@ def test_a_malformed_traffic_situation_is_named(tmp_path):
         read_situation({"ownShip": {"initial": {"position": {"lat": 1.0, "lon": 2.0}, "sog": "fast"}}})
     with pytest.raises(ValueError, match="not a readable traffic-situation file"):
         read_situation(tmp_path / "missing.json")
+
+
+@pytest.mark.parametrize("react", [False, True])
+def test_reacting_targets_give_way_to_a_stand_on_own_ship(react):
+    """A target crossing from port on a collision course must give way (rule 15). Constant-velocity, it hits
+    the own ship that stands on; keeping the rules (targets_react), it turns to starboard and passes astern,
+    and the own ship's standing on passes its checks."""
+    env = gym.make(ID, targets_react=react, generated_dcpa_L=[0.0, 0.0], generated_tcpa_fraction=[1.0, 1.0])
+    _obs, info = env.reset(seed=4, options={"scenario": "generated:stand_on", "heading_deg": 0.0})
+    while True:
+        _obs, _r, te, tr, info = env.step(np.zeros(1, dtype=np.float32))
+        if te or tr:
+            break
+    if not react:
+        assert info["collision"]
+        return
+    assert info["success"] and not info["collision"] and info["min_separation_L"] > 1.0
+    assert info["colreg_passed"] == info["colreg_applied"] and info["colreg_applied"]["stand_on"] == 1

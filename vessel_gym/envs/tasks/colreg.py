@@ -15,12 +15,14 @@ from typing import Any
 
 import numpy as np
 
+from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform
 from vessel_gym.envs.tasks.colreg_columns import K_MAX, OUTCOMES, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
+from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa
 from vessel_gym.envs.tasks.colreg_rules import CHECKS, R, new_record, pair_checks, reaction_delay
 from vessel_gym.envs.tasks.colreg_situation import read_situation
 from vessel_gym.envs.tasks.colreg_step import colreg_update
@@ -107,6 +109,12 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
         hi=8,
         doc="own ships per encounter (the multi-agent env's agents; Gymnasium envs: 1)",
     )
+    targets_react: bool = param(
+        False,
+        doc="targets keep the rules too: a target that must give way to an own ship turns target_turn_deg to "
+        "starboard once its TCPA is below half the meeting time, and resumes its course past the CPA",
+    )
+    target_turn_deg: float = param(35.0, unit="deg", lo=5.0, hi=90.0, doc="a reacting target's alteration")
     reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")
 
 
@@ -157,6 +165,7 @@ class World:
         self.length = L
         self.reach = math.hypot(L, B)  # m: centres farther apart than this cannot touch
         self.slots_observed = observed
+        self.course = np.zeros(n + worlds * targets)  # rad, each ship's course at the start
         self.names = ["" for _ in range(worlds)]
         self.planned_dcpa = np.zeros(worlds)
 
@@ -291,6 +300,17 @@ class CollisionAvoidanceTask(Task):
         p[P.release] = c.release_range_L * self.L
         p[P.port_order] = 1.0 * DEG  # rad: a rudder order beyond this is to a side (reversals, colreg term)
         self.p = p
+        T = self.L / self.U_T  # s
+        # the reacting targets' heading law (PIDHeadingAutopilot's default gains): Kp, Kd (s), rudder limit,
+        # alteration (rad), TCPA (s) below which a give-way target acts, risk distance (m)
+        self.target_law = (
+            1.5,
+            1.0 * T,
+            self.delta_max,
+            c.target_turn_deg * DEG,
+            0.5 * c.tcpa_L * T,
+            p[P.risk],
+        )
 
     # --- declaration hooks ---------------------------------------------------------------------------------
     def scales(self) -> dict[str, float]:
@@ -405,6 +425,7 @@ class CollisionAvoidanceTask(Task):
             n, e = n0 * ch - e0 * sh, n0 * sh + e0 * ch
             self.start(j, speed, (psi + h) / DEG, n, e)
             world.active[j] = True
+            world.course[j] = psi + h
             if slot < c.agents:  # an own ship: its route runs through its meeting point to twice as far
                 reach = 2.0 * speed * tcpa
                 s = self.ts[j]
@@ -422,6 +443,12 @@ class CollisionAvoidanceTask(Task):
                     new_record(row)
         for slot in range(len(enc.targets) + 1, len(members)):  # empty slots: parked
             self.start(members[slot], enc.speed, 0.0, 0.0, 0.0)
+
+    def update(self, phase: np.ndarray) -> None:
+        """The task's step, then (``targets_react``) the scripted targets' rudder orders for the next step."""
+        super().update(phase)
+        if self.config.targets_react:
+            steer_targets(self.sim, self.world, self.target_law)
 
     def started(self, k: int | np.ndarray) -> None:
         ks = np.atleast_1d(np.asarray(k))
@@ -488,6 +515,30 @@ class CollisionAvoidanceTask(Task):
     def overlay(self, k: int) -> dict[str, Any]:
         s = self.ts[k]
         return {"goal": (float(s[S.n1]), float(s[S.e1]))}
+
+
+def steer_targets(sim: Simulation, world: World, law: tuple) -> None:
+    """Rudder orders of the scripted targets that keep the rules: a target that must give way to an own ship of
+    its encounter (head-on, crossing with the own ship on its starboard side, overtaking it) alters ``law``'s
+    turn to starboard of its start course once the TCPA is below ``law``'s threshold, and back after the CPA;
+    otherwise it holds its start course (a stand-on target keeps course, rule 17(a)(i))."""
+    Kp, Kd, limit, turn, react, risk = law
+    north, east, psi, r = sim.north, sim.east, sim.heading, sim.r
+    vn, ve = sim.ground_velocity()
+    for members in world.members:
+        own = [j for j in members[: world.agents] if world.active[j]]
+        for j in members[world.agents :]:
+            if not world.active[j]:
+                continue
+            ref = world.course[j]
+            for o in own:
+                pn, pe = north[o] - north[j], east[o] - east[j]
+                dcpa, tcpa = cpa(pn, pe, vn[o] - vn[j], ve[o] - ve[j])
+                role = classify(pn, pe, psi[j], psi[o], dcpa < risk and tcpa > 0.0)
+                if role in GIVE_WAY_ROLES and tcpa < react:
+                    ref = world.course[j] + turn
+            e = wrap_pi(ref - psi[j])
+            sim.set_helm(rudder_order_rad=min(max(Kp * e - Kd * r[j], -limit), limit), k=j)
 
 
 def _case(text: str) -> int:
