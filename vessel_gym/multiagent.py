@@ -23,8 +23,11 @@ import functools
 from collections.abc import Mapping
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
 
 try:
     from pettingzoo import ParallelEnv
@@ -80,11 +83,10 @@ class ShipParallelEnv(ParallelEnv):
         return self._action_space
 
     def reset(self, seed: int | None = None, options: Mapping | None = None):
-        seeds: Any = SeedRange(seed, self.n) if seed is not None else [None] * self.n
         if self._rngs is None:
-            self._rngs = VesselGenerators(seeds)
-        else:
-            self._rngs.reseed(seeds)
+            self._rngs = VesselGenerators(SeedRange(seed, self.n) if seed is not None else [None] * self.n)
+        elif seed is not None:  # without a seed the ships' streams go on, as a Gymnasium environment's does
+            self._rngs.reseed(SeedRange(seed, self.n))
         task = self.task
         task.rngs = self._rngs
         known = getattr(task, "reset_options", ())
@@ -135,6 +137,73 @@ class ShipParallelEnv(ParallelEnv):
 
     def close(self) -> None:
         pass
+
+
+class SharedPolicyVectorEnv(gym.vector.VectorEnv):
+    """The agents of a :class:`ShipParallelEnv` as the sub-environments of one Gymnasium ``VectorEnv``, so that
+    one policy learns from every ship's experience (parameter sharing). Same-step autoreset, as
+    :class:`vessel_gym.sb3.VectorEnvAdapter` takes it::
+
+        from stable_baselines3 import PPO
+        from vessel_gym.sb3 import VectorEnvAdapter
+
+        penv = vessel_gym.parallel_env("vessel_gym/CollisionAvoidance-v0", agents=3)
+        PPO("MlpPolicy", VectorEnvAdapter(SharedPolicyVectorEnv(penv))).learn(1_000_000)
+
+    A ship whose episode ends reports it (``final_obs``, ``final_info``) and then, until every ship's episode
+    has ended and a new encounter starts for all, observes zeros with reward 0 ("black death", as
+    PettingZoo's SuperSuit does): those steps are in the training data. ``reset(seed=s)`` (an int or the
+    list of per-ship seeds of which the first counts) seeds ship k with s + k; later encounters continue the
+    ships' streams."""
+
+    def __init__(self, penv: ShipParallelEnv) -> None:
+        self.penv = penv
+        self.num_envs = penv.n
+        first = penv.possible_agents[0]
+        self.single_observation_space = penv.observation_space(first)
+        self.single_action_space = penv.action_space(first)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.metadata = {"autoreset_mode": AutoresetMode.SAME_STEP}
+        self.render_mode = None
+
+    def _stack(self, obs: Mapping[str, np.ndarray]) -> np.ndarray:
+        out = np.zeros((self.num_envs, *self.single_observation_space.shape), dtype=np.float32)
+        for a, o in obs.items():
+            out[self.penv._index[a]] = o
+        return out
+
+    def reset(self, *, seed: Any = None, options: dict | None = None):
+        if isinstance(seed, (list, tuple)):
+            seed = seed[0]
+        obs, _infos = self.penv.reset(seed=seed, options=options)
+        return self._stack(obs), {}
+
+    def step(self, actions: Any):
+        penv = self.penv
+        acts = {a: actions[penv._index[a]] for a in penv.agents}
+        obs, rew, term, trunc, infos = penv.step(acts)
+        n = self.num_envs
+        o = self._stack(obs)
+        r = np.zeros(n)
+        te = np.zeros(n, dtype=np.bool_)
+        tr = np.zeros(n, dtype=np.bool_)
+        final_info = np.full(n, None, dtype=object)
+        for a in obs:
+            k = penv._index[a]
+            r[k], te[k], tr[k], final_info[k] = rew[a], term[a], trunc[a], infos[a]
+        done = te | tr
+        info: dict[str, Any] = {}
+        if done.any():
+            final_obs = np.full(n, None, dtype=object)
+            for k in np.flatnonzero(done):
+                final_obs[k] = o[k].copy()
+                o[k] = 0.0  # a ship that has left observes zeros until the next encounter
+            info = {"final_obs": final_obs, "_final_obs": done, "final_info": final_info, "_final_info": done}
+        if not penv.agents:  # every ship's episode has ended: a new encounter for all
+            new, _ = penv.reset()
+            o = self._stack(new)
+        return o, r, te, tr, info
 
 
 def parallel_env(task_id: str, agents: int = 2, config: Any = None, **overrides: Any) -> ShipParallelEnv:

@@ -75,3 +75,26 @@ def test_velocity_obstacle_pilots_on_every_ship_pass_each_other():
         for a, info in infos.items():
             assert not info["collision"], a
     assert all(i["success"] for i in infos.values())
+
+
+def test_one_shared_policy_trains_with_sb3_on_every_ship():
+    """SB3's PPO learns on the ships of one parallel environment through SharedPolicyVectorEnv and the
+    project's VecEnv adapter: every ship's steps are in its rollout, episodes end with their final infos."""
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3 import PPO
+
+    from vessel_gym.multiagent import SharedPolicyVectorEnv
+    from vessel_gym.sb3 import VectorEnvAdapter
+
+    venv = VectorEnvAdapter(SharedPolicyVectorEnv(vessel_gym.parallel_env(ID, agents=2)))
+    venv.seed(0)
+    obs = venv.reset()
+    assert obs.shape == (2, venv.observation_space.shape[0])
+    ends = []
+    for _ in range(120):
+        obs, rewards, dones, infos = venv.step(np.zeros((2, 1), dtype=np.float32))
+        ends += [i for d, i in zip(dones, infos) if d]
+    assert ends and all("terminal_observation" in i and "collision" in i for i in ends)
+    model = PPO("MlpPolicy", venv, n_steps=32, batch_size=32, n_epochs=1, seed=0, device="cpu")
+    model.learn(64)
+    assert model.num_timesteps == 64
