@@ -10,7 +10,8 @@ task they are N independent ships of one batch.
 An agent whose episode ends (arrival, collision, straying) leaves ``agents`` and its ship leaves the encounter;
 all are truncated after ``max_cycles`` steps (default: the task's ``max_episode_steps``). ``state()`` is the
 observation of every possible agent in turn (zeros for one that has left), ``state_space`` its box.
-``reset(seed=s)`` seeds own ship k with ``s + k`` as the vector environments do. ``options``: the task's reset
+``reset(seed=s)`` seeds own ship k with ``s + k`` as the vector environments do; a reset without a seed
+continues the ships' streams. ``options``: the task's reset
 options (CollisionAvoidance: ``scenario``, ``heading_deg``); other keys are left to wrappers and not read.
 
 Needs the ``marl`` extra (pettingzoo).
