@@ -513,8 +513,16 @@ class CollisionAvoidanceTask(Task):
         return out
 
     def overlay(self, k: int) -> dict[str, Any]:
+        """The chart's extras: the route (from its start along its course), the encounter's name, the outcome
+        and the closest range so far (the targets themselves are not drawn yet)."""
         s = self.ts[k]
-        return {"goal": (float(s[S.n1]), float(s[S.e1]))}
+        return {
+            "original_course_rad": math.atan2(s[S.e1] - s[S.e0], s[S.n1] - s[S.n0]),
+            "origin_m": (float(s[S.n0]), float(s[S.e0])),
+            "title": self.world.names[self.world.world_of[k]],
+            "outcome": OUTCOMES[int(s[S.outcome])],
+            "clearance_m": float(s[S.min_sep]) if math.isfinite(s[S.min_sep]) else 0.0,
+        }
 
 
 def steer_targets(sim: Simulation, world: World, law: tuple) -> None:
