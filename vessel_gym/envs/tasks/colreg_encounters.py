@@ -28,7 +28,6 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     GIVE_WAY,
     HEAD_ON,
     OVERTAKING,
-    SITUATIONS,
     STAND_ON,
     classify,
     cpa,
@@ -169,8 +168,3 @@ def generate(
             raise ValueError(f"no {name} start found for DCPA {d:g} m, TCPA {t:g} s in {tries} draws")
     label = "+".join(situations)
     return Encounter(f"generated:{label}", U, tuple(targets), tuple(planned))
-
-
-def situation_name(code: int) -> str:
-    """The name of a situation index (``colreg_geometry.SITUATIONS``)."""
-    return SITUATIONS[code]
