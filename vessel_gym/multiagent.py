@@ -39,7 +39,7 @@ except ImportError as exc:  # pragma: no cover - the extra is installed in CI
 
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
 from vessel_gym.envs.registration import declaration, task_class
-from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP
+from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, vessel_info
 
 
 class ShipParallelEnv(ParallelEnv):
@@ -99,7 +99,7 @@ class ShipParallelEnv(ParallelEnv):
         self._steps = 0
         obs = task.observe()
         return {a: obs[k] for k, a in enumerate(self.possible_agents)}, {
-            a: task.info(k) for k, a in enumerate(self.possible_agents)
+            a: vessel_info(task, k) for k, a in enumerate(self.possible_agents)
         }
 
     def step(self, actions: Mapping[str, Any]):
@@ -125,7 +125,7 @@ class ShipParallelEnv(ParallelEnv):
             rewards[a] = float(task.reward[k])
             terms[a] = bool(task.terminated[k])
             truncs[a] = timeout and not terms[a]
-            infos[a] = task.info(k)
+            infos[a] = vessel_info(task, k)
             if terms[a] or truncs[a]:
                 self._live[k] = False
         self.agents = [a for a in live if self._live[self._index[a]]]

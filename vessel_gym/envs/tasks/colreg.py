@@ -19,11 +19,11 @@ from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.registration import register_task
-from vessel_gym.envs.task import Task, _uniform
-from vessel_gym.envs.tasks.colreg_columns import K_MAX, OUTCOMES, SPEC, P, S
+from vessel_gym.envs.task import Task, _uniform, task_arrays
+from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
 from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa
-from vessel_gym.envs.tasks.colreg_rules import CHECKS, R, new_record, pair_checks, reaction_delay
+from vessel_gym.envs.tasks.colreg_rules import R, new_record
 from vessel_gym.envs.tasks.colreg_situation import read_situation
 from vessel_gym.envs.tasks.colreg_step import colreg_update
 from vessel_gym.physics.schema import SpecError, param
@@ -118,6 +118,17 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
     reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")
 
 
+#: the record of the task's arrays (the step's ``t``): per own ship the task state, the COLREG scores, the
+#: encounter's name (an index into ``scenario_names``) and smallest planned DCPA; the pair records, the
+#: parameter row and the encounters
+CollisionAvoidanceArrays = task_arrays(
+    "CollisionAvoidanceArrays",
+    __name__,
+    vessel=("ts", "scores", "scenario_id", "planned_dcpa"),
+    shared=("pairs", "p", "world"),
+)
+
+
 class OwnShips:
     """The own ships of a simulation (its first ``n`` vessels) as the helm sees them: actions reach them only,
     and the targets keep the orders they started with (constant-velocity targets)."""
@@ -166,8 +177,6 @@ class World:
         self.reach = math.hypot(L, B)  # m: centres farther apart than this cannot touch
         self.slots_observed = observed
         self.course = np.zeros(n + worlds * targets)  # rad, each ship's course at the start
-        self.names = ["" for _ in range(worlds)]
-        self.planned_dcpa = np.zeros(worlds)
 
 
 def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
@@ -271,6 +280,7 @@ class CollisionAvoidanceTask(Task):
     Config = CollisionAvoidanceConfig
     spec = SPEC
     kernel = staticmethod(colreg_update)
+    Arrays = CollisionAvoidanceArrays
     reset_options = ("scenario", "heading_deg")  # what reset(options=...) reads
 
     def __init__(self, config: CollisionAvoidanceConfig, n: int) -> None:
@@ -286,6 +296,12 @@ class CollisionAvoidanceTask(Task):
         B = self.ship.particulars.B_m
         self.world = World(n, config.agents, config.max_targets, self.L, B, config.observed_targets)
         self.ts = np.zeros((n, len(S)))
+        self.scores = np.zeros((n, len(SC)))
+        self.scores[:, SC.score] = 1.0
+        self.scores[:, SC.delay] = -1.0
+        self.scenario_id = np.zeros(n, dtype=np.int64)
+        self.scenario_names: list[str] = [""]  # the encounters met so far, by scenario_id
+        self.planned_dcpa = np.zeros(n)
         self.pairs = np.zeros((n, config.agents + config.max_targets, len(R)))
         c = config
         p = np.zeros(len(P))
@@ -299,6 +315,10 @@ class CollisionAvoidanceTask(Task):
         p[P.action] = c.action_deg * DEG
         p[P.release] = c.release_range_L * self.L
         p[P.port_order] = 1.0 * DEG  # rad: a rudder order beyond this is to a side (reversals, colreg term)
+        p[P.early_fraction] = c.early_tcpa_fraction
+        p[P.substantial] = c.substantial_deg * DEG
+        p[P.stand_on_course] = c.stand_on_tolerance_deg * DEG
+        p[P.stand_on_speed] = c.stand_on_speed_fraction
         self.p = p
         T = self.L / self.U_T  # s
         # the reacting targets' heading law (PIDHeadingAutopilot's default gains): Kp, Kd (s), rudder limit,
@@ -330,26 +350,6 @@ class CollisionAvoidanceTask(Task):
         own = ("cross_track", "course_error", "goal_sin", "goal_cos", "goal_distance")
         slots = tuple(f"t{j}_{f}" for j in range(self.config.observed_targets) for f in _field_names())
         return self.motion_observed(rev=self.config.engine_control) + own + slots
-
-    def kernel_args(self) -> tuple:
-        sim = self.sim
-        return (
-            sim.state,
-            sim.inputs,
-            sim.env,
-            sim.alive,
-            self.ts,
-            self.world,
-            self.pairs,
-            self.p,
-            self.weights,
-            self.enc,
-            self.feat,
-            self.obs,
-            self.terms,
-            self.reward,
-            self.terminated,
-        )
 
     # --- the start of an encounter -------------------------------------------------------------------------
     def draw(self, name: str | None, rng: np.random.Generator) -> Encounter:
@@ -409,8 +409,10 @@ class CollisionAvoidanceTask(Task):
             raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, scenario)")
         enc = self.draw(scenario, rng)
         w = world.world_of[k]
-        world.names[w] = enc.name
-        world.planned_dcpa[w] = min((d for d, _t in enc.planned_cpa), default=math.inf)
+        if enc.name not in self.scenario_names:
+            self.scenario_names.append(enc.name)
+        name_id = self.scenario_names.index(enc.name)
+        planned = min((d for d, _t in enc.planned_cpa), default=math.inf)
         h = heading * DEG
         ch, sh = math.cos(h), math.sin(h)
         members = world.members[w]
@@ -441,6 +443,11 @@ class CollisionAvoidanceTask(Task):
                 s[S.min_sep] = math.inf
                 for row in self.pairs[j]:
                     new_record(row)
+                self.scenario_id[j] = name_id
+                self.planned_dcpa[j] = planned
+                self.scores[j] = 0.0
+                self.scores[j, SC.score] = 1.0
+                self.scores[j, SC.delay] = -1.0
         for slot in range(len(enc.targets) + 1, len(members)):  # empty slots: parked
             self.start(members[slot], enc.speed, 0.0, 0.0, 0.0)
 
@@ -455,63 +462,6 @@ class CollisionAvoidanceTask(Task):
         own = ks[ks < self.n]
         self.ts[own, S.prev_order] = self.sim.rudder_order[own]
 
-    # --- info -------------------------------------------------------------------------------------------
-    def info(self, k: int) -> dict[str, Any]:
-        c = self.config
-        s = self.ts[k]
-        passed = dict.fromkeys(CHECKS, 0)
-        applied = dict.fromkeys(CHECKS, 0)
-        violations = 0
-        args = (
-            c.early_tcpa_fraction,
-            c.substantial_deg * DEG,
-            c.stand_on_tolerance_deg * DEG,
-            c.stand_on_speed_fraction,
-        )
-        delays = []
-        for row in self.pairs[k]:
-            if row[R.situation] != 0 and math.isfinite(row[R.t_action]):
-                delays.append(reaction_delay(row))
-            checks = pair_checks(row, *args)
-            for name, ok in checks.items():
-                applied[name] += 1
-                passed[name] += int(ok)
-            violations += int(not all(checks.values()))
-        n_checks = sum(applied.values())
-        outcome = OUTCOMES[int(s[S.outcome])]
-        min_sep = float(s[S.min_sep])
-        return {
-            "reward_terms": self.terms_dict(self.terms[k].tolist()),
-            "scenario": self.world.names[self.world.world_of[k]],
-            "outcome": outcome,
-            "success": outcome == "arrived",
-            "is_success": outcome == "arrived",
-            "collision": outcome == "collision",
-            "time_s": float(s[S.t]),
-            "min_separation_m": min_sep,
-            "min_separation_L": min_sep / self.L,
-            "planned_dcpa_m": float(self.world.planned_dcpa[self.world.world_of[k]]),
-            "path_ratio": float(s[S.path] / s[S.straight]) if s[S.straight] > 0 else 0.0,
-            "rudder_reversals": int(s[S.reversals]),
-            "colreg_score": sum(passed.values()) / n_checks if n_checks else 1.0,
-            "colreg_checks": n_checks,
-            "colreg_violations": violations,
-            "reaction_delay_s": sum(delays) / len(delays) if delays else -1.0,
-            "colreg_passed": passed,
-            "colreg_applied": applied,
-            "diverged": not self.sim.alive.item(k),
-        }
-
-    def batch_info(self) -> dict[str, Any]:
-        infos = [self.info(k) for k in range(self.n)]
-        out: dict[str, Any] = {}
-        for key, v in infos[0].items():
-            if isinstance(v, dict):
-                out[key] = {t: np.array([i[key][t] for i in infos]) for t in v}
-            else:
-                out[key] = np.array([i[key] for i in infos], dtype=object if isinstance(v, str) else None)
-        return out
-
     def overlay(self, k: int) -> dict[str, Any]:
         """The chart's extras: the route (from its start along its course), the encounter's name, the outcome
         and the closest range so far (the targets themselves are not drawn yet)."""
@@ -519,7 +469,7 @@ class CollisionAvoidanceTask(Task):
         return {
             "original_course_rad": math.atan2(s[S.e1] - s[S.e0], s[S.n1] - s[S.n0]),
             "origin_m": (float(s[S.n0]), float(s[S.e0])),
-            "title": self.world.names[self.world.world_of[k]],
+            "title": self.scenario_names[int(self.scenario_id[k])],
             "outcome": OUTCOMES[int(s[S.outcome])],
             "clearance_m": float(s[S.min_sep]) if math.isfinite(s[S.min_sep]) else 0.0,
         }

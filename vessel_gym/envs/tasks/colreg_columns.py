@@ -3,7 +3,7 @@ the task state, the parameter row and the target-list slots, which the task and 
 
 from __future__ import annotations
 
-from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.declare import FeatureSpec, Info, Term, as_int, columns, pick
 from vessel_gym.envs.tasks.common import RUDDER_ACTIVITY_DOC, task_spec
 
 #: target-list slots declared (the config observes the first ``observed_targets`` of them)
@@ -32,6 +32,59 @@ _FIELDS = (
 TARGET_FIELDS = columns(*(f[0] for f in _FIELDS), typename="TargetFields")
 SLOT = len(_FIELDS)  # feature columns per slot
 
+#: the rule checks (colreg_rules.CHECKS is this tuple)
+CHECKS = ("early", "substantial", "starboard", "not_ahead", "stand_on", "no_port")
+#: a vessel's COLREG scores so far, written by the step from its pair records (the task's ``scores``)
+SC = columns(
+    *(f"passed_{c}" for c in CHECKS),
+    *(f"applied_{c}" for c in CHECKS),
+    "checks",  # checks that apply
+    "violations",  # pairs with a failed check
+    "score",  # passed / applied (1 with none)
+    "delay",  # s, mean reaction delay over the pairs acted for (-1 before any)
+    typename="ColregScores",
+)
+OUTCOMES = ("running", "arrived", "collision", "strayed", "diverged")
+_ARRIVED, _COLLISION, _DIVERGED = (OUTCOMES.index(o) for o in ("arrived", "collision", "diverged"))
+
+
+def _checks(prefix: str):  # an info entry's value: a count per check
+    return lambda v: {c: as_int(v.scores[getattr(SC, f"{prefix}_{c}")]) for c in CHECKS}
+
+
+#: the info entries (their values read the task state ``ts``, the ``scores``, ``scenario_id`` and
+#: ``planned_dcpa``: the columns S below, read when an info is made)
+INFO = (
+    Info(
+        "scenario",
+        lambda v: pick(v.task.scenario_names, as_int(v.scenario_id)),
+        "the encounter: imazu:<case>, generated:<types>, file:<title>",
+    ),
+    Info(
+        "outcome", lambda v: pick(OUTCOMES, as_int(v.ts[S.outcome])), "running / " + " / ".join(OUTCOMES[1:])
+    ),
+    Info("success", lambda v: v.ts[S.outcome] == _ARRIVED, "arrived at the goal"),
+    Info("is_success", same_as="success", doc="success, as Stable-Baselines3 logs it"),
+    Info("collision", lambda v: v.ts[S.outcome] == _COLLISION, "the hull outlines touched"),
+    Info("time_s", lambda v: v.ts[S.t], "time since the start, s"),
+    Info("min_separation_m", lambda v: v.ts[S.min_sep], "closest centre-to-centre range so far, m"),
+    Info("min_separation_L", lambda v: v.ts[S.min_sep] / v.task.L, "the same in own ship lengths"),
+    Info("planned_dcpa_m", lambda v: v.planned_dcpa, "smallest planned DCPA of the encounter, m"),
+    Info("path_ratio", lambda v: v.ts[S.path] / v.ts[S.straight], "path sailed / route length"),
+    Info(
+        "rudder_reversals", lambda v: as_int(v.ts[S.reversals]), "port-starboard changes of the rudder order"
+    ),
+    Info("colreg_score", lambda v: v.scores[SC.score], "passed / applied rule checks (1 while none applies)"),
+    Info("colreg_checks", lambda v: as_int(v.scores[SC.checks]), "rule checks that apply"),
+    Info("colreg_violations", lambda v: as_int(v.scores[SC.violations]), "pairs with a failed check"),
+    Info(
+        "reaction_delay_s", lambda v: v.scores[SC.delay], "mean detection-to-alteration delay, s (-1: none)"
+    ),
+    Info("colreg_passed", _checks("passed"), "per check: pairs passing it"),
+    Info("colreg_applied", _checks("applied"), "per check: pairs it applies to"),
+    Info("diverged", lambda v: v.ts[S.outcome] == _DIVERGED, "the simulation diverged"),
+)
+
 SPEC = task_spec(
     "CollisionAvoidance",
     terms=(
@@ -57,6 +110,7 @@ SPEC = task_spec(
             for name, unit, scale, doc in _FIELDS
         ),
     ),
+    info=INFO,
 )
 TERM, FEAT = SPEC.TERM, SPEC.FEAT
 
@@ -91,6 +145,9 @@ P = columns(
     "action",
     "release",
     "port_order",
+    "early_fraction",  # rule checks (colreg_rules.pair_checks): early_tcpa_fraction
+    "substantial",  # rad
+    "stand_on_course",  # rad
+    "stand_on_speed",  # fraction
     typename="CollisionAvoidanceParams",
 )
-OUTCOMES = ("running", "arrived", "collision", "strayed", "diverged")

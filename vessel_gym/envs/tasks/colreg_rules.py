@@ -28,6 +28,7 @@ import numpy as np
 
 from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.declare import columns
+from vessel_gym.envs.tasks.colreg_columns import CHECKS, SC, P
 from vessel_gym.envs.tasks.colreg_geometry import (
     GIVE_WAY,
     GIVE_WAY_ROLES,
@@ -56,8 +57,6 @@ R = columns(
     "released",  # 1 once the range has fallen below the release range (or the CPA has passed)
     typename="PairRecord",
 )
-#: the rule checks, in the order of the docs and of info["colreg_passed"] / info["colreg_applied"]
-CHECKS = ("early", "substantial", "starboard", "not_ahead", "stand_on", "no_port")
 
 
 def new_record(row: np.ndarray) -> None:
@@ -146,3 +145,24 @@ def pair_checks(
 def reaction_delay(row: np.ndarray) -> float:
     """Seconds from detection to the first alteration (NaN without either)."""
     return float(row[R.t_action] - row[R.t_detect])
+
+
+def score_row(pairs: np.ndarray, out: np.ndarray, p: np.ndarray) -> None:
+    """A vessel's COLREG scores so far (``out``, columns :data:`~.colreg_columns.SC`) from its pair records
+    ``pairs`` (one row per slot of its encounter), the rule thresholds in the parameter row ``p``."""
+    out[:] = 0.0
+    delays = []
+    for row in pairs:
+        if row[R.situation] != SAFE and not math.isnan(row[R.t_action]):
+            delays.append(reaction_delay(row))
+        checks = pair_checks(
+            row, p[P.early_fraction], p[P.substantial], p[P.stand_on_course], p[P.stand_on_speed]
+        )
+        for name, ok in checks.items():
+            out[getattr(SC, f"applied_{name}")] += 1.0
+            out[getattr(SC, f"passed_{name}")] += float(ok)
+        out[SC.violations] += float(not all(checks.values()))
+    out[SC.checks] = sum(out[getattr(SC, f"applied_{c}")] for c in CHECKS)
+    passed = sum(out[getattr(SC, f"passed_{c}")] for c in CHECKS)
+    out[SC.score] = passed / out[SC.checks] if out[SC.checks] else 1.0
+    out[SC.delay] = sum(delays) / len(delays) if delays else -1.0

@@ -26,7 +26,7 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     place,
     relative_bearing,
 )
-from vessel_gym.envs.tasks.colreg_rules import R, detect, track
+from vessel_gym.envs.tasks.colreg_rules import R, detect, score_row, track
 from vessel_gym.envs.tasks.common import (
     clear_row,
     encode_row,
@@ -67,19 +67,23 @@ def _ship(x, env, j):
     return n, e, psi, vn, ve
 
 
-def colreg_update(phase, x, inp, env, alive, ts, world, pairs, p, w, enc, feat, obs, terms, reward, done):
+def colreg_update(phase, v, t):
     """The step of every own ship k with ``phase[k]`` 1 (stepped) or 2 (just reset: features only).
 
-    ``world``: the encounter record (:class:`~vessel_gym.envs.tasks.colreg.World`: which vessels share an
-    encounter, which are in it, their outlines); ``pairs[k, s]``: own ship k's COLREG record of the ship in
-    slot s of its encounter (:data:`~vessel_gym.envs.tasks.colreg_rules.R`).
+    ``v``: the framework's record of the vessels; ``t``: the task's (``CollisionAvoidanceArrays``): the task
+    state ``ts``, the COLREG ``scores``, ``pairs[k, s]`` own ship k's record of the ship in slot s of its
+    encounter (:data:`~vessel_gym.envs.tasks.colreg_rules.R`), the parameter row ``p`` and the ``world``
+    (:class:`~vessel_gym.envs.tasks.colreg.World`: which vessels share an encounter, which are in it, their
+    outline).
     """
+    x, env, alive, feat, terms = v.x, v.env, v.alive, v.feat, v.terms
+    ts, pairs, p, world = t.ts, t.pairs, t.p, t.world
     leaving = []
     for k in range(ts.shape[0]):
         if phase[k] == 0:
             continue
         stepped = phase[k] == PHASE_STEP
-        u, v, r, psi, n, e, rudder, order, rev, _rev_order = motion(x, inp, k)
+        u, vv, r, psi, n, e, rudder, order, rev, _rev_order = motion(v, k)
         s = ts[k]
         clear_row(terms, k)
         feat[k, :] = 0.0
@@ -95,7 +99,7 @@ def colreg_update(phase, x, inp, env, alive, ts, world, pairs, p, w, enc, feat, 
         gn, ge = s[S.n1] - n, s[S.e1] - e
         goal = math.hypot(gn, ge)
         goal_brg = relative_bearing(gn, ge, psi)
-        U = math.hypot(u, v)
+        U = math.hypot(u, vv)
         # the other ships of the encounter
         w_slot = world.slot_of[k]
         own_outline = place(world.outline, n, e, psi)
@@ -175,16 +179,17 @@ def colreg_update(phase, x, inp, env, alive, ts, world, pairs, p, w, enc, feat, 
                 leaving.append(k)
         if math.isfinite(closest):
             s[S.min_sep] = min(s[S.min_sep], closest)
-        done[k] = outcome != 0
-        finish(terms, k, w, reward)
+        v.done[k] = outcome != 0
+        finish(v, k)
         s[S.prev_order] = order
         s[S.prev_goal] = goal
-        motion_features(feat[k], u, v, r, rudder, order, rev)
+        motion_features(feat[k], u, vv, r, rudder, order, rev)
         feat[k, FEAT.cross_track] = cross
         feat[k, FEAT.course_error] = wrap_pi(alpha - psi)
         feat[k, FEAT.goal_sin] = math.sin(goal_brg)
         feat[k, FEAT.goal_cos] = math.cos(goal_brg)
         feat[k, FEAT.goal_distance] = goal
-        encode_row(feat, k, enc, obs)
+        encode_row(v, k)
+        score_row(pairs[k], t.scores[k], p)
     for k in leaving:  # a ship whose episode ended leaves the encounter (after every ship has seen it)
         world.active[k] = False
