@@ -85,7 +85,7 @@ def summary(eps: list[dict[str, Any]]) -> dict[str, Any]:
 
 def _rate(s: dict[str, Any], key: str) -> str:
     lo, hi = s[f"{key}_ci"]
-    return f"{100 * s[key]:.0f} [{100 * lo:.0f}, {100 * hi:.0f}]"
+    return f"{100 * s[key]:.1f} [{100 * lo:.1f}, {100 * hi:.1f}]"
 
 
 def table(results: dict[str, dict[str, dict[str, Any]]]) -> str:

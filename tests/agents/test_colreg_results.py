@@ -37,5 +37,5 @@ def test_one_case_writes_the_block_of_the_page(tmp_path):
     assert colreg_results.main(["--episodes", "1", "--cases", "1", "--write", str(page)]) == 0
     text = page.read_text()
     assert "old" not in text and text.endswith(f"{colreg_results.END}\ntail\n")
-    assert "| 1 | `scripted` | 0 [0, 79] | 100 [21, 100] |" in text
-    assert "| 1 | `pid` | 100 [21, 100] | 0 [0, 79] |" in text
+    assert "| 1 | `scripted` | 0.0 [0.0, 79.3] | 100.0 [20.7, 100.0] |" in text
+    assert "| 1 | `pid` | 100.0 [20.7, 100.0] | 0.0 [0.0, 79.3] |" in text
