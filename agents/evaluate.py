@@ -123,8 +123,9 @@ def contract(result: dict[str, Any], files: dict[str, str] | None = None) -> dic
     for key, src in CONTRACT:
         if src in s:
             out[key] = s[src]
-    if "success_rate" in s:
-        out["success_rate"] = s["success_rate"]
+    for rate in ("success_rate", "collision_rate"):
+        if rate in s:
+            out[rate] = s[rate]
     for k, v in s.items():
         if k.endswith("_mean") and f"mean_{k[:-5]}" not in out:
             out[f"mean_{k[:-5]}"] = v

@@ -127,16 +127,20 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
     return out
 
 
+#: the per-episode outcomes (0/1) summarised as rates ``<name>_rate``
+RATES = ("success", "collision")
+
+
 def summarize(episodes: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
-    """Mean and standard deviation over episodes of every numeric metric (NaN-aware; ``success`` as a rate,
-    ``outcome`` as counts)."""
+    """Mean and standard deviation over episodes of every numeric metric (NaN-aware; ``success`` and
+    ``collision`` as rates, ``outcome`` as counts)."""
     out: dict[str, Any] = {"episodes": len(episodes)}
     keys = [k for k in episodes[0] if k not in ("seed", "outcome")]
     for k in keys:
         x = np.array([float(e[k]) for e in episodes], dtype=np.float64)
         finite = x[np.isfinite(x)]
-        if k == "success":
-            out["success_rate"] = float(np.mean(x))
+        if k in RATES:  # an outcome per episode (0/1): its rate
+            out[f"{k}_rate"] = float(np.mean(x))
             continue
         out[f"{k}_mean"] = float(np.mean(finite)) if finite.size else None
         out[f"{k}_std"] = float(np.std(finite)) if finite.size else None

@@ -21,6 +21,9 @@ Environments
 Link
     :class:`UdpLink` and :class:`LinkConfig` (NMEA 0183 and JSON over UDP, ``docs/protocol.md``),
     :class:`UdpLinkWrapper` (an environment on the link) and :func:`serve` (a scenario in real time).
+Many ships learning together
+    :func:`parallel_env` (a task's own ships as the agents of a PettingZoo ``ParallelEnv``; the ``marl``
+    extra).
 
 The command line is ``vessel-gym`` (:mod:`vessel_gym.cli`); the agents' training and evaluation are the
 ``agents`` package, installed alongside (``vessel-gym train``, ``vessel-gym evaluate``).
@@ -58,6 +61,7 @@ _HOMES = {
     "LinkConfig": "vessel_gym.net.link_config",
     "UdpLinkWrapper": "vessel_gym.net.wrapper",
     "serve": "vessel_gym.net.serve",
+    "parallel_env": "vessel_gym.multiagent",
 }
 
 __all__ = [
@@ -84,6 +88,7 @@ __all__ = [
     "LinkConfig",
     "UdpLinkWrapper",
     "serve",
+    "parallel_env",
 ]
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
@@ -96,6 +101,7 @@ if TYPE_CHECKING:  # what the lazy names are, for type checkers and editors
         turning_circle,
         zigzag,
     )
+    from vessel_gym.multiagent import parallel_env
     from vessel_gym.net.link import UdpLink
     from vessel_gym.net.link_config import LinkConfig
     from vessel_gym.net.serve import serve

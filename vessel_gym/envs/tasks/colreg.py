@@ -1,0 +1,515 @@
+"""CollisionAvoidance: an own ship with the full ship dynamics follows a route to its goal among target ships
+simulated in the same batch, the COLREG rules scored per encounter (docs/colreg.md).
+
+Beside this file: the declaration and its columns (``colreg_columns.py``), the step (``colreg_step.py``),
+the encounter geometry (``colreg_geometry.py``), the Imazu cases and the generator (``colreg_encounters.py``),
+the rule checks (``colreg_rules.py``) and the baselines (``colreg_pilots.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from vessel_gym.control.angles import wrap_pi
+from vessel_gym.envs.config import ShipEnvConfig
+from vessel_gym.envs.helm import make_helm
+from vessel_gym.envs.registration import register_task
+from vessel_gym.envs.task import Task, _uniform, task_arrays
+from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SPEC, P, S
+from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
+from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa
+from vessel_gym.envs.tasks.colreg_rules import R, new_record
+from vessel_gym.envs.tasks.colreg_situation import read_situation
+from vessel_gym.envs.tasks.colreg_step import colreg_update
+from vessel_gym.physics.schema import SpecError, param
+from vessel_gym.physics.simulation import Simulation
+from vessel_gym.physics.units import DEG
+from vessel_gym.scenarios.geometry import hull_outline
+
+CollisionAvoidanceReward = SPEC.weights_class(
+    "CollisionAvoidanceReward", __name__, "CollisionAvoidance reward weights."
+)
+
+
+@dataclass(frozen=True, kw_only=True)
+class CollisionAvoidanceConfig(ShipEnvConfig):
+    """CollisionAvoidance configuration (see :class:`CollisionAvoidanceTask`)."""
+
+    ship: str | None = param("kvlcc2_full", doc="built-in ship name or ship file path (own ship and targets)")
+    control_interval_s: float = param(
+        10.0, unit="s", lo=1e-4, hi=60.0, doc="time between actions; hull contact is tested at each"
+    )
+    encounters: str = param(
+        "imazu",
+        choices=("imazu", "generated", "mixed"),
+        doc="what a reset draws: an Imazu case, a generated encounter, or either (half each)",
+    )
+    initial_heading_deg: tuple[float, ...] = param(
+        (0.0, 360.0),
+        unit="deg",
+        lo=-360.0,
+        hi=360.0,
+        doc="[min, max] own ship's heading (the encounter turns with it)",
+    )
+    max_targets: int = param(3, unit="-", lo=1, hi=8, doc="target ships simulated per encounter")
+    observed_targets: int = param(3, unit="-", lo=1, hi=K_MAX, doc="target-list slots observed (K)")
+    tcpa_L: float = param(
+        25.0,
+        unit="L",
+        lo=5.0,
+        hi=200.0,
+        doc="own ship's run to the meeting point, ship lengths at test speed",
+    )
+    imazu_heading_jitter_deg: float = param(3.0, unit="deg", lo=0.0, hi=30.0, doc="Imazu targets' heading +-")
+    imazu_speed_jitter: float = param(0.05, unit="-", lo=0.0, hi=0.5, doc="Imazu targets' speed +- fraction")
+    generated_targets: tuple[int, ...] = param(
+        (1, 3), unit="-", lo=1, hi=8, doc="[min, max] generated targets"
+    )
+    generated_dcpa_L: tuple[float, ...] = param(
+        (0.0, 1.0), unit="L", lo=0.0, hi=50.0, doc="[min, max] planned DCPA of a generated target"
+    )
+    generated_tcpa_fraction: tuple[float, ...] = param(
+        (0.8, 1.2),
+        unit="-",
+        lo=0.1,
+        hi=5.0,
+        doc="[min, max] planned TCPA of a generated target / tcpa_L's time",
+    )
+    detection_range_L: float = param(
+        60.0, unit="L", lo=1.0, hi=1000.0, doc="targets are seen within this range"
+    )
+    risk_dcpa_L: float = param(3.0, unit="L", lo=0.1, hi=50.0, doc="DCPA below which a target is a risk")
+    max_cross_track_L: float = param(15.0, unit="L", lo=1.0, hi=1000.0, doc="cross-track error that ends it")
+    goal_radius_L: float = param(2.0, unit="L", lo=0.1, hi=100.0, doc="arrival: within this of the goal")
+    action_deg: float = param(
+        5.0, unit="deg", lo=0.5, hi=90.0, doc="course alteration that counts as an action"
+    )
+    substantial_deg: float = param(
+        30.0, unit="deg", lo=1.0, hi=180.0, doc="rule 8(b): a substantial alteration"
+    )
+    early_tcpa_fraction: float = param(
+        0.5, unit="-", lo=0.0, hi=1.0, doc="rule 8/16: early = acting with TCPA >= this x TCPA at detection"
+    )
+    release_range_L: float = param(
+        4.0, unit="L", lo=0.0, hi=100.0, doc="rule 17: a stand-on ship may act once the range is below this"
+    )
+    stand_on_tolerance_deg: float = param(
+        10.0, unit="deg", lo=0.0, hi=90.0, doc="rule 17: course kept within"
+    )
+    stand_on_speed_fraction: float = param(0.1, unit="-", lo=0.0, hi=1.0, doc="rule 17: speed kept within")
+    agents: int = param(
+        1,
+        unit="-",
+        lo=1,
+        hi=8,
+        doc="own ships per encounter (the multi-agent env's agents; Gymnasium envs: 1)",
+    )
+    targets_react: bool = param(
+        False,
+        doc="targets keep the rules too: a target that must give way to an own ship turns target_turn_deg to "
+        "starboard once its TCPA is below half the meeting time, and resumes its course past the CPA",
+    )
+    target_turn_deg: float = param(35.0, unit="deg", lo=5.0, hi=90.0, doc="a reacting target's alteration")
+    reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")
+
+
+#: the record of the task's arrays (the step's ``t``): per own ship the task state, the COLREG scores, the
+#: encounter's name (an index into ``scenario_names``) and smallest planned DCPA; the pair records, the
+#: parameter row and the encounters
+CollisionAvoidanceArrays = task_arrays(
+    "CollisionAvoidanceArrays",
+    __name__,
+    vessel=("ts", "scores", "scenario_id", "planned_dcpa"),
+    shared=("pairs", "p", "world"),
+)
+
+
+class OwnShips:
+    """The own ships of a simulation (its first ``n`` vessels) as the helm sees them: actions reach them only,
+    and the targets keep the orders they started with (constant-velocity targets)."""
+
+    def __init__(self, sim: Simulation, n: int) -> None:
+        self.sim_ = sim
+        self.n = n
+        self.ships = sim.ships
+        self.ship_index = sim.ship_index[:n]
+
+    def ship(self, k: int = 0) -> Any:
+        return self.sim_.ship(k)
+
+    def telegraph_rev(self, telegraph: Any, k: int | None = None) -> np.ndarray:
+        return (
+            self.sim_.telegraph_rev(telegraph)[: self.n]
+            if k is None
+            else self.sim_.telegraph_rev(telegraph, k)
+        )
+
+    def set_helm(self, rudder_order_rad: Any = None, rev_order: Any = None, k: Any = None) -> None:
+        self.sim_.set_helm(rudder_order_rad, rev_order, k=slice(0, self.n) if k is None else k)
+
+
+class World:
+    """Which vessels of the simulation share an encounter and which are in it now.
+
+    Own ship k (vessel k) is in encounter ``world_of[k]`` at slot ``slot_of[k]``; encounter w's vessels by slot
+    are ``members[w]``: its ``agents`` own ships, then its ``max_targets`` target slots (vessels after the own
+    ships). ``active[j]``: vessel j takes part (a target slot an encounter leaves empty, or a ship whose episode
+    ended, does not)."""
+
+    def __init__(self, n: int, agents: int, targets: int, L: float, B: float, observed: int) -> None:
+        worlds = n // agents
+        self.agents = agents
+        self.targets = targets
+        self.members = [
+            [w * agents + s for s in range(agents)] + [n + w * targets + j for j in range(targets)]
+            for w in range(worlds)
+        ]
+        self.world_of = [k // agents for k in range(n)]
+        self.slot_of = [k % agents for k in range(n)]
+        self.active = np.zeros(n + worlds * targets, dtype=np.bool_)
+        self.outline = hull_outline(L, B)
+        self.length = L
+        self.reach = math.hypot(L, B)  # m: centres farther apart than this cannot touch
+        self.slots_observed = observed
+        self.course = np.zeros(n + worlds * targets)  # rad, each ship's course at the start
+
+
+def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
+    """An episode's outcome and COLREG scores from its last ``info``: success and collision (0/1), the
+    closest range (m, ship lengths), path ratio, rudder reversals, the COLREG score, whether a pair violated
+    a rule, the mean reaction delay (s; NaN without an alteration) and each check's pass fraction (NaN where
+    it never applied)."""
+    last = infos[-1]
+    out: dict[str, Any] = {
+        "success": float(last["success"]),
+        "collision": float(last["collision"]),
+        "min_separation_m": last["min_separation_m"],
+        "min_separation_L": last["min_separation_L"],
+        "path_ratio": last["path_ratio"],
+        "rudder_reversals": last["rudder_reversals"],
+        "colreg_score": last["colreg_score"] if last["colreg_checks"] else math.nan,
+        "colreg_violation": float(last["colreg_violations"] > 0),
+        "reaction_delay_s": last["reaction_delay_s"] if last["reaction_delay_s"] >= 0.0 else math.nan,
+    }
+    for c in CHECKS:
+        n = last["colreg_applied"][c]
+        out[f"{c}_ok"] = last["colreg_passed"][c] / n if n else math.nan
+    return out
+
+
+def route_pilot(env: Any) -> Any:
+    from vessel_gym.envs.tasks.colreg_pilots import RouteFollower
+
+    return RouteFollower(env)
+
+
+def vo_pilot(env: Any) -> Any:
+    from vessel_gym.envs.tasks.colreg_pilots import VelocityObstaclePilot
+
+    return VelocityObstaclePilot(env)
+
+
+def vo_nomoto_pilot(env: Any) -> Any:
+    from vessel_gym.envs.tasks.colreg_pilots import VelocityObstaclePilot
+    from vessel_gym.policy import nomoto_pid_kwargs
+
+    return VelocityObstaclePilot(env, **nomoto_pid_kwargs(env))
+
+
+@register_task(
+    presets={"CollisionAvoidance-v0": {}},
+    max_episode_steps=400,
+    pilots={"pid": vo_pilot, "pid-nomoto": vo_nomoto_pilot, "scripted": route_pilot},
+    metrics=episode_metrics,
+    train={"common": {"n_timesteps": 1_000_000, "n_envs": 16}},
+)
+class CollisionAvoidanceTask(Task):
+    """CollisionAvoidance: follow a route to the goal among target ships, keeping the COLREGs.
+
+    The own ship (the full ship dynamics of ``ship``) starts at its test speed on its route, a straight leg
+    of 2 ``tcpa_L`` ship lengths; the targets (the same ship, simulated in the same batch, keeping course and
+    speed) are those of an Imazu case or of the generator (``encounters``; docs/colreg.md). Observation: the
+    own ship's motion, route and goal, then a list of the K = ``observed_targets`` most dangerous targets
+    (smallest DCPA + range / 10), each with a validity flag, in the own ship's body frame (bearings clockwise
+    from the bow). Contact of the hull outlines (pointed-bow rectangles of L x B) ends the episode as a
+    collision. Every target's situation is classified when it is detected as a risk and the own ship's
+    conduct scored by rules 8 and 13-17 (``info["colreg_*"]``).
+
+    ## Action Space
+
+    The helm (``action_type``, ``engine_control``): rudder order as a fraction of the rudder limit.
+
+    ## Rewards
+
+    | Term | Default weight | Value per step |
+    |------|----------------|----------------|
+    | progress | 1.0 | (decrease of the distance to the goal) / (U_T x control interval) |
+    | cross_track | 0.05 | -min(abs(cross-track error) / (max_cross_track_L L), 1) |
+    | danger | 1.0 | -max(0, 1 - closest range / (risk_dcpa_L L)) |
+    | colreg | 0.5 | -1 while the rudder order is to port with a head-on or give-way target closing |
+    | rudder | 0.05 | -abs(change of rudder order) / (2 x rudder limit) |
+    | collision | 20.0 | -1 at contact of the hull outlines |
+    | arrival | 10.0 | +1 on reaching the goal |
+
+    ## Episode End
+
+    * Termination: arrival (within ``goal_radius_L`` of the goal or abeam of it), collision, straying
+      beyond ``max_cross_track_L`` from the route, divergence.
+    * Truncation: 400 steps (4000 s at the default 10 s control interval, twice the route at test speed).
+
+    ## Info
+
+    ``reward_terms``, ``scenario``, ``outcome``, ``success``, ``is_success``, ``collision``, ``time_s``,
+    ``min_separation_m``, ``min_separation_L``, ``planned_dcpa_m`` (smallest planned DCPA of the encounter),
+    ``path_ratio``, ``rudder_reversals``, ``colreg_score``, ``colreg_checks``, ``colreg_violations``,
+    ``reaction_delay_s`` (mean over the pairs acted for, from detection to the first alteration; -1 before any),
+    ``colreg_passed`` and ``colreg_applied`` (per check), ``diverged``.
+
+    ## Arguments
+
+    ``reset(options={"scenario": "imazu:12" | "imazu" | "generated" | "generated:head_on+give_way" |
+    "file:situation.json", "heading_deg": h})`` pins the encounter (``file:``: a maritime-schema traffic
+    situation, ``colreg_situation``) and the own ship's heading.
+    """
+
+    Config = CollisionAvoidanceConfig
+    spec = SPEC
+    kernel = staticmethod(colreg_update)
+    Arrays = CollisionAvoidanceArrays
+    reset_options = ("scenario", "heading_deg")  # what reset(options=...) reads
+
+    def __init__(self, config: CollisionAvoidanceConfig, n: int) -> None:
+        if n % config.agents:
+            raise SpecError(
+                f"CollisionAvoidance: {n} own ships do not make encounters of agents = {config.agents}"
+            )
+        super().__init__(config, n)
+        worlds = n // config.agents
+        # the own ships, then every encounter's target slots, in one batch
+        self.sim = Simulation(self.ship, n=n + worlds * config.max_targets, dt=self.dt, method=config.method)
+        self.helm = make_helm(config, OwnShips(self.sim, n))
+        B = self.ship.particulars.B_m
+        self.world = World(n, config.agents, config.max_targets, self.L, B, config.observed_targets)
+        self.ts = np.zeros((n, len(S)))
+        self.scores = np.zeros((n, len(SC)))
+        self.scores[:, SC.score] = 1.0
+        self.scores[:, SC.delay] = -1.0
+        self.scenario_id = np.zeros(n, dtype=np.int64)
+        self.scenario_names: list[str] = [""]  # the encounters met so far, by scenario_id
+        self.planned_dcpa = np.zeros(n)
+        self.pairs = np.zeros((n, config.agents + config.max_targets, len(R)))
+        c = config
+        p = np.zeros(len(P))
+        p[P.dt] = c.control_interval_s
+        p[P.U_T] = self.U_T
+        p[P.rudder_limit] = float(getattr(self.helm, "rudder_limit_rad", np.array([self.delta_max]))[0])
+        p[P.max_cross] = c.max_cross_track_L * self.L
+        p[P.goal_radius] = c.goal_radius_L * self.L
+        p[P.risk] = c.risk_dcpa_L * self.L
+        p[P.detection] = c.detection_range_L * self.L
+        p[P.action] = c.action_deg * DEG
+        p[P.release] = c.release_range_L * self.L
+        p[P.port_order] = 1.0 * DEG  # rad: a rudder order beyond this is to a side (reversals, colreg term)
+        p[P.early_fraction] = c.early_tcpa_fraction
+        p[P.substantial] = c.substantial_deg * DEG
+        p[P.stand_on_course] = c.stand_on_tolerance_deg * DEG
+        p[P.stand_on_speed] = c.stand_on_speed_fraction
+        self.p = p
+        T = self.L / self.U_T  # s
+        # the reacting targets' heading law (PIDHeadingAutopilot's default gains): Kp, Kd (s), rudder limit,
+        # alteration (rad), TCPA (s) below which a give-way target acts, risk distance (m)
+        self.target_law = (
+            1.5,
+            1.0 * T,
+            self.delta_max,
+            c.target_turn_deg * DEG,
+            0.5 * c.tcpa_L * T,
+            p[P.risk],
+        )
+
+    # --- declaration hooks ---------------------------------------------------------------------------------
+    def scales(self) -> dict[str, float]:
+        c = self.config
+        out = super().scales()
+        out.update(
+            {
+                "detection range": c.detection_range_L * self.L,
+                "tcpa scale": c.tcpa_L * self.L / self.U_T,
+                "route length": 2.0 * c.tcpa_L * self.L,
+                "max cross track": c.max_cross_track_L * self.L,
+            }
+        )
+        return out
+
+    def observed(self) -> tuple[str, ...]:
+        own = ("cross_track", "course_error", "goal_sin", "goal_cos", "goal_distance")
+        slots = tuple(f"t{j}_{f}" for j in range(self.config.observed_targets) for f in _field_names())
+        return self.motion_observed(rev=self.config.engine_control) + own + slots
+
+    # --- the start of an encounter -------------------------------------------------------------------------
+    def draw(self, name: str | None, rng: np.random.Generator) -> Encounter:
+        """The encounter ``name`` (a reset option; None: as ``encounters`` says), drawn with ``rng``."""
+        c = self.config
+        need = c.agents - 1  # targets whose roles the other own ships take
+        if name is None:
+            kind = c.encounters
+            if kind == "mixed":
+                kind = "imazu" if rng.random() < 0.5 else "generated"
+            name = kind
+        kind, _, arg = name.partition(":")
+        if kind == "imazu":
+            cases = [i for i, t in IMAZU.items() if need <= len(t) <= c.max_targets]
+            case = int(rng.choice(cases)) if not arg else _case(arg)
+            if not need <= len(IMAZU[case]) <= c.max_targets:
+                raise ValueError(
+                    f"imazu:{case} has {len(IMAZU[case])} targets; this task takes {need} to {c.max_targets}"
+                )
+            jitter = (c.imazu_heading_jitter_deg, c.imazu_speed_jitter)
+            return imazu(case, self.L, self.U_T, c.tcpa_L, rng, jitter)
+        if kind == "generated":
+            if arg:
+                types = tuple(arg.split("+"))
+            else:
+                lo, hi = max(c.generated_targets[0], need, 1), min(c.generated_targets[-1], c.max_targets)
+                count = int(rng.integers(lo, max(lo, hi) + 1))
+                types = tuple(str(rng.choice(list(GENERATED))) for _ in range(count))
+            if not need <= len(types) <= c.max_targets:
+                raise ValueError(f"{name}: {len(types)} targets; this task takes {need} to {c.max_targets}")
+            T = c.tcpa_L * self.L / self.U_T
+            dcpa = tuple(rng.uniform(*c.generated_dcpa_L) * self.L for _ in types)
+            tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
+            return generate(types, dcpa, tcpa, self.U_T, rng)
+        if kind == "file" and arg:
+            enc = read_situation(arg)
+            if not need <= len(enc.targets) <= c.max_targets:
+                raise ValueError(
+                    f"{name}: {len(enc.targets)} targets; this task takes {need} to {c.max_targets}"
+                )
+            return enc
+        raise ValueError(
+            f"unknown scenario {name!r} (imazu, imazu:1..22, generated, generated:<type>[+<type>...], file:<path>)"
+        )
+
+    def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
+        """A new encounter for own ship k's encounter (drawn by its first own ship; the others are set with it)."""
+        c = self.config
+        world = self.world
+        if world.slot_of[k] != 0:
+            return
+        opts = dict(options or {})
+        scenario = opts.pop("scenario", None)
+        drawn = _uniform(rng, c.initial_heading_deg)
+        heading = float(opts.pop("heading_deg", drawn))
+        if opts:
+            raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, scenario)")
+        enc = self.draw(scenario, rng)
+        w = world.world_of[k]
+        if enc.name not in self.scenario_names:
+            self.scenario_names.append(enc.name)
+        name_id = self.scenario_names.index(enc.name)
+        planned = min((d for d, _t in enc.planned_cpa), default=math.inf)
+        h = heading * DEG
+        ch, sh = math.cos(h), math.sin(h)
+        members = world.members[w]
+        run = 2.0 * c.tcpa_L * self.L
+        # slot 0: the own ship; slots 1..agents-1: own ships in the first targets' roles; then the targets
+        ships = [(0.0, 0.0, 0.0, enc.speed, run / 2.0 / enc.speed)]
+        ships += [(t.n, t.e, t.psi, t.speed, tc) for t, (_d, tc) in zip(enc.targets, enc.planned_cpa)]
+        slots = list(range(c.agents)) + [c.agents + j for j in range(len(enc.targets) - (c.agents - 1))]
+        world.active[members] = False
+        for slot, (n0, e0, psi, speed, tcpa) in zip(slots, ships):
+            j = members[slot]
+            n, e = n0 * ch - e0 * sh, n0 * sh + e0 * ch
+            self.start(j, speed, (psi + h) / DEG, n, e)
+            world.active[j] = True
+            world.course[j] = psi + h
+            if slot < c.agents:  # an own ship: its route runs through its meeting point to twice as far
+                reach = 2.0 * speed * tcpa
+                s = self.ts[j]
+                s[:] = 0.0
+                s[S.n0], s[S.e0] = n, e
+                s[S.n1], s[S.e1] = n + reach * math.cos(psi + h), e + reach * math.sin(psi + h)
+                if slot == 0 and enc.goal is not None:  # the situation's own goal
+                    gn, ge = enc.goal
+                    s[S.n1], s[S.e1] = gn * ch - ge * sh, gn * sh + ge * ch
+                    reach = math.hypot(gn, ge)
+                s[S.prev_n], s[S.prev_e] = n, e
+                s[S.prev_goal] = s[S.straight] = reach
+                s[S.min_sep] = math.inf
+                for row in self.pairs[j]:
+                    new_record(row)
+                self.scenario_id[j] = name_id
+                self.planned_dcpa[j] = planned
+                self.scores[j] = 0.0
+                self.scores[j, SC.score] = 1.0
+                self.scores[j, SC.delay] = -1.0
+        for slot in range(len(enc.targets) + 1, len(members)):  # empty slots: parked
+            self.start(members[slot], enc.speed, 0.0, 0.0, 0.0)
+
+    def update(self, phase: np.ndarray) -> None:
+        """The task's step, then (``targets_react``) the scripted targets' rudder orders for the next step."""
+        super().update(phase)
+        if self.config.targets_react:
+            steer_targets(self.sim, self.world, self.target_law)
+
+    def started(self, k: int | np.ndarray) -> None:
+        ks = np.atleast_1d(np.asarray(k))
+        own = ks[ks < self.n]
+        self.ts[own, S.prev_order] = self.sim.rudder_order[own]
+
+    def overlay(self, k: int) -> dict[str, Any]:
+        """The chart's extras: the route (from its start along its course), the encounter's name, the outcome
+        and the closest range so far (the targets themselves are not drawn yet)."""
+        s = self.ts[k]
+        return {
+            "original_course_rad": math.atan2(s[S.e1] - s[S.e0], s[S.n1] - s[S.n0]),
+            "origin_m": (float(s[S.n0]), float(s[S.e0])),
+            "title": self.scenario_names[int(self.scenario_id[k])],
+            "outcome": OUTCOMES[int(s[S.outcome])],
+            "clearance_m": float(s[S.min_sep]) if math.isfinite(s[S.min_sep]) else 0.0,
+        }
+
+
+def steer_targets(sim: Simulation, world: World, law: tuple) -> None:
+    """Rudder orders of the scripted targets that keep the rules: a target that must give way to an own ship of
+    its encounter (head-on, crossing with the own ship on its starboard side, overtaking it) alters ``law``'s
+    turn to starboard of its start course once the TCPA is below ``law``'s threshold, and back after the CPA;
+    otherwise it holds its start course (a stand-on target keeps course, rule 17(a)(i))."""
+    Kp, Kd, limit, turn, react, risk = law
+    north, east, psi, r = sim.north, sim.east, sim.heading, sim.r
+    vn, ve = sim.ground_velocity()
+    for members in world.members:
+        own = [j for j in members[: world.agents] if world.active[j]]
+        for j in members[world.agents :]:
+            if not world.active[j]:
+                continue
+            ref = world.course[j]
+            for o in own:
+                pn, pe = north[o] - north[j], east[o] - east[j]
+                dcpa, tcpa = cpa(pn, pe, vn[o] - vn[j], ve[o] - ve[j])
+                role = classify(pn, pe, psi[j], psi[o], dcpa < risk and tcpa > 0.0)
+                if role in GIVE_WAY_ROLES and tcpa < react:
+                    ref = world.course[j] + turn
+            e = wrap_pi(ref - psi[j])
+            sim.set_helm(rudder_order_rad=min(max(Kp * e - Kd * r[j], -limit), limit), k=j)
+
+
+def _case(text: str) -> int:
+    try:
+        case = int(text)
+    except ValueError:
+        raise ValueError(f"imazu:{text}: the case must be a number 1..22") from None
+    if case not in IMAZU:
+        raise ValueError(f"Imazu case {case} does not exist (1..22)")
+    return case
+
+
+def _field_names() -> tuple[str, ...]:
+    from vessel_gym.envs.tasks.colreg_columns import TARGET_FIELDS
+
+    return TARGET_FIELDS._fields
