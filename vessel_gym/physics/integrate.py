@@ -35,6 +35,7 @@ import numpy as np
 from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import ENGINE, ROLL, STEERING_GEAR
 from vessel_gym.physics.steering import steering_gear_angle
 from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives_of, forces
 
@@ -132,13 +133,13 @@ def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, nx):
 
     ``H``, ``roll`` and ``ext`` choose the kernel (:func:`~vessel_gym.physics.vessel.derivatives_of`). The rudder
     angle of each stage is the steering gear's exact solution at that stage's time, solved from the step's
-    start; where a user's steering gear gives the rudder rate (``P_SG_EXT``, with ``F`` carrying it as
+    start; where a user's steering gear gives the rudder rate (``STEERING_GEAR.by_component``, with ``F`` carrying it as
     ``F_DELTA_RATE``) the angle is a state like any other, x + h k.
     """
     D = lo.X_DELTA
     k = K[stage]
     derivatives_of(P, xs, inp, env, F, k, H, roll, ext)
-    user_gear = ext and F.shape[0] > lo.F_DELTA_RATE and P[lo.P_SG_EXT] > 0.0
+    user_gear = ext and F.shape[0] > lo.F_DELTA_RATE and P[STEERING_GEAR.by_component] > 0.0
     if user_gear:
         k[D] = F[lo.F_DELTA_RATE]
     if method != EULER and stage < 3:
@@ -220,9 +221,9 @@ def kernel_fits(Ps, E, shallow_env, roll, ext):
             if E[b, lo.E_T_OVER_H] != 0.0:
                 return False
     for j in range(Ps.shape[0]):
-        if not roll and Ps[j, lo.P_ROLL_ON] != 0.0:
+        if not roll and Ps[j, ROLL.on] != 0.0:
             return False
-        if not ext and (Ps[j, lo.P_ENGINE_EXT] != 0.0 or Ps[j, lo.P_SG_EXT] != 0.0):
+        if not ext and (Ps[j, ENGINE.by_component] != 0.0 or Ps[j, STEERING_GEAR.by_component] != 0.0):
             return False
     return True
 
@@ -293,9 +294,9 @@ def drivers(shallow: bool = True, roll: bool = True, ext: bool = True):
 
     * ``shallow``: some vessel may be in shallow water (E_T_OVER_H > 0); False compiles the deep-water
       equations only (the draught-to-depth ratio is the constant 0);
-    * ``roll``: some ship may have roll (P_ROLL_ON); False compiles the 3-DOF equations only and integrates
+    * ``roll``: some ship may have roll (ROLL.on); False compiles the 3-DOF equations only and integrates
       the first layout.NX_3DOF states;
-    * ``ext``: a ship's engine or steering gear may be a user's component (P_ENGINE_EXT, P_SG_EXT).
+    * ``ext``: a ship's engine or steering gear may be a user's component (ENGINE.by_component, STEERING_GEAR.by_component).
 
     All True is the general kernel (:data:`run_serial`, :data:`run_parallel`). Every combination gives the
     general kernel's results to the bit; a narrower one is only faster. A driver first checks that its kind
@@ -313,8 +314,8 @@ def drivers_for(Ps: np.ndarray, E: np.ndarray):
     ``E`` (numpy, O(N): call it when these change, not every step)."""
     return drivers(
         shallow=bool((E[:, lo.E_T_OVER_H] != 0.0).any()),
-        roll=bool((Ps[:, lo.P_ROLL_ON] != 0.0).any()),
-        ext=bool((Ps[:, lo.P_ENGINE_EXT] != 0.0).any() or (Ps[:, lo.P_SG_EXT] != 0.0).any()),
+        roll=bool((Ps[:, ROLL.on] != 0.0).any()),
+        ext=bool((Ps[:, ENGINE.by_component] != 0.0).any() or (Ps[:, STEERING_GEAR.by_component] != 0.0).any()),
     )
 
 
@@ -343,8 +344,8 @@ def derivatives_for(P: np.ndarray, env: np.ndarray):
     linearisation in linear.py) compiles nothing more, with the general form's results to the bit."""
     key = (
         bool(env[lo.E_T_OVER_H] != 0.0),
-        bool(P[lo.P_ROLL_ON] != 0.0),
-        bool(P[lo.P_ENGINE_EXT] != 0.0 or P[lo.P_SG_EXT] != 0.0),
+        bool(P[ROLL.on] != 0.0),
+        bool(P[ENGINE.by_component] != 0.0 or P[STEERING_GEAR.by_component] != 0.0),
     )
     if key not in _RHS:
         _RHS[key] = _make_rhs(*key)

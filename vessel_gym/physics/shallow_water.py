@@ -37,6 +37,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import BODY, PROPELLER
 
 #: smallest depth-to-draught ratio the method covers (Kijima et al. 1990 captive tests), -
 H_OVER_T_MIN = 1.2
@@ -47,10 +48,10 @@ H_MAX = 1.0 / H_OVER_T_MIN
 @njit(cache=True)
 def hull_proportions(P):
     """(C_b, B/T, L/T, L/B) of row ``P``: block coefficient from the mass, m / (rho L B T), and the ratios."""
-    L = P[lo.P_L]
-    B = P[lo.P_B]
-    T = P[lo.P_T]
-    Cb = P[lo.P_MASS] / (P[lo.P_RHO] * L * B * T)
+    L = P[BODY.L]
+    B = P[BODY.B]
+    T = P[BODY.T]
+    Cb = P[BODY.m] / (P[BODY.rho] * L * B * T)
     return Cb, B / T, L / T, L / B
 
 
@@ -141,7 +142,7 @@ def cross_flow_drag_factor(P, H):
 def wake_fraction(P, H):
     """Straight-running wake fraction w_P0 (-) at H = T/h: Taimuri et al. (2020) eq. 40,
     w_P0(h) = w_P0 (1 + (-4.932 + 0.6425 C_b L/T - 0.0165 (C_b L/T)^2) H^1.655)."""
-    w0 = P[lo.P_WP0]
+    w0 = P[PROPELLER.w_P0]
     H = min(max(H, 0.0), H_MAX)
     if H == 0.0:
         return w0
@@ -161,7 +162,7 @@ def _ctp(c, H):
 def thrust_deduction(P, H):
     """Thrust deduction factor t_P (-) at H = T/h: Taimuri et al. (2020) eq. 41 on 1 - t_P, in the
     regressors C_b L/B and H, taken relative to its value at H = 0 so that deep water is exact."""
-    tP = P[lo.P_TP]
+    tP = P[PROPELLER.t_P]
     H = min(max(H, 0.0), H_MAX)
     if H == 0.0:
         return tP

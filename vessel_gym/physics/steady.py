@@ -11,6 +11,7 @@ from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import CALM
+from vessel_gym.physics.params import ENGINE, ROLL, TRANSMISSION
 from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold, shaft_torque_to_hold
 from vessel_gym.physics.shipfile import Ship
 from vessel_gym.physics.units import KNOT_M_S
@@ -40,7 +41,7 @@ class SimulationError(RuntimeError):
 
 def _kind(P: np.ndarray, env: np.ndarray) -> tuple[bool, bool, bool]:
     """(shallow, roll, ext) of one vessel with parameter row ``P`` in environment row ``env`` (integrate.drivers)."""
-    return bool(env[lo.E_T_OVER_H] != 0.0), bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0)
+    return bool(env[lo.E_T_OVER_H] != 0.0), bool(P[ROLL.on] != 0.0), bool(P[ENGINE.by_component] != 0.0)
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -80,11 +81,11 @@ def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, e
         return False
     nrev = _surge_balance_rev(P, x, inp, e, F, n_max, shallow_env, roll, ext)
     Q_prop = _propeller_torque(P, x, e, shallow_env)
-    if P[lo.P_ENGINE_EXT] > 0.0:
+    if P[ENGINE.by_component] > 0.0:
         x[lo.X_GOV] = x[lo.X_CAM] = 0.0
         return True
     Q_need = engine_torque_to_hold(P, nrev, Q_prop)
-    n_e = P[lo.P_GEAR] * nrev
+    n_e = P[TRANSMISSION.gear_ratio] * nrev
     if engine_torque(P, n_e, 1.0) < Q_need:
         return False
     x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
@@ -161,7 +162,7 @@ def steady_rows(
         rows = np.flatnonzero(shallow == kind)
         if not len(rows):
             continue
-        solvers = _solvers(kind, bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0))
+        solvers = _solvers(kind, bool(P[ROLL.on] != 0.0), bool(P[ENGINE.by_component] != 0.0))
         x, u = np.zeros((len(rows), lo.NX)), np.zeros((len(rows), lo.NU))
         solve_args = (P, speed[rows], heading_rad[rows], np.ascontiguousarray(env[rows]), n_max, x, u)
         if len(rows) >= STEADY_THREADED_MIN:
@@ -299,16 +300,16 @@ class _SteadyApproach:
         Q_prop = self._solve[2](P, x, self.env)
         nrev = self.nrev
         self.Q_hold = shaft_torque_to_hold(P, nrev, Q_prop)
-        if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)
+        if P[ENGINE.by_component] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)
             x[lo.X_GOV] = x[lo.X_CAM] = 0.0
             return x.copy(), self.inp.copy()
         Q_need = engine_torque_to_hold(P, nrev, Q_prop)
-        n_e = P[lo.P_GEAR] * nrev
+        n_e = P[TRANSMISSION.gear_ratio] * nrev
         if engine_torque(P, n_e, 1.0) < Q_need:
             raise SimulationError(
                 f"{self.ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for "
                 f"{self.speed / KNOT_M_S:.2f} kn "
-                f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
+                f"(needs {Q_need / P[ENGINE.Q_e_rated]:.2f} x rated torque)"
             )
         x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
         return x.copy(), self.inp.copy()
