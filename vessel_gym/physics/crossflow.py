@@ -206,10 +206,11 @@ def yoshimura_forces_at_depth(P, u, v, r, H):
     IY, IN = cross_flow_integrals(v, rL, P[LARGE_DRIFT.C_rY], P[LARGE_DRIFT.C_rN])
     CD = P[LARGE_DRIFT.C_D]
     X_vr, Y_v, Y_r, N_v, N_r = P[LARGE_DRIFT.X_vr], P[LARGE_DRIFT.Y_v], P[LARGE_DRIFT.Y_r], P[LARGE_DRIFT.N_v], P[LARGE_DRIFT.N_r]
-    if H > 0.0:
-        f = hull_factors(P, H)  # the order of hull_factors: X_vr 2, Y_v 5, Y_r 6, N_v 11, N_r 12
-        X_vr, Y_v, Y_r, N_v, N_r = X_vr * f[2], Y_v * f[5], Y_r * f[6], N_v * f[11], N_r * f[12]
-        CD = CD * cross_flow_drag_factor(P, H)
+    if H is not None:  # None: a deep-water kernel, where this is not compiled
+        if H > 0.0:
+            f = hull_factors(P, H)  # the order of hull_factors: X_vr 2, Y_v 5, Y_r 6, N_v 11, N_r 12
+            X_vr, Y_v, Y_r, N_v, N_r = X_vr * f[2], Y_v * f[5], Y_r * f[6], N_v * f[11], N_r * f[12]
+            CD = CD * cross_flow_drag_factor(P, H)
     q = 0.5 * P[BODY.rho] * L * P[BODY.T]
     X = q * (X0 * u * U + X_vr * v * rL) + P[LARGE_DRIFT.C_X_rr] * r * r
     Y = q * (Y_v * v * abs(u) + Y_r * rL * u - CD * IY)
@@ -226,9 +227,9 @@ DRIFT_TEST_MARGIN = 1e-9
 def yoshimura_forces(P, u, v, r):
     """:func:`yoshimura_forces_at_depth` in deep water. Returns (X, Y, N) in N, N, N m.
 
-    H is the integer 0, as in the deep-water drivers, so that one specialisation of the cross-flow functions
-    serves both (hull.hull_forces says why)."""
-    H = 0
+    H is None, as in the deep-water drivers, so that one specialisation of the cross-flow functions serves both
+    (hull.hull_forces says why)."""
+    H = None
     return yoshimura_forces_at_depth(P, u, v, r, H)
 
 

@@ -186,13 +186,18 @@ def mmg_hull_forces(P, u, v, r, H):
 
 
 @njit(cache=True)
-def hull_forces_at_depth(P, u, v, r, delta, H):
+def hull_forces_at_depth(P, u, v, r, delta, H, abk):
     """Dispatch on the ship's hull model, at draught-to-depth ratio H = T/h (0: deep water; only the MMG
     hull has shallow-water corrections, see :mod:`~vessel_gym.physics.shallow_water`).
+
+    ``abk``: True where the hull may be an Abkowitz polynomial, None where it is not. The kernels pass None for
+    batches without one (integrate.drivers): numba prunes the branch on ``abk is not None`` before typing, so
+    the Abkowitz model and its cross-flow blend are not compiled (a quarter of the hull chain's compile time).
     Returns (X, Y, N) in N, N, N m."""
     kind = int(P[HULL.kind])
-    if kind == lo.HULL_ABKOWITZ:
-        return abkowitz_forces(P, u, v, r, delta)
+    if abk is not None:
+        if kind == lo.HULL_ABKOWITZ:
+            return abkowitz_forces(P, u, v, r, delta)
     if kind == lo.HULL_MMG:
         X, Y, N = mmg_hull_forces(P, u, v, r, H)
         if P[LARGE_DRIFT.on] > 0.0 and not inside_polynomial_range(P, u, v, r):
@@ -206,8 +211,17 @@ def hull_forces_at_depth(P, u, v, r, delta, H):
 def hull_forces(P, u, v, r, delta):
     """Hull forces in deep water (:func:`hull_forces_at_depth` at H = 0). Returns (X, Y, N) in N, N, N m.
 
-    H is the integer 0, as in the deep-water drivers (integrate._run_range): the same specialisation of the hull
+    H is None, as in the deep-water drivers (integrate._run_range): the same specialisation of the hull
     functions serves both, where a float 0.0 would compile the hull chain a second time (~20 % of a cold start)
-    for the same results (every shallow-water factor is exactly 1 at H = 0)."""
-    H = 0
-    return hull_forces_at_depth(P, u, v, r, delta, H)
+    for the same results (every shallow-water function returns its deep-water value for H None, as at H = 0,
+    and compiles nothing else)."""
+    H = None
+    return hull_forces_at_depth(P, u, v, r, delta, H, True)
+
+
+@njit(cache=True)
+def hull_forces_not_abkowitz(P, u, v, r, delta):
+    """:func:`hull_forces` of a ship whose hull is not an Abkowitz polynomial (MMG or a user's), compiled
+    without the Abkowitz model: the specialisation the drivers of such a ship use (same results)."""
+    H = None
+    return hull_forces_at_depth(P, u, v, r, delta, H, None)

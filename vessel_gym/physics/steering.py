@@ -116,8 +116,9 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust, H):
     else:  # here beta_R stands for U beta_R (m/s), without the division: a ship turning on the spot
         beta_R = U * beta - l_R * r * L
     gamma = P[RUDDER.gamma_R_minus] if beta_R < 0.0 else P[RUDDER.gamma_R_plus]
-    if H > 0.0:
-        gamma *= flow_straightening_factor(P, H)
+    if H is not None:  # None: a deep-water kernel, where this is not compiled
+        if H > 0.0:
+            gamma *= flow_straightening_factor(P, H)
     gamma += s_a * (1.0 - gamma)
     v_R = U * gamma * beta_R if U >= P[HULL.U_min] else gamma * beta_R
     U_R = math.sqrt(u_R * u_R + v_R * v_R)

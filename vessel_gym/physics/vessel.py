@@ -267,6 +267,18 @@ def pack(ship: Ship) -> np.ndarray:
     return P
 
 
+def abkowitz_family(Ps: np.ndarray) -> bool:
+    """Whether a parameter row (or any row of a batch) uses a model of the Abkowitz family: an Abkowitz
+    polynomial hull, the Son & Nomoto (1982) rudder or wake (the container ship's and Mariner's models). A
+    kernel for vessels without them is compiled without them (``abk`` None: :func:`derivatives_of`)."""
+    P = np.atleast_2d(Ps)
+    return bool(
+        (P[:, HULL.kind] == lo.HULL_ABKOWITZ).any()
+        or (P[:, RUDDER.kind] == lo.RUDDER_SON_NOMOTO).any()
+        or (P[:, PROPELLER.wake_kind] == lo.WAKE_SON_NOMOTO).any()
+    )
+
+
 # The hot call chain (the integrators' per-vessel loop -> step -> derivatives -> force_terms -> components)
 # is compiled without reference counting (numba's `_nrt=False`): these functions allocate nothing and only
 # read and write arrays their caller owns, so counting references is pure overhead -- an atomic increment
@@ -307,14 +319,15 @@ VesselForces = namedtuple("VesselForces", (*FORCE_NAMES, "cos_psi", "sin_psi"))
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def force_terms(P, x, env, H):
+def force_terms(P, x, env, H, abk):
     """All component forces for one vessel at state ``x``, a :data:`VesselForces` record: the N_OUT values of
     :func:`forces` by their names, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
 
     ``H`` is the draught-to-depth ratio T/h the vessel is in (``env[E_T_OVER_H]``; 0 in deep water). A
-    deep-water kernel passes the integer literal 0 (integrate.drivers): numba then compiles this function and
-    the hull, wake, rudder and thrust-deduction functions it calls for that constant, and their shallow-water
-    branches fold away (each returns its deep-water value exactly at H = 0, so the results are the same).
+    deep-water kernel passes None (integrate.drivers): numba prunes every branch on ``H is None`` before typing,
+    so this function and the hull, wake, rudder and thrust-deduction functions it calls are compiled without
+    their shallow-water code (each returns its deep-water value for None, as at H = 0: the same results).
+    ``abk`` (True or None) likewise leaves out the models of the Abkowitz family (:func:`abkowitz_family`).
 
     A tuple, not an output array: a store into an array that the compiler cannot prove distinct from ``P``
     and ``x`` would make it load them again (see :func:`derivatives`).
@@ -325,7 +338,7 @@ def force_terms(P, x, env, H):
     psi = x[lo.X_PSI]
     delta = x[lo.X_DELTA]
     n = x[lo.X_REV]
-    XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H)
+    XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H, abk)
     has_prop = P[PROPELLER.on] > 0.0
     mmg_rudder = P[RUDDER.kind] == lo.RUDDER_MMG
     # one speed and drift angle for wake and rudder; the atan2 only where a model reads beta
@@ -335,16 +348,20 @@ def force_terms(P, x, env, H):
     Qp = 0.0
     wP = P[PROPELLER.w_P0]
     if has_prop:
-        if P[PROPELLER.wake_kind] == lo.WAKE_SON_NOMOTO:
-            wP = son_nomoto_wake(P, u, v, r)
-        else:
+        sn_wake = False
+        if abk is not None:  # the Son & Nomoto models compiled in only where they may be used (abk)
+            if P[PROPELLER.wake_kind] == lo.WAKE_SON_NOMOTO:
+                wP = son_nomoto_wake(P, u, v, r)
+                sn_wake = True
+        if not sn_wake:
             wP = effective_wake(P, U, beta, r, H)
         T, Qp = propeller_thrust_torque(P, u * (1.0 - wP), n)
     XR = YR = NR = 0.0
     if mmg_rudder:
         XR, YR, NR = mmg_rudder_forces_beta(P, u, U, beta, r, delta, wP, T, H)
-    elif P[RUDDER.kind] == lo.RUDDER_SON_NOMOTO:
-        XR, YR, NR = son_nomoto_rudder_forces(P, u, v, r, delta, u * (1.0 - wP), T)
+    elif abk is not None:
+        if P[RUDDER.kind] == lo.RUDDER_SON_NOMOTO:
+            XR, YR, NR = son_nomoto_rudder_forces(P, u, v, r, delta, u * (1.0 - wP), T)
     cn = env[lo.E_CUR_N]
     ce = env[lo.E_CUR_E]
     c = math.cos(psi)
@@ -366,7 +383,7 @@ def forces(P, x, inp, env, out):
     out = [X_H, Y_H, N_H, X_P, X_R, Y_R, N_R, X_W, Y_W, N_W, X_D, Y_D, N_D, thrust, Q_prop, w_P,
            V_rw, gamma_rw, cur_n, cur_e]
     """
-    f = force_terms(P, x, env, env[lo.E_T_OVER_H])
+    f = force_terms(P, x, env, env[lo.E_T_OVER_H], True)
     for i in range(N_OUT):
         out[i] = f[i]
     return out
@@ -380,26 +397,29 @@ def derivatives(P, x, inp, env, F_ext, xdot):
 
     The general form of :func:`derivatives_of`: every part of the model tested at run time.
     """
-    derivatives_of(P, x, inp, env, F_ext, xdot, env[lo.E_T_OVER_H], True, True)
+    derivatives_of(P, x, inp, env, F_ext, xdot, env[lo.E_T_OVER_H], True, True, True)
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
+def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext, abk):
     """State derivative of one vessel, :func:`derivatives` compiled for one kind of vessel: fills ``xdot``
     (length NX; on a 3-DOF kernel the roll columns are not written).
 
-    The three last arguments choose what is compiled in; the integrators' drivers pass compile-time
+    The four last arguments choose what is compiled in; the integrators' drivers pass compile-time
     constants (integrate.drivers), so numba builds one kernel per combination and LLVM drops the parts a
     combination rules out:
 
-    * ``H``, the draught-to-depth ratio T/h: ``env[E_T_OVER_H]``, or the literal 0 for deep water
+    * ``H``, the draught-to-depth ratio T/h: ``env[E_T_OVER_H]``, or None for deep water
       (:func:`force_terms`);
     * ``roll``: True where a vessel may have the fourth degree of freedom (``ROLL.on``, tested at run time),
-      False for 3-DOF vessels only (the roll equations are not compiled);
+      None for 3-DOF vessels only (the roll equations are not compiled);
     * ``ext``: True where a user's engine may drive the shaft (``ENGINE.by_component``, tested at run time), False
-      for the built-in engine only.
+      for the built-in engine only;
+    * ``abk``: True where a vessel may use a model of the Abkowitz family (:func:`abkowitz_family`: an Abkowitz
+      hull, the Son & Nomoto rudder or wake; tested at run time), None for vessels without (those models are not
+      compiled in: :func:`~vessel_gym.physics.hull.hull_forces_at_depth`, :func:`force_terms`).
 
-    A False flag is only passed for vessels it describes, so every combination gives the results of the
+    A False or None flag is only passed for vessels it describes, so every combination gives the results of the
     general form to the bit.
 
     F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions), and on a vessel
@@ -408,7 +428,7 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
     travel from :func:`force_terms` as a named record (:data:`VesselForces`), not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
     out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
-    f = force_terms(P, x, env, H)
+    f = force_terms(P, x, env, H, abk)
     u = x[lo.X_U]
     v = x[lo.X_V]
     r = x[lo.X_R]
@@ -438,32 +458,34 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
             )
     phidot = 0.0
     pdot = 0.0
-    if roll and P[ROLL.on] > 0.0:
-        # the fourth degree of freedom (roll.py): roll terms of the hull, restoring and damping, the rudder's
-        # sway force z_R below the roll axis; the 3x3 mass matrix over (v, r, p) couples sway, yaw and roll
-        phi = x[lo.X_PHI]
-        p = x[lo.X_P]
-        Xr, Yr, Kr, Nr = roll_forces(P, u, v, r, p, phi)
-        X += Xr
-        Y += Yr
-        N += Nr
-        K = Kr - P[ROLL.z_R] * f.Y_R + P[ROLL.torque_sign] * f.Q_prop  # rudder; shaft torque reaction
-        j = ROLL.Minv
-        udot = X / P[BODY.m11]
-        vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K
-        rdot = P[j + 3] * Y + P[j + 4] * N + P[j + 5] * K
-        pdot = P[j + 6] * Y + P[j + 7] * N + P[j + 8] * K
-        # Euler-angle kinematics with zero pitch (Fossen 2011 eq. 2.29): the heeled body y-axis spans the
-        # horizontal by cos(phi), and the yaw rate about the heeled z-axis turns the heading by r cos(phi)
-        cphi = math.cos(phi)
-        vn, ve = ground_velocity(u, v * cphi, f.cos_psi, f.sin_psi, f.current_n, f.current_e)
-        psidot = r * cphi
-        phidot = p
-    else:
-        udot = X / P[BODY.m11]
-        vdot = P[BODY.Minv22] * Y + P[BODY.Minv23] * N
-        rdot = P[BODY.Minv32] * Y + P[BODY.Minv33] * N
-        psidot = r
+    udot = X / P[BODY.m11]
+    vdot = P[BODY.Minv22] * Y + P[BODY.Minv23] * N
+    rdot = P[BODY.Minv32] * Y + P[BODY.Minv33] * N
+    psidot = r
+    # numba prunes a branch on `flag is None` before typing (not one on a literal bool, which LLVM drops only
+    # after the branch's callees are compiled): a 3-DOF kernel then compiles no roll equations at all
+    if roll is not None:
+        if P[ROLL.on] > 0.0:
+            # the fourth degree of freedom (roll.py): roll terms of the hull, restoring and damping, the rudder's
+            # sway force z_R below the roll axis; the 3x3 mass matrix over (v, r, p) couples sway, yaw and roll
+            phi = x[lo.X_PHI]
+            p = x[lo.X_P]
+            Xr, Yr, Kr, Nr = roll_forces(P, u, v, r, p, phi)
+            X += Xr
+            Y += Yr
+            N += Nr
+            K = Kr - P[ROLL.z_R] * f.Y_R + P[ROLL.torque_sign] * f.Q_prop  # rudder; shaft torque reaction
+            j = ROLL.Minv
+            udot = X / P[BODY.m11]
+            vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K
+            rdot = P[j + 3] * Y + P[j + 4] * N + P[j + 5] * K
+            pdot = P[j + 6] * Y + P[j + 7] * N + P[j + 8] * K
+            # Euler-angle kinematics with zero pitch (Fossen 2011 eq. 2.29): the heeled body y-axis spans the
+            # horizontal by cos(phi), and the yaw rate about the heeled z-axis turns the heading by r cos(phi)
+            cphi = math.cos(phi)
+            vn, ve = ground_velocity(u, v * cphi, f.cos_psi, f.sin_psi, f.current_n, f.current_e)
+            psidot = r * cphi
+            phidot = p
     xdot[lo.X_U] = udot
     xdot[lo.X_V] = vdot
     xdot[lo.X_R] = rdot
@@ -474,6 +496,6 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
     xdot[lo.X_REV] = ndot
     xdot[lo.X_GOV] = gdot
     xdot[lo.X_CAM] = cdot
-    if roll:
+    if roll is not None:
         xdot[lo.X_PHI] = phidot
         xdot[lo.X_P] = pdot
