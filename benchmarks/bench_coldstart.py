@@ -9,8 +9,8 @@ time: on a shared machine the wall time grows with the load, the CPU time much l
 (``NUMBA_CACHE_DIR`` set to a fresh temporary directory, so nothing is reused from earlier runs); "warm" runs
 again against the cache that the cold run filled. The environments are timed each in its own cold cache, so a
 figure is what a user sees when that environment is the first thing they run. The environments are every id
-the package registers with gymnasium (deprecated ones too: a user may still make them), read from gymnasium's
-registry, or those named with ``--ids``.
+the package registers (``vessel_gym.envs.registration.known_ids``: the built-in tasks' declarations, read from
+their sources), or those named with ``--ids``.
 
 Targets on the 2-core reference machine: cold ``imo kvlcc2`` <= 10 s, cold first env step <= 8 s, warm <= 2 s.
 """
@@ -71,12 +71,10 @@ def _case(name: str, argv: list[str], repeats: int, keep: Path | None) -> tuple[
 
 
 def registered_ids() -> list[str]:
-    """Every environment id the package registers, from gymnasium's registry (sorted)."""
-    import gymnasium as gym
+    """Every environment id the package registers (vessel_gym.envs.registration), sorted."""
+    from vessel_gym.envs.registration import known_ids
 
-    import vessel_gym.envs  # noqa: F401  (registers the ids)
-
-    return sorted(i for i in gym.registry if i.startswith("vessel_gym/"))
+    return sorted(known_ids())
 
 
 def main() -> None:

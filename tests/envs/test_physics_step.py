@@ -16,6 +16,7 @@ import pytest
 import vessel_gym  # noqa: F401
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.linear import fastest_rate, stable_step
+from vessel_gym.physics.params import STEERING_GEAR
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
@@ -42,7 +43,7 @@ def test_fastest_stepped_mode_of_the_model_ship_is_its_shaft():
         derivatives(P, xm, inp, env, np.zeros(3), fm)
         J[:, c] = (fp[list(block)] - fm[list(block)]) / (2.0 * h)
     shaft = np.max(np.abs(np.linalg.eigvals(J)))
-    assert 1.0 < shaft < 1.0 / P[lo.P_DTAU]  # faster than the hull, slower than the gear's lag
+    assert 1.0 < shaft < 1.0 / P[STEERING_GEAR.time_constant]  # faster than the hull, slower than the gear's lag
     assert fastest_rate("kvlcc2_l7") == pytest.approx(shaft, rel=0.02)
     assert stable_step("kvlcc2_l7") == pytest.approx(2.785 / fastest_rate("kvlcc2_l7"))
     assert stable_step("kvlcc2_l7", "euler") == pytest.approx(2.0 / fastest_rate("kvlcc2_l7"))
@@ -61,7 +62,7 @@ def test_steering_gear_angle_solves_the_steering_gear_equation():
             assert rate == pytest.approx(
                 steering_gear_rate(P, steering_gear_angle(P, d0, dc, t), dc), abs=2e-5
             )
-    assert steering_gear_angle(P, 0.0, 1.0, 100.0) == pytest.approx(P[lo.P_DMAX])  # clipped order reached
+    assert steering_gear_angle(P, 0.0, 1.0, 100.0) == pytest.approx(P[STEERING_GEAR.delta_max])  # clipped order reached
 
 
 @pytest.mark.parametrize(

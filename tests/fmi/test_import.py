@@ -21,6 +21,7 @@ from vessel_gym.cli import main  # noqa: E402
 from vessel_gym.fmi.export import build_engine_fmu, build_steering_gear_fmu  # noqa: E402
 from vessel_gym.physics import layout as lo  # noqa: E402
 from vessel_gym.physics.components import allow_code  # noqa: E402
+from vessel_gym.physics.params import TRANSMISSION
 from vessel_gym.physics.shipfile import SHIP_DIR, load_ship  # noqa: E402
 from vessel_gym.physics.vessel import pack  # noqa: E402
 
@@ -32,7 +33,7 @@ ROOT = Path(__file__).resolve().parents[2]
 def engine_table(fmu: str, step: float, **changes) -> str:
     """The [[components]] entry of an FMU engine in place of the ship's own (its inertia the native one's)."""
     ship = load_ship(SHIP)
-    inertia = float(pack(ship)[lo.P_I_SHAFT] - ship.transmission.shaft_inertia_kgm2)
+    inertia = float(pack(ship)[TRANSMISSION.I_shaft] - ship.transmission.shaft_inertia_kgm2)
     params = {
         "path": f'"{fmu}"',
         "step_s": repr(step),

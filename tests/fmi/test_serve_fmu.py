@@ -16,7 +16,7 @@ pytest.importorskip("pythonfmu")
 pytest.importorskip("fmpy")
 
 from vessel_gym.fmi.export import build_engine_fmu  # noqa: E402
-from vessel_gym.physics import layout as lo  # noqa: E402
+from vessel_gym.physics.params import TRANSMISSION
 from vessel_gym.physics.shipfile import SHIP_DIR, load_ship  # noqa: E402
 from vessel_gym.physics.vessel import pack  # noqa: E402
 
@@ -30,7 +30,7 @@ DURATION_S = 8.0
 def test_serve_runs_a_ship_with_an_fmu_engine_at_real_time(tmp_path):
     build_engine_fmu(SHIP, tmp_path / "engine.fmu")
     ship = load_ship(SHIP)
-    inertia = float(pack(ship)[lo.P_I_SHAFT] - ship.transmission.shaft_inertia_kgm2)
+    inertia = float(pack(ship)[TRANSMISSION.I_shaft] - ship.transmission.shaft_inertia_kgm2)
     (tmp_path / "l7_fmu.toml").write_text(
         (SHIP_DIR / f"{SHIP}.toml").read_text()
         + f"""

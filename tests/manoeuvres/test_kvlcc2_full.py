@@ -26,7 +26,7 @@ from vessel_gym.manoeuvres.imo import (
     STOPPING_LIMIT_L,
     TACTICAL_DIAMETER_LIMIT_L,
 )
-from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import PROPELLER
 from vessel_gym.physics.propulsion import propeller_thrust_torque
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
@@ -153,8 +153,8 @@ def _rudder_normal_force(name: str) -> float:
     sim = Simulation(ship)
     sim.reset()
     V = ship.test_speed_m_s
-    thrust = propeller_thrust_torque(P, V * (1.0 - P[lo.P_WP0]), sim.rev[0])[0]
-    return mmg_rudder_forces(P, V, 0.0, 0.0, math.radians(35.0), P[lo.P_WP0], thrust)[1]
+    thrust = propeller_thrust_torque(P, V * (1.0 - P[PROPELLER.w_P0]), sim.rev[0])[0]
+    return mmg_rudder_forces(P, V, 0.0, 0.0, math.radians(35.0), P[PROPELLER.w_P0], thrust)[1]
 
 
 def test_turning_circle_against_the_published_mmg_figures():

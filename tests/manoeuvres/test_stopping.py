@@ -34,8 +34,8 @@ import pytest
 
 from vessel_gym.manoeuvres import stopping
 from vessel_gym.manoeuvres.imo import STOPPING_LARGE_SHIP_LIMIT_L, STOPPING_LIMIT_L, stopping_criteria
-from vessel_gym.physics import layout as lo
 from vessel_gym.physics.hull import hull_forces
+from vessel_gym.physics.params import BODY, PROPELLER
 from vessel_gym.physics.propulsion import propeller_thrust_torque
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.vessel import pack
@@ -63,11 +63,11 @@ def _app3_bracket(name: str, speeds: int = 2) -> tuple[float, float]:
     P = pack(ship)
     V0 = ship.test_speed_m_s
     R0 = -hull_forces(P, V0, 0.0, 0.0, 0.0)[0]
-    scale = P[lo.P_M11] * V0**2 / (2.0 * R0)
+    scale = P[BODY.m11] * V0**2 / (2.0 * R0)
     n_astern = ship.engine.telegraph_rpm[0] / 60.0
     thrust = [
-        -(1.0 - P[lo.P_TP]) * propeller_thrust_torque(P, u_a, n_astern)[0]
-        for u_a in np.linspace(0.0, V0 * (1.0 - P[lo.P_WP0]), speeds)
+        -(1.0 - P[PROPELLER.t_P]) * propeller_thrust_torque(P, u_a, n_astern)[0]
+        for u_a in np.linspace(0.0, V0 * (1.0 - P[PROPELLER.w_P0]), speeds)
     ]
     assert min(thrust) > 0.0
     low = scale * math.log(1.0 + R0 / max(thrust))

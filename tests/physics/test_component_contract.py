@@ -18,6 +18,7 @@ from vessel_gym.physics.components.registry import BUILTINS
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.integrate import forces_batch
 from vessel_gym.physics.kinematics import coriolis_forces
+from vessel_gym.physics.params import BODY, HULL, WAVE_DRIFT, WINDAGE
 from vessel_gym.physics.shipchecks import ShipFileError
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
@@ -95,7 +96,7 @@ def test_named_forces_sum_to_the_equations_of_motion(ship):
     xd = np.zeros(lo.NX)
     derivatives(P, x, sim.inputs[0], sim.env[0], np.zeros(3), xd)
     Xc = coriolis_forces(P, x[lo.X_U], x[lo.X_V], x[lo.X_R])[0]
-    assert P[lo.P_M11] * xd[lo.X_U] == pytest.approx(X + Xc, rel=1e-9, abs=1e-6 * abs(X))
+    assert P[BODY.m11] * xd[lo.X_U] == pytest.approx(X + Xc, rel=1e-9, abs=1e-6 * abs(X))
 
 
 # --- 2. replacement is checked ----------------------------------------------------------------------------
@@ -164,9 +165,9 @@ def test_hull_replacement_needs_added_mass_and_removes_the_builtin_one():
     sim = Simulation("kvlcc2", components=[Bare()], replace=["hull"])
     s = load_ship("kvlcc2")
     m = s.mass_kg
-    assert sim.Ps[0, lo.P_M11] == m  # the MMG hull's m_x left with it
-    assert sim.Ps[0, lo.P_CY_UR] == m and sim.Ps[0, lo.P_CX_VR] == m  # rigid-body Coriolis only
-    assert sim.Ps[0, lo.P_HULL_KIND] == lo.HULL_NONE
+    assert sim.Ps[0, BODY.m11] == m  # the MMG hull's m_x left with it
+    assert sim.Ps[0, BODY.CY_ur] == m and sim.Ps[0, BODY.CX_vr] == m  # rigid-body Coriolis only
+    assert sim.Ps[0, HULL.kind] == lo.HULL_NONE
 
 
 @pytest.mark.parametrize("slot", ["governor", "shaft", "transmission", "propeller", "current"])
@@ -185,7 +186,7 @@ def test_slots_not_replaceable_are_refused_with_a_reason(slot):
 
 def test_old_replace_names_still_work():
     sim = Simulation("kvlcc2", replace=["wind", "waves"])
-    assert sim.Ps[0, lo.P_WIND_ON] == 0.0 and sim.Ps[0, lo.P_WAVE_ON] == 0.0
+    assert sim.Ps[0, WINDAGE.on] == 0.0 and sim.Ps[0, WAVE_DRIFT.on] == 0.0
 
 
 # --- 3. components from a ship file --------------------------------------------------------------------------
@@ -204,7 +205,7 @@ def test_ship_file_hull_is_used_and_matches_the_linear_mmg_terms(user_models, sh
     assert F[2] == pytest.approx(out[0, 2], rel=1e-3)
     # added mass as the built-in MMG hull's (Yasukawa & Yoshimura 2015 eq. 4)
     np.testing.assert_allclose(
-        sim.Ps[0, lo.P_M11 : lo.P_MI33 + 1], builtin.Ps[0, lo.P_M11 : lo.P_MI33 + 1], rtol=1e-12
+        sim.Ps[0, BODY.m11 : BODY.Minv33 + 1], builtin.Ps[0, BODY.m11 : BODY.Minv33 + 1], rtol=1e-12
     )
     sim.reset()
     sim.set_helm(rudder_order_rad=np.radians(10.0))

@@ -10,6 +10,7 @@ import pytest
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.atmosphere import air_density, apparent_wind, blendermann_wind_forces
 from vessel_gym.physics.environment import Environment
+from vessel_gym.physics.params import BODY, ENGINE, PROPELLER, RUDDER, STEERING_GEAR
 from vessel_gym.physics.propulsion import engine_torque, propeller_thrust_torque
 from vessel_gym.physics.seastate import jonswap, wave_drift_forces
 from vessel_gym.physics.shipfile import load_ship
@@ -31,12 +32,12 @@ def test_first_quadrant_is_the_open_water_curve(P_kvlcc2):
     """Quadrant 1 is the published open-water model, T = rho n^2 D^4 K_T(J), Q = rho n^2 D^5 K_Q(J),
     J = u_a/(nD) (Yasukawa & Yoshimura 2015 eq. 13-14), to rounding (1e-12 relative)."""
     P = P_kvlcc2
-    D, rho = P[lo.P_DP], P[lo.P_RHO]
+    D, rho = P[PROPELLER.D_P], P[BODY.rho]
     n = 1.75
     for J in (0.0, 0.1, 0.3, 0.5):
         T, Q = propeller_thrust_torque(P, J * n * D, n)
-        KT = P[lo.P_KT0] + P[lo.P_KT1] * J + P[lo.P_KT2] * J * J
-        KQ = P[lo.P_KQ0] + P[lo.P_KQ1] * J + P[lo.P_KQ2] * J * J
+        KT = P[PROPELLER.k_0] + P[PROPELLER.k_1] * J + P[PROPELLER.k_2] * J * J
+        KQ = P[PROPELLER.q_0] + P[PROPELLER.q_1] * J + P[PROPELLER.q_2] * J * J
         assert T == pytest.approx(rho * n**2 * D**4 * KT, rel=1e-12)
         assert Q == pytest.approx(rho * n**2 * D**5 * KQ, rel=1e-12)
 
@@ -57,7 +58,7 @@ def test_propeller_signs_in_four_quadrants(ship, n_sign, ua_sign, quadrant):
     astern (a crash stop brakes the ship: quadrant 4 gives T < 0)."""
     P = pack(load_ship(ship))
     n = 2.0 * n_sign
-    u_a = ua_sign * 0.3 * abs(n) * P[lo.P_DP]
+    u_a = ua_sign * 0.3 * abs(n) * P[PROPELLER.D_P]
     T, Q = propeller_thrust_torque(P, u_a, n)
     assert np.sign(T) == n_sign, quadrant
     assert np.sign(Q) == n_sign, quadrant
@@ -96,7 +97,7 @@ def test_propeller_is_continuous_across_quadrant_boundaries(ship, boundary, a, b
 def test_steering_gear_rate_limits(P_kvlcc2):
     """The gear's rate never exceeds delta_rate_max and the order is clipped at delta_max (kernel values)."""
     P = P_kvlcc2
-    dmax, rmax = P[lo.P_DMAX], P[lo.P_DRATE]
+    dmax, rmax = P[STEERING_GEAR.delta_max], P[STEERING_GEAR.delta_rate_max]
     for delta in np.linspace(-dmax, dmax, 15):
         for order in np.linspace(-2.0, 2.0, 21):  # well beyond +-35 deg
             rate = steering_gear_rate(P, delta, order)
@@ -115,7 +116,7 @@ def test_steering_gear_in_a_simulation_respects_rate_and_angle(ship):
     sim = Simulation(ship)
     sim.reset()
     P = sim.Ps[0]
-    dmax, rmax = P[lo.P_DMAX], P[lo.P_DRATE]
+    dmax, rmax = P[STEERING_GEAR.delta_max], P[STEERING_GEAR.delta_rate_max]
     sim.state[0, lo.X_DELTA] = -35.0 * DEG
     sim.set_helm(rudder_order_rad=60.0 * DEG)
     deltas = [sim.rudder[0]]
@@ -141,7 +142,7 @@ def test_engine_torque_map_is_bilinear(ship):
     s = load_ship(ship)
     P = pack(s)
     eng = s.engine
-    Q_rated, n_rated = P[lo.P_ENG_QRATED], P[lo.P_ENG_NRATED]
+    Q_rated, n_rated = P[ENGINE.Q_e_rated], P[ENGINE.n_e_rated]
     tab = np.asarray(eng.torque_map)
     spd, fuel = eng.torque_map_speed, eng.torque_map_fuel
     tol = 1e-12 * Q_rated
@@ -208,7 +209,7 @@ def test_wave_drift_directions(P_kvlcc2):
         F = 1e-9 * math.hypot(Xs, Ys)
         assert Xp == pytest.approx(Xs, abs=F)
         assert Yp == pytest.approx(-Ys, abs=F)
-        assert Np == pytest.approx(-Ns, abs=F * P[lo.P_L])
+        assert Np == pytest.approx(-Ns, abs=F * P[BODY.L])
     # heading and wave direction enter only through their difference
     assert wave_drift_forces(P, 1.0, 120.0 * DEG, 30.0 * DEG) == pytest.approx(
         wave_drift_forces(P, 1.0, 90.0 * DEG, 0.0)
@@ -260,11 +261,11 @@ def test_vessel_forces_equal_the_component_functions(ship):
             wind_from_deg=rng.uniform(0.0, 360.0),
             current_speed_m_s=rng.uniform(0.0, 2.0),
             current_to_deg=rng.uniform(0.0, 360.0),
-        ).row(P[lo.P_L], P[lo.P_T])
+        ).row(P[BODY.L], P[BODY.T])
         f = forces(P, x, np.zeros(lo.NU), e, np.zeros(N_OUT))
         u, v, r, psi, delta = x[[lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA]]
         np.testing.assert_allclose(f[0:3], hull_forces(P, u, v, r, delta), rtol=1e-12, atol=1e-9)
-        if P[lo.P_RUD_KIND] == lo.RUDDER_MMG:
+        if P[RUDDER.kind] == lo.RUDDER_MMG:
             rudder = mmg_rudder_forces(P, u, v, r, delta, f[15], f[13])
             np.testing.assert_allclose(f[4:7], rudder, rtol=1e-12, atol=1e-9)
         ug = u + math.cos(psi) * f[18] + math.sin(psi) * f[19]

@@ -44,6 +44,7 @@ def _turning(n: int) -> Simulation:
 
 def test_the_same_call_takes_the_same_driver_every_time(two_threads):
     sim = _turning(THREADED_MIN_BATCH)
+    sim.step(0)  # the first step checks the drivers' kind against the rows (Simulation.step)
     serial, parallel = sim._kernels
     calls = []
     sim._kernels = (lambda *a: calls.append(0) or serial(*a), lambda *a: calls.append(1) or parallel(*a))

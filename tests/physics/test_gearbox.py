@@ -14,7 +14,6 @@ import math
 import numpy as np
 import pytest
 
-from vessel_gym.physics import layout as lo
 from vessel_gym.physics.components import compose as cp
 from vessel_gym.physics.components.gearbox import (
     C_CAP,
@@ -33,6 +32,7 @@ from vessel_gym.physics.components.gearbox import (
     ReversingGearboxParams,
     gearbox_drive,
 )
+from vessel_gym.physics.params import ENGINE, TRANSMISSION
 from vessel_gym.physics.schema import read_toml
 from vessel_gym.physics.shipchecks import ShipFileError
 from vessel_gym.physics.shipfile import SHIP_DIR, load_ship
@@ -44,9 +44,9 @@ SHIP = load_ship("supply")
 PLANT = ENTRY.build(SHIP)
 C = PLANT.constants
 P = cp.compose(SHIP, pack(SHIP), [PLANT], ["engine"])
-I_G, ETA, I_S = P[lo.P_GEAR], P[lo.P_ETA_GEAR], P[lo.P_I_SHAFT]
-Q_RATED = P[lo.P_ENG_QRATED]  # engine side, N m
-N_PROP_RATED = P[lo.P_ENG_NRATED] / I_G  # rev/s
+I_G, ETA, I_S = P[TRANSMISSION.gear_ratio], P[TRANSMISSION.eta_gear], P[TRANSMISSION.I_shaft]
+Q_RATED = P[ENGINE.Q_e_rated]  # engine side, N m
+N_PROP_RATED = P[ENGINE.n_e_rated] / I_G  # rev/s
 ASTERN = SHIP.engine.telegraph_rpm[0] / 60.0  # full astern order, rev/s
 AHEAD = SHIP.engine.telegraph_rpm[-1] / 60.0
 
@@ -68,9 +68,9 @@ def test_supply_chooses_the_plant_in_its_ship_file_and_no_other_ship_does():
         "ReversingGearbox.governor",
         "ReversingGearbox.clutch",
     )
-    assert sim.Ps[0][lo.P_ENGINE_EXT] == 1.0  # the built-in engine, governor and instant clutch are out
+    assert sim.Ps[0][ENGINE.by_component] == 1.0  # the built-in engine, governor and instant clutch are out
     # the engine's inertia is behind the clutch, in the plant's own equation: the shaft keeps its own
-    assert sim.Ps[0][lo.P_I_SHAFT] == SHIP.transmission.shaft_inertia_kgm2
+    assert sim.Ps[0][TRANSMISSION.I_shaft] == SHIP.transmission.shaft_inertia_kgm2
 
 
 def test_clutch_torque_never_exceeds_its_capacity():
@@ -120,7 +120,7 @@ def test_interlock_waits_for_the_propeller_and_the_engine(n_frac, engine_frac, a
     """Astern ordered, clutches released: the astern clutch is applied only while the propeller turns ahead
     slower than engage_rpm_fraction of rated and the engine runs no faster than shift_rpm_fraction."""
     n = n_frac * N_PROP_RATED
-    n_E = engine_frac * P[lo.P_ENG_NRATED]
+    n_E = engine_frac * P[ENGINE.n_e_rated]
     assert (n <= C[C_ENGAGE_REV] and n_E <= C[C_SHIFT_REV]) == applies
     q, _dn_E, _dg, dc, *_, phase = gearbox_drive(P, C, n, n_E, 0.3, 0.0, ASTERN, 1e5)
     assert q == 0.0  # released: no drive
@@ -240,7 +240,7 @@ def test_a_slipping_clutch_opposes_the_slip():
         c = rng.choice([-1.0, 1.0]) * rng.uniform(0.1, 1.0)
         s = math.copysign(1.0, c)
         n = rng.uniform(-1.0, 1.0) * N_PROP_RATED
-        n_E = rng.uniform(0.25, 1.0) * P[lo.P_ENG_NRATED]
+        n_E = rng.uniform(0.25, 1.0) * P[ENGINE.n_e_rated]
         Q_load = rng.uniform(-3e5, 3e5)
         order = AHEAD if c > 0 else ASTERN
         *_, Q_E, Q_c, slip, _phase = gearbox_drive(P, C, n, n_E, rng.uniform(0, 1), c, order, Q_load)

@@ -39,10 +39,11 @@ def _run(driver, sim, nsteps=300):
 @pytest.mark.parametrize(
     "ships, depth_factor, kind",
     [
-        ("kvlcc2", None, (False, False, False)),  # deep water, 3 DOF: the previous release's kernel
-        ("container", None, (False, True, False)),  # roll
-        ("kvlcc2", 1.5, (True, False, False)),  # shallow water, h/T = 1.5
-        (["kvlcc2", "container"], None, (False, True, False)),  # a 3-DOF ship in a batch with roll
+        ("kvlcc2", None, (False, False, False, False)),  # deep water, 3 DOF, MMG hull: no Abkowitz model compiled
+        ("mariner", None, (False, False, False, True)),  # an Abkowitz hull
+        ("container", None, (False, True, False, True)),  # roll (an Abkowitz hull)
+        ("kvlcc2", 1.5, (True, False, False, False)),  # shallow water, h/T = 1.5
+        (["kvlcc2", "container"], None, (False, True, False, True)),  # a 3-DOF MMG ship in a batch with roll
     ],
 )
 def test_kind_of_batch_matches_the_general_kernel_bit_for_bit(ships, depth_factor, kind):
@@ -60,8 +61,11 @@ def test_kind_of_batch_matches_the_general_kernel_bit_for_bit(ships, depth_facto
 
 def test_a_kernel_refuses_a_batch_not_of_its_kind_and_the_simulation_chooses_again():
     sim = _sim("container", 2)
-    X, alive, count = _run(drivers(False, False, False)[0], sim)  # a 3-DOF kernel on a ship with roll
+    X, alive, count = _run(drivers(False, False, False, True)[0], sim)  # a 3-DOF kernel on a ship with roll
     assert count == -1 and np.array_equal(X, sim.state)  # refused, nothing integrated
+    sim = _sim("mariner", 2)
+    X, alive, count = _run(drivers(False, False, False, False)[0], sim)  # no Abkowitz model, an Abkowitz hull
+    assert count == -1 and np.array_equal(X, sim.state)
     # a shallow-water row written into the environment directly, past set_environment
     sim = _sim("kvlcc2", 2)
     before = sim.state.copy()
@@ -69,11 +73,13 @@ def test_a_kernel_refuses_a_batch_not_of_its_kind_and_the_simulation_chooses_aga
     assert _run(sim._kernels[0], sim)[2] == -1
     ref, _, _ = _run(run_serial, sim, 50)
     sim.step(50)
-    assert sim._kernels is drivers(True, False, False)
+    assert sim._kernels is drivers(True, False, False, False)
     assert np.array_equal(sim.state, ref) and not np.array_equal(sim.state, before)
 
 
-@pytest.mark.parametrize("ship, depth_factor", [("kvlcc2", None), ("kvlcc2", 1.5), ("container", None)])
+@pytest.mark.parametrize(
+    "ship, depth_factor", [("kvlcc2", None), ("kvlcc2", 1.5), ("container", None), ("mariner", None)]
+)
 def test_right_hand_side_of_the_narrowest_kind_is_the_general_one_to_the_bit(ship, depth_factor):
     # the linearisation (linear.py) evaluates the drivers' kind of right-hand side, not the general form
     T = load_ship(ship).particulars.T_m

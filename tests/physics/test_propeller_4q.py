@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from vessel_gym.manoeuvres import stopping
-from vessel_gym.physics import layout as lo
 from vessel_gym.physics.hull import hull_forces
+from vessel_gym.physics.params import BODY, PROPELLER
 from vessel_gym.physics.propeller4q import BOLLARD_FACTOR, TABLE_NAMES, ct_cq_star
 from vessel_gym.physics.propulsion import propeller_thrust_torque
 from vessel_gym.physics.schema import read_toml
@@ -135,20 +135,20 @@ def test_first_quadrant_keeps_the_ships_own_curves_and_the_option_is_off_by_defa
     propeller (docs/physics.md), name the B4-70 P/D 0.8 table."""
     ship = _with_4q(name="")
     P0, P4 = pack(ship), pack(_with_4q())
-    assert P0[lo.P_PROP_4Q] == 0.0 and P4[lo.P_PROP_4Q] == 1.0
+    assert P0[PROPELLER.four_quadrant] == 0.0 and P4[PROPELLER.four_quadrant] == 1.0
     for ua, n in ((0.0, 1.75), (4.8, 1.75), (6.0, 0.5), (4.0, 0.0)):
         assert propeller_thrust_torque(P4, ua, n) == propeller_thrust_torque(P0, ua, n)
     for name in ("kvlcc2_l7", "kvlcc2_l7_windage"):
-        assert pack(load_ship(name))[lo.P_PROP_4Q] == 0.0
+        assert pack(load_ship(name))[PROPELLER.four_quadrant] == 0.0
     for name in ("kvlcc2", "mariner", "dtc", "supply"):
-        assert pack(load_ship(name))[lo.P_PROP_4Q] == 1.0
+        assert pack(load_ship(name))[PROPELLER.four_quadrant] == 1.0
     # bollard ahead: the ship's own k_0; bollard astern: the series' astern/ahead ratio times the ship's k_0
     n = 1.5
     T_ahead = propeller_thrust_torque(P4, 0.0, n)[0]
     T_astern = propeller_thrust_torque(P4, 0.0, -n)[0]
     ct0, _ = ct_cq_star(1, 0.0)
     ct180, _ = ct_cq_star(1, math.pi)
-    assert T_ahead == pytest.approx(P4[lo.P_RHO] * n * n * P4[lo.P_DP] ** 4 * P4[lo.P_KT0], rel=1e-12)
+    assert T_ahead == pytest.approx(P4[BODY.rho] * n * n * P4[PROPELLER.D_P] ** 4 * P4[PROPELLER.k_0], rel=1e-12)
     assert T_astern / T_ahead == pytest.approx(ct180 / ct0, rel=1e-9)
     assert BOLLARD_FACTOR == pytest.approx(math.pi / 8.0 * (0.7 * math.pi) ** 2, rel=1e-15)
 
@@ -174,10 +174,10 @@ def test_kvlcc2_crash_stop_with_the_four_quadrant_propeller():
     P = pack(ship)
     V0 = ship.test_speed_m_s
     R0 = -hull_forces(P, V0, 0.0, 0.0, 0.0)[0]
-    scale = P[lo.P_M11] * V0**2 / (2.0 * R0)
+    scale = P[BODY.m11] * V0**2 / (2.0 * R0)
     n_astern = ship.engine.telegraph_rpm[0] / 60.0
-    T_dead = -(1.0 - P[lo.P_TP]) * propeller_thrust_torque(P, 0.0, n_astern)[0]
-    T_way = -(1.0 - P[lo.P_TP]) * propeller_thrust_torque(P, V0 * (1.0 - P[lo.P_WP0]), n_astern)[0]
+    T_dead = -(1.0 - P[PROPELLER.t_P]) * propeller_thrust_torque(P, 0.0, n_astern)[0]
+    T_way = -(1.0 - P[PROPELLER.t_P]) * propeller_thrust_torque(P, V0 * (1.0 - P[PROPELLER.w_P0]), n_astern)[0]
     assert 0.0 < T_way < T_dead  # with headway the reversed propeller gives less thrust (quadrant 2)
     S_low = scale * math.log(1.0 + R0 / T_dead)
     S_high = scale * math.log(1.0 + R0 / T_way) + V0 * 60.0

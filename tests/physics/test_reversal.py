@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import ENGINE, TRANSMISSION
 from vessel_gym.physics.propulsion import (
     PHASE_AIR,
     PHASE_FUEL_OFF,
@@ -24,16 +25,16 @@ from vessel_gym.physics.vessel import pack
 
 KV = load_ship("kvlcc2")
 P_KV = pack(KV)
-N_RATED = P_KV[lo.P_ENG_NRATED]  # rev/s (gear ratio 1: engine and propeller speed alike)
+N_RATED = P_KV[ENGINE.n_e_rated]  # rev/s (gear ratio 1: engine and propeller speed alike)
 ASTERN = -80.0 / 60.0  # full astern order, rev/s
 
 
 def test_kvlcc2_declares_direct_reversing_engine_others_keep_the_clutch():
     assert KV.engine.reversing == "direct_air_start"
-    assert P_KV[lo.P_REV_KIND] == lo.REVERSING_DIRECT_AIR
+    assert P_KV[ENGINE.reversing] == lo.REVERSING_DIRECT_AIR
     for name in ("kvlcc2_l7", "kvlcc2_l7_windage", "mariner", "dtc", "supply"):
         assert load_ship(name).engine.reversing == "clutch"
-        assert pack(load_ship(name))[lo.P_REV_KIND] == lo.REVERSING_CLUTCH
+        assert pack(load_ship(name))[ENGINE.reversing] == lo.REVERSING_CLUTCH
 
 
 def test_fuel_is_cut_while_the_reversing_gear_shifts():
@@ -43,7 +44,7 @@ def test_fuel_is_cut_while_the_reversing_gear_shifts():
         assert fuel == 0.0 and phase == PHASE_SHIFTING
         assert dcam < 0.0  # moving towards astern
         assert Q_e < 0.0 and q < 0.0  # drag opposes the ahead rotation
-        assert abs(Q_e) <= 0.3 * P_KV[lo.P_ENG_QRATED]
+        assert abs(Q_e) <= 0.3 * P_KV[ENGINE.Q_e_rated]
 
 
 def test_starting_air_only_below_the_air_braking_speed():
@@ -54,10 +55,10 @@ def test_starting_air_only_below_the_air_braking_speed():
     below = (f_air - 0.05) * N_RATED
     *_, fuel, _ne, Q_e, phase = engine_drive(P_KV, above, -1.0, 0.0, ASTERN)
     assert phase == PHASE_FUEL_OFF and fuel == 0.0 and Q_e < 0.0
-    assert abs(Q_e) < 0.2 * P_KV[lo.P_ENG_QRATED]  # drag only
+    assert abs(Q_e) < 0.2 * P_KV[ENGINE.Q_e_rated]  # drag only
     *_, fuel, _ne, Q_e, phase = engine_drive(P_KV, below, -1.0, 0.0, ASTERN)
     assert phase == PHASE_AIR and fuel == 0.0
-    assert Q_e == pytest.approx(-KV.engine.starting_air_torque_fraction * P_KV[lo.P_ENG_QRATED])
+    assert Q_e == pytest.approx(-KV.engine.starting_air_torque_fraction * P_KV[ENGINE.Q_e_rated])
 
 
 def test_fuel_astern_only_above_the_firing_speed_and_with_limited_torque():
@@ -80,8 +81,8 @@ def test_clutch_plant_unchanged():
         f_ref, di_ref, s, ne_ref = governor(P, n, g, order)
         q_ref = 0.0
         if s != 0.0:
-            q_ref = s * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * engine_torque(P, ne_ref, f_ref)
-            q_ref *= P[lo.P_ENG_ASTERN] if s < 0.0 else 1.0
+            q_ref = s * P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio] * engine_torque(P, ne_ref, f_ref)
+            q_ref *= P[ENGINE.astern_torque_ratio] if s < 0.0 else 1.0
         assert (q, dcam, di, fuel, n_e) == (q_ref, 0.0, di_ref, f_ref, ne_ref)
 
 
@@ -135,7 +136,7 @@ def test_stop_order_keeps_the_gear_and_a_stopped_shaft_at_rest():
         q, dcam, _di, fuel, _ne, _qe, phase = engine_drive(P_KV, 0.0, cam, 0.0, 0.0)
         assert (q, dcam, fuel, phase) == (0.0, 0.0, 0.0, PHASE_FUEL_OFF)
     q_small, *_ = engine_drive(P_KV, 1e-6, 1.0, 0.0, 0.0)
-    assert q_small < 0.0 and abs(q_small) < 1e-3 * P_KV[lo.P_ENG_QRATED]
+    assert q_small < 0.0 and abs(q_small) < 1e-3 * P_KV[ENGINE.Q_e_rated]
 
 
 def test_astern_then_ahead_again_reverses_the_gear_back():

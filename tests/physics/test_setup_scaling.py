@@ -13,6 +13,7 @@ import pytest
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics import simulation as simmod
 from vessel_gym.physics.environment import CALM, Environment, EnvironmentList
+from vessel_gym.physics.params import BODY
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.simulation import STEADY_CACHE_SIZE, Simulation
 from vessel_gym.physics.steady import SimulationError, steady_state
@@ -188,7 +189,7 @@ def test_cache_entries_share_one_copy_of_the_parameters():
     sim.reset(heading_deg=np.arange(64.0))
     sim.reset(heading_deg=100.0 + np.arange(64.0))
     assert len({id(key[0]) for key in sim._steady_cache}) == 1
-    sim.Ps[0, lo.P_RHO] *= 1.01  # changed parameters are a new key, not a stale hit
+    sim.Ps[0, BODY.rho] *= 1.01  # changed parameters are a new key, not a stale hit
     sim.reset(heading_deg=0.0, k=0)
     assert len({key[0] for key in sim._steady_cache}) == 2
 

@@ -14,6 +14,7 @@ from vessel_gym.manoeuvres.imo import imo_report
 from vessel_gym.manoeuvres.trials import turning_circle, zigzag
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import CALM, Environment
+from vessel_gym.physics.params import PROPELLER
 from vessel_gym.physics.schema import SpecError
 from vessel_gym.physics.shallow_water import (
     H_MAX,
@@ -36,8 +37,8 @@ def _factors(H: float) -> np.ndarray:
     return np.array(
         [
             *hull_factors(P, H),
-            wake_fraction(P, H) / P[lo.P_WP0],
-            (1.0 - thrust_deduction(P, H)) / (1.0 - P[lo.P_TP]),
+            wake_fraction(P, H) / P[PROPELLER.w_P0],
+            (1.0 - thrust_deduction(P, H)) / (1.0 - P[PROPELLER.t_P]),
             flow_straightening_factor(P, H),
         ]
     )
@@ -49,7 +50,7 @@ def test_deep_water_is_the_default_and_changes_nothing() -> None:
     assert math.isinf(CALM.depth_m)
     assert CALM.row(320.0, 20.8)[lo.E_T_OVER_H] == 0.0
     assert np.all(_factors(0.0) == 1.0)
-    assert wake_fraction(P, 0.0) == P[lo.P_WP0] and thrust_deduction(P, 0.0) == P[lo.P_TP]
+    assert wake_fraction(P, 0.0) == P[PROPELLER.w_P0] and thrust_deduction(P, 0.0) == P[PROPELLER.t_P]
     x = np.zeros(lo.NX)
     x[[lo.X_U, lo.X_V, lo.X_R, lo.X_DELTA, lo.X_REV]] = [7.0, -0.4, 0.004, 0.3, 1.2]
     water = [*range(7), 13, 14, 15]  # hull, propeller, rudder, thrust, propeller torque, wake

@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pytest
 
-from vessel_gym.physics import layout as lo
+from vessel_gym.physics import params
 from vessel_gym.physics.shipchecks import ShipFileError
 from vessel_gym.physics.shipfile import builtin_ships, load_ship
 from vessel_gym.physics.simulation import Simulation
@@ -29,7 +29,7 @@ def test_builtin_ship_loads_packs_and_holds_its_test_speed(name):
     assert ship.name == name
     assert len(ship.source.citation) > 20
     P = pack(ship)
-    assert P.shape == (lo.NP,) and np.isfinite(P).all()
+    assert P.shape == (params.NP,) and np.isfinite(P).all()
     sim = Simulation(ship)
     sim.reset()
     assert sim.u[0] == pytest.approx(ship.test_speed_m_s)

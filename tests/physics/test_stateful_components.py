@@ -16,6 +16,7 @@ import pytest
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.components import Engine, State, SteeringGear
 from vessel_gym.physics.components.compose import builtin_slots
+from vessel_gym.physics.params import ENGINE, STEERING_GEAR, TRANSMISSION
 from vessel_gym.physics.propulsion import clutch_direction, engine_torque, governor
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
@@ -48,15 +49,15 @@ class BuiltinEngineInPython(Engine):
         P, Q = self.P, np.zeros(x.shape[0])
         for b, (fuel, _di, sgn, n_e) in self._each(sim, x, s):
             if sgn != 0.0:
-                Q[b] = sgn * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * engine_torque(P, n_e, fuel)
+                Q[b] = sgn * P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio] * engine_torque(P, n_e, fuel)
                 if sgn < 0.0:
-                    Q[b] *= P[lo.P_ENG_ASTERN]
+                    Q[b] *= P[ENGINE.astern_torque_ratio]
         return Q
 
     def steady_states(self, sim, x, Q_hold):
         P = self.P  # the fuel index whose engine torque holds the shaft, as the built-in reset solves it
-        Q_e = Q_hold / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
-        return np.array([[fuel_index_for(P, P[lo.P_GEAR] * x[b, lo.X_REV], Q_e[b])] for b in range(len(x))])
+        Q_e = Q_hold / (P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio])
+        return np.array([[fuel_index_for(P, P[TRANSMISSION.gear_ratio] * x[b, lo.X_REV], Q_e[b])] for b in range(len(x))])
 
 
 def test_user_engine_reimplementing_the_builtin_reproduces_its_crash_stop():
@@ -68,7 +69,7 @@ def test_user_engine_reimplementing_the_builtin_reproduces_its_crash_stop():
     ref.reset()
     comp = BuiltinEngineInPython(ship, ref.Ps[0])
     sim = Simulation(ship, dt=0.05, components=[comp], replace=["engine"])
-    assert sim.Ps[0, lo.P_I_SHAFT] == ref.Ps[0, lo.P_I_SHAFT] and sim.Ps[0, lo.P_ENGINE_EXT] == 1.0
+    assert sim.Ps[0, TRANSMISSION.I_shaft] == ref.Ps[0, TRANSMISSION.I_shaft] and sim.Ps[0, ENGINE.by_component] == 1.0
     assert "engine" not in builtin_slots(sim.Ps[0]) and "governor" not in builtin_slots(sim.Ps[0])
     sim.reset()
     assert sim.component_state("BuiltinEngineInPython.governor")[0] == ref.state[0, lo.X_GOV]
@@ -102,7 +103,7 @@ def test_user_steering_gear_drives_the_rudder_angle():
     at that rate from 0 reaches 20 deg after 20 / 2.32 = 8.62 s; RK4 integrates a constant rate exactly."""
     rate = math.radians(65.0 / 28.0)
     sim = Simulation("kvlcc2", dt=0.1, components=[RateGear(rate)], replace=["steering_gear"])
-    assert sim.Ps[0, lo.P_SG_EXT] == 1.0 and "steering_gear" not in builtin_slots(sim.Ps[0])
+    assert sim.Ps[0, STEERING_GEAR.by_component] == 1.0 and "steering_gear" not in builtin_slots(sim.Ps[0])
     sim.reset()
     sim.set_helm(rudder_order_rad=math.radians(20.0))
     sim.advance(5.0)

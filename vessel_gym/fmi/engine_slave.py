@@ -50,7 +50,7 @@ class VesselGymEngine(Fmi2Slave):
             register_real(self, name, kind, doc, getter=getter)
 
     def exit_initialization_mode(self):
-        from vessel_gym.physics import layout as lo
+        from vessel_gym.physics.params import TRANSMISSION
         from vessel_gym.physics.propulsion import clutch_direction
         from vessel_gym.physics.shipfile import load_ship
         from vessel_gym.physics.steady import fuel_index_for
@@ -65,8 +65,8 @@ class VesselGymEngine(Fmi2Slave):
         self.gov = 0.0
         if self.hold_torque > 0.0 and d != 0.0:
             # the steady approach's rule (physics.steady): fuel whose engine torque holds the shaft
-            n_e = abs(P[lo.P_GEAR] * self.shaft_speed)
-            self.gov = fuel_index_for(P, n_e, self.hold_torque / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR]))
+            n_e = abs(P[TRANSMISSION.gear_ratio] * self.shaft_speed)
+            self.gov = fuel_index_for(P, n_e, self.hold_torque / (P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio]))
 
     def _drive(self, gov=None, cam=None):
         """(drive torque N m, fuel index, d gov/dt, d cam/dt) at the inputs and the states (or ``gov``, ``cam``)."""

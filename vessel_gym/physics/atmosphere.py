@@ -10,8 +10,8 @@ import math
 
 from numba import njit
 
-from vessel_gym.physics import layout as lo
 from vessel_gym.physics.kinematics import relative_wind
+from vessel_gym.physics.params import BODY, WINDAGE
 from vessel_gym.physics.units import P_ISA_PA, R_DRY_AIR_J_KGK, T_ISA_K
 
 
@@ -63,22 +63,22 @@ def blendermann_wind_loads(P, V_rw, gamma, cos_gamma, sin_gamma, rho_air):
     has cos g = cos_gamma, sin g = |sin_gamma| and sin 2g = 2 sin g cos g without further trigonometry.
     Returns (X, Y, N) in N, N, N m.
     """
-    if P[lo.P_WIND_ON] == 0.0 or V_rw <= 0.0:
+    if P[WINDAGE.on] == 0.0 or V_rw <= 0.0:
         return 0.0, 0.0, 0.0
-    AF = P[lo.P_AFW]
-    AL = P[lo.P_ALW]
-    L = P[lo.P_L]
-    CDt = P[lo.P_CDT]
+    AF = P[WINDAGE.A_FW]
+    AL = P[WINDAGE.A_LW]
+    L = P[BODY.L]
+    CDt = P[WINDAGE.CD_t]
     g = abs(gamma)
     cos_g = cos_gamma
     sin_g = abs(sin_gamma)
-    CDl_AF = P[lo.P_CDL0] if g <= 0.5 * math.pi else P[lo.P_CDLPI]
+    CDl_AF = P[WINDAGE.CD_l_AF_0] if g <= 0.5 * math.pi else P[WINDAGE.CD_l_AF_pi]
     CDl = CDl_AF * AF / AL
     s2 = 2.0 * sin_g * cos_g
-    den = 1.0 - 0.5 * P[lo.P_BDELTA] * (1.0 - CDl / CDt) * s2 * s2
+    den = 1.0 - 0.5 * P[WINDAGE.delta] * (1.0 - CDl / CDt) * s2 * s2
     CX = -CDl * (AL / AF) * cos_g / den
     CY = CDt * sin_g / den
-    CN = (P[lo.P_SL] / L - 0.18 * (g - 0.5 * math.pi)) * CY
+    CN = (P[WINDAGE.s_L] / L - 0.18 * (g - 0.5 * math.pi)) * CY
     q = 0.5 * rho_air * V_rw * V_rw
     sgn = -1.0 if gamma >= 0.0 else 1.0  # wind from starboard pushes to port
     return q * CX * AF, sgn * q * CY * AL, sgn * q * CN * AL * L

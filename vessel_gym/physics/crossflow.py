@@ -43,6 +43,7 @@ import numpy as np
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import ABKOWITZ, BODY, HULL, LARGE_DRIFT, MMG
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.shallow_water import cross_flow_drag_factor, hull_factors
 
@@ -103,8 +104,8 @@ def check(ld: LargeDrift, hull_model: str, where: str, resistance_N: float = 0.0
 
 def _abkowitz_monomial(P: np.ndarray, e: tuple[int, int, int, int]) -> np.ndarray:
     """(c_X, c_Y, c_N) of the Abkowitz monomial u'^e_u v'^e_v r'^e_r delta^e_d in a packed row (0 if absent)."""
-    for k in range(int(P[lo.P_ABK_NM])):
-        j = lo.P_ABK_M + lo.ABK_STRIDE * k
+    for k in range(int(P[ABKOWITZ.n_monomials])):
+        j = ABKOWITZ.monomials + lo.ABK_STRIDE * k
         if tuple(int(x) for x in P[j : j + 4]) == e:
             return P[j + 4 : j + 7].copy()
     return np.zeros(3)
@@ -119,48 +120,48 @@ def _abkowitz_linear_terms(P: np.ndarray) -> None:
     these in its equations (coriolis = 'separate') or in its derivatives (Mariner: X_rv = m'). The surge v r
     and sway u r terms have the form of X'_vr v r L and Y'_r r L u, so they are folded in: the converted
     X'_vr, Y'_r are the set's total derivatives. The yaw u r term is split off: N'_r r L |u| is damping (the
-    hydrodynamic part), -x_G m u r is kinematics and reverses with u (P_XF_CNUR); likewise x_G m r^2 (P_XF_CXRR).
+    hydrodynamic part), -x_G m u r is kinematics and reverses with u (LARGE_DRIFT.C_N_ur); likewise x_G m r^2 (LARGE_DRIFT.C_X_rr).
     """
-    L, d = P[lo.P_L], P[lo.P_T]
+    L, d = P[BODY.L], P[BODY.T]
     # an Abkowitz coefficient on FNORM L^2 U^2 (L^3 for N) -> on 1/2 rho L d U^2 (L for N); rho is in FNORM
-    to_mmg = P[lo.P_HULL_FNORM] * L / (0.5 * P[lo.P_RHO] * d)
+    to_mmg = P[ABKOWITZ.force_norm] * L / (0.5 * P[BODY.rho] * d)
     _, Y_v, N_v = _abkowitz_monomial(P, (0, 1, 0, 0))
     _, Y_r, N_r = _abkowitz_monomial(P, (0, 0, 1, 0))
     X_vr = _abkowitz_monomial(P, (0, 1, 1, 0))[0]
-    mxG = P[lo.P_MASS] * P[lo.P_XG]
-    q3 = 0.5 * P[lo.P_RHO] * L**3 * d  # turns a yaw coefficient in kg m into one on 1/2 rho L^2 d U^2, times L/U
-    P[lo.P_XF_R0] = P[lo.P_HULL_RES] / (0.5 * P[lo.P_RHO] * L * d)
-    P[lo.P_XF_XVR] = X_vr * to_mmg
-    P[lo.P_XF_YV] = Y_v * to_mmg
-    P[lo.P_XF_YR] = Y_r * to_mmg
-    P[lo.P_XF_NV] = N_v * to_mmg
+    mxG = P[BODY.m] * P[BODY.x_G]
+    q3 = 0.5 * P[BODY.rho] * L**3 * d  # turns a yaw coefficient in kg m into one on 1/2 rho L^2 d U^2, times L/U
+    P[LARGE_DRIFT.R_0] = P[ABKOWITZ.R_res] / (0.5 * P[BODY.rho] * L * d)
+    P[LARGE_DRIFT.X_vr] = X_vr * to_mmg
+    P[LARGE_DRIFT.Y_v] = Y_v * to_mmg
+    P[LARGE_DRIFT.Y_r] = Y_r * to_mmg
+    P[LARGE_DRIFT.N_v] = N_v * to_mmg
     # the set's N_r r L U holds -(x_G m - c_N,ur) u r of kinematics; the rest is hydrodynamic damping
-    P[lo.P_XF_NR] = N_r * to_mmg + (mxG - P[lo.P_CN_UR]) / q3
-    P[lo.P_XF_CNUR] = -(mxG - P[lo.P_CN_UR])
-    P[lo.P_XF_CXRR] = mxG - P[lo.P_CX_RR]
+    P[LARGE_DRIFT.N_r] = N_r * to_mmg + (mxG - P[BODY.CN_ur]) / q3
+    P[LARGE_DRIFT.C_N_ur] = -(mxG - P[BODY.CN_ur])
+    P[LARGE_DRIFT.C_X_rr] = mxG - P[BODY.CX_rr]
 
 
 def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
     """Fill the ``[large_drift]`` fields of a parameter row (off when ``ld`` is None). Called after the hull
     fields are packed: the linear terms are the MMG set's, or converted from the Abkowitz set."""
     if ld is None:
-        P[lo.P_XF_ON] = 0.0
+        P[LARGE_DRIFT.on] = 0.0
         return
-    P[lo.P_XF_ON] = 1.0
-    P[lo.P_XF_CD], P[lo.P_XF_CRY], P[lo.P_XF_CRN], P[lo.P_XF_R0A] = ld.C_D, ld.C_rY, ld.C_rN, ld.R_0_astern
-    P[lo.P_XF_BETA1] = math.radians(ld.mmg_drift_max_deg)
-    P[lo.P_XF_TANB1] = math.tan(P[lo.P_XF_BETA1]) * (1.0 - DRIFT_TEST_MARGIN)
-    P[lo.P_XF_BETA2] = math.radians(ld.cross_flow_drift_min_deg)
-    P[lo.P_XF_RP1], P[lo.P_XF_RP2] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
-    P[lo.P_XF_RP1_SQ] = (ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
-    P[lo.P_XF_UP1_SQ] = (ld.polynomial_u_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
-    P[lo.P_XF_UP1], P[lo.P_XF_UP2] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
-    if int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
+    P[LARGE_DRIFT.on] = 1.0
+    P[LARGE_DRIFT.C_D], P[LARGE_DRIFT.C_rY], P[LARGE_DRIFT.C_rN], P[LARGE_DRIFT.R_0_astern] = ld.C_D, ld.C_rY, ld.C_rN, ld.R_0_astern
+    P[LARGE_DRIFT.mmg_drift_max] = math.radians(ld.mmg_drift_max_deg)
+    P[LARGE_DRIFT.tan_mmg_drift_max] = math.tan(P[LARGE_DRIFT.mmg_drift_max]) * (1.0 - DRIFT_TEST_MARGIN)
+    P[LARGE_DRIFT.cross_flow_drift_min] = math.radians(ld.cross_flow_drift_min_deg)
+    P[LARGE_DRIFT.mmg_r_prime_max], P[LARGE_DRIFT.cross_flow_r_prime_min] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
+    P[LARGE_DRIFT.mmg_r_prime_max_squared] = (ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
+    P[LARGE_DRIFT.polynomial_u_prime_max_squared] = (ld.polynomial_u_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
+    P[LARGE_DRIFT.polynomial_u_prime_max], P[LARGE_DRIFT.cross_flow_u_prime_min] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
+    if int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
         _abkowitz_linear_terms(P)
         return
-    P[lo.P_XF_R0], P[lo.P_XF_XVR] = P[lo.P_MMG_R0], P[lo.P_MMG_XVR]
-    P[lo.P_XF_YV], P[lo.P_XF_YR] = P[lo.P_MMG_YV], P[lo.P_MMG_YR]
-    P[lo.P_XF_NV], P[lo.P_XF_NR] = P[lo.P_MMG_NV], P[lo.P_MMG_NR]
+    P[LARGE_DRIFT.R_0], P[LARGE_DRIFT.X_vr] = P[MMG.R_0], P[MMG.X_vr]
+    P[LARGE_DRIFT.Y_v], P[LARGE_DRIFT.Y_r] = P[MMG.Y_v], P[MMG.Y_r]
+    P[LARGE_DRIFT.N_v], P[LARGE_DRIFT.N_r] = P[MMG.N_v], P[MMG.N_r]
 
 
 #: strips of the cross-flow integral (midpoint rule): the integrand |s| s is C1, so the error is O(1/N^2),
@@ -196,23 +197,24 @@ def yoshimura_forces_at_depth(P, u, v, r, H):
     (shallow_water.cross_flow_drag_factor: UFC 4-159-03 eq. 11), in the sway force and the yaw moment alike.
     The surge resistance X'_0 is not corrected, as R'_0 is not in the polynomial. At H = 0 nothing is evaluated.
     Returns (X, Y, N) in N, N, N m."""
-    L = P[lo.P_L]
+    L = P[BODY.L]
     U = math.sqrt(u * u + v * v)
     chi = math.atan2(abs(v), u) if U > 0.0 else 0.0
-    R0 = P[lo.P_XF_R0]
-    X0 = -(R0 + (P[lo.P_XF_R0A] - R0) * chi / math.pi)
+    R0 = P[LARGE_DRIFT.R_0]
+    X0 = -(R0 + (P[LARGE_DRIFT.R_0_astern] - R0) * chi / math.pi)
     rL = r * L
-    IY, IN = cross_flow_integrals(v, rL, P[lo.P_XF_CRY], P[lo.P_XF_CRN])
-    CD = P[lo.P_XF_CD]
-    X_vr, Y_v, Y_r, N_v, N_r = P[lo.P_XF_XVR], P[lo.P_XF_YV], P[lo.P_XF_YR], P[lo.P_XF_NV], P[lo.P_XF_NR]
-    if H > 0.0:
-        f = hull_factors(P, H)  # the order of hull_factors: X_vr 2, Y_v 5, Y_r 6, N_v 11, N_r 12
-        X_vr, Y_v, Y_r, N_v, N_r = X_vr * f[2], Y_v * f[5], Y_r * f[6], N_v * f[11], N_r * f[12]
-        CD = CD * cross_flow_drag_factor(P, H)
-    q = 0.5 * P[lo.P_RHO] * L * P[lo.P_T]
-    X = q * (X0 * u * U + X_vr * v * rL) + P[lo.P_XF_CXRR] * r * r
+    IY, IN = cross_flow_integrals(v, rL, P[LARGE_DRIFT.C_rY], P[LARGE_DRIFT.C_rN])
+    CD = P[LARGE_DRIFT.C_D]
+    X_vr, Y_v, Y_r, N_v, N_r = P[LARGE_DRIFT.X_vr], P[LARGE_DRIFT.Y_v], P[LARGE_DRIFT.Y_r], P[LARGE_DRIFT.N_v], P[LARGE_DRIFT.N_r]
+    if H is not None:  # None: a deep-water kernel, where this is not compiled
+        if H > 0.0:
+            f = hull_factors(P, H)  # the order of hull_factors: X_vr 2, Y_v 5, Y_r 6, N_v 11, N_r 12
+            X_vr, Y_v, Y_r, N_v, N_r = X_vr * f[2], Y_v * f[5], Y_r * f[6], N_v * f[11], N_r * f[12]
+            CD = CD * cross_flow_drag_factor(P, H)
+    q = 0.5 * P[BODY.rho] * L * P[BODY.T]
+    X = q * (X0 * u * U + X_vr * v * rL) + P[LARGE_DRIFT.C_X_rr] * r * r
     Y = q * (Y_v * v * abs(u) + Y_r * rL * u - CD * IY)
-    N = q * L * (N_v * v * u + N_r * rL * abs(u) - CD * IN) + P[lo.P_XF_CNUR] * u * r
+    N = q * L * (N_v * v * u + N_r * rL * abs(u) - CD * IN) + P[LARGE_DRIFT.C_N_ur] * u * r
     return X, Y, N
 
 
@@ -225,9 +227,9 @@ DRIFT_TEST_MARGIN = 1e-9
 def yoshimura_forces(P, u, v, r):
     """:func:`yoshimura_forces_at_depth` in deep water. Returns (X, Y, N) in N, N, N m.
 
-    H is the integer 0, as in the deep-water drivers, so that one specialisation of the cross-flow functions
-    serves both (hull.hull_forces says why)."""
-    H = 0
+    H is None, as in the deep-water drivers, so that one specialisation of the cross-flow functions serves both
+    (hull.hull_forces says why)."""
+    H = None
     return yoshimura_forces_at_depth(P, u, v, r, H)
 
 
@@ -247,17 +249,17 @@ def mmg_weight(P, u, v, r):
     """Weight of the hull polynomial (MMG or Abkowitz) in the blend (module docstring): 1 inside its fitted
     range."""
     U = math.sqrt(u * u + v * v)
-    rL = abs(r) * P[lo.P_L]
+    rL = abs(r) * P[BODY.L]
     if U <= 0.0:
         return 1.0 if rL == 0.0 else 0.0  # at rest both models give 0; turning on the spot: cross flow
-    w_beta = _fade(math.atan2(abs(v), u), P[lo.P_XF_BETA1], P[lo.P_XF_BETA2])
+    w_beta = _fade(math.atan2(abs(v), u), P[LARGE_DRIFT.mmg_drift_max], P[LARGE_DRIFT.cross_flow_drift_min])
     if w_beta == 0.0:
         return 0.0
-    w = w_beta * _fade(rL / U, P[lo.P_XF_RP1], P[lo.P_XF_RP2])
-    if P[lo.P_HULL_UREF] > 0.0 and int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
+    w = w_beta * _fade(rL / U, P[LARGE_DRIFT.mmg_r_prime_max], P[LARGE_DRIFT.cross_flow_r_prime_min])
+    if P[ABKOWITZ.U_ref] > 0.0 and int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
         # an Abkowitz set in the surge perturbation u' = (u - U_ref)/U is fitted near U_ref (hull.abkowitz_forces)
-        Ue = max(U, P[lo.P_U_MIN])
-        w *= _fade(abs(u - P[lo.P_HULL_UREF]) / Ue, P[lo.P_XF_UP1], P[lo.P_XF_UP2])
+        Ue = max(U, P[HULL.U_min])
+        w *= _fade(abs(u - P[ABKOWITZ.U_ref]) / Ue, P[LARGE_DRIFT.polynomial_u_prime_max], P[LARGE_DRIFT.cross_flow_u_prime_min])
     return w
 
 
@@ -269,16 +271,16 @@ def inside_polynomial_range(P, u, v, r):
     (u - U_ref)^2 < max(U^2, U_min^2) u'_1^2, each bound shortened by DRIFT_TEST_MARGIN. The margin is far beyond
     the rounding of either form, so True implies that mmg_weight returns exactly 1; near a bound it is False and
     mmg_weight decides (a NaN gives False)."""
-    if not abs(v) < u * P[lo.P_XF_TANB1]:
+    if not abs(v) < u * P[LARGE_DRIFT.tan_mmg_drift_max]:
         return False
-    rL = r * P[lo.P_L]
+    rL = r * P[BODY.L]
     U2 = u * u + v * v
-    if not rL * rL < U2 * P[lo.P_XF_RP1_SQ]:
+    if not rL * rL < U2 * P[LARGE_DRIFT.mmg_r_prime_max_squared]:
         return False
-    if P[lo.P_HULL_UREF] > 0.0 and int(P[lo.P_HULL_KIND]) == lo.HULL_ABKOWITZ:
-        du = u - P[lo.P_HULL_UREF]
-        Umin = P[lo.P_U_MIN]
-        return du * du < max(U2, Umin * Umin) * P[lo.P_XF_UP1_SQ]
+    if P[ABKOWITZ.U_ref] > 0.0 and int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
+        du = u - P[ABKOWITZ.U_ref]
+        Umin = P[HULL.U_min]
+        return du * du < max(U2, Umin * Umin) * P[LARGE_DRIFT.polynomial_u_prime_max_squared]
     return True
 
 
@@ -306,8 +308,8 @@ def blend_abkowitz(P, u, v, r, w, X_p, Y_p, N_p, X_d, Y_d, N_d):
     of the polynomial side and the model's C_D integral, the same cross-flow drag, are never added.
     Returns (X, Y, N) in N, N, N m."""
     Xc, Yc, Nc = yoshimura_forces(P, u, v, r)
-    L = P[lo.P_L]
-    qd = P[lo.P_HULL_FNORM] * L * L * u * abs(u)
+    L = P[BODY.L]
+    qd = P[ABKOWITZ.force_norm] * L * L * u * abs(u)
     Xc += qd * X_d
     Yc += qd * Y_d
     Nc += qd * L * N_d

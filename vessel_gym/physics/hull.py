@@ -18,6 +18,7 @@ from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.crossflow import blend, blend_abkowitz, inside_polynomial_range, mmg_weight
+from vessel_gym.physics.params import ABKOWITZ, BODY, HULL, LARGE_DRIFT, MMG
 from vessel_gym.physics.shallow_water import hull_factors
 
 # compiled callees are imported by name, not as attributes of their module: a recompilation of these functions for a
@@ -46,22 +47,22 @@ def abkowitz_forces(P, u, v, r, delta):
     """Abkowitz (1964) Taylor-series hull model with any set of named derivatives.
 
     Each term ``c * u'^a v'^b r'^c delta^d`` is one coefficient of the ship file (e.g. ``Y_vvr``). The
-    normalisation is ``P_HULL_FNORM * rho`` times L^2 U^2 (forces) or L^3 U^2 (moment): 1/2 for the SNAME
+    normalisation is ``ABKOWITZ.force_norm * rho`` times L^2 U^2 (forces) or L^3 U^2 (moment): 1/2 for the SNAME
     prime system (Mariner, Chislett & Stroem-Tejsen 1965), 1 for the seed report's eq. 5-6.
     With ``U_ref > 0`` the surge variable is the perturbation u' = (u - U_ref)/U, as in MSS mariner.m.
     The seed's linear eq. 11 is the special case with only first-order terms.
     Returns (X, Y, N) in N, N, N m.
     """
-    L = P[lo.P_L]
+    L = P[BODY.L]
     U = math.sqrt(u * u + v * v)
-    Ue = max(U, P[lo.P_U_MIN])
+    Ue = max(U, P[HULL.U_min])
     # the surge perturbation u' = (u - U_ref)/U is a small quantity in the fitted range (PMM tests near the
     # approach speed); unbounded it grows as U_ref/U_min at rest, where it turned the bias terms Y_0uu, N_0uu
     # into a finite force and drove a stopped Mariner to 100 kn astern. |u'| <= 1 (the speed halved or doubled)
     # keeps every term O(U^2), so the hull forces vanish at rest; inside that range the model is as published.
-    up = _clip((u - P[lo.P_HULL_UREF]) / Ue, -1.0, 1.0)
+    up = _clip((u - P[ABKOWITZ.U_ref]) / Ue, -1.0, 1.0)
     vp = v / Ue
-    rp = _clip(r * L / Ue, -P[lo.P_RP_MAX], P[lo.P_RP_MAX])
+    rp = _clip(r * L / Ue, -P[HULL.r_prime_max], P[HULL.r_prime_max])
     pu = (1.0, up, up * up, up * up * up, up * up * up * up)
     pv = (1.0, vp, vp * vp, vp * vp * vp, vp * vp * vp * vp)
     pr = (1.0, rp, rp * rp, rp * rp * rp, rp * rp * rp * rp)
@@ -70,23 +71,23 @@ def abkowitz_forces(P, u, v, r, delta):
     Xs = 0.0
     Ys = 0.0
     Ns = 0.0
-    for k in range(int(P[lo.P_ABK_NM])):
-        j = lo.P_ABK_M + lo.ABK_STRIDE * k
+    for k in range(int(P[ABKOWITZ.n_monomials])):
+        j = ABKOWITZ.monomials + lo.ABK_STRIDE * k
         m = pu[int(P[j])] * pv[int(P[j + 1])] * pr[int(P[j + 2])] * pd[int(P[j + 3])]
         Xs += P[j + 4] * m
         Ys += P[j + 5] * m
         Ns += P[j + 6] * m
-    q = P[lo.P_HULL_FNORM] * L * L * Ue * Ue  # rho folded into FNORM
+    q = P[ABKOWITZ.force_norm] * L * L * Ue * Ue  # rho folded into FNORM
     X = q * Xs
     Y = q * Ys
     N = q * L * Ns
     # resistance curve of a propelled Abkowitz ship (R = R_res u|u|), see shipfile docs
-    X -= P[lo.P_HULL_RES] * u * abs(u)
-    if P[lo.P_HULL_CD] > 0.0:
+    X -= P[ABKOWITZ.R_res] * u * abs(u)
+    if P[ABKOWITZ.cross_flow_Cd] > 0.0:
         Yc, Nc = cross_flow_drag(P, v, r)
         Y += Yc
         N += Nc
-    if P[lo.P_XF_ON] > 0.0 and not inside_polynomial_range(P, u, v, r):
+    if P[LARGE_DRIFT.on] > 0.0 and not inside_polynomial_range(P, u, v, r):
         # outside the polynomial's fitted range: cross-flow model (crossflow.py)
         w = mmg_weight(P, u, v, r)
         if w < 1.0:
@@ -101,8 +102,8 @@ def _rudder_terms(P, delta):
     Xd = 0.0
     Yd = 0.0
     Nd = 0.0
-    for k in range(int(P[lo.P_ABK_NM])):
-        j = lo.P_ABK_M + lo.ABK_STRIDE * k
+    for k in range(int(P[ABKOWITZ.n_monomials])):
+        j = ABKOWITZ.monomials + lo.ABK_STRIDE * k
         if P[j] == 0.0 and P[j + 1] == 0.0 and P[j + 2] == 0.0 and P[j + 3] > 0.0:
             m = delta ** int(P[j + 3])
             Xd += P[j + 4] * m
@@ -122,9 +123,9 @@ def cross_flow_drag(P, v, r):
     over -L/2..L/2 (midpoint rule, 12 strips). It supplies the nonlinear sway-yaw damping of a hull whose
     published model is linear, and the damping of a ship turning on the spot. Returns (Y, N) in N, N m.
     """
-    L = P[lo.P_L]
+    L = P[BODY.L]
     h = L / CROSS_FLOW_STRIPS
-    c = 0.5 * P[lo.P_RHO] * P[lo.P_T] * P[lo.P_HULL_CD] * h
+    c = 0.5 * P[BODY.rho] * P[BODY.T] * P[ABKOWITZ.cross_flow_Cd] * h
     Y = 0.0
     N = 0.0
     for i in range(CROSS_FLOW_STRIPS):
@@ -148,53 +149,58 @@ def mmg_hull_forces(P, u, v, r, H):
     where the result is bitwise the deep-water one).
     Returns (X, Y, N) in N, N, N m.
     """
-    L = P[lo.P_L]
-    d = P[lo.P_T]
+    L = P[BODY.L]
+    d = P[BODY.T]
     U = math.sqrt(u * u + v * v)
-    Umin = P[lo.P_U_MIN]
+    Umin = P[HULL.U_min]
     Ue = max(U, Umin)
     vp = v / Ue
-    rp = _clip(r * L / Ue, -P[lo.P_RP_MAX], P[lo.P_RP_MAX])
+    rp = _clip(r * L / Ue, -P[HULL.r_prime_max], P[HULL.r_prime_max])
     su = u / math.sqrt(u * u + Umin * Umin)
     f = hull_factors(P, H)
     Xp = (
-        -P[lo.P_MMG_R0] * f[0] * su
-        + P[lo.P_MMG_XVV] * f[1] * vp * vp
-        + P[lo.P_MMG_XVR] * f[2] * vp * rp
-        + P[lo.P_MMG_XRR] * f[3] * rp * rp
-        + P[lo.P_MMG_XVVVV] * f[4] * vp * vp * vp * vp
+        -P[MMG.R_0] * f[0] * su
+        + P[MMG.X_vv] * f[1] * vp * vp
+        + P[MMG.X_vr] * f[2] * vp * rp
+        + P[MMG.X_rr] * f[3] * rp * rp
+        + P[MMG.X_vvvv] * f[4] * vp * vp * vp * vp
     )
     Yp = (
-        P[lo.P_MMG_YV] * f[5] * vp
-        + P[lo.P_MMG_YR] * f[6] * rp
-        + P[lo.P_MMG_YVVV] * f[7] * vp * vp * vp
-        + P[lo.P_MMG_YVVR] * f[8] * vp * vp * rp
-        + P[lo.P_MMG_YVRR] * f[9] * vp * rp * rp
-        + P[lo.P_MMG_YRRR] * f[10] * rp * rp * rp
+        P[MMG.Y_v] * f[5] * vp
+        + P[MMG.Y_r] * f[6] * rp
+        + P[MMG.Y_vvv] * f[7] * vp * vp * vp
+        + P[MMG.Y_vvr] * f[8] * vp * vp * rp
+        + P[MMG.Y_vrr] * f[9] * vp * rp * rp
+        + P[MMG.Y_rrr] * f[10] * rp * rp * rp
     )
     Np = (
-        P[lo.P_MMG_NV] * f[11] * vp
-        + P[lo.P_MMG_NR] * f[12] * rp
-        + P[lo.P_MMG_NVVV] * f[13] * vp * vp * vp
-        + P[lo.P_MMG_NVVR] * f[14] * vp * vp * rp
-        + P[lo.P_MMG_NVRR] * f[15] * vp * rp * rp
-        + P[lo.P_MMG_NRRR] * f[16] * rp * rp * rp
+        P[MMG.N_v] * f[11] * vp
+        + P[MMG.N_r] * f[12] * rp
+        + P[MMG.N_vvv] * f[13] * vp * vp * vp
+        + P[MMG.N_vvr] * f[14] * vp * vp * rp
+        + P[MMG.N_vrr] * f[15] * vp * rp * rp
+        + P[MMG.N_rrr] * f[16] * rp * rp * rp
     )
-    q = 0.5 * P[lo.P_RHO] * L * d * Ue * Ue
+    q = 0.5 * P[BODY.rho] * L * d * Ue * Ue
     return q * Xp, q * Yp, q * L * Np
 
 
 @njit(cache=True)
-def hull_forces_at_depth(P, u, v, r, delta, H):
+def hull_forces_at_depth(P, u, v, r, delta, H, abk):
     """Dispatch on the ship's hull model, at draught-to-depth ratio H = T/h (0: deep water; only the MMG
     hull has shallow-water corrections, see :mod:`~vessel_gym.physics.shallow_water`).
+
+    ``abk``: True where the hull may be an Abkowitz polynomial, None where it is not. The kernels pass None for
+    batches without one (integrate.drivers): numba prunes the branch on ``abk is not None`` before typing, so
+    the Abkowitz model and its cross-flow blend are not compiled (a quarter of the hull chain's compile time).
     Returns (X, Y, N) in N, N, N m."""
-    kind = int(P[lo.P_HULL_KIND])
-    if kind == lo.HULL_ABKOWITZ:
-        return abkowitz_forces(P, u, v, r, delta)
+    kind = int(P[HULL.kind])
+    if abk is not None:
+        if kind == lo.HULL_ABKOWITZ:
+            return abkowitz_forces(P, u, v, r, delta)
     if kind == lo.HULL_MMG:
         X, Y, N = mmg_hull_forces(P, u, v, r, H)
-        if P[lo.P_XF_ON] > 0.0 and not inside_polynomial_range(P, u, v, r):
+        if P[LARGE_DRIFT.on] > 0.0 and not inside_polynomial_range(P, u, v, r):
             # outside the polynomial's fitted range: cross-flow model (crossflow.py)
             return blend(P, u, v, r, X, Y, N, H)
         return X, Y, N
@@ -205,8 +211,17 @@ def hull_forces_at_depth(P, u, v, r, delta, H):
 def hull_forces(P, u, v, r, delta):
     """Hull forces in deep water (:func:`hull_forces_at_depth` at H = 0). Returns (X, Y, N) in N, N, N m.
 
-    H is the integer 0, as in the deep-water drivers (integrate._run_range): the same specialisation of the hull
+    H is None, as in the deep-water drivers (integrate._run_range): the same specialisation of the hull
     functions serves both, where a float 0.0 would compile the hull chain a second time (~20 % of a cold start)
-    for the same results (every shallow-water factor is exactly 1 at H = 0)."""
-    H = 0
-    return hull_forces_at_depth(P, u, v, r, delta, H)
+    for the same results (every shallow-water function returns its deep-water value for H None, as at H = 0,
+    and compiles nothing else)."""
+    H = None
+    return hull_forces_at_depth(P, u, v, r, delta, H, True)
+
+
+@njit(cache=True)
+def hull_forces_not_abkowitz(P, u, v, r, delta):
+    """:func:`hull_forces` of a ship whose hull is not an Abkowitz polynomial (MMG or a user's), compiled
+    without the Abkowitz model: the specialisation the drivers of such a ship use (same results)."""
+    H = None
+    return hull_forces_at_depth(P, u, v, r, delta, H, None)

@@ -35,8 +35,9 @@ import numpy as np
 from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import ENGINE, HULL, PROPELLER, ROLL, RUDDER, STEERING_GEAR
 from vessel_gym.physics.steering import steering_gear_angle
-from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives_of, forces
+from vessel_gym.physics.vessel import NO_REFCOUNT, abkowitz_family, derivatives_of, forces
 
 # The threaded driver's worker threads sleep between calls rather than spin (GNU OpenMP spins for up to
 # ~300000 polls after a parallel region by default). Spinning buys a few microseconds per call on an idle
@@ -120,7 +121,7 @@ def finish_step(x, K, dt, method, delta_end, xt, nx):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, nx):
+def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, abk, nx):
     """Stage ``stage`` (0..3 for RK4, 0 for Euler) of one step of one vessel: the right-hand side at the stage
     state ``xs`` (``x`` itself at stage 0) into ``K[stage]``, then either the state the next stage evaluates at,
     formed in ``xt`` (:func:`stage_state`), or after the last stage the step's result committed to ``x``
@@ -130,15 +131,15 @@ def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, nx):
     vessel, the driver with Python components (:func:`run_with_components`) stage by stage over the batch,
     calling the components in between; the same calls in the same order, so both give the same bits.
 
-    ``H``, ``roll`` and ``ext`` choose the kernel (:func:`~vessel_gym.physics.vessel.derivatives_of`). The rudder
+    ``H``, ``roll``, ``ext`` and ``abk`` choose the kernel (:func:`~vessel_gym.physics.vessel.derivatives_of`). The rudder
     angle of each stage is the steering gear's exact solution at that stage's time, solved from the step's
-    start; where a user's steering gear gives the rudder rate (``P_SG_EXT``, with ``F`` carrying it as
+    start; where a user's steering gear gives the rudder rate (``STEERING_GEAR.by_component``, with ``F`` carrying it as
     ``F_DELTA_RATE``) the angle is a state like any other, x + h k.
     """
     D = lo.X_DELTA
     k = K[stage]
-    derivatives_of(P, xs, inp, env, F, k, H, roll, ext)
-    user_gear = ext and F.shape[0] > lo.F_DELTA_RATE and P[lo.P_SG_EXT] > 0.0
+    derivatives_of(P, xs, inp, env, F, k, H, roll, ext, abk)
+    user_gear = ext and F.shape[0] > lo.F_DELTA_RATE and P[STEERING_GEAR.by_component] > 0.0
     if user_gear:
         k[D] = F[lo.F_DELTA_RATE]
     if method != EULER and stage < 3:
@@ -161,7 +162,7 @@ def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, nx):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt, H, roll, ext, nx):
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt, H, roll, ext, abk, nx):
     """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held: the
     stages of :func:`rk_stage` in turn. ``K`` (4, NX) and ``xt`` (NX) are scratch; ``nx`` is how many states
     the kernel integrates (layout.NX, or NX_3DOF without roll: the roll states of a 3-DOF vessel have zero
@@ -170,23 +171,23 @@ def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt, H, roll, ext, 
     for _ in range(nsteps):
         for stage in range(ns):
             xs = x if stage == 0 else xt
-            if not rk_stage(P, x, inp, env, F_ext, K, stage, xs, xt, dt, method, H, roll, ext, nx):
+            if not rk_stage(P, x, inp, env, F_ext, K, stage, xs, xt, dt, method, H, roll, ext, abk, nx):
                 return False
     return True
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S, shallow_env, roll, ext, nx):
+def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S, shallow_env, roll, ext, abk, nx):
     """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive.
 
     ``shallow_env`` is ``E`` in a kernel for shallow water (each vessel's draught-to-depth ratio read from its
     environment row) and None in a deep-water kernel: numba compiles the branch on ``shallow_env is None`` away,
-    so H is the literal 0 there and the deep-water equations are compiled in (vessel.force_terms)."""
+    so H is None there and only the deep-water equations are compiled (vessel.force_terms)."""
     count = 0
     for b in range(first, stop):
         if alive[b]:
             if shallow_env is None:
-                H = 0
+                H = None
             else:
                 H = shallow_env[b, lo.E_T_OVER_H]
             ok = step_vessel(
@@ -203,6 +204,7 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
                 H,
                 roll,
                 ext,
+                abk,
                 nx,
             )
             alive[b] = ok
@@ -211,25 +213,32 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def kernel_fits(Ps, E, shallow_env, roll, ext):
-    """Whether the kernel chosen by ``shallow_env``, ``roll`` and ``ext`` (:func:`drivers`) holds every vessel of the
-    batch: deep water (E_T_OVER_H exactly 0) where ``shallow_env`` is None, no ship with roll where ``roll`` is
-    False, no user engine or steering gear where ``ext`` is False."""
+def kernel_fits(Ps, E, shallow_env, roll, ext, abk):
+    """Whether the kernel chosen by ``shallow_env``, ``roll``, ``ext`` and ``abk`` (:func:`drivers`) holds every
+    vessel of the batch: deep water (E_T_OVER_H exactly 0) where ``shallow_env`` is None, no ship with roll where
+    ``roll`` is None, no user engine or steering gear where ``ext`` is False, no model of the Abkowitz family
+    (vessel.abkowitz_family) where ``abk`` is None."""
     if shallow_env is None:
         for b in range(E.shape[0]):
             if E[b, lo.E_T_OVER_H] != 0.0:
                 return False
     for j in range(Ps.shape[0]):
-        if not roll and Ps[j, lo.P_ROLL_ON] != 0.0:
+        if roll is None and Ps[j, ROLL.on] != 0.0:
             return False
-        if not ext and (Ps[j, lo.P_ENGINE_EXT] != 0.0 or Ps[j, lo.P_SG_EXT] != 0.0):
+        if not ext and (Ps[j, ENGINE.by_component] != 0.0 or Ps[j, STEERING_GEAR.by_component] != 0.0):
+            return False
+        if abk is None and (
+            Ps[j, HULL.kind] == lo.HULL_ABKOWITZ
+            or Ps[j, RUDDER.kind] == lo.RUDDER_SON_NOMOTO
+            or Ps[j, PROPELLER.wake_kind] == lo.WAKE_SON_NOMOTO
+        ):
             return False
     return True
 
 
 @njit(cache=True, parallel=True)
-def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env, roll, ext, nx):
-    if not kernel_fits(Ps, E, shallow_env, roll, ext):
+def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env, roll, ext, abk, nx):
+    if not kernel_fits(Ps, E, shallow_env, roll, ext, abk):
         return -1
     nb = X.shape[0]
     nchunks = min(nb, MAX_CHUNKS)
@@ -253,56 +262,62 @@ def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env
             shallow_env,
             roll,
             ext,
+            abk,
             nx,
         )
     return count
 
 
-def _make_drivers(shallow: bool, roll: bool, ext: bool):
+def _make_drivers(shallow: bool, roll: bool, ext: bool, abk: bool):
     # the flags reach the compiled code as closure constants: numba types them as literals, passes them on as
     # such, and compiles (and caches) one kernel per combination, keyed by their values
-    SHALLOW, ROLL, EXT = shallow, roll, ext
+    # roll and abk as True or None: numba compiles a part guarded by `flag is not None` only where it is True
+    SHALLOW, ROLL, EXT, ABK = shallow, (True if roll else None), ext, (True if abk else None)
     NXK = lo.NX if roll else lo.NX_3DOF
 
     # the serial driver in one level: every call level counts references of its array arguments (~150 ns a call)
     @njit(cache=True)
     def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
         shallow_env = E if SHALLOW else None
-        if not kernel_fits(Ps, E, shallow_env, ROLL, EXT):
+        if not kernel_fits(Ps, E, shallow_env, ROLL, EXT, ABK):
             return -1
         S = np.empty((5, lo.NX))
         return _run_range(
-            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0], S, shallow_env, ROLL, EXT, NXK
+            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0], S, shallow_env, ROLL, EXT, ABK, NXK
         )
 
     @njit(cache=True)
     def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
         return _parallel(
-            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, E if SHALLOW else None, ROLL, EXT, NXK
+            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, E if SHALLOW else None, ROLL, EXT, ABK, NXK
         )
 
     return run_serial, run_parallel
 
 
-_DRIVERS: dict[tuple[bool, bool, bool], tuple] = {}
+_DRIVERS: dict[tuple[bool, bool, bool, bool], tuple] = {}
 
 
-def drivers(shallow: bool = True, roll: bool = True, ext: bool = True):
+def drivers(shallow: bool = True, roll: bool = True, ext: bool = True, abk: bool = True):
     """The batch drivers (serial, threaded) compiled for one kind of batch, each
     ``driver(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive)``:
 
     * ``shallow``: some vessel may be in shallow water (E_T_OVER_H > 0); False compiles the deep-water
       equations only (the draught-to-depth ratio is the constant 0);
-    * ``roll``: some ship may have roll (P_ROLL_ON); False compiles the 3-DOF equations only and integrates
+    * ``roll``: some ship may have roll (ROLL.on); False compiles the 3-DOF equations only and integrates
       the first layout.NX_3DOF states;
-    * ``ext``: a ship's engine or steering gear may be a user's component (P_ENGINE_EXT, P_SG_EXT).
+    * ``ext``: a ship's engine or steering gear may be a user's component (ENGINE.by_component,
+      STEERING_GEAR.by_component);
+    * ``abk``: a ship may use a model of the Abkowitz family (vessel.abkowitz_family: an Abkowitz hull, the Son
+      & Nomoto rudder or wake); False leaves those models out of the compilation: a batch of MMG ships compiles
+      only the models it uses.
 
     All True is the general kernel (:data:`run_serial`, :data:`run_parallel`). Every combination gives the
     general kernel's results to the bit; a narrower one is only faster. A driver first checks that its kind
     holds every vessel of the batch (:func:`kernel_fits`) and returns -1 without integrating if not, so a
     wrong choice is never silent. Each combination compiles on its first use.
     """
-    key = (bool(shallow), bool(roll), bool(ext))
+    key = (bool(shallow), bool(roll), bool(ext), bool(abk))
     if key not in _DRIVERS:
         _DRIVERS[key] = _make_drivers(*key)
     return _DRIVERS[key]
@@ -313,27 +328,29 @@ def drivers_for(Ps: np.ndarray, E: np.ndarray):
     ``E`` (numpy, O(N): call it when these change, not every step)."""
     return drivers(
         shallow=bool((E[:, lo.E_T_OVER_H] != 0.0).any()),
-        roll=bool((Ps[:, lo.P_ROLL_ON] != 0.0).any()),
-        ext=bool((Ps[:, lo.P_ENGINE_EXT] != 0.0).any() or (Ps[:, lo.P_SG_EXT] != 0.0).any()),
+        roll=bool((Ps[:, ROLL.on] != 0.0).any()),
+        ext=bool((Ps[:, ENGINE.by_component] != 0.0).any() or (Ps[:, STEERING_GEAR.by_component] != 0.0).any()),
+        abk=abkowitz_family(Ps),
     )
 
 
-def _make_rhs(shallow: bool, roll: bool, ext: bool):
-    SHALLOW, ROLL, EXT = shallow, roll, ext  # closure constants, as in _make_drivers
+def _make_rhs(shallow: bool, roll: bool, ext: bool, abk: bool):
+    # closure constants, as in _make_drivers
+    SHALLOW, ROLL, EXT, ABK = shallow, (True if roll else None), ext, (True if abk else None)
 
     @njit(cache=True)
     def rhs(P, x, inp, env, F, xdot):
         shallow_env = env if SHALLOW else None
         if shallow_env is None:
-            H = 0
+            H = None
         else:
             H = shallow_env[lo.E_T_OVER_H]
-        derivatives_of(P, x, inp, env, F, xdot, H, ROLL, EXT)
+        derivatives_of(P, x, inp, env, F, xdot, H, ROLL, EXT, ABK)
 
     return rhs
 
 
-_RHS: dict[tuple[bool, bool, bool], object] = {}
+_RHS: dict[tuple[bool, bool, bool, bool], object] = {}
 
 
 def derivatives_for(P: np.ndarray, env: np.ndarray):
@@ -343,8 +360,9 @@ def derivatives_for(P: np.ndarray, env: np.ndarray):
     linearisation in linear.py) compiles nothing more, with the general form's results to the bit."""
     key = (
         bool(env[lo.E_T_OVER_H] != 0.0),
-        bool(P[lo.P_ROLL_ON] != 0.0),
-        bool(P[lo.P_ENGINE_EXT] != 0.0 or P[lo.P_SG_EXT] != 0.0),
+        bool(P[ROLL.on] != 0.0),
+        bool(P[ENGINE.by_component] != 0.0 or P[STEERING_GEAR.by_component] != 0.0),
+        abkowitz_family(P),
     )
     if key not in _RHS:
         _RHS[key] = _make_rhs(*key)
@@ -353,7 +371,7 @@ def derivatives_for(P: np.ndarray, env: np.ndarray):
 
 #: the general batch drivers: integrate every alive vessel of the batch, serially or with contiguous chunks of
 #: vessels spread over threads (large batches); mark diverged vessels dead; return the number alive
-run_serial, run_parallel = drivers(True, True, True)
+run_serial, run_parallel = drivers(True, True, True, True)
 
 
 @njit(cache=True)
@@ -370,7 +388,7 @@ def stage_batch(Ps, ship_index, X, U, E, F, K, stage, dt, method, alive, Xt):
         xs = X[b] if stage == 0 else Xt[b]
         H = E[b, lo.E_T_OVER_H]
         P = Ps[ship_index[b]]
-        ok = rk_stage(P, X[b], U[b], E[b], F[b], K[b], stage, xs, Xt[b], dt, method, H, True, True, lo.NX)
+        ok = rk_stage(P, X[b], U[b], E[b], F[b], K[b], stage, xs, Xt[b], dt, method, H, True, True, True, lo.NX)
         if last:
             alive[b] = ok
             count += ok

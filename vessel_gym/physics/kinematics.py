@@ -23,6 +23,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import BODY
 
 
 @njit(cache=True)
@@ -105,9 +106,9 @@ def add_coriolis_forces(P, u, v, r, X, Y, N):
     order, so that every trajectory rounds as it always has.
     """
     return (
-        X + P[lo.P_CX_VR] * v * r + P[lo.P_CX_RR] * r * r,
-        Y - P[lo.P_CY_UR] * u * r,
-        N - P[lo.P_CN_UR] * u * r,
+        X + P[BODY.CX_vr] * v * r + P[BODY.CX_rr] * r * r,
+        Y - P[BODY.CY_ur] * u * r,
+        N - P[BODY.CN_ur] * u * r,
     )
 
 
@@ -122,8 +123,8 @@ def coriolis_forces(P, u, v, r):
 def rigid_body_coriolis_forces(P, u, v, r):
     """-C_RB(nu_r) nu_r of the rigid body alone, (X, Y, N) in N, N, N m at the origin: m (v r + x_G r^2),
     -m u r, -m x_G u r (Fossen 2011 eq. 3.57 in 3 DOF, origin at midship)."""
-    m = P[lo.P_MASS]
-    mxG = m * P[lo.P_XG]
+    m = P[BODY.m]
+    mxG = m * P[BODY.x_G]
     return m * v * r + mxG * r * r, -m * u * r, -mxG * u * r
 
 

@@ -30,8 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vessel_gym.physics.hull import hull_forces
+from vessel_gym.physics import layout as lo
+from vessel_gym.physics.hull import hull_forces, hull_forces_not_abkowitz
 from vessel_gym.physics.kinematics import coriolis_forces
+from vessel_gym.physics.params import HULL
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, load_ship
 from vessel_gym.physics.units import DEG
 from vessel_gym.physics.vessel import mass_matrix, pack
@@ -105,11 +107,18 @@ def sign_findings(ship: Ship) -> list[Finding]:
     return out
 
 
+def _hull_forces_for(P: np.ndarray):
+    """The deep-water hull forces compiled as the drivers of this ship compile them (no Abkowitz model for an
+    MMG hull), so that a check before the first step compiles nothing the run does not."""
+    return hull_forces if P[HULL.kind] == lo.HULL_ABKOWITZ else hull_forces_not_abkowitz
+
+
 def hull_power(ship: Ship) -> tuple[float, float, float]:
     """The largest power of hull plus Coriolis forces at small drift and yaw about the straight approach at
     the test speed, normalised by 1/2 rho L^2 U^3 eps^2 (eps = :data:`ENERGY_AMPLITUDE`), with the (v', r')
     direction where it occurs. <= 0 for a hull that only takes energy from the ship."""
     P = pack(ship)
+    hull_forces = _hull_forces_for(P)
     p = ship.particulars
     U, L = ship.test_speed_m_s, p.L_m
 
@@ -163,6 +172,7 @@ def rudder_finding(ship: Ship) -> Finding:
 def stability_finding(ship: Ship) -> Finding:
     """Linear course stability: the largest real part of the sway-yaw eigenvalues, 1/s (info only)."""
     P = pack(ship)
+    hull_forces = _hull_forces_for(P)
     U, L = ship.test_speed_m_s, ship.particulars.L_m
     dv, dr = 1e-4 * U, 1e-4 * U / L
 

@@ -22,6 +22,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import BODY, ENGINE, GOVERNOR, PROPELLER, TRANSMISSION
 from vessel_gym.physics.propeller4q import BOLLARD_FACTOR, blended_coefficients
 from vessel_gym.physics.shallow_water import wake_fraction
 
@@ -40,16 +41,16 @@ def propeller_thrust_torque(P, u_a, n):
     With ``[propeller] four_quadrant`` set, quadrants 2-4 are instead the published Wageningen B-series
     curves joined to quadrant 1 by :func:`four_quadrant_thrust_torque`.
     """
-    if P[lo.P_PROP_4Q] > 0.0 and not (n >= 0.0 and u_a >= 0.0):
+    if P[PROPELLER.four_quadrant] > 0.0 and not (n >= 0.0 and u_a >= 0.0):
         return four_quadrant_thrust_torque(P, u_a, n)
-    D = P[lo.P_DP]
-    rho = P[lo.P_RHO]
-    k0 = P[lo.P_KT0]
-    k1 = P[lo.P_KT1]
-    k2 = P[lo.P_KT2]
-    q0 = P[lo.P_KQ0]
-    q1 = P[lo.P_KQ1]
-    q2 = P[lo.P_KQ2]
+    D = P[PROPELLER.D_P]
+    rho = P[BODY.rho]
+    k0 = P[PROPELLER.k_0]
+    k1 = P[PROPELLER.k_1]
+    k2 = P[PROPELLER.k_2]
+    q0 = P[PROPELLER.q_0]
+    q1 = P[PROPELLER.q_1]
+    q2 = P[PROPELLER.q_2]
     cT = rho * D * D
     cQ = cT * D
     nD = n * D
@@ -59,18 +60,18 @@ def propeller_thrust_torque(P, u_a, n):
             Q = cQ * (q0 * nD * nD + q1 * nD * u_a + q2 * u_a * u_a)
         else:  # ship moving astern, propeller ahead: bollard values plus the locked-propeller drag of quadrant 3
             w2 = u_a * u_a
-            T = cT * (k0 * nD * nD - P[lo.P_AST_KT] * k2 * w2)
-            Q = cQ * (q0 * nD * nD - P[lo.P_AST_KQ] * q2 * w2)
+            T = cT * (k0 * nD * nD - P[PROPELLER.astern_kt_ratio] * k2 * w2)
+            Q = cQ * (q0 * nD * nD - P[PROPELLER.astern_kq_ratio] * q2 * w2)
     else:
         m = -nD
-        at = P[lo.P_AST_KT]
-        aq = P[lo.P_AST_KQ]
+        at = P[PROPELLER.astern_kt_ratio]
+        aq = P[PROPELLER.astern_kq_ratio]
         if u_a <= 0.0:
             w = -u_a
             T = -at * cT * (k0 * m * m + k1 * m * w + k2 * w * w)
             Q = -aq * cQ * (q0 * m * m + q1 * m * w + q2 * w * w)
         else:
-            s = P[lo.P_AST_SLOPE]
+            s = P[PROPELLER.astern_inflow_slope]
             T = -at * cT * k0 * (m * m + s * m * u_a) + cT * k2 * u_a * u_a
             Q = -aq * cQ * q0 * (m * m + s * m * u_a) + cQ * q2 * u_a * u_a
     return T, Q
@@ -87,17 +88,17 @@ def four_quadrant_thrust_torque(P, u_a, n):
     C_T* = 8 k_2 / pi (torque likewise); :func:`propeller4q.blended_coefficients` joins the published curves
     to them.
     """
-    D = P[lo.P_DP]
-    rho = P[lo.P_RHO]
+    D = P[PROPELLER.D_P]
+    rho = P[BODY.rho]
     vt = 0.7 * math.pi * n * D
     beta = math.atan2(u_a, vt)
     ct, cq = blended_coefficients(
-        int(P[lo.P_PROP_4Q]),
+        int(P[PROPELLER.four_quadrant]),
         beta,
-        P[lo.P_KT0] / BOLLARD_FACTOR,
-        P[lo.P_KQ0] / BOLLARD_FACTOR,
-        8.0 * P[lo.P_KT2] / math.pi,
-        8.0 * P[lo.P_KQ2] / math.pi,
+        P[PROPELLER.k_0] / BOLLARD_FACTOR,
+        P[PROPELLER.q_0] / BOLLARD_FACTOR,
+        8.0 * P[PROPELLER.k_2] / math.pi,
+        8.0 * P[PROPELLER.q_2] / math.pi,
     )
     qa = 0.125 * rho * (u_a * u_a + vt * vt) * math.pi * D * D  # 1/2 rho V_r^2 (pi/4) D^2, N
     return ct * qa, cq * qa * D
@@ -114,13 +115,13 @@ def effective_wake(P, U, beta, r, H):
     Returns w_P (-).
     """
     w0 = wake_fraction(P, H)
-    C1 = P[lo.P_C1]
+    C1 = P[PROPELLER.C_1]
     if C1 == 0.0:
         return w0
     if U < 1e-6:
         return w0
-    betaP = beta - P[lo.P_XP] * r * P[lo.P_L] / U
-    C2 = P[lo.P_C2P] if betaP > 0.0 else P[lo.P_C2M]
+    betaP = beta - P[PROPELLER.x_P_prime] * r * P[BODY.L] / U
+    C2 = P[PROPELLER.C_2_plus] if betaP > 0.0 else P[PROPELLER.C_2_minus]
     one_minus_w = (1.0 - w0) * (1.0 + (1.0 - math.exp(-C1 * abs(betaP))) * (C2 - 1.0))
     return 1.0 - one_minus_w
 
@@ -131,9 +132,9 @@ def engine_torque(P, n_e, fuel):
 
     Outside the map the nearest edge value is used (below the lowest speed: the starting-torque row).
     """
-    s = n_e / P[lo.P_ENG_NRATED]
-    S0 = lo.P_MAP_S
-    F0 = lo.P_MAP_F
+    s = n_e / P[ENGINE.n_e_rated]
+    S0 = ENGINE.map_speed
+    F0 = ENGINE.map_fuel
     s = P[S0] if s <= P[S0] else (P[S0 + lo.MAP_NS - 1] if s >= P[S0 + lo.MAP_NS - 1] else s)
     f = P[F0] if fuel <= P[F0] else (P[F0 + lo.MAP_NF - 1] if fuel >= P[F0 + lo.MAP_NF - 1] else fuel)
     # the interval of each axis: the count of inner breakpoints below the clipped value (the breakpoints
@@ -148,22 +149,22 @@ def engine_torque(P, n_e, fuel):
         j += P[F0 + k] < f
     ts = (s - P[S0 + i]) / (P[S0 + i + 1] - P[S0 + i])
     tf = (f - P[F0 + j]) / (P[F0 + j + 1] - P[F0 + j])
-    Q0 = lo.P_MAP_Q
+    Q0 = ENGINE.map_torque
     nf = lo.MAP_NF
     q00 = P[Q0 + i * nf + j]
     q01 = P[Q0 + i * nf + j + 1]
     q10 = P[Q0 + (i + 1) * nf + j]
     q11 = P[Q0 + (i + 1) * nf + j + 1]
     q = (1 - ts) * ((1 - tf) * q00 + tf * q01) + ts * ((1 - tf) * q10 + tf * q11)
-    return q * P[lo.P_ENG_QRATED]
+    return q * P[ENGINE.Q_e_rated]
 
 
 @njit(cache=True)
 def clutch_direction(P, n_order):
     """+1 ahead, -1 astern, 0 clutch out (|order| below the clutch threshold)."""
-    if n_order > P[lo.P_CLUTCH_MIN]:
+    if n_order > P[TRANSMISSION.clutch_min_rev]:
         return 1.0
-    if n_order < -P[lo.P_CLUTCH_MIN]:
+    if n_order < -P[TRANSMISSION.clutch_min_rev]:
         return -1.0
     return 0.0
 
@@ -176,14 +177,14 @@ def governor(P, n, gov_i, n_order):
     dx_gov/dt = K_i e, frozen while f is saturated in the direction of e. Returns (fuel, dx_gov/dt, s, n_E).
     """
     s = clutch_direction(P, n_order)
-    i_g = P[lo.P_GEAR]
+    i_g = P[TRANSMISSION.gear_ratio]
     if s == 0.0:
         return 0.0, -gov_i * 0.2, 0.0, 0.0  # clutch out: integrator bleeds off (5 s), engine idles
     n_e = s * i_g * n
-    e = (i_g * abs(n_order) - n_e) / P[lo.P_ENG_NRATED]
-    f_raw = P[lo.P_GOV_KP] * e + gov_i
+    e = (i_g * abs(n_order) - n_e) / P[ENGINE.n_e_rated]
+    f_raw = P[GOVERNOR.Kp] * e + gov_i
     f = min(max(f_raw, 0.0), 1.0)
-    di = P[lo.P_GOV_KI] * e
+    di = P[GOVERNOR.Ki] * e
     if (f_raw >= 1.0 and e > 0.0) or (f_raw <= 0.0 and e < 0.0):
         di = 0.0
     return f, di, s, n_e
@@ -208,7 +209,7 @@ def engine_drag_torque(P, n_e):
     """Torque (N m, signed like the engine speed n_e rev/s, opposing rotation) of an engine turned without
     fuel: the zero-fuel column of the torque map (friction and pumping losses), regularised through n_e = 0."""
     q = engine_torque(P, abs(n_e), 0.0)  # <= 0: a drag
-    band = DRAG_BAND * P[lo.P_ENG_NRATED]
+    band = DRAG_BAND * P[ENGINE.n_e_rated]
     return q * max(-1.0, min(1.0, n_e / band))
 
 
@@ -233,12 +234,12 @@ def direct_reversing_drive(P, n, cam, gov_i, n_order):
     speed rev/s signed, engine torque N m, phase).
     """
     d = clutch_direction(P, n_order)
-    T_rev = P[lo.P_REV_TIME]
+    T_rev = P[ENGINE.reversal_time]
     dcam = 0.0
     if d != 0.0:
         rate = 2.0 / T_rev
         dcam = max(-rate, min(rate, (d - cam) / (CAM_TAU_FRACTION * T_rev)))
-    i_g = P[lo.P_GEAR]
+    i_g = P[TRANSMISSION.gear_ratio]
     n_e = i_g * n
     bleed = -gov_i * 0.2  # governor integrator bleeds off (5 s) while there is no fuel, as with the clutch out
     if d == 0.0 or abs(d - cam) > CAM_SET:
@@ -246,19 +247,19 @@ def direct_reversing_drive(P, n, cam, gov_i, n_order):
         Q_e = engine_drag_torque(P, n_e)
         return i_g * Q_e, dcam, bleed, 0.0, n_e, Q_e, phase
     w = d * n_e  # engine speed in the ordered direction, rev/s
-    if w >= P[lo.P_REV_FIRE]:
-        e = (i_g * abs(n_order) - w) / P[lo.P_ENG_NRATED]
-        f_raw = P[lo.P_GOV_KP] * e + gov_i
+    if w >= P[ENGINE.firing_rev]:
+        e = (i_g * abs(n_order) - w) / P[ENGINE.n_e_rated]
+        f_raw = P[GOVERNOR.Kp] * e + gov_i
         f = min(max(f_raw, 0.0), 1.0)
-        di = P[lo.P_GOV_KI] * e
+        di = P[GOVERNOR.Ki] * e
         if (f_raw >= 1.0 and e > 0.0) or (f_raw <= 0.0 and e < 0.0):
             di = 0.0
         Q_e = d * engine_torque(P, w, f)
         if d < 0.0:
-            Q_e *= P[lo.P_ENG_ASTERN]
-        return P[lo.P_ETA_GEAR] * i_g * Q_e, dcam, di, f, n_e, Q_e, PHASE_RUNNING
-    if w > -P[lo.P_REV_AIR]:
-        Q_e = d * P[lo.P_REV_QAIR]
+            Q_e *= P[ENGINE.astern_torque_ratio]
+        return P[TRANSMISSION.eta_gear] * i_g * Q_e, dcam, di, f, n_e, Q_e, PHASE_RUNNING
+    if w > -P[ENGINE.air_brake_rev]:
+        Q_e = d * P[ENGINE.Q_air]
         return i_g * Q_e, dcam, bleed, 0.0, n_e, Q_e, PHASE_AIR
     Q_e = engine_drag_torque(P, n_e)
     return i_g * Q_e, dcam, bleed, 0.0, n_e, Q_e, PHASE_FUEL_OFF
@@ -271,15 +272,15 @@ def engine_drive(P, n, cam, gov_i, n_order):
 
     Returns (drive torque, d cam/dt, d x_gov/dt, fuel index, engine speed rev/s, engine torque N m, phase).
     """
-    if P[lo.P_REV_KIND] == lo.REVERSING_DIRECT_AIR:
+    if P[ENGINE.reversing] == lo.REVERSING_DIRECT_AIR:
         return direct_reversing_drive(P, n, cam, gov_i, n_order)
     fuel, di, s, n_e = governor(P, n, gov_i, n_order)
     if s == 0.0:
         return 0.0, 0.0, di, fuel, n_e, 0.0, PHASE_FUEL_OFF
     Q_e = engine_torque(P, n_e, fuel)
-    Q_drive = s * P[lo.P_ETA_GEAR] * P[lo.P_GEAR] * Q_e
+    Q_drive = s * P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio] * Q_e
     if s < 0.0:
-        Q_drive *= P[lo.P_ENG_ASTERN]
+        Q_drive *= P[ENGINE.astern_torque_ratio]
     return Q_drive, 0.0, di, fuel, n_e, Q_e, PHASE_RUNNING
 
 
@@ -297,23 +298,23 @@ def shaft_acceleration(P, n, cam, gov_i, n_order, Q_prop):
 def shaft_rate(P, n, Q_drive, Q_prop):
     """dn/dt (rev/s^2) of the propeller shaft at n rev/s driven with Q_drive N m (at the propeller shaft,
     after the gearbox) against the propeller's torque Q_prop N m: 2 pi I dn/dt = Q_drive - Q_P - Q_f(n),
-    I the shaft's inertia with the engine's referred to it (``P_I_SHAFT``)."""
-    return (Q_drive - Q_prop - shaft_friction_torque(P, n)) / (2.0 * math.pi * P[lo.P_I_SHAFT])
+    I the shaft's inertia with the engine's referred to it (``TRANSMISSION.I_shaft``)."""
+    return (Q_drive - Q_prop - shaft_friction_torque(P, n)) / (2.0 * math.pi * P[TRANSMISSION.I_shaft])
 
 
 @njit(cache=True)
 def shaft_friction_torque(P, n):
     """Friction torque of shafting and gearbox (N m at the propeller shaft), Q_f = Q_f,rated n / n_rated,P:
     linear in the shaft speed n (rev/s), ``friction_torque_fraction`` of the rated torque at rated speed."""
-    n_rated_p = P[lo.P_ENG_NRATED] / P[lo.P_GEAR]
-    return P[lo.P_Q_FRIC] * n / n_rated_p
+    n_rated_p = P[ENGINE.n_e_rated] / P[TRANSMISSION.gear_ratio]
+    return P[TRANSMISSION.Q_friction] * n / n_rated_p
 
 
 @njit(cache=True)
 def engine_torque_to_hold(P, n, Q_prop):
     """Engine torque (N m) that holds the shaft at n rev/s ahead against the propeller torque Q_prop (N m):
     the shaft equation with dn/dt = 0 and the clutch ahead, Q_E = (Q_P + Q_f(n)) / (eta_G i)."""
-    return shaft_torque_to_hold(P, n, Q_prop) / (P[lo.P_ETA_GEAR] * P[lo.P_GEAR])
+    return shaft_torque_to_hold(P, n, Q_prop) / (P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio])
 
 
 @njit(cache=True)

@@ -18,6 +18,7 @@ from vessel_gym.physics.environment import wrap_deg
 from vessel_gym.physics.geodesy import local_to_latlon
 from vessel_gym.physics.integrate import forces_batch
 from vessel_gym.physics.kinematics import ground_velocity, speed_over_ground
+from vessel_gym.physics.params import ENGINE, PROPELLER, ROLL
 from vessel_gym.physics.runaway import (
     RUNAWAY_HEEL,
     RUNAWAY_HEEL_DEG,
@@ -121,10 +122,10 @@ class Readings:
         from vessel_gym.physics.propulsion import engine_drive
 
         P = self.Ps[self.ship_index[k]]
-        if P[lo.P_PROP_ON] == 0.0:
+        if P[PROPELLER.on] == 0.0:
             return {"fuel_index": 0.0, "engine_rpm": 0.0, "torque_Nm": 0.0, "power_kW": 0.0}
         x = self.state[k]
-        if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its torque at the propeller shaft; its fuel unknown here
+        if P[ENGINE.by_component] > 0.0:  # a user's engine: its torque at the propeller shaft; its fuel unknown here
             q = float(self._batch.shaft_torque(self, self.state, self.component_states)[k])
             return {
                 "fuel_index": math.nan,
@@ -152,7 +153,7 @@ class Readings:
         lat, lon = local_to_latlon(self.north[k], self.east[k], *self.reference_latlon_deg)
         e = self.environments[k]
         x = self.state[k]
-        has_roll = self.Ps[self.ship_index[k]][lo.P_ROLL_ON] > 0.0
+        has_roll = self.Ps[self.ship_index[k]][ROLL.on] > 0.0
         return BridgeReading(
             t_s=self.t,
             x_m=float(self.north[k]),

@@ -30,6 +30,7 @@ import numpy as np
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import BODY, HULL, ROLL
 from vessel_gym.physics.schema import SpecError, as_float, param
 
 #: acceleration due to gravity, m/s^2 (standard gravity)
@@ -141,19 +142,19 @@ def roll_mass_matrix(M3: np.ndarray, roll: Roll, L: float, rho: float) -> np.nda
 
 
 def pack_roll(P: np.ndarray, M3: np.ndarray, roll: Roll, mass: float, L: float, rho: float) -> None:
-    """Fill the roll fields of the parameter row ``P`` (layout.P_ROLL_*)."""
-    P[lo.P_ROLL_ON] = 1.0
-    P[lo.P_ROLL_MINV : lo.P_ROLL_MINV + 9] = np.linalg.inv(roll_mass_matrix(M3, roll, L, rho)).ravel()
-    P[lo.P_ROLL_GM] = mass * G_M_S2 * roll.GM_m  # rho g nabla GM with rho nabla = m
-    P[lo.P_ROLL_MG] = mass * G_M_S2
+    """Fill the roll fields of the parameter row ``P`` (the record params.ROLL)."""
+    P[ROLL.on] = 1.0
+    P[ROLL.Minv : ROLL.Minv + 9] = np.linalg.inv(roll_mass_matrix(M3, roll, L, rho)).ravel()
+    P[ROLL.rho_g_nabla_GM] = mass * G_M_S2 * roll.GM_m  # rho g nabla GM with rho nabla = m
+    P[ROLL.rho_g_nabla] = mass * G_M_S2
     k = len(roll.GZ_heel_deg)
-    P[lo.P_ROLL_GZ_N] = k
-    P[lo.P_ROLL_GZ_PHI : lo.P_ROLL_GZ_PHI + k] = np.radians(roll.GZ_heel_deg)
-    P[lo.P_ROLL_GZ : lo.P_ROLL_GZ + k] = roll.GZ_m
-    P[lo.P_ROLL_KP1] = roll.damping_linear_Nms
-    P[lo.P_ROLL_KP2] = roll.damping_quadratic_Nms2
-    P[lo.P_ROLL_ZR] = roll.z_R_m
-    P[lo.P_ROLL_QSIGN] = {"none": 0.0, "right_handed": -1.0, "left_handed": 1.0}[roll.propeller_torque_reaction]
+    P[ROLL.GZ_points] = k
+    P[ROLL.GZ_heel : ROLL.GZ_heel + k] = np.radians(roll.GZ_heel_deg)
+    P[ROLL.GZ : ROLL.GZ + k] = roll.GZ_m
+    P[ROLL.K_p_linear] = roll.damping_linear_Nms
+    P[ROLL.K_p_quadratic] = roll.damping_quadratic_Nms2
+    P[ROLL.z_R] = roll.z_R_m
+    P[ROLL.torque_sign] = {"none": 0.0, "right_handed": -1.0, "left_handed": 1.0}[roll.propeller_torque_reaction]
     column = {"X": 5, "Y": 6, "K": 7, "N": 8}
     monomials: dict[tuple[int, ...], list[float]] = {}
     for name, value in roll.derivatives.items():
@@ -166,15 +167,15 @@ def pack_roll(P: np.ndarray, M3: np.ndarray, roll: Roll, mass: float, L: float, 
     if len(monomials) > lo.MAX_ROLL_MONOMIALS:
         raise ValueError(f"more than {lo.MAX_ROLL_MONOMIALS} distinct roll monomials")
     for k, row in enumerate(monomials.values()):
-        P[lo.P_ROLL_M + lo.ROLL_STRIDE * k : lo.P_ROLL_M + lo.ROLL_STRIDE * (k + 1)] = row
-    P[lo.P_ROLL_NM] = len(monomials)
+        P[ROLL.monomials + lo.ROLL_STRIDE * k : ROLL.monomials + lo.ROLL_STRIDE * (k + 1)] = row
+    P[ROLL.n_monomials] = len(monomials)
 
 
 def free_roll_frequency(P: np.ndarray) -> float:
     """Upright free-roll natural frequency omega_phi = sqrt(rho g nabla GM / I_eff), rad/s, of a packed
     parameter row ``P``; I_eff is the roll inertia the equations integrate, added mass included, with sway and
     yaw free (1 / the (p, p) entry of the inverse sway-yaw-roll mass matrix). 0 on a 3-DOF ship."""
-    return math.sqrt(max(P[lo.P_ROLL_GM] * P[lo.P_ROLL_MINV + 8], 0.0))
+    return math.sqrt(max(P[ROLL.rho_g_nabla_GM] * P[ROLL.Minv + 8], 0.0))
 
 
 @njit(cache=True)
@@ -186,19 +187,19 @@ def _powers(x):
 def restoring_moment(P, phi):
     """Hydrostatic roll moment, N m: -rho g nabla GZ(|phi|) sign(phi) from the ship file's GZ curve (linear
     between its points, the last segment continued beyond it), else -rho g nabla GM sin(phi)."""
-    k = int(P[lo.P_ROLL_GZ_N])
+    k = int(P[ROLL.GZ_points])
     if k == 0:
-        return -P[lo.P_ROLL_GM] * math.sin(phi)
+        return -P[ROLL.rho_g_nabla_GM] * math.sin(phi)
     a = abs(phi)
     i = 1
-    while i < k - 1 and a > P[lo.P_ROLL_GZ_PHI + i]:
+    while i < k - 1 and a > P[ROLL.GZ_heel + i]:
         i += 1
-    p0 = P[lo.P_ROLL_GZ_PHI + i - 1]
-    p1 = P[lo.P_ROLL_GZ_PHI + i]
-    g0 = P[lo.P_ROLL_GZ + i - 1]
-    g1 = P[lo.P_ROLL_GZ + i]
+    p0 = P[ROLL.GZ_heel + i - 1]
+    p1 = P[ROLL.GZ_heel + i]
+    g0 = P[ROLL.GZ + i - 1]
+    g1 = P[ROLL.GZ + i]
     gz = g0 + (g1 - g0) * (a - p0) / (p1 - p0)
-    return -P[lo.P_ROLL_MG] * (gz if phi >= 0.0 else -gz)
+    return -P[ROLL.rho_g_nabla] * (gz if phi >= 0.0 else -gz)
 
 
 @njit(cache=True)
@@ -209,10 +210,10 @@ def roll_forces(P, u, v, r, p, phi):
     r_prime_max), p' = pL/U, with U held at U_min at low speed. Returns (X, Y, K, N) in N, N, N m, N m;
     the rudder's roll moment is added by the caller (it needs Y_R).
     """
-    L = P[lo.P_L]
+    L = P[BODY.L]
     U = math.sqrt(u * u + v * v)
-    Ue = max(U, P[lo.P_U_MIN])
-    rmax = P[lo.P_RP_MAX]
+    Ue = max(U, P[HULL.U_min])
+    rmax = P[HULL.r_prime_max]
     rp = r * L / Ue
     rp = -rmax if rp < -rmax else (rmax if rp > rmax else rp)
     pu = _powers(u / Ue)
@@ -224,13 +225,13 @@ def roll_forces(P, u, v, r, p, phi):
     Ys = 0.0
     Ks = 0.0
     Ns = 0.0
-    for k in range(int(P[lo.P_ROLL_NM])):
-        j = lo.P_ROLL_M + lo.ROLL_STRIDE * k
+    for k in range(int(P[ROLL.n_monomials])):
+        j = ROLL.monomials + lo.ROLL_STRIDE * k
         m = pu[int(P[j])] * pv[int(P[j + 1])] * pr[int(P[j + 2])] * pp[int(P[j + 3])] * pf[int(P[j + 4])]
         Xs += P[j + 5] * m
         Ys += P[j + 6] * m
         Ks += P[j + 7] * m
         Ns += P[j + 8] * m
-    q = 0.5 * P[lo.P_RHO] * L * L * Ue * Ue
-    K = q * L * Ks + restoring_moment(P, phi) - P[lo.P_ROLL_KP1] * p - P[lo.P_ROLL_KP2] * p * abs(p)
+    q = 0.5 * P[BODY.rho] * L * L * Ue * Ue
+    K = q * L * Ks + restoring_moment(P, phi) - P[ROLL.K_p_linear] * p - P[ROLL.K_p_quadratic] * p * abs(p)
     return q * Xs, q * Ys, K, q * L * Ns

@@ -12,6 +12,7 @@ import numpy as np
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import BODY, WAVE_DRIFT
 from vessel_gym.physics.units import G_M_S2
 
 
@@ -171,25 +172,25 @@ def wave_drift_forces_at_speed(P, zeta2, omega_zeta2, wave_from, psi, u):
     F = 1/2 rho g L (zeta2 C(chi) + 2 U omega_zeta2 / g C^U(chi)), U = max(u, 0): Faltinsen et al. (1980)
     derive the speed term for a ship moving ahead; going astern the zero-speed loads are used.
     """
-    if P[lo.P_WAVE_ON] == 0.0 or zeta2 <= 0.0:
+    if P[WAVE_DRIFT.on] == 0.0 or zeta2 <= 0.0:
         return 0.0, 0.0, 0.0
     chi = (wave_from - psi) % (2.0 * math.pi)
     step = 2.0 * math.pi / (lo.WAVE_NA - 1)
     j = min(int(chi / step), lo.WAVE_NA - 2)
     t = chi / step - j
-    b = lo.P_WAVE_TAB
+    b = WAVE_DRIFT.table
     na = lo.WAVE_NA
     cx = (1 - t) * P[b + j] + t * P[b + j + 1]
     cy = (1 - t) * P[b + na + j] + t * P[b + na + j + 1]
     cn = (1 - t) * P[b + 2 * na + j] + t * P[b + 2 * na + j + 1]
-    q = 0.5 * P[lo.P_RHO] * G_M_S2 * zeta2
-    L = P[lo.P_L]
+    q = 0.5 * P[BODY.rho] * G_M_S2 * zeta2
+    L = P[BODY.L]
     X = q * L * cx
     Y = q * L * cy
     N = q * L * L * cn
     if u > 0.0 and omega_zeta2 > 0.0:
-        bu = lo.P_WAVE_TAB_U
-        qu = 0.5 * P[lo.P_RHO] * G_M_S2 * (2.0 * u * omega_zeta2 / G_M_S2)
+        bu = WAVE_DRIFT.speed_table
+        qu = 0.5 * P[BODY.rho] * G_M_S2 * (2.0 * u * omega_zeta2 / G_M_S2)
         X += qu * L * ((1 - t) * P[bu + j] + t * P[bu + j + 1])
         Y += qu * L * ((1 - t) * P[bu + na + j] + t * P[bu + na + j + 1])
         N += qu * L * L * ((1 - t) * P[bu + 2 * na + j] + t * P[bu + 2 * na + j + 1])

@@ -37,6 +37,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import BODY, PROPELLER
 
 #: smallest depth-to-draught ratio the method covers (Kijima et al. 1990 captive tests), -
 H_OVER_T_MIN = 1.2
@@ -47,10 +48,10 @@ H_MAX = 1.0 / H_OVER_T_MIN
 @njit(cache=True)
 def hull_proportions(P):
     """(C_b, B/T, L/T, L/B) of row ``P``: block coefficient from the mass, m / (rho L B T), and the ratios."""
-    L = P[lo.P_L]
-    B = P[lo.P_B]
-    T = P[lo.P_T]
-    Cb = P[lo.P_MASS] / (P[lo.P_RHO] * L * B * T)
+    L = P[BODY.L]
+    B = P[BODY.B]
+    T = P[BODY.T]
+    Cb = P[BODY.m] / (P[BODY.rho] * L * B * T)
     return Cb, B / T, L / T, L / B
 
 
@@ -68,6 +69,8 @@ def hull_factors(P, H):
     Taimuri et al. (2020) §3.3: Kijima et al. (1990) for Y'_v, Y'_r, N'_r, N'_vvr, N'_vrr; Ankudinov's
     K_0, K_1, K_2 for the rest. R'_0 is not corrected (factor 1). H is clipped to [0, H_MAX].
     """
+    if H is None:  # a deep-water kernel (integrate.drivers): nothing below is compiled
+        return (1.0,) * 17
     H = min(max(H, 0.0), H_MAX)
     if H == 0.0:
         return (1.0,) * 17
@@ -129,6 +132,8 @@ def cross_flow_drag_factor(P, H):
     C_yc = C_0 + (C_1 - C_0) (T/h)^k with C_1 = 3.2 and k = 2, divided by its deep-water value C_0 of eq. 12-13,
     C_0 = 0.22 sqrt(L_wL^2 A_m / (B V)); with L_wL = L and A_m = B T (neither is in a ship file) that is
     0.22 sqrt(L / (C_b B)). 1 at H = 0; H is clipped to [0, H_MAX] like every factor here."""
+    if H is None:
+        return 1.0
     H = min(max(H, 0.0), H_MAX)
     if H == 0.0:
         return 1.0
@@ -141,7 +146,9 @@ def cross_flow_drag_factor(P, H):
 def wake_fraction(P, H):
     """Straight-running wake fraction w_P0 (-) at H = T/h: Taimuri et al. (2020) eq. 40,
     w_P0(h) = w_P0 (1 + (-4.932 + 0.6425 C_b L/T - 0.0165 (C_b L/T)^2) H^1.655)."""
-    w0 = P[lo.P_WP0]
+    w0 = P[PROPELLER.w_P0]
+    if H is None:
+        return w0
     H = min(max(H, 0.0), H_MAX)
     if H == 0.0:
         return w0
@@ -161,7 +168,9 @@ def _ctp(c, H):
 def thrust_deduction(P, H):
     """Thrust deduction factor t_P (-) at H = T/h: Taimuri et al. (2020) eq. 41 on 1 - t_P, in the
     regressors C_b L/B and H, taken relative to its value at H = 0 so that deep water is exact."""
-    tP = P[lo.P_TP]
+    tP = P[PROPELLER.t_P]
+    if H is None:
+        return tP
     H = min(max(H, 0.0), H_MAX)
     if H == 0.0:
         return tP
@@ -174,6 +183,8 @@ def thrust_deduction(P, H):
 def flow_straightening_factor(P, H):
     """Factor (-) on gamma_R^+ and gamma_R^- at H = T/h: Taimuri et al. (2020) eq. 42, two branches in the
     regressor C_b B/L, the deep branch (1 at H = 0) up to H = 0.581 - 0.332 T/B."""
+    if H is None:
+        return 1.0
     H = min(max(H, 0.0), H_MAX)
     if H == 0.0:
         return 1.0

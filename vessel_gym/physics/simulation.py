@@ -102,6 +102,8 @@ class Simulation(Readings, Helm):
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
     """
 
+    _kernels_checked = False  # whether the drivers' kind was checked against the rows since it was chosen
+
     def __init__(
         self,
         ships: str | Ship | Sequence[str | Ship],
@@ -189,6 +191,7 @@ class Simulation(Readings, Helm):
             self.env[:] = rows[self.ship_index]
             self.environments[:] = [environment] * self.n
             self._kernels = drivers_for(self.Ps, self.env)
+            self._kernels_checked = False
             return
         # one vessel: the drivers check the batch's kind themselves and :meth:`step` chooses again when needed
         s = self.ship(k)
@@ -453,6 +456,11 @@ class Simulation(Readings, Helm):
                 run_with_components(*args, self._evaluate_components, self.component_states)
         else:
             which = threaded(self.n, nsteps)  # serial or threaded by problem size (drivers.threaded)
+            if not self._kernels_checked:
+                # the first step since the drivers were chosen: rows written since (a chart's depth under the
+                # ship) are seen here, in one pass of numpy, rather than by a driver compiled only to refuse
+                self._kernels = drivers_for(self.Ps, self.env)
+                self._kernels_checked = True
             if self._kernels[which](*args) < 0:
                 # the batch is no longer of the kind its drivers were compiled for (Ps or env written
                 # directly): nothing was integrated; choose the drivers again

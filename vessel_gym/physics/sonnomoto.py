@@ -22,7 +22,7 @@ import math
 
 from numba import njit
 
-from vessel_gym.physics import layout as lo
+from vessel_gym.physics.params import BODY, HULL, PROPELLER, RUDDER
 
 
 @njit(cache=True)
@@ -31,11 +31,11 @@ def son_nomoto_wake(P, u, v, r):
     velocities through the water u, v (m/s) and yaw rate r (rad/s); w_P0 at rest."""
     U = math.sqrt(u * u + v * v)
     if U < 1e-6:
-        return P[lo.P_WP0]
+        return P[PROPELLER.w_P0]
     vp = v / U
-    rp = r * P[lo.P_L] / U
-    a = vp + P[lo.P_XP] * rp
-    return P[lo.P_WP0] - P[lo.P_SN_TAU] * (a * a + P[lo.P_SN_CPV] * vp + P[lo.P_SN_CPR] * rp)
+    rp = r * P[BODY.L] / U
+    a = vp + P[PROPELLER.x_P_prime] * rp
+    return P[PROPELLER.w_P0] - P[PROPELLER.tau_P] * (a * a + P[PROPELLER.c_pv] * vp + P[PROPELLER.c_pr] * rp)
 
 
 @njit(cache=True)
@@ -48,23 +48,23 @@ def son_nomoto_rudder_forces(P, u, v, r, delta, u_a, thrust):
     u_a = 0); the bracket is held at >= 0 when the propeller pulls astern.
     """
     U = math.sqrt(u * u + v * v)
-    Ue = max(U, P[lo.P_U_MIN])
-    L = P[lo.P_L]
+    Ue = max(U, P[HULL.U_min])
+    L = P[BODY.L]
     vp = v / Ue
     rp = r * L / Ue
     vR = Ue * (
-        P[lo.P_SN_GAMMA] * vp
-        + P[lo.P_SN_CRR] * rp
-        + P[lo.P_SN_CRRRR] * rp * rp * rp
-        + P[lo.P_SN_CRRRV] * rp * rp * vp
+        P[RUDDER.gamma_R] * vp
+        + P[RUDDER.c_Rr] * rp
+        + P[RUDDER.c_Rrrr] * rp * rp * rp
+        + P[RUDDER.c_Rrrv] * rp * rp * vp
     )
-    D = P[lo.P_DP]
-    race = u_a * u_a + 8.0 * P[lo.P_KAPPA] * thrust / (math.pi * P[lo.P_RHO] * D * D)
-    uR = P[lo.P_EPS] * math.sqrt(max(race, 0.0))
+    D = P[PROPELLER.D_P]
+    race = u_a * u_a + 8.0 * P[RUDDER.kappa] * thrust / (math.pi * P[BODY.rho] * D * D)
+    uR = P[RUDDER.epsilon] * math.sqrt(max(race, 0.0))
     alphaR = delta + math.atan2(vR, uR) if uR > 0.0 else delta
-    FN = -0.5 * P[lo.P_RHO] * P[lo.P_AR] * P[lo.P_FALPHA] * (uR * uR + vR * vR) * math.sin(alphaR)
+    FN = -0.5 * P[BODY.rho] * P[RUDDER.A_R] * P[RUDDER.f_alpha] * (uR * uR + vR * vR) * math.sin(alphaR)
     c = math.cos(delta)
-    XR = P[lo.P_SN_CRX] * FN * math.sin(delta)
-    YR = (1.0 + P[lo.P_AH]) * FN * c
-    NR = (P[lo.P_XRP] + P[lo.P_AH] * P[lo.P_XHP]) * L * FN * c
+    XR = P[RUDDER.c_RX] * FN * math.sin(delta)
+    YR = (1.0 + P[RUDDER.a_H]) * FN * c
+    NR = (P[RUDDER.x_R_prime] + P[RUDDER.a_H] * P[RUDDER.x_H_prime]) * L * FN * c
     return XR, YR, NR

@@ -11,10 +11,11 @@ from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import CALM
+from vessel_gym.physics.params import ENGINE, ROLL, TRANSMISSION
 from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold, shaft_torque_to_hold
 from vessel_gym.physics.shipfile import Ship
 from vessel_gym.physics.units import KNOT_M_S
-from vessel_gym.physics.vessel import NO_REFCOUNT, derivatives_of, force_terms
+from vessel_gym.physics.vessel import NO_REFCOUNT, abkowitz_family, derivatives_of, force_terms
 
 # surge balances solved again at most this many times while user component forces still change with the rpm
 STEADY_MAX_ITERATIONS = 20
@@ -32,59 +33,65 @@ class SimulationError(RuntimeError):
 
 
 # The solvers below are compiled for the kind of vessel they solve, as the batch drivers are (integrate.drivers):
-# in deep water the draught-to-depth ratio is the literal 0 (``shallow_env`` None: numba drops the branch on it),
-# and without roll or a user's engine those parts of the equations are left out (``roll``, ``ext`` literals from
-# the closures of :func:`_solvers`). A deep-water 3-DOF simulation then compiles the right-hand side once, for
+# in deep water the draught-to-depth ratio is None (``shallow_env`` None: numba drops the branch on it), and
+# without roll, a user's engine or a model of the Abkowitz family those parts of the equations are left out
+# (``roll``, ``ext``, ``abk`` from the closures of :func:`_solvers`). A deep-water 3-DOF simulation then compiles the right-hand side once, for
 # its drivers and its steady approach alike; the results are the same for every kind.
 
 
-def _kind(P: np.ndarray, env: np.ndarray) -> tuple[bool, bool, bool]:
-    """(shallow, roll, ext) of one vessel with parameter row ``P`` in environment row ``env`` (integrate.drivers)."""
-    return bool(env[lo.E_T_OVER_H] != 0.0), bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0)
+def _kind(P: np.ndarray, env: np.ndarray) -> tuple[bool, bool, bool, bool]:
+    """(shallow, roll, ext, abk) of one vessel with parameter row ``P`` in environment row ``env``
+    (integrate.drivers)."""
+    return (
+        bool(env[lo.E_T_OVER_H] != 0.0),
+        bool(P[ROLL.on] != 0.0),
+        bool(P[ENGINE.by_component] != 0.0),
+        abkowitz_family(P),
+    )
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, xd):
+def _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, abk, xd):
     """du/dt (m/s^2) at state ``x`` (vessel.derivatives_of, with ``xd`` a scratch row of length NX)."""
     if shallow_env is None:
-        H = 0
+        H = None
     else:
         H = shallow_env[lo.E_T_OVER_H]
-    derivatives_of(P, x, inp, env, F, xd, H, roll, ext)
+    derivatives_of(P, x, inp, env, F, xd, H, roll, ext, abk)
     return xd[lo.X_U]
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _propeller_torque(P, x, env, shallow_env):
+def _propeller_torque(P, x, env, shallow_env, abk):
     """The propeller's absorbed torque Q_P (N m) at state ``x`` (vessel.forces' "Q_prop")."""
     if shallow_env is None:
-        H = 0
+        H = None
     else:
         H = shallow_env[lo.E_T_OVER_H]
-    return force_terms(P, x, env, H).Q_prop
+    return force_terms(P, x, env, H, abk).Q_prop
 
 
 @njit(cache=True)
-def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, ext):
+def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, ext, abk):
     """:class:`_SteadyApproach` (start, balance, finish; no user forces) of one approach at ``speed`` (m/s),
     ``heading`` (rad) in environment row ``e``, into the rows ``x``, ``inp``: the same calls in the same order.
     False where the propeller or the engine cannot hold it (the caller raises for it). ``shallow_env`` (``e`` or
-    None), ``roll``, ``ext``: the kind of vessel, as compile-time constants (:func:`_solvers`)."""
+    None), ``roll``, ``ext``, ``abk``: the kind of vessel, as compile-time constants (:func:`_solvers`)."""
     x[:] = 0.0
     inp[:] = 0.0
     x[lo.X_U] = speed
     x[lo.X_PSI] = heading
     x[lo.X_REV] = inp[lo.U_REV_C] = n_max
     x[lo.X_CAM] = 1.0
-    if _surge_acceleration(P, x, inp, e, F, shallow_env, roll, ext, xd) < 0.0:
+    if _surge_acceleration(P, x, inp, e, F, shallow_env, roll, ext, abk, xd) < 0.0:
         return False
-    nrev = _surge_balance_rev(P, x, inp, e, F, n_max, shallow_env, roll, ext)
-    Q_prop = _propeller_torque(P, x, e, shallow_env)
-    if P[lo.P_ENGINE_EXT] > 0.0:
+    nrev = _surge_balance_rev(P, x, inp, e, F, n_max, shallow_env, roll, ext, abk)
+    Q_prop = _propeller_torque(P, x, e, shallow_env, abk)
+    if P[ENGINE.by_component] > 0.0:
         x[lo.X_GOV] = x[lo.X_CAM] = 0.0
         return True
     Q_need = engine_torque_to_hold(P, nrev, Q_prop)
-    n_e = P[lo.P_GEAR] * nrev
+    n_e = P[TRANSMISSION.gear_ratio] * nrev
     if engine_torque(P, n_e, 1.0) < Q_need:
         return False
     x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
@@ -92,22 +99,22 @@ def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, e
 
 
 @functools.cache
-def _solvers(shallow: bool, roll: bool, ext: bool):
+def _solvers(shallow: bool, roll: bool, ext: bool, abk: bool):
     """(surge_acceleration(P, x, inp, env, F), surge_balance_rev(P, x, inp, env, F, hi_n), propeller_torque(P,
     x, env), steady_rows(...), steady_rows_threaded(...)) compiled for one kind of vessel (:func:`_kind`)."""
-    SHALLOW, ROLL, EXT = shallow, roll, ext
+    SHALLOW, ROLL, EXT, ABK = shallow, (True if roll else None), ext, (True if abk else None)  # as integrate.drivers
 
     @njit(cache=True)
     def surge_acceleration(P, x, inp, env, F):
-        return _surge_acceleration(P, x, inp, env, F, env if SHALLOW else None, ROLL, EXT, np.zeros(lo.NX))
+        return _surge_acceleration(P, x, inp, env, F, env if SHALLOW else None, ROLL, EXT, ABK, np.zeros(lo.NX))
 
     @njit(cache=True)
     def surge_balance_rev(P, x, inp, env, F, hi_n):
-        return _surge_balance_rev(P, x, inp, env, F, hi_n, env if SHALLOW else None, ROLL, EXT)
+        return _surge_balance_rev(P, x, inp, env, F, hi_n, env if SHALLOW else None, ROLL, EXT, ABK)
 
     @njit(cache=True)
     def propeller_torque(P, x, env):
-        return _propeller_torque(P, x, env, env if SHALLOW else None)
+        return _propeller_torque(P, x, env, env if SHALLOW else None, ABK)
 
     @njit(cache=True)
     def steady_rows(P, speed, heading, env, n_max, out_x, out_u):
@@ -119,7 +126,7 @@ def _solvers(shallow: bool, roll: bool, ext: bool):
             e = env[j]
             shallow_env = e if SHALLOW else None
             x, inp = out_x[j], out_u[j]
-            if not _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT):
+            if not _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT, ABK):
                 return j
         return -1
 
@@ -134,7 +141,7 @@ def _solvers(shallow: bool, roll: bool, ext: bool):
             e = env[j]
             shallow_env = e if SHALLOW else None
             x, inp, xd = out_x[j], out_u[j], np.zeros(lo.NX)
-            ok[j] = _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT)
+            ok[j] = _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT, ABK)
         for j in range(m):
             if not ok[j]:
                 return j
@@ -161,7 +168,7 @@ def steady_rows(
         rows = np.flatnonzero(shallow == kind)
         if not len(rows):
             continue
-        solvers = _solvers(kind, bool(P[lo.P_ROLL_ON] != 0.0), bool(P[lo.P_ENGINE_EXT] != 0.0))
+        solvers = _solvers(kind, *_kind(P, env[rows[0]])[1:])
         x, u = np.zeros((len(rows), lo.NX)), np.zeros((len(rows), lo.NU))
         solve_args = (P, speed[rows], heading_rad[rows], np.ascontiguousarray(env[rows]), n_max, x, u)
         if len(rows) >= STEADY_THREADED_MIN:
@@ -203,7 +210,7 @@ def distinct_rows(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 @njit(cache=True)
-def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext):
+def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext, abk):
     """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
 
     Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
@@ -214,7 +221,7 @@ def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext):
     def surge_accel(nrev):
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
-        return _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, xd)
+        return _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, abk, xd)
 
     lo_n = 0.0
     if surge_accel(0.0) > 0.0:
@@ -299,16 +306,16 @@ class _SteadyApproach:
         Q_prop = self._solve[2](P, x, self.env)
         nrev = self.nrev
         self.Q_hold = shaft_torque_to_hold(P, nrev, Q_prop)
-        if P[lo.P_ENGINE_EXT] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)
+        if P[ENGINE.by_component] > 0.0:  # a user's engine: its own states hold the shaft (ComponentBatch)
             x[lo.X_GOV] = x[lo.X_CAM] = 0.0
             return x.copy(), self.inp.copy()
         Q_need = engine_torque_to_hold(P, nrev, Q_prop)
-        n_e = P[lo.P_GEAR] * nrev
+        n_e = P[TRANSMISSION.gear_ratio] * nrev
         if engine_torque(P, n_e, 1.0) < Q_need:
             raise SimulationError(
                 f"{self.ship.name}: the engine cannot hold {nrev * 60:.1f} rpm for "
                 f"{self.speed / KNOT_M_S:.2f} kn "
-                f"(needs {Q_need / P[lo.P_ENG_QRATED]:.2f} x rated torque)"
+                f"(needs {Q_need / P[ENGINE.Q_e_rated]:.2f} x rated torque)"
             )
         x[lo.X_GOV] = fuel_index_for(P, n_e, Q_need)
         return x.copy(), self.inp.copy()

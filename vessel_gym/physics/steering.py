@@ -6,8 +6,8 @@ import math
 
 from numba import njit
 
-from vessel_gym.physics import layout as lo
 from vessel_gym.physics.hull import drift_angle
+from vessel_gym.physics.params import BODY, HULL, PROPELLER, RUDDER, STEERING_GEAR
 from vessel_gym.physics.shallow_water import flow_straightening_factor
 
 
@@ -19,10 +19,10 @@ def steering_gear_rate(P, delta, delta_c):
     maximum rate (MSS mariner.m uses the same form with T_delta = 1 s). IMO trials assume the gear moves the
     rudder at its rated speed (SOLAS II-1/29: 35 deg port to 30 deg starboard in 28 s).
     """
-    dmax = P[lo.P_DMAX]
+    dmax = P[STEERING_GEAR.delta_max]
     dc = min(max(delta_c, -dmax), dmax)
-    rate = (dc - delta) / P[lo.P_DTAU]
-    rmax = P[lo.P_DRATE]
+    rate = (dc - delta) / P[STEERING_GEAR.time_constant]
+    rmax = P[STEERING_GEAR.delta_rate_max]
     return min(max(rate, -rmax), rmax)
 
 
@@ -36,10 +36,10 @@ def steering_gear_angle(P, delta0, delta_c, t):
     of integrating this equation themselves: the lag is the fastest mode of a small model's equations (0.1 s,
     10 1/s on kvlcc2_l7), and solved exactly it no longer bounds the step an explicit method may take.
     """
-    dmax = P[lo.P_DMAX]
+    dmax = P[STEERING_GEAR.delta_max]
     dc = min(max(delta_c, -dmax), dmax)
-    tau = P[lo.P_DTAU]
-    rmax = P[lo.P_DRATE]
+    tau = P[STEERING_GEAR.time_constant]
+    rmax = P[STEERING_GEAR.delta_rate_max]
     e = dc - delta0
     e_lin = rmax * tau  # |e| below which the gear leaves its rate limit
     if abs(e) > e_lin:
@@ -90,18 +90,18 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust, H):
     its jet at bollard strength, eps sqrt(eta) kappa sqrt(8 T / (rho pi D^2)), continuous with the ahead
     form at u = 0; an astern-turning one adds nothing (its race goes forward, away from the rudder).
     """
-    L = P[lo.P_L]
-    rho = P[lo.P_RHO]
+    L = P[BODY.L]
+    rho = P[BODY.rho]
     u_P = u * (1.0 - w_P)
-    D = P[lo.P_DP]
-    eta = P[lo.P_ETA]
-    eps = P[lo.P_EPS]
+    D = P[PROPELLER.D_P]
+    eta = P[RUDDER.eta]
+    eps = P[RUDDER.epsilon]
     s_a = 0.0
-    jet = thrust > 0.0 and P[lo.P_PROP_ON] > 0.0
+    jet = thrust > 0.0 and P[PROPELLER.on] > 0.0
     if u >= 0.0:
         if jet:
             slip = math.sqrt(u_P * u_P + 8.0 * thrust / (rho * math.pi * D * D))
-            a = u_P + P[lo.P_KAPPA] * (slip - u_P)
+            a = u_P + P[RUDDER.kappa] * (slip - u_P)
             u_R = eps * math.sqrt(eta * a * a + (1.0 - eta) * u_P * u_P)
         else:
             u_R = eps * u_P
@@ -109,24 +109,25 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust, H):
         s_a = -u / U
         u_R = u
         if jet:
-            u_R += eps * math.sqrt(eta) * P[lo.P_KAPPA] * math.sqrt(8.0 * thrust / (rho * math.pi * D * D))
-    l_R = P[lo.P_LRP] + s_a * (P[lo.P_XRP] - P[lo.P_LRP])
-    if U >= P[lo.P_U_MIN]:  # the published form, in the published order of operations
+            u_R += eps * math.sqrt(eta) * P[RUDDER.kappa] * math.sqrt(8.0 * thrust / (rho * math.pi * D * D))
+    l_R = P[RUDDER.l_R_prime] + s_a * (P[RUDDER.x_R_prime] - P[RUDDER.l_R_prime])
+    if U >= P[HULL.U_min]:  # the published form, in the published order of operations
         beta_R = beta - l_R * (r * L / U)
     else:  # here beta_R stands for U beta_R (m/s), without the division: a ship turning on the spot
         beta_R = U * beta - l_R * r * L
-    gamma = P[lo.P_GRM] if beta_R < 0.0 else P[lo.P_GRP]
-    if H > 0.0:
-        gamma *= flow_straightening_factor(P, H)
+    gamma = P[RUDDER.gamma_R_minus] if beta_R < 0.0 else P[RUDDER.gamma_R_plus]
+    if H is not None:  # None: a deep-water kernel, where this is not compiled
+        if H > 0.0:
+            gamma *= flow_straightening_factor(P, H)
     gamma += s_a * (1.0 - gamma)
-    v_R = U * gamma * beta_R if U >= P[lo.P_U_MIN] else gamma * beta_R
+    v_R = U * gamma * beta_R if U >= P[HULL.U_min] else gamma * beta_R
     U_R = math.sqrt(u_R * u_R + v_R * v_R)
     sd = math.sin(delta)
     cd = math.cos(delta)
-    F_N = 0.5 * rho * P[lo.P_AR] * P[lo.P_FALPHA] * U_R * (u_R * sd - v_R * cd)
+    F_N = 0.5 * rho * P[RUDDER.A_R] * P[RUDDER.f_alpha] * U_R * (u_R * sd - v_R * cd)
     ahead = 1.0 - s_a
-    a_H = ahead * P[lo.P_AH]
-    X_R = -(1.0 - ahead * P[lo.P_TR]) * F_N * sd
+    a_H = ahead * P[RUDDER.a_H]
+    X_R = -(1.0 - ahead * P[RUDDER.t_R]) * F_N * sd
     Y_R = -(1.0 + a_H) * F_N * cd
-    N_R = -(P[lo.P_XRP] + a_H * P[lo.P_XHP]) * L * F_N * cd
+    N_R = -(P[RUDDER.x_R_prime] + a_H * P[RUDDER.x_H_prime]) * L * F_N * cd
     return X_R, Y_R, N_R

@@ -35,6 +35,23 @@ from vessel_gym.physics.kinematics import (
     ground_velocity_body,
     relative_wind,
 )
+from vessel_gym.physics.params import (
+    ABKOWITZ,
+    BODY,
+    ENGINE,
+    GOVERNOR,
+    HULL,
+    MMG,
+    NP,
+    PROPELLER,
+    ROLL,
+    RUDDER,
+    STEERING_GEAR,
+    TRANSMISSION,
+    WAVE_DRIFT,
+    WINDAGE,
+    put,
+)
 from vessel_gym.physics.propeller4q import table_code
 from vessel_gym.physics.propulsion import (
     effective_wake,
@@ -82,7 +99,7 @@ def mass_matrix(ship: Ship) -> np.ndarray:
 
 
 def _pack_terms(P: np.ndarray, derivs: dict) -> None:
-    """Abkowitz terms merged by monomial (layout.P_ABK_M): one row (e_u, e_v, e_r, e_d, c_X, c_Y, c_N) per
+    """Abkowitz terms merged by monomial (ABKOWITZ.monomials): one row (e_u, e_v, e_r, e_d, c_X, c_Y, c_N) per
     distinct monomial, in the order of first appearance in the ship file."""
     column = {"X": 4, "Y": 5, "N": 6}
     monomials: dict[tuple[int, int, int, int], list[float]] = {}
@@ -96,153 +113,170 @@ def _pack_terms(P: np.ndarray, derivs: dict) -> None:
     if len(monomials) > lo.MAX_MONOMIALS:
         raise ValueError(f"more than {lo.MAX_MONOMIALS} distinct Abkowitz monomials")
     for k, row in enumerate(monomials.values()):
-        P[lo.P_ABK_M + lo.ABK_STRIDE * k : lo.P_ABK_M + lo.ABK_STRIDE * (k + 1)] = row
-    P[lo.P_ABK_NM] = len(monomials)
+        P[ABKOWITZ.monomials + lo.ABK_STRIDE * k : ABKOWITZ.monomials + lo.ABK_STRIDE * (k + 1)] = row
+    P[ABKOWITZ.n_monomials] = len(monomials)
+
+
+def _pack_body(P: np.ndarray, ship: Ship, M: np.ndarray) -> None:
+    """params.BODY: particulars, the mass matrix and the Coriolis coefficients of the hull model's equations."""
+    pt = ship.particulars
+    m, xG = ship.mass_kg, pt.x_G_m
+    Minv = np.linalg.inv(M[1:, 1:])
+    h = ship.hull
+    if isinstance(h, MMGHull):
+        my = h.m_y * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * pt.T_m
+        mx = h.m_x * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * pt.T_m
+        # Yasukawa & Yoshimura (2015) eq. 4: (m+m_y) v r + x_G m r^2 ; (m+m_x) u r ; x_G m u r
+        coriolis = (m + my, xG * m, m + mx, xG * m)
+    elif isinstance(h, UserHull) or h.coriolis == "separate":
+        # a user's hull: the rigid body's Coriolis terms stay (components.compose.remove_hull); an Abkowitz
+        # hull with separate Coriolis terms, seed eq. 10: m(u' - v r - x_G r^2), m(v' + u r + x_G r'),
+        # I_z r' + m x_G (v' + u r)
+        coriolis = (m, m * xG, m, m * xG)
+    else:
+        coriolis = (0.0, 0.0, 0.0, 0.0)  # in the Abkowitz derivatives
+    put(P, BODY, L=pt.L_m, B=pt.B_m, T=pt.T_m, rho=pt.rho_kg_m3, m=m, x_G=xG, m11=M[0, 0])
+    put(P, BODY, Minv22=Minv[0, 0], Minv23=Minv[0, 1], Minv32=Minv[1, 0], Minv33=Minv[1, 1])
+    put(P, BODY, **dict(zip(("CX_vr", "CX_rr", "CY_ur", "CN_ur"), coriolis)))
+
+
+def _pack_hull(P: np.ndarray, ship: Ship) -> None:
+    """params.HULL and the record of its model, params.MMG or params.ABKOWITZ, from the [hull] table."""
+    h, rho = ship.hull, ship.particulars.rho_kg_m3
+    put(P, HULL, r_prime_max=h.r_prime_max, U_min=h.U_min_m_s)
+    if isinstance(h, MMGHull):
+        put(P, HULL, kind=lo.HULL_MMG)
+        put(P, MMG, **{name: getattr(h, name) for name in MMG._fields})
+    elif isinstance(h, UserHull):
+        put(P, HULL, kind=lo.HULL_NONE)  # no built-in hull (components.compose)
+    else:
+        assert isinstance(h, AbkowitzHull)
+        put(P, HULL, kind=lo.HULL_ABKOWITZ)
+        put(
+            P,
+            ABKOWITZ,
+            force_norm=(0.5 if h.normalisation == "half_rho_L2_U2" else 1.0) * rho,
+            U_ref=h.U_ref_m_s,
+            R_res=h.resistance_N / h.resistance_speed_m_s**2,
+            cross_flow_Cd=h.cross_flow_Cd,
+        )
+        _pack_terms(P, h.derivatives)
+
+
+def _pack_propulsion(P: np.ndarray, ship: Ship) -> None:
+    """params.PROPELLER, TRANSMISSION, ENGINE and GOVERNOR from the [propeller], [transmission] and [engine]
+    tables; without a propeller a neutral drive (unit ratios, a monotone map) that is never read."""
+    pr = ship.propeller
+    if pr is None:
+        put(P, TRANSMISSION, gear_ratio=1.0, eta_gear=1.0, I_shaft=1.0)
+        put(P, ENGINE, n_e_rated=1.0, map_speed=np.arange(lo.MAP_NS), map_fuel=np.arange(lo.MAP_NF))
+        return
+    put(P, PROPELLER, on=1.0, D_P=pr.D_m, four_quadrant=table_code(pr.four_quadrant))
+    names = ("k_0", "k_1", "k_2", "q_0", "q_1", "q_2", "w_P0", "t_P", "x_P_prime", "C_1", "C_2_plus", "C_2_minus")
+    put(P, PROPELLER, **{name: getattr(pr, name) for name in names})
+    names = ("astern_kt_ratio", "astern_kq_ratio", "astern_inflow_slope")
+    put(P, PROPELLER, **{name: getattr(pr, name) for name in names})
+    if pr.wake_model == "son_nomoto":
+        put(P, PROPELLER, wake_kind=lo.WAKE_SON_NOMOTO, tau_P=pr.tau_P, c_pv=pr.c_pv, c_pr=pr.c_pr)
+    eng, tr = ship.engine, ship.transmission
+    n_e = eng.rated_rpm * RPM
+    Q_rated = eng.rated_power_kW * 1e3 / (2.0 * math.pi * n_e)
+    put(
+        P,
+        TRANSMISSION,
+        gear_ratio=tr.gear_ratio,
+        eta_gear=tr.efficiency,
+        I_shaft=tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2,
+        Q_friction=tr.friction_torque_fraction * Q_rated * tr.gear_ratio,
+        clutch_min_rev=tr.clutch_min_rpm * RPM,
+    )
+    put(
+        P,
+        ENGINE,
+        n_e_rated=n_e,
+        Q_e_rated=Q_rated,
+        map_speed=eng.torque_map_speed,
+        map_fuel=eng.torque_map_fuel,
+        map_torque=eng.torque_map,
+        astern_torque_ratio=eng.astern_torque_ratio,
+        reversing=lo.REVERSING_DIRECT_AIR if eng.reversing == "direct_air_start" else lo.REVERSING_CLUTCH,
+        reversal_time=eng.reversal_time_s,
+        air_brake_rev=eng.air_brake_rpm_fraction * n_e,
+        firing_rev=eng.firing_rpm_fraction * n_e,
+        Q_air=eng.starting_air_torque_fraction * Q_rated,
+    )
+    put(P, GOVERNOR, Kp=eng.governor_Kp, Ki=eng.governor_Ki)
+
+
+def _pack_rudder(P: np.ndarray, ship: Ship) -> None:
+    """params.RUDDER from the [rudder] table and params.STEERING_GEAR from [steering_gear]."""
+    rd = ship.rudder
+    shared = dict(A_R=rd.A_R_m2, a_H=rd.a_H, x_H_prime=rd.x_H_prime, x_R_prime=rd.x_R_prime) if rd.model != "derivatives" else {}
+    if rd.model == "mmg":
+        put(P, RUDDER, kind=lo.RUDDER_MMG, H_R=rd.H_R_m, t_R=rd.t_R, l_R_prime=rd.l_R_prime, **shared)
+        put(P, RUDDER, gamma_R_minus=rd.gamma_R_minus, gamma_R_plus=rd.gamma_R_plus)
+        put(P, RUDDER, epsilon=rd.epsilon, kappa=rd.kappa, f_alpha=rd.f_alpha)
+        put(P, RUDDER, eta=min(ship.propeller.D_m / rd.H_R_m, 1.0))  # eta = D_P / H_R
+    elif rd.model == "son_nomoto":
+        put(P, RUDDER, kind=lo.RUDDER_SON_NOMOTO, epsilon=rd.epsilon, kappa=rd.kappa, f_alpha=rd.f_alpha, **shared)
+        put(P, RUDDER, gamma_R=rd.gamma_R, c_Rr=rd.c_Rr, c_RX=rd.c_RX, c_Rrrr=rd.c_Rrrr, c_Rrrv=rd.c_Rrrv)
+    else:
+        put(P, RUDDER, kind=lo.RUDDER_DERIVATIVES)
+    sg = ship.steering_gear
+    put(
+        P,
+        STEERING_GEAR,
+        delta_max=sg.max_angle_deg * DEG,
+        delta_rate_max=sg.max_rate_deg_s * DEG,
+        time_constant=sg.time_constant_s,
+    )
+
+
+def _pack_loads(P: np.ndarray, ship: Ship) -> None:
+    """params.WINDAGE from the [windage] table, params.WAVE_DRIFT from [wave_drift] (off without them)."""
+    w = ship.windage
+    if w is not None:
+        put(P, WINDAGE, on=1.0, A_FW=w.A_F_m2, A_LW=w.A_L_m2, s_L=w.s_L_m, CD_t=w.CD_t)
+        put(P, WINDAGE, CD_l_AF_0=w.CD_l_AF_0, CD_l_AF_pi=w.CD_l_AF_pi, delta=w.delta, kappa=w.kappa)
+    wd = ship.wave_drift
+    if wd is not None:
+        pt = ship.particulars
+        put(
+            P,
+            WAVE_DRIFT,
+            on=1.0,
+            table=drift_coefficient_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection,
+            speed_table=drift_speed_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection,
+        )
 
 
 def pack(ship: Ship) -> np.ndarray:
-    """The kernel's parameter row for ``ship`` (float64, length layout.NP)."""
-    P = np.zeros(lo.NP)
-    pt = ship.particulars
-    P[lo.P_L], P[lo.P_B], P[lo.P_T], P[lo.P_RHO] = pt.L_m, pt.B_m, pt.T_m, pt.rho_kg_m3
-    m = ship.mass_kg
-    P[lo.P_MASS], P[lo.P_XG] = m, pt.x_G_m
+    """The kernel's parameter row for ``ship`` (float64, length params.NP): each component's record
+    (:mod:`vessel_gym.physics.params`) built from its ship-file section, written by field name."""
+    P = np.zeros(NP)
     M = mass_matrix(ship)
-    P[lo.P_M11] = M[0, 0]
-    Minv = np.linalg.inv(M[1:, 1:])
-    P[lo.P_MI22], P[lo.P_MI23], P[lo.P_MI32], P[lo.P_MI33] = Minv[0, 0], Minv[0, 1], Minv[1, 0], Minv[1, 1]
-    h = ship.hull
-    P[lo.P_RP_MAX] = h.r_prime_max
-    P[lo.P_U_MIN] = h.U_min_m_s
-    if isinstance(h, MMGHull):
-        P[lo.P_HULL_KIND] = lo.HULL_MMG
-        d = pt.T_m
-        my = h.m_y * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * d
-        mx = h.m_x * 0.5 * pt.rho_kg_m3 * pt.L_m**2 * d
-        # Yasukawa & Yoshimura (2015) eq. 4: (m+m_y) v r + x_G m r^2 ; (m+m_x) u r ; x_G m u r
-        P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = (
-            m + my,
-            pt.x_G_m * m,
-            m + mx,
-            pt.x_G_m * m,
-        )
-        for key in (
-            "R_0",
-            "X_vv",
-            "X_vr",
-            "X_rr",
-            "X_vvvv",
-            "Y_v",
-            "Y_r",
-            "Y_vvv",
-            "Y_vvr",
-            "Y_vrr",
-            "Y_rrr",
-            "N_v",
-            "N_r",
-            "N_vvv",
-            "N_vvr",
-            "N_vrr",
-            "N_rrr",
-        ):
-            P[getattr(lo, "P_MMG_" + key.replace("_", "").upper())] = getattr(h, key)
-    elif isinstance(h, UserHull):
-        # no built-in hull: the rigid body's Coriolis terms stay (components.compose.remove_hull)
-        P[lo.P_HULL_KIND] = lo.HULL_NONE
-        P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m, m * pt.x_G_m, m, m * pt.x_G_m
-    else:
-        assert isinstance(h, AbkowitzHull)
-        P[lo.P_HULL_KIND] = lo.HULL_ABKOWITZ
-        P[lo.P_HULL_FNORM] = (0.5 if h.normalisation == "half_rho_L2_U2" else 1.0) * pt.rho_kg_m3
-        P[lo.P_HULL_UREF] = h.U_ref_m_s
-        P[lo.P_HULL_RES] = h.resistance_N / h.resistance_speed_m_s**2
-        P[lo.P_HULL_CD] = h.cross_flow_Cd
-        if h.coriolis == "separate":
-            # seed eq. 10: m(u' - v r - x_G r^2), m(v' + u r + x_G r'), I_z r' + m x_G (v' + u r)
-            P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m, m * pt.x_G_m, m, m * pt.x_G_m
-        _pack_terms(P, h.derivatives)
-
-    pr = ship.propeller
-    if pr is not None:
-        P[lo.P_PROP_ON] = 1.0
-        P[lo.P_DP] = pr.D_m
-        P[lo.P_KT0], P[lo.P_KT1], P[lo.P_KT2] = pr.k_0, pr.k_1, pr.k_2
-        P[lo.P_KQ0], P[lo.P_KQ1], P[lo.P_KQ2] = pr.q_0, pr.q_1, pr.q_2
-        P[lo.P_WP0], P[lo.P_TP], P[lo.P_XP] = pr.w_P0, pr.t_P, pr.x_P_prime
-        P[lo.P_C1], P[lo.P_C2P], P[lo.P_C2M] = pr.C_1, pr.C_2_plus, pr.C_2_minus
-        P[lo.P_AST_KT], P[lo.P_AST_KQ], P[lo.P_AST_SLOPE] = (
-            pr.astern_kt_ratio,
-            pr.astern_kq_ratio,
-            pr.astern_inflow_slope,
-        )
-        P[lo.P_PROP_4Q] = table_code(pr.four_quadrant)
-        if pr.wake_model == "son_nomoto":
-            P[lo.P_WAKE_KIND] = lo.WAKE_SON_NOMOTO
-            P[lo.P_SN_TAU], P[lo.P_SN_CPV], P[lo.P_SN_CPR] = pr.tau_P, pr.c_pv, pr.c_pr
-        eng, tr = ship.engine, ship.transmission
-        P[lo.P_GEAR], P[lo.P_ETA_GEAR] = tr.gear_ratio, tr.efficiency
-        P[lo.P_I_SHAFT] = tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2
-        n_e = eng.rated_rpm * RPM
-        Q_rated = eng.rated_power_kW * 1e3 / (2.0 * math.pi * n_e)
-        P[lo.P_ENG_NRATED], P[lo.P_ENG_QRATED] = n_e, Q_rated
-        P[lo.P_Q_FRIC] = tr.friction_torque_fraction * Q_rated * tr.gear_ratio
-        P[lo.P_MAP_S : lo.P_MAP_S + lo.MAP_NS] = eng.torque_map_speed
-        P[lo.P_MAP_F : lo.P_MAP_F + lo.MAP_NF] = eng.torque_map_fuel
-        P[lo.P_MAP_Q : lo.P_MAP_Q + lo.MAP_NS * lo.MAP_NF] = np.asarray(eng.torque_map, dtype=float).ravel()
-        P[lo.P_GOV_KP], P[lo.P_GOV_KI] = eng.governor_Kp, eng.governor_Ki
-        P[lo.P_ENG_ASTERN] = eng.astern_torque_ratio
-        P[lo.P_CLUTCH_MIN] = tr.clutch_min_rpm * RPM
-        if eng.reversing == "direct_air_start":
-            P[lo.P_REV_KIND] = lo.REVERSING_DIRECT_AIR
-        P[lo.P_REV_TIME] = eng.reversal_time_s
-        P[lo.P_REV_AIR] = eng.air_brake_rpm_fraction * n_e
-        P[lo.P_REV_FIRE] = eng.firing_rpm_fraction * n_e
-        P[lo.P_REV_QAIR] = eng.starting_air_torque_fraction * Q_rated
-    else:
-        P[lo.P_GEAR] = P[lo.P_ETA_GEAR] = P[lo.P_I_SHAFT] = P[lo.P_ENG_NRATED] = 1.0
-        P[lo.P_MAP_S : lo.P_MAP_S + lo.MAP_NS] = np.arange(lo.MAP_NS)
-        P[lo.P_MAP_F : lo.P_MAP_F + lo.MAP_NF] = np.arange(lo.MAP_NF)
-
-    rd = ship.rudder
-    if rd.model == "mmg":
-        P[lo.P_RUD_KIND] = lo.RUDDER_MMG
-        P[lo.P_AR], P[lo.P_HR], P[lo.P_TR], P[lo.P_AH] = rd.A_R_m2, rd.H_R_m, rd.t_R, rd.a_H
-        P[lo.P_XHP], P[lo.P_XRP] = rd.x_H_prime, rd.x_R_prime
-        P[lo.P_GRM], P[lo.P_GRP], P[lo.P_LRP] = rd.gamma_R_minus, rd.gamma_R_plus, rd.l_R_prime
-        P[lo.P_EPS], P[lo.P_KAPPA], P[lo.P_FALPHA] = rd.epsilon, rd.kappa, rd.f_alpha
-        P[lo.P_ETA] = min(pr.D_m / rd.H_R_m, 1.0)  # eta = D_P / H_R
-    elif rd.model == "son_nomoto":
-        P[lo.P_RUD_KIND] = lo.RUDDER_SON_NOMOTO
-        P[lo.P_AR], P[lo.P_AH], P[lo.P_XHP], P[lo.P_XRP] = rd.A_R_m2, rd.a_H, rd.x_H_prime, rd.x_R_prime
-        P[lo.P_EPS], P[lo.P_KAPPA], P[lo.P_FALPHA] = rd.epsilon, rd.kappa, rd.f_alpha
-        P[lo.P_SN_GAMMA], P[lo.P_SN_CRR], P[lo.P_SN_CRX] = rd.gamma_R, rd.c_Rr, rd.c_RX
-        P[lo.P_SN_CRRRR], P[lo.P_SN_CRRRV] = rd.c_Rrrr, rd.c_Rrrv
-    else:
-        P[lo.P_RUD_KIND] = lo.RUDDER_DERIVATIVES
-    sg = ship.steering_gear
-    P[lo.P_DMAX], P[lo.P_DRATE], P[lo.P_DTAU] = (
-        sg.max_angle_deg * DEG,
-        sg.max_rate_deg_s * DEG,
-        sg.time_constant_s,
-    )
-
-    w = ship.windage
-    if w is not None:
-        P[lo.P_WIND_ON] = 1.0
-        P[lo.P_AFW], P[lo.P_ALW], P[lo.P_SL] = w.A_F_m2, w.A_L_m2, w.s_L_m
-        P[lo.P_CDT], P[lo.P_CDL0], P[lo.P_CDLPI] = w.CD_t, w.CD_l_AF_0, w.CD_l_AF_pi
-        P[lo.P_BDELTA], P[lo.P_BKAPPA] = w.delta, w.kappa
-    wd = ship.wave_drift
-    if wd is not None:
-        P[lo.P_WAVE_ON] = 1.0
-        tab = drift_coefficient_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
-        P[lo.P_WAVE_TAB : lo.P_WAVE_TAB + 3 * lo.WAVE_NA] = tab.ravel()
-        tab_u = drift_speed_table(pt.L_m, pt.B_m, wd.C_wp) * wd.reflection
-        P[lo.P_WAVE_TAB_U : lo.P_WAVE_TAB_U + 3 * lo.WAVE_NA] = tab_u.ravel()
+    _pack_body(P, ship, M)
+    _pack_hull(P, ship)
+    _pack_propulsion(P, ship)
+    _pack_rudder(P, ship)
+    _pack_loads(P, ship)
     crossflow.pack(P, ship.large_drift)
     if ship.roll is not None:
-        pack_roll(P, M, ship.roll, m, pt.L_m, pt.rho_kg_m3)
+        pt = ship.particulars
+        pack_roll(P, M, ship.roll, ship.mass_kg, pt.L_m, pt.rho_kg_m3)
     return P
+
+
+def abkowitz_family(Ps: np.ndarray) -> bool:
+    """Whether a parameter row (or any row of a batch) uses a model of the Abkowitz family: an Abkowitz
+    polynomial hull, the Son & Nomoto (1982) rudder or wake (the container ship's and Mariner's models). A
+    kernel for vessels without them is compiled without them (``abk`` None: :func:`derivatives_of`)."""
+    P = np.atleast_2d(Ps)
+    return bool(
+        (P[:, HULL.kind] == lo.HULL_ABKOWITZ).any()
+        or (P[:, RUDDER.kind] == lo.RUDDER_SON_NOMOTO).any()
+        or (P[:, PROPELLER.wake_kind] == lo.WAKE_SON_NOMOTO).any()
+    )
 
 
 # The hot call chain (the integrators' per-vessel loop -> step -> derivatives -> force_terms -> components)
@@ -285,14 +319,15 @@ VesselForces = namedtuple("VesselForces", (*FORCE_NAMES, "cos_psi", "sin_psi"))
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def force_terms(P, x, env, H):
+def force_terms(P, x, env, H, abk):
     """All component forces for one vessel at state ``x``, a :data:`VesselForces` record: the N_OUT values of
     :func:`forces` by their names, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
 
     ``H`` is the draught-to-depth ratio T/h the vessel is in (``env[E_T_OVER_H]``; 0 in deep water). A
-    deep-water kernel passes the integer literal 0 (integrate.drivers): numba then compiles this function and
-    the hull, wake, rudder and thrust-deduction functions it calls for that constant, and their shallow-water
-    branches fold away (each returns its deep-water value exactly at H = 0, so the results are the same).
+    deep-water kernel passes None (integrate.drivers): numba prunes every branch on ``H is None`` before typing,
+    so this function and the hull, wake, rudder and thrust-deduction functions it calls are compiled without
+    their shallow-water code (each returns its deep-water value for None, as at H = 0: the same results).
+    ``abk`` (True or None) likewise leaves out the models of the Abkowitz family (:func:`abkowitz_family`).
 
     A tuple, not an output array: a store into an array that the compiler cannot prove distinct from ``P``
     and ``x`` would make it load them again (see :func:`derivatives`).
@@ -303,26 +338,30 @@ def force_terms(P, x, env, H):
     psi = x[lo.X_PSI]
     delta = x[lo.X_DELTA]
     n = x[lo.X_REV]
-    XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H)
-    has_prop = P[lo.P_PROP_ON] > 0.0
-    mmg_rudder = P[lo.P_RUD_KIND] == lo.RUDDER_MMG
+    XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H, abk)
+    has_prop = P[PROPELLER.on] > 0.0
+    mmg_rudder = P[RUDDER.kind] == lo.RUDDER_MMG
     # one speed and drift angle for wake and rudder; the atan2 only where a model reads beta
     U = math.sqrt(u * u + v * v)
-    beta = drift_angle(u, v, U) if mmg_rudder or (has_prop and P[lo.P_C1] != 0.0) else 0.0
+    beta = drift_angle(u, v, U) if mmg_rudder or (has_prop and P[PROPELLER.C_1] != 0.0) else 0.0
     T = 0.0
     Qp = 0.0
-    wP = P[lo.P_WP0]
+    wP = P[PROPELLER.w_P0]
     if has_prop:
-        if P[lo.P_WAKE_KIND] == lo.WAKE_SON_NOMOTO:
-            wP = son_nomoto_wake(P, u, v, r)
-        else:
+        sn_wake = False
+        if abk is not None:  # the Son & Nomoto models compiled in only where they may be used (abk)
+            if P[PROPELLER.wake_kind] == lo.WAKE_SON_NOMOTO:
+                wP = son_nomoto_wake(P, u, v, r)
+                sn_wake = True
+        if not sn_wake:
             wP = effective_wake(P, U, beta, r, H)
         T, Qp = propeller_thrust_torque(P, u * (1.0 - wP), n)
     XR = YR = NR = 0.0
     if mmg_rudder:
         XR, YR, NR = mmg_rudder_forces_beta(P, u, U, beta, r, delta, wP, T, H)
-    elif P[lo.P_RUD_KIND] == lo.RUDDER_SON_NOMOTO:
-        XR, YR, NR = son_nomoto_rudder_forces(P, u, v, r, delta, u * (1.0 - wP), T)
+    elif abk is not None:
+        if P[RUDDER.kind] == lo.RUDDER_SON_NOMOTO:
+            XR, YR, NR = son_nomoto_rudder_forces(P, u, v, r, delta, u * (1.0 - wP), T)
     cn = env[lo.E_CUR_N]
     ce = env[lo.E_CUR_E]
     c = math.cos(psi)
@@ -344,7 +383,7 @@ def forces(P, x, inp, env, out):
     out = [X_H, Y_H, N_H, X_P, X_R, Y_R, N_R, X_W, Y_W, N_W, X_D, Y_D, N_D, thrust, Q_prop, w_P,
            V_rw, gamma_rw, cur_n, cur_e]
     """
-    f = force_terms(P, x, env, env[lo.E_T_OVER_H])
+    f = force_terms(P, x, env, env[lo.E_T_OVER_H], True)
     for i in range(N_OUT):
         out[i] = f[i]
     return out
@@ -358,35 +397,38 @@ def derivatives(P, x, inp, env, F_ext, xdot):
 
     The general form of :func:`derivatives_of`: every part of the model tested at run time.
     """
-    derivatives_of(P, x, inp, env, F_ext, xdot, env[lo.E_T_OVER_H], True, True)
+    derivatives_of(P, x, inp, env, F_ext, xdot, env[lo.E_T_OVER_H], True, True, True)
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
+def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext, abk):
     """State derivative of one vessel, :func:`derivatives` compiled for one kind of vessel: fills ``xdot``
     (length NX; on a 3-DOF kernel the roll columns are not written).
 
-    The three last arguments choose what is compiled in; the integrators' drivers pass compile-time
+    The four last arguments choose what is compiled in; the integrators' drivers pass compile-time
     constants (integrate.drivers), so numba builds one kernel per combination and LLVM drops the parts a
     combination rules out:
 
-    * ``H``, the draught-to-depth ratio T/h: ``env[E_T_OVER_H]``, or the literal 0 for deep water
+    * ``H``, the draught-to-depth ratio T/h: ``env[E_T_OVER_H]``, or None for deep water
       (:func:`force_terms`);
-    * ``roll``: True where a vessel may have the fourth degree of freedom (``P_ROLL_ON``, tested at run time),
-      False for 3-DOF vessels only (the roll equations are not compiled);
-    * ``ext``: True where a user's engine may drive the shaft (``P_ENGINE_EXT``, tested at run time), False
-      for the built-in engine only.
+    * ``roll``: True where a vessel may have the fourth degree of freedom (``ROLL.on``, tested at run time),
+      None for 3-DOF vessels only (the roll equations are not compiled);
+    * ``ext``: True where a user's engine may drive the shaft (``ENGINE.by_component``, tested at run time), False
+      for the built-in engine only;
+    * ``abk``: True where a vessel may use a model of the Abkowitz family (:func:`abkowitz_family`: an Abkowitz
+      hull, the Son & Nomoto rudder or wake; tested at run time), None for vessels without (those models are not
+      compiled in: :func:`~vessel_gym.physics.hull.hull_forces_at_depth`, :func:`force_terms`).
 
-    A False flag is only passed for vessels it describes, so every combination gives the results of the
+    A False or None flag is only passed for vessels it describes, so every combination gives the results of the
     general form to the bit.
 
     F_ext = (X, Y, N) added to the right-hand side (user components, captive-rig reactions), and on a vessel
-    whose engine is a user's component (``P_ENGINE_EXT``) a fourth entry, its drive torque at the propeller
+    whose engine is a user's component (``ENGINE.by_component``) a fourth entry, its drive torque at the propeller
     shaft (N m; 0 when F_ext has three entries, as in a force-only balance). The forces
     travel from :func:`force_terms` as a named record (:data:`VesselForces`), not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
     out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
-    f = force_terms(P, x, env, H)
+    f = force_terms(P, x, env, H, abk)
     u = x[lo.X_U]
     v = x[lo.X_V]
     r = x[lo.X_R]
@@ -404,8 +446,8 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
     ndot = 0.0
     gdot = 0.0
     cdot = 0.0
-    if P[lo.P_PROP_ON] > 0.0:
-        if ext and P[lo.P_ENGINE_EXT] > 0.0:
+    if P[PROPELLER.on] > 0.0:
+        if ext and P[ENGINE.by_component] > 0.0:
             # a user's engine (components.compose): its drive torque arrives as F_ext[3]; the built-in
             # governor and reversing gear are not part of the vessel (their states hold still)
             Q_drive = F_ext[lo.F_Q_SHAFT] if F_ext.shape[0] > lo.F_Q_SHAFT else 0.0
@@ -416,32 +458,34 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
             )
     phidot = 0.0
     pdot = 0.0
-    if roll and P[lo.P_ROLL_ON] > 0.0:
-        # the fourth degree of freedom (roll.py): roll terms of the hull, restoring and damping, the rudder's
-        # sway force z_R below the roll axis; the 3x3 mass matrix over (v, r, p) couples sway, yaw and roll
-        phi = x[lo.X_PHI]
-        p = x[lo.X_P]
-        Xr, Yr, Kr, Nr = roll_forces(P, u, v, r, p, phi)
-        X += Xr
-        Y += Yr
-        N += Nr
-        K = Kr - P[lo.P_ROLL_ZR] * f.Y_R + P[lo.P_ROLL_QSIGN] * f.Q_prop  # rudder; shaft torque reaction
-        j = lo.P_ROLL_MINV
-        udot = X / P[lo.P_M11]
-        vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K
-        rdot = P[j + 3] * Y + P[j + 4] * N + P[j + 5] * K
-        pdot = P[j + 6] * Y + P[j + 7] * N + P[j + 8] * K
-        # Euler-angle kinematics with zero pitch (Fossen 2011 eq. 2.29): the heeled body y-axis spans the
-        # horizontal by cos(phi), and the yaw rate about the heeled z-axis turns the heading by r cos(phi)
-        cphi = math.cos(phi)
-        vn, ve = ground_velocity(u, v * cphi, f.cos_psi, f.sin_psi, f.current_n, f.current_e)
-        psidot = r * cphi
-        phidot = p
-    else:
-        udot = X / P[lo.P_M11]
-        vdot = P[lo.P_MI22] * Y + P[lo.P_MI23] * N
-        rdot = P[lo.P_MI32] * Y + P[lo.P_MI33] * N
-        psidot = r
+    udot = X / P[BODY.m11]
+    vdot = P[BODY.Minv22] * Y + P[BODY.Minv23] * N
+    rdot = P[BODY.Minv32] * Y + P[BODY.Minv33] * N
+    psidot = r
+    # numba prunes a branch on `flag is None` before typing (not one on a literal bool, which LLVM drops only
+    # after the branch's callees are compiled): a 3-DOF kernel then compiles no roll equations at all
+    if roll is not None:
+        if P[ROLL.on] > 0.0:
+            # the fourth degree of freedom (roll.py): roll terms of the hull, restoring and damping, the rudder's
+            # sway force z_R below the roll axis; the 3x3 mass matrix over (v, r, p) couples sway, yaw and roll
+            phi = x[lo.X_PHI]
+            p = x[lo.X_P]
+            Xr, Yr, Kr, Nr = roll_forces(P, u, v, r, p, phi)
+            X += Xr
+            Y += Yr
+            N += Nr
+            K = Kr - P[ROLL.z_R] * f.Y_R + P[ROLL.torque_sign] * f.Q_prop  # rudder; shaft torque reaction
+            j = ROLL.Minv
+            udot = X / P[BODY.m11]
+            vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K
+            rdot = P[j + 3] * Y + P[j + 4] * N + P[j + 5] * K
+            pdot = P[j + 6] * Y + P[j + 7] * N + P[j + 8] * K
+            # Euler-angle kinematics with zero pitch (Fossen 2011 eq. 2.29): the heeled body y-axis spans the
+            # horizontal by cos(phi), and the yaw rate about the heeled z-axis turns the heading by r cos(phi)
+            cphi = math.cos(phi)
+            vn, ve = ground_velocity(u, v * cphi, f.cos_psi, f.sin_psi, f.current_n, f.current_e)
+            psidot = r * cphi
+            phidot = p
     xdot[lo.X_U] = udot
     xdot[lo.X_V] = vdot
     xdot[lo.X_R] = rdot
@@ -452,6 +496,6 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext):
     xdot[lo.X_REV] = ndot
     xdot[lo.X_GOV] = gdot
     xdot[lo.X_CAM] = cdot
-    if roll:
+    if roll is not None:
         xdot[lo.X_PHI] = phidot
         xdot[lo.X_P] = pdot

@@ -31,6 +31,18 @@ import numpy as np
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.components import EXTRA, SLOTS, ForceRecord, name_of, slot_of
 from vessel_gym.physics.components.registry import BUILTINS, builtin
+from vessel_gym.physics.params import (
+    ABKOWITZ,
+    BODY,
+    ENGINE,
+    HULL,
+    PROPELLER,
+    RUDDER,
+    STEERING_GEAR,
+    TRANSMISSION,
+    WAVE_DRIFT,
+    WINDAGE,
+)
 from vessel_gym.physics.shipfile import Ship
 
 #: replace= names kept from before the slots were named
@@ -51,35 +63,35 @@ STATE_DRIVERS = {"engine": "shaft_torque", "steering_gear": "rudder_rate"}
 
 def delta_monomials(P: np.ndarray) -> np.ndarray:
     """Indices of the Abkowitz monomials of row ``P`` that contain the rudder angle (e_d > 0)."""
-    rows = P[lo.P_ABK_M : lo.P_ABK_M + lo.ABK_STRIDE * lo.MAX_MONOMIALS].reshape(
+    rows = P[ABKOWITZ.monomials : ABKOWITZ.monomials + lo.ABK_STRIDE * lo.MAX_MONOMIALS].reshape(
         lo.MAX_MONOMIALS, lo.ABK_STRIDE
     )
-    used = np.arange(lo.MAX_MONOMIALS) < int(P[lo.P_ABK_NM])
+    used = np.arange(lo.MAX_MONOMIALS) < int(P[ABKOWITZ.n_monomials])
     return np.flatnonzero(used & (rows[:, 3] > 0) & np.any(rows[:, 4:] != 0.0, axis=1))
 
 
 def builtin_slots(P: np.ndarray) -> dict[str, str]:
     """The slots the built-ins of row ``P`` fill: slot -> name of the built-in (registry.BUILTINS)."""
     filled = {"current": "current"}
-    if P[lo.P_SG_EXT] == 0.0:
+    if P[STEERING_GEAR.by_component] == 0.0:
         filled["steering_gear"] = "steering_gear"
-    kind = int(P[lo.P_HULL_KIND])
+    kind = int(P[HULL.kind])
     if kind == lo.HULL_ABKOWITZ:
         filled["hull"] = "abkowitz_hull"
     elif kind == lo.HULL_MMG:
         filled["hull"] = "mmg_hull"
-    if P[lo.P_RUD_KIND] == lo.RUDDER_MMG:
+    if P[RUDDER.kind] == lo.RUDDER_MMG:
         filled["rudder"] = "mmg_rudder"
     elif kind == lo.HULL_ABKOWITZ and len(delta_monomials(P)):
         filled["rudder"] = "derivative_rudder"
-    if P[lo.P_PROP_ON] > 0.0:
+    if P[PROPELLER.on] > 0.0:
         for slot in ("propeller", "transmission", "shaft"):
             filled[slot] = slot
-        if P[lo.P_ENGINE_EXT] == 0.0:
+        if P[ENGINE.by_component] == 0.0:
             filled["engine"] = filled["governor"] = "engine"
-    if P[lo.P_WIND_ON] > 0.0:
+    if P[WINDAGE.on] > 0.0:
         filled["windage"] = "windage"
-    if P[lo.P_WAVE_ON] > 0.0:
+    if P[WAVE_DRIFT.on] > 0.0:
         filled["wave_drift"] = "wave_drift"
     return filled
 
@@ -103,33 +115,33 @@ def rigid_body_matrix(ship: Ship) -> np.ndarray:
 
 def set_mass(P: np.ndarray, M: np.ndarray) -> None:
     """Store the mass matrix M (3x3) in row ``P`` as the kernel reads it (M11 and the inverse sway-yaw block)."""
-    P[lo.P_M11] = M[0, 0]
+    P[BODY.m11] = M[0, 0]
     Minv = np.linalg.inv(M[1:, 1:])
-    P[lo.P_MI22], P[lo.P_MI23], P[lo.P_MI32], P[lo.P_MI33] = Minv[0, 0], Minv[0, 1], Minv[1, 0], Minv[1, 1]
+    P[BODY.Minv22], P[BODY.Minv23], P[BODY.Minv32], P[BODY.Minv33] = Minv[0, 0], Minv[0, 1], Minv[1, 0], Minv[1, 1]
 
 
 def remove_hull(P: np.ndarray, ship: Ship) -> None:
     """Switch off the built-in hull of row ``P``: its forces, added mass and added-mass Coriolis terms."""
     m, xG = ship.mass_kg, ship.particulars.x_G_m
-    P[lo.P_HULL_KIND] = lo.HULL_NONE
+    P[HULL.kind] = lo.HULL_NONE
     set_mass(P, rigid_body_matrix(ship))
     # -C_RB(nu) nu about midship: X + m (v r + x_G r^2), Y - m u r, N - m x_G u r
-    P[lo.P_CX_VR], P[lo.P_CX_RR], P[lo.P_CY_UR], P[lo.P_CN_UR] = m, m * xG, m, m * xG
+    P[BODY.CX_vr], P[BODY.CX_rr], P[BODY.CY_ur], P[BODY.CN_ur] = m, m * xG, m, m * xG
 
 
 def remove_rudder(P: np.ndarray) -> None:
     """Switch off the built-in rudder of row ``P``: the MMG rudder and the hull's delta terms."""
-    P[lo.P_RUD_KIND] = lo.RUDDER_DERIVATIVES
+    P[RUDDER.kind] = lo.RUDDER_DERIVATIVES
     for k in delta_monomials(P):
-        start = lo.P_ABK_M + lo.ABK_STRIDE * k
+        start = ABKOWITZ.monomials + lo.ABK_STRIDE * k
         P[start + 4 : start + 7] = 0.0  # c_X, c_Y, c_N of the monomial; its exponents stay (a zero term)
 
 
 def remove_engine(P: np.ndarray, ship: Ship) -> None:
     """Switch off the built-in engine of row ``P``: its drive torque, governor and reversing gear (the kernel
     takes the shaft's drive torque from the replacing engine) and its inertia on the shaft."""
-    P[lo.P_ENGINE_EXT] = 1.0
-    P[lo.P_I_SHAFT] = ship.transmission.shaft_inertia_kgm2
+    P[ENGINE.by_component] = 1.0
+    P[TRANSMISSION.I_shaft] = ship.transmission.shaft_inertia_kgm2
 
 
 def _shaft_inertia(component: Any, where: str) -> float:
@@ -178,15 +190,15 @@ def compose(
     if "rudder" in slots:
         remove_rudder(P)
     if "windage" in slots:
-        P[lo.P_WIND_ON] = 0.0
+        P[WINDAGE.on] = 0.0
     if "wave_drift" in slots:
-        P[lo.P_WAVE_ON] = 0.0
+        P[WAVE_DRIFT.on] = 0.0
     if "engine" in slots:
-        if P[lo.P_PROP_ON] == 0.0:
+        if P[PROPELLER.on] == 0.0:
             raise ValueError(f"{where}: replace=['engine']: the ship has no propeller and engine to replace")
         remove_engine(P, ship)
     if "steering_gear" in slots:
-        P[lo.P_SG_EXT] = 1.0
+        P[STEERING_GEAR.by_component] = 1.0
     filled = builtin_slots(P)
     taken: dict[str, str] = {}
     for c in components:
@@ -208,7 +220,7 @@ def compose(
                 f"{where}: {name_of(c)} fills slot {slot!r}, which the ship's {filled[slot]} fills; "
                 f"replace it (replace=[{slot!r}]; in a ship file's [[components]] replace = true) or use slot 'extra'"
             )
-        if slot == "engine" and P[lo.P_ENGINE_EXT] == 0.0:
+        if slot == "engine" and P[ENGINE.by_component] == 0.0:
             raise ValueError(f"{where}: {name_of(c)}: the ship has no propeller shaft for an engine to drive")
         taken[slot] = name_of(c)
         if slot == "hull":
@@ -217,7 +229,7 @@ def compose(
         if slot in STATE_DRIVERS:
             _state_driver(c, slot, where)
         if slot == "engine":
-            P[lo.P_I_SHAFT] += _shaft_inertia(c, where)
+            P[TRANSMISSION.I_shaft] += _shaft_inertia(c, where)
     needs = {
         "hull": "a component with slot = 'hull' and added_mass() (the built-in hull's added mass leaves with it)",
         "engine": "an Engine component (the shaft would turn with no drive torque)",

@@ -43,6 +43,7 @@ from numba import njit
 
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.components import Engine, State
+from vessel_gym.physics.params import ENGINE, TRANSMISSION
 from vessel_gym.physics.propulsion import (
     clutch_direction,
     engine_drag_torque,
@@ -137,7 +138,7 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     """Drive torque of the reversing-gear plant and the rates of its states.
 
     P the ship's parameter row (engine map, governor gains, gear ratio and efficiency, shaft inertia
-    ``P_I_SHAFT``), C the plant's constants (``C_*``); n the propeller shaft speed (rev/s), n_E the engine
+    ``TRANSMISSION.I_shaft``), C the plant's constants (``C_*``); n the propeller shaft speed (rev/s), n_E the engine
     speed (rev/s), gov the governor integrator, c the clutch state, n_order the shaft-speed order (rev/s, its
     sign the direction, |order| below ``clutch_min_rpm`` a stop), Q_load = Q_P + Q_f the propeller's and
     the shafting's torque on the shaft (N m).
@@ -145,8 +146,8 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     Returns (Q_drive at the propeller shaft N m, dn_E/dt rev/s^2, d gov/dt 1/s, dc/dt 1/s, fuel index,
     engine torque Q_E N m, clutch torque Q_c N m (engine side), slip rev/s (engine side), phase).
     """
-    i_g = P[lo.P_GEAR]
-    eta = P[lo.P_ETA_GEAR]
+    i_g = P[TRANSMISSION.gear_ratio]
+    eta = P[TRANSMISSION.eta_gear]
     d = clutch_direction(P, n_order)
     # applied (beyond the last few per cent, which a fixed step may overshoot through 0) in the ordered direction
     along = c * d >= CLUTCH_SET
@@ -165,9 +166,9 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     # the clutch (Karnopp stick-slip, stabilised): engine-side torque through the engaged train s
     s = 1.0 if c > 0.0 else (-1.0 if c < 0.0 else 0.0)
     I_E = C[C_I_E]
-    I_s = P[lo.P_I_SHAFT]
+    I_s = P[TRANSMISSION.I_shaft]
     a = 1.0 / I_E + eta * i_g * i_g / I_s  # 1/(kg m^2): 2 pi x the slip deceleration per unit clutch torque
-    Q_cap = abs(c) * C[C_CAP] * P[lo.P_ENG_QRATED]
+    Q_cap = abs(c) * C[C_CAP] * P[ENGINE.Q_e_rated]
     slip = n_E - s * i_g * n
     Q_lock = (Q_E / I_E + s * i_g * Q_load / I_s) / a
     Q_hold = Q_lock + 2.0 * math.pi * slip / (max(C[C_LOCK_T], C[C_DT]) * a)
@@ -193,7 +194,7 @@ def gearbox_batch(Ps, ship_index, x, inp, env, Z, C, out):
     for k in range(x.shape[0]):
         P = Ps[ship_index[k]]
         n = x[k, lo.X_REV]
-        f = force_terms(P, x[k], env[k], env[k, lo.E_T_OVER_H])
+        f = force_terms(P, x[k], env[k], env[k, lo.E_T_OVER_H], True)
         Q_load = f.Q_prop + shaft_friction_torque(P, n)
         q, dn_E, dgov, dc, fuel, Q_E, Q_c, slip, phase = gearbox_drive(
             P, C, n, Z[k, 0], Z[k, 1], Z[k, 2], inp[k, lo.U_REV_C], Q_load
@@ -273,7 +274,7 @@ class ReversingGearbox(Engine):
         for k in range(x.shape[0]):
             P = sim.Ps[sim.ship_index[k]]
             d = clutch_direction(P, sim.inputs[k, lo.U_REV_C])
-            i_g, eta = P[lo.P_GEAR], P[lo.P_ETA_GEAR]
+            i_g, eta = P[TRANSMISSION.gear_ratio], P[TRANSMISSION.eta_gear]
             if d == 0.0:
                 n_E, Q_E = self.constants[C_IDLE_REV], 0.0
             else:

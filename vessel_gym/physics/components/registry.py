@@ -2,7 +2,8 @@
 
 One row per built-in: its slot, its ship-file table (and the ``model`` value that selects it), the dataclass
 of its keys (units, ranges and docs are on the fields), the states it owns, the named forces it contributes
-(names of :data:`vessel_gym.physics.vessel.FORCE_NAMES`, in X, Y, N order) and its one function. The
+(names of :data:`vessel_gym.physics.vessel.FORCE_NAMES`, in X, Y, N order), its one function and the record
+of its parameters the compiled model reads (:mod:`vessel_gym.physics.params`). The
 equations themselves stay compiled in their modules; this table describes them, and
 :mod:`~vessel_gym.physics.components.compose` reads it to check replacements and to name forces.
 """
@@ -40,6 +41,9 @@ class ComponentSpec:
     forces: tuple[str, ...]  # X, Y, N names in vessel.FORCE_NAMES ("" where it contributes none)
     function: Callable
     citation: str
+    # the kind of its parameter record in the compiled model (params.RECORDS: fields with units, built from
+    # the table by vessel.pack); "" where it has none (the current is a row of the environment)
+    record: str = ""
 
 
 BUILTINS: tuple[ComponentSpec, ...] = (
@@ -53,6 +57,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("X_H", "Y_H", "N_H"),
         hull_forces,
         "Abkowitz (1964) polynomial in SNAME (1950) prime variables; added mass from the *_dot derivatives",
+        record="abkowitz",
     ),
     ComponentSpec(
         "mmg_hull",
@@ -64,6 +69,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("X_H", "Y_H", "N_H"),
         hull_forces,
         "Yasukawa & Yoshimura (2015), J. Mar. Sci. Technol. 20, eq. 4 and 8-10 (added mass m_x, m_y, J_z)",
+        record="mmg_hull",
     ),
     ComponentSpec(
         "propeller",
@@ -76,6 +82,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         propeller_thrust_torque,
         "open-water K_T, K_Q quadratics; wake change Yasukawa & Yoshimura (2015) eq. 15-16; astern quadrants "
         "docs/physics.md",
+        record="propeller",
     ),
     ComponentSpec(
         "engine",
@@ -88,6 +95,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         engine_drive,
         "torque map (engine speed x fuel index), bilinear, the seed report's engine subsystem; a direct-reversing "
         "two-stroke's reversing sequence (propulsion.direct_reversing_drive)",
+        record="engine",
     ),
     ComponentSpec(
         "governor",
@@ -99,6 +107,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("", "", ""),
         governor,
         "PI speed governor with conditional-integration anti-windup (keys governor_Kp, governor_Ki)",
+        record="governor",
     ),
     ComponentSpec(
         "transmission",
@@ -110,6 +119,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("", "", ""),
         clutch_direction,
         "gear ratio, efficiency, clutch ahead / neutral / astern (docs/physics.md)",
+        record="transmission",
     ),
     ComponentSpec(
         "shaft",
@@ -121,6 +131,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("", "", ""),
         shaft_acceleration,
         "rigid shafting: 2 pi I dn/dt = s eta_G i Q_E - Q_P - Q_f (propulsion.py)",
+        record="transmission",
     ),
     ComponentSpec(
         "steering_gear",
@@ -132,6 +143,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("", "", ""),
         steering_gear_rate,
         "rate-limited first-order steering gear (IMO MSC.137(76) trials assume the rate limit)",
+        record="steering_gear",
     ),
     ComponentSpec(
         "mmg_rudder",
@@ -143,6 +155,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("X_R", "Y_R", "N_R"),
         mmg_rudder_forces_beta,
         "Yasukawa & Yoshimura (2015) eq. 20-36",
+        record="rudder",
     ),
     ComponentSpec(
         "derivative_rudder",
@@ -154,6 +167,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("X_H", "Y_H", "N_H"),  # the hull's delta terms (Y_d, N_d, Y_vvd, ...)
         hull_forces,
         "the hull's Abkowitz delta terms (Abkowitz 1964)",
+        record="abkowitz",
     ),
     ComponentSpec(
         "windage",
@@ -165,6 +179,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("X_W", "Y_W", "N_W"),
         blendermann_wind_loads,
         "Blendermann (1994), as in Fossen (2011) eq. 8.27-8.30",
+        record="windage",
     ),
     ComponentSpec(
         "wave_drift",
@@ -176,6 +191,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("X_D", "Y_D", "N_D"),
         wave_drift_forces,
         "Faltinsen et al. (1980) short-wave asymptotic drift (Faltinsen 1990 eq. 5.40)",
+        record="wave_drift",
     ),
     ComponentSpec(
         "current",
@@ -187,6 +203,7 @@ BUILTINS: tuple[ComponentSpec, ...] = (
         ("", "", ""),
         ground_velocity,
         "uniform irrotational current in the kinematics (Fossen 2011, Property 10.1)",
+        record="",
     ),
 )
 
