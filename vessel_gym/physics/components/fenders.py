@@ -176,6 +176,7 @@ class QuayFenders(Component):
         self.faces = np.column_stack(
             [n0 + d * a[0] + H * self.to_water[0], e0 + d * a[1] + H * self.to_water[1]]
         )
+        self._touch = np.full(1, np.nan)
         self.states = tuple(
             State(f"peak_{j}", "m", 0.0, f"deepest compression of fender {j}") for j in range(len(d))
         )
@@ -192,8 +193,11 @@ class QuayFenders(Component):
         dn = self.faces[None, :, 0] - x[:, lo.X_N][:, None]
         de = self.faces[None, :, 1] - x[:, lo.X_E][:, None]
         xb, yb = c * dn + sn * de, -sn * dn + c * de
+        # the hull's half-breadth at the fender: the waterline of scenarios.geometry.hull_outline (parallel from
+        # the stern to 0.3 L forward, then tapering to the stem)
+        half = self.half_B * np.clip((self.half_L - xb) / (0.4 * self.half_L), 0.0, 1.0)
         on_hull = np.abs(xb) <= self.half_L
-        delta = np.where(on_hull, np.maximum(self.half_B - self.s * yb, 0.0), 0.0)
+        delta = np.where(on_hull, np.maximum(half - self.s * yb, 0.0), 0.0)
         # velocity over ground, body axes (the current carries the ship, not the quay)
         env = sim.env
         cn, ce = env[:, lo.E_CUR_N][:, None], env[:, lo.E_CUR_E][:, None]
@@ -205,8 +209,24 @@ class QuayFenders(Component):
         slide = u - r * y_side
         return delta, rate, xb, slide
 
+    def touch_speed(self, n: int) -> np.ndarray:
+        """(n,) speed of compression (m/s) at each vessel's first touch of a fender since :meth:`clear`; NaN
+        before it touched. Recorded at the first integration stage that finds a fender compressed."""
+        if self._touch.shape != (n,):
+            self._touch = np.full(n, np.nan)
+        return self._touch
+
+    def clear(self, k: int, n: int) -> None:
+        """Forget vessel ``k``'s first touch (a new episode)."""
+        self.touch_speed(n)[k] = np.nan
+
     def forces(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:  # type: ignore[override]
         delta, rate, xb, slide = self.geometry(sim, x)
+        touching = (delta > 0.0).any(axis=1)
+        if touching.any():
+            t = self.touch_speed(x.shape[0])
+            new = touching & np.isnan(t)
+            t[new] = np.where(delta > 0.0, rate, 0.0).max(axis=1)[new]
         f = self.params.fender
         R = self.curve.reaction(delta) * np.where(rate < 0.0, 1.0 - f.hysteresis, 1.0)
         Y = -self.s * R  # the fender pushes the side away from the quay
