@@ -28,7 +28,6 @@ from vessel_gym.envs.helm import ContinuousHelm, continuous_orders, real_values
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform
 from vessel_gym.envs.tasks.common import MOTION, task_spec
-from vessel_gym.physics import layout as lo
 from vessel_gym.physics.components.fenders import QuayFenders, QuayFendersParams, design_berthing_velocity
 from vessel_gym.physics.components.thrusters import OrderedComponent
 from vessel_gym.physics.components.tug import Tug
@@ -202,7 +201,41 @@ def berthing_update(phase: np.ndarray, task: Any) -> None:
     train={"common": {"n_timesteps": 2_000_000, "n_envs": 8}},
 )
 class BerthingTask(Task):
-    """Berthing: from 3-10 ship lengths off a scenario's berth to alongside its fenders (module docstring)."""
+    """Berthing: from 3-10 ship lengths off a scenario's berth to alongside its fenders (docs/berthing.md).
+
+    ## Description
+
+    The ship (default: the scenario's, ``supply`` at ``supply_base``) starts ``start_distance_L`` ship lengths
+    from the approach point off the berth (``approach_offset_L`` out, square to the quay), within
+    ``start_sector_deg`` of square off the quay, heading for it within ``heading_noise_deg``, at a speed of
+    ``start_speed_m_s``, in wind and current drawn from the scenario's ``[weather]``. It must come alongside
+    the berth's fenders, on the side the berth names.
+
+    ## Action Space
+
+    Box(-1, 1, (2 + k,)): rudder order / rudder limit, engine order / full ahead (astern), then one order per
+    thruster (fraction of rated rpm) or tug (fraction of bollard pull), + pushing to starboard, in the order
+    of the ship file's thrusters and the berth's tugs.
+
+    ## Rewards
+
+    reward = sum of weight x term (config ``reward``); weighted terms in ``info["reward_terms"]``.
+
+    | Term | Default weight | Value per step |
+    |------|----------------|----------------|
+    | progress | 1.0 | (d_prev - d) / L, d the distance to the berthed pose plus L x heading error / pi |
+    | effort | 0.01 | -mean over the thrusters and tugs of order^2 |
+    | outcome | 10.0 | +1 on success, -1 on a failure (the step it ends) |
+
+    ## Episode End
+
+    Success: having touched the fenders no faster than the PIANC design velocity (``pianc_condition``), the
+    side within ``gap_tolerance_m`` of the fender faces, parallel within ``heading_tolerance_deg``, midship
+    within ``along_tolerance_m`` of its place, speed over ground below ``speed_tolerance_m_s``, for
+    ``hold_s``. Failures: ``fender_overload`` (a fender past its rated energy), ``contact_speed``,
+    ``contact`` (the hull on the quay or any obstacle), ``grounding``, ``out_of_bounds``, ``diverged``.
+    Truncation after 900 control steps.
+    """
 
     Config = BerthingConfig
     spec = SPEC
@@ -317,26 +350,23 @@ class BerthingTask(Task):
     # --- the step -----------------------------------------------------------------------------------------------
     def berth_frame(self) -> tuple[np.ndarray, ...]:
         """(along error m, off error m, heading error rad, ground velocity along and off, m/s) of every vessel."""
-        x, env = self.sim.state, self.sim.env
-        dn, de = x[:, lo.X_N] - self.berthed[0], x[:, lo.X_E] - self.berthed[1]
+        sim = self.sim
+        dn, de = sim.north - self.berthed[0], sim.east - self.berthed[1]
         along = dn * self.along_dir[0] + de * self.along_dir[1]
         off = dn * self.to_water[0] + de * self.to_water[1]
-        psi = x[:, lo.X_PSI]
-        c, s = np.cos(psi), np.sin(psi)
-        u, v = x[:, lo.X_U], x[:, lo.X_V]
-        vn = c * u - s * v + env[:, lo.E_CUR_N]
-        ve = s * u + c * v + env[:, lo.E_CUR_E]
+        psi = sim.heading
+        vn, ve = sim.ground_velocity()
         va = vn * self.along_dir[0] + ve * self.along_dir[1]
         vo = vn * self.to_water[0] + ve * self.to_water[1]
         dpsi = (psi - self.psi_b + math.pi) % (2.0 * math.pi) - math.pi
         return along, off, dpsi, va, vo
 
     def _hull_on(self, polys: list[np.ndarray]) -> np.ndarray:
-        x = self.sim.state
-        psi = x[:, lo.X_PSI][:, None]
+        sim = self.sim
+        psi = sim.heading[:, None]
         c, s = np.cos(psi), np.sin(psi)
-        px = x[:, lo.X_N][:, None] + c * self.hull[None, :, 0] - s * self.hull[None, :, 1]
-        py = x[:, lo.X_E][:, None] + s * self.hull[None, :, 0] + c * self.hull[None, :, 1]
+        px = sim.north[:, None] + c * self.hull[None, :, 0] - s * self.hull[None, :, 1]
+        py = sim.east[:, None] + s * self.hull[None, :, 0] + c * self.hull[None, :, 1]
         hit = np.zeros(px.shape[0], dtype=bool)
         for p in polys:
             hit |= _pip(px, py, p).any(axis=1)
@@ -380,8 +410,7 @@ class BerthingTask(Task):
         new = np.full(self.n, OK)
         alive = sim.alive
         n_lo, n_hi, e_lo, e_hi = self.scenario.bounds_m
-        x = sim.state
-        out = (x[:, lo.X_N] < n_lo) | (x[:, lo.X_N] > n_hi) | (x[:, lo.X_E] < e_lo) | (x[:, lo.X_E] > e_hi)
+        out = (sim.north < n_lo) | (sim.north > n_hi) | (sim.east < e_lo) | (sim.east > e_hi)
         new = np.where(ts[:, S.held] >= c.hold_s - 1e-9, SUCCESS, new)
         new = np.where(ts[:, S.contact_speed] > self.v_limit, FAST, new)
         new = np.where(load > 1.0, OVERLOAD, new)
@@ -403,16 +432,9 @@ class BerthingTask(Task):
         self.reward[act] = terms[act].sum(axis=1)
         self.terminated[act] = flags[act] != OK
         f = self.feat
-        f[act, : len(MOTION)] = np.column_stack(
-            [
-                x[:, lo.X_U],
-                x[:, lo.X_V],
-                x[:, lo.X_R],
-                x[:, lo.X_DELTA],
-                sim.inputs[:, lo.U_DELTA_C],
-                x[:, lo.X_REV],
-            ]
-        )[act]
+        f[act, : len(MOTION)] = np.column_stack([sim.u, sim.v, sim.r, sim.rudder, sim.rudder_order, sim.rev])[
+            act
+        ]
         fixed = np.column_stack([along, off, dpsi, va, vo, load])
         f[act, FEAT.along_error : FEAT.fender_load + 1] = fixed[act]
         if self.assist:
