@@ -459,7 +459,8 @@ class BerthingTask(Task):
             "off_error_m": self.feat[idx, FEAT.off_error],
             "heading_error_deg": np.degrees(self.feat[idx, FEAT.berth_heading_error]),
             "held_s": ts[..., S.held],
-            "contact_speed_m_s": ts[..., S.contact_speed],
+            "touched": np.isfinite(ts[..., S.contact_speed]),
+            "contact_speed_m_s": np.nan_to_num(ts[..., S.contact_speed], nan=0.0),  # 0 until the first touch
             "contact_speed_limit_m_s": np.full(np.shape(f), self.v_limit),
             "fender_energy_kJ": self.fender_energy[idx] / 1e3,
             "fender_rated_energy_kJ": np.full(np.shape(f), self.E_rated / 1e3),
