@@ -194,7 +194,16 @@ def berthing_update(phase: np.ndarray, task: Any) -> None:
 
 
 @register_task(
-    presets={"Berthing-v0": {}},
+    presets={
+        "Berthing-v0": {},
+        "BerthingTanker-v0": {
+            "scenario": "tanker_berth",
+            "control_interval_s": 6.0,
+            "start_distance_L": [3.0, 4.0],
+            "approach_offset_L": 0.3,
+            "start_speed_m_s": [2.0, 2.5],
+        },
+    },
     max_episode_steps=900,  # 30 minutes at the default 2 s control interval
     pilots={"scripted": scripted_pilot},
     metrics=episode_metrics,
@@ -274,11 +283,18 @@ class BerthingTask(Task):
             self.sim.component_state_names.index(f"QuayFenders.peak_{j}") for j in range(len(b.fenders_m))
         ]
         self.E_rated = self.fenders.curve.rated_energy  # J
-        self.v_limit = design_berthing_velocity(pt.mass_kg / 1e3, config.pianc_condition)  # m/s
+        self.v_limit = design_berthing_velocity(self.ship.mass_kg / 1e3, config.pianc_condition)  # m/s
         self.psi_b = b.heading_deg * DEG
         self.along_dir = np.array(b.direction)
         self.to_water = np.array(b.to_water())
         self.berthed = np.array(b.berthed_point(pt.B_m / 2.0))
+        if math.hypot(*self.berthed) < 2.0 * self.L:
+            # Simulation.reset solves the steady start with the components' forces at a trial state whose
+            # position is the local origin: a fender there would take part in it
+            raise SpecError(
+                f"Berthing config scenario: berth {b.name!r} of {sc.path or sc.name} lies within 2 ship lengths "
+                "of the local origin; keep berths away from [0, 0] (the steady start is solved there)"
+            )
         self.hull = np.array(hull_outline(self.L, pt.B_m))
         self.hard = [np.array(p) for _k, _n, p in sc.hard_obstacles()]
         self.shoals = [np.array(p) for _n, p in sc.shoals(pt.T_m)]

@@ -49,7 +49,7 @@ class BerthingPilot(HelmPolicy):
         super().__init__(env)
         task = env.unwrapped.task
         pt = task.ship.particulars
-        m = pt.mass_kg
+        m = task.ship.mass_kg
         self.M_u = 1.1 * m  # kg: surge mass with a typical 10 % added mass
         self.M_v = added_mass_coefficient(pt.T_m, pt.B_m) * m  # kg: PIANC's sway mass
         self.I_z = 1.2 * m * (0.25 * pt.L_m) ** 2  # kg m^2: k_zz = 0.25 L, 20 % added inertia
@@ -65,16 +65,26 @@ class BerthingPilot(HelmPolicy):
         self.s_w = 1.0 if task.berth.side == "port" else -1.0
         # lateral units: position, largest side force, thruster (o|o|) or tug (linear)
         self.units = []
+        lag = 0.0
         for c in task.assist:
+            lag = max(lag, c.params.time_constant_s)
             if isinstance(c, TunnelThruster):
                 self.units.append((c.params.x_m, c.T_max, True))
             else:
                 self.units.append((c.params.x_m, c.F_max * c.direction[1], False))
+        #: sway and yaw loop time constant, s: ten seconds, or twice the lag of the slowest thruster or tug
+        self.T_lat = max(10.0, 2.0 * lag)
+        # the yaw rate it asks for: at most what half the units' yaw moment holds against the yaw damping
+        N_max = sum(abs(u[0] * u[1]) for u in self.units)
+        self.r_max = min(0.01, 0.5 * N_max / (self.I_z / 12.0)) if self.units else 0.01
         prop = task.ship.propeller
         rho = pt.rho_kg_m3
         self.K_prop = rho * prop.D_m**4 * prop.k_0 * (1.0 - prop.t_P) if prop is not None else 1e3  # N s^2
         rt = task.helm.rev_table[0]
         self.n_ahead, self.n_astern, self.n_slow = float(rt[8]), float(-rt[0]), float(rt[5])  # rev/s
+        # the deceleration of the speed profile: at most what dead slow astern gives the ship (about 60 % of the
+        # ahead thrust at that rpm)
+        self.a = min(self.a, 0.6 * self.K_prop * self.n_slow**2 / self.M_u)
         self.press = press_fraction * sum(abs(u[1]) for u in self.units) / max(len(self.units), 1)
         self.final: np.ndarray | bool = False
         self.I = np.zeros(3)
@@ -123,9 +133,9 @@ class BerthingPilot(HelmPolicy):
         x_g, y_g = va, self.s_w * vo
         u_g, v_g = c * x_g + s * y_g, -s * x_g + c * y_g
         e_h = (h - h_d + math.pi) % (2.0 * math.pi) - math.pi
-        r_d = np.clip(-0.05 * e_h, -0.01, 0.01)
+        r_d = np.clip(-5.0 * self.r_max * e_h, -self.r_max, self.r_max)
         err = np.stack([u_d - u_g, v_d - v_g, r_d - r], axis=-1)
-        gains = np.array([1.0 / 30.0, 1.0 / 10.0, 1.0 / 10.0])
+        gains = np.array([1.0 / 30.0, 1.0 / self.T_lat, 1.0 / self.T_lat])
         inertia = np.array([self.M_u, self.M_v, self.I_z])
         # damping feed-forward: the free-decay time constants of a ship of this kind (surge, sway, yaw)
         damping = inertia / np.array([90.0, 45.0, 12.0])
