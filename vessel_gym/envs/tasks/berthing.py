@@ -119,7 +119,7 @@ class BerthingConfig(ShipEnvConfig):
     pianc_condition: str = param(
         "a", choices=("a", "b", "c", "d", "e"), doc="PIANC navigation condition of the contact speed limit"
     )
-    reward: BerthingReward = param(BerthingReward(), doc="reward weights")
+    reward: BerthingReward = param(BerthingReward(), doc="reward weights")  # type: ignore[valid-type]
 
 
 def _pip(px: np.ndarray, py: np.ndarray, poly: np.ndarray) -> np.ndarray:
@@ -260,16 +260,16 @@ class BerthingTask(Task):
         self.scenario, self.berth = sc, sc.find_berth(config.berth)
         ship = config.ship if config.ship is not None else sc.load_ship()
         ref = (sc.reference_latlon_deg[0], sc.reference_latlon_deg[1])
-        self._assist_count = None
+        self._assist_count: int | None = None
         super().__init__(config, n, ship=ship, reference_latlon_deg=ref)
         b, pt = self.berth, self.ship.particulars
         self.fenders = QuayFenders(
             self.ship, QuayFendersParams(quay_m=b.quay_m, fenders_m=b.fenders_m, side=b.side, fender=b.fender)
         )
-        tugs = [Tug(self.ship, t) for t in b.tugs]
+        extra: list[Any] = [self.fenders, *(Tug(self.ship, t) for t in b.tugs)]
         # the simulation again, with the berth's fenders and tugs (scenario-level components)
         self.sim = Simulation(
-            self.ship, n=n, dt=self.dt, method=config.method, components=[self.fenders, *tugs],
+            self.ship, n=n, dt=self.dt, method=config.method, components=extra,
             reference_latlon_deg=ref,
         )  # fmt: skip
         self.assist = [c for c in self.sim.components if isinstance(c, OrderedComponent)]
