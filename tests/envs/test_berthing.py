@@ -139,7 +139,14 @@ def test_vector_env_and_metrics():
 
     out = evaluate(ID, "scripted", episodes=1, seed=5)
     ep = out["episodes"][0]
-    for key in ("success", "outcome", "time_s", "contact_speed_m_s", "max_fender_energy_fraction", "assist_effort"):
+    for key in (
+        "success",
+        "outcome",
+        "time_s",
+        "contact_speed_m_s",
+        "max_fender_energy_fraction",
+        "assist_effort",
+    ):
         assert key in ep
     assert ep["success"] and ep["time_s"] < 1800.0
     venv = gym.make_vec(ID, num_envs=2, vectorization_mode="vector_entry_point")
@@ -148,3 +155,33 @@ def test_vector_env_and_metrics():
     assert info["fender_energy_kJ"].shape == (2, 5) and info["outcome"].shape == (2,)
     venv.close()
     assert BerthingTask.declaration.max_episode_steps == 900
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ('side = "port"', 'side = "starboard"', "water side of the face is on quay 'supply quay'"),
+        (
+            "fenders_m = [58.0, 69.0, 80.0, 91.0, 102.0]",
+            "fenders_m = [58.0, 200.0]",
+            "within the face's 160 m",
+        ),
+        ("fenders_m = [58.0, 69.0, 80.0, 91.0, 102.0]", "fenders_m = [58.0]", "at least 2 fenders"),
+        (
+            "quay_m = [[560.0, -330.0], [560.0, -170.0]]",
+            "quay_m = [[560.0, -330.0]]",
+            "expected [[north, east]",
+        ),
+        ("height_m = 0.8", "height_m = -0.8", "height_m"),
+    ],
+)
+def test_a_bad_berth_is_a_one_line_error_naming_file_and_key(tmp_path, old, new, message):
+    from vessel_gym.scenarios.scenario import SCENARIO_DIR
+
+    text = (SCENARIO_DIR / "supply_base.toml").read_text()
+    assert text.count(old) == 1
+    path = tmp_path / "bad_berth.toml"
+    path.write_text(text.replace(old, new))
+    with pytest.raises(ScenarioError) as err:
+        load_scenario(path)
+    assert str(path) in str(err.value) and message in str(err.value) and "\n" not in str(err.value)
