@@ -85,6 +85,11 @@ class BerthingPilot(HelmPolicy):
         # the deceleration of the speed profile: at most what dead slow astern gives the ship (about 60 % of the
         # ahead thrust at that rpm)
         self.a = min(self.a, 0.6 * self.K_prop * self.n_slow**2 / self.M_u)
+        self.a_lat = 0.3 * sum(abs(u[1]) for u in self.units) / self.M_v if self.units else 0.0  # m/s^2
+        # the sideways leg's top speed: at most half of what a_lat reaches over the approach offset
+        self.V_lat = min(self.V_lat, 0.5 * math.sqrt(self.a_lat * self.off_A))
+        # touch at no more than half the PIANC design velocity of the task
+        self.V_c = min(self.V_c, 0.5 * task.v_limit)
         self.press = press_fraction * sum(abs(u[1]) for u in self.units) / max(len(self.units), 1)
         self.final: np.ndarray | bool = False
         self.I = np.zeros(3)
@@ -119,7 +124,10 @@ class BerthingPilot(HelmPolicy):
         dist = np.maximum(np.hypot(da, do), 1e-6)
         V = np.minimum(self.V_max, np.sqrt(2.0 * self.a * dist))
         va_d = np.where(final, -np.clip(0.03 * ea, -0.15, 0.15), -V * da / dist)
-        lateral = np.clip(self.k_lat * eo + self.V_c, self.V_c, self.V_lat)
+        # the lateral speed falls with the distance off, and no faster than a third of the units' side force
+        # can take off (a_lat), to the contact speed
+        lateral = np.minimum(self.k_lat * eo, np.sqrt(self.a_lat * np.maximum(eo, 0.0)))
+        lateral = np.clip(lateral + self.V_c, self.V_c, self.V_lat)
         touching = eo <= 0.02
         vo_d = np.where(final, np.where(touching, 0.0, -lateral), -V * do / dist)
         # heading reference, relative to the berth's: along the track while far, parallel by one length off
