@@ -119,7 +119,7 @@ def bench_vector_parts(ids: tuple[str, ...], num_envs: int, steps: int) -> None:
     """Median CPU time (us) per vector step and of its parts, per id: the physics (``Task.advance``) and the
     task kernel in the process's CPU time (all threads), the helm and the batched ``info`` in this thread's; the automatic resets (``_reset_vessels`` within the steps) as a mean per step. Each part is timed
     in a call of its own after each step (the vessels advance twice per step: the figures are of timing only)."""
-    from vessel_gym.envs.task import Task
+    from vessel_gym.envs.task import Task, batch_info
 
     pt, tt = time.process_time_ns, time.thread_time_ns
     print(f"vector step parts, num_envs={num_envs}, CPU us, median of {steps} steps  [{_load()}]")
@@ -162,7 +162,7 @@ def bench_vector_parts(ids: tuple[str, ...], num_envs: int, steps: int) -> None:
                 depth[0](*depth[1])
                 acc["depth"].append(tt() - t)
             t = tt()
-            task.batch_info()
+            batch_info(task)
             acc["info"].append(tt() - t)
         env._reset_vessels = reset_vessels
         med = {k: statistics.median(v) / 1e3 for k, v in acc.items() if v}

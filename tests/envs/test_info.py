@@ -1,5 +1,5 @@
 """An environment's ``info`` is a plain dict built at its step from the task's state, weighted reward terms and
-features: equal to the task's own ``info(k)`` / ``batch_info()``, holding its step's values however late it is read
+features: equal to the entries the task declares (``vessel_info`` / ``batch_info`` of the task), holding its step's values however late it is read
 (no entry is a view of an array the next step changes), and usable by every wrapper."""
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import vessel_gym.envs  # noqa: F401  (registers the ids)
+from vessel_gym.envs.task import batch_info, vessel_info
 
 from .helpers import ENV_IDS
 
@@ -23,10 +24,10 @@ def test_info_is_a_plain_dict_that_keeps_its_steps_values(env_id):
     env.action_space.seed(1)
     _o, first = env.reset(seed=1)
     kept, at_step = [first], [copy.deepcopy(first)]
-    assert first == env.unwrapped.task.info(0)
+    assert first == vessel_info(env.unwrapped.task, 0)
     for _ in range(30):
         _o, _r, _te, _tr, info = env.step(env.action_space.sample())
-        assert type(info) is dict and info == env.unwrapped.task.info(0)
+        assert type(info) is dict and info == vessel_info(env.unwrapped.task, 0)
         kept.append(info)
         at_step.append(copy.deepcopy(info))
     env.reset(seed=2)
@@ -55,7 +56,7 @@ def _assert_same_batch_info(got_info: dict, want_info: dict) -> None:
 @pytest.mark.parametrize("env_id", ENV_IDS)
 @pytest.mark.parametrize("autoreset", ["NextStep", "SameStep"])
 def test_vector_info_keeps_its_steps_values(env_id, autoreset):
-    """The vector environment's batched info equals ``batch_info()`` at its step and, kept over steps with
+    """The vector environment's batched info equals ``batch_info(task)`` at its step and, kept over steps with
     autoresets and read late, deep copies taken at its step."""
     venv = gym.make_vec(
         env_id,
@@ -67,7 +68,7 @@ def test_vector_info_keeps_its_steps_values(env_id, autoreset):
     venv.action_space.seed(1)
     _o, first = venv.reset(seed=1)
     task = venv.unwrapped.task
-    _assert_same_batch_info(first, task.batch_info())
+    _assert_same_batch_info(first, batch_info(task))
     kept, at_step = [first], [copy.deepcopy(first)]
     ended = 0
     for _ in range(12):
@@ -76,7 +77,7 @@ def test_vector_info_keeps_its_steps_values(env_id, autoreset):
         if "final_obs" in info:  # same-step autoreset: the final step's info, the task already reset
             ended += 1
         else:
-            _assert_same_batch_info(info, task.batch_info())
+            _assert_same_batch_info(info, batch_info(task))
         kept.append(info)
         at_step.append(copy.deepcopy(info))
     assert (ended > 0) == (autoreset == "SameStep")  # episodes ended (max_episode_steps)
@@ -129,3 +130,26 @@ def test_gymnasiums_sync_vector_env_batches_the_infos():
     np.testing.assert_array_equal(a["reward_terms"]["heading_error"], b["reward_terms"]["heading_error"])
     sync.close()
     native.close()
+
+
+def test_declared_entries_follow_the_config():
+    """TurningCircle declares its commanded rate for the rate mode (0 otherwise), its commanded radius for the
+    radius mode and is_success (the same as success) for the reverse mode only: single and vector alike."""
+    for mode, rate, radius in (("rate", True, False), ("radius", False, True), ("reverse", False, False)):
+        env = gym.make("vessel_gym/TurningCircle-v0", mode=mode)
+        _o, info = env.reset(seed=0)
+        _o, _r, _te, _tr, info = env.step(np.array([0.5], dtype=np.float32))
+        assert (info["commanded_rate_deg_s"] != 0.0) == rate and (info["commanded_radius_m"] != 0.0) == radius
+        assert type(info["commanded_rate_deg_s"]) is float and type(info["success"]) is bool
+        assert ("is_success" in info) == (mode == "reverse")
+        venv = gym.make_vec(
+            "vessel_gym/TurningCircle-v0", num_envs=2, vectorization_mode="vector_entry_point", mode=mode
+        )
+        _o, binfo = venv.reset(seed=0)
+        assert binfo["commanded_rate_deg_s"].dtype == np.float64 and binfo["commanded_rate_deg_s"].shape == (2,)
+        assert (binfo["commanded_radius_m"] != 0.0).all() == radius
+        assert ("is_success" in binfo) == (mode == "reverse")
+        if mode == "reverse":
+            assert binfo["is_success"] is not binfo["success"]  # a copy: the two arrays share nothing
+        venv.close()
+        env.close()

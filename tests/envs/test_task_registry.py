@@ -13,9 +13,10 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs.config import OpenWaterConfig
-from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.declare import FeatureSpec, Info, Term, columns, degrees
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.tasks.common import (
+    DIVERGED,
     OpenWaterTask,
     clear_row,
     encode_row,
@@ -28,7 +29,7 @@ from vessel_gym.envs.tasks.common import (
 from vessel_gym.physics.schema import param
 from vessel_gym.physics.units import DEG
 
-# 1. the declaration: reward terms and features by name (their columns, the weights class and the docs follow)
+# 1. the declaration: reward terms, features and info entries by name (columns, weights class, docs follow)
 SPEC = task_spec(
     "CourseKeeping",
     terms=(
@@ -36,6 +37,10 @@ SPEC = task_spec(
         Term("rudder", 0.1, "-|rudder order| / rudder limit"),
     ),
     features=(FeatureSpec("heading_error", "rad", (1.0, "pi"), "commanded course - heading, wrapped"),),
+    info=(
+        Info("heading_error_deg", lambda v: degrees(v.feat[FEAT.heading_error]), "course - heading, deg"),
+        DIVERGED,
+    ),
 )
 TERM, FEAT = SPEC.TERM, SPEC.FEAT
 S = columns("psi0", "U0", "prev_order", "course")  # per-vessel task state
@@ -51,24 +56,25 @@ class CourseKeepingConfig(OpenWaterConfig):
     reward: CourseKeepingReward = param(CourseKeepingReward(), doc="reward weights")
 
 
-# 3. the step of every vessel in ``phase`` (1: stepped, 2: just reset); numba's @njit makes it fast
-def course_keeping_update(phase, x, inp, alive, ts, p, w, enc, feat, obs, terms, reward, done):
-    for k in range(x.shape[0]):
+# 3. the step of every vessel in ``phase`` (1: stepped, 2: just reset); numba's @njit makes it fast.
+# ``v``: the vessels' arrays by name (v.terms, v.feat, ...), ``t``: the task's own (t.ts, t.p)
+def course_keeping_update(phase, v, t):
+    for k in range(len(phase)):
         if phase[k] == 0:
             continue
-        u, v, r, psi, _n, _e, rudder, order, rev, _rev_order = motion(x, inp, k)
-        s = ts[k]
-        clear_row(terms, k)
+        u, vv, r, psi, _n, _e, rudder, order, rev, _rev_order = motion(v, k)
+        s = t.ts[k]
+        clear_row(v.terms, k)
         error = (s[S.course] - psi + math.pi) % (2.0 * math.pi) - math.pi
         if phase[k] == 1:
-            terms[k, TERM.heading_error] = -abs(error) / math.pi
-            terms[k, TERM.rudder] = -abs(order) / p[0]
-        done[k] = not alive[k]
-        finish(terms, k, w, reward)  # weights the terms, sums the reward
+            v.terms[k, TERM.heading_error] = -abs(error) / math.pi
+            v.terms[k, TERM.rudder] = -abs(order) / t.p[0]
+        v.done[k] = not v.alive[k]
+        finish(v, k)  # weights the terms, sums the reward
         s[S.prev_order] = order
-        motion_features(feat[k], u, v, r, rudder, order, rev)
-        feat[k, FEAT.heading_error] = error
-        encode_row(feat, k, enc, obs)
+        motion_features(v.feat[k], u, vv, r, rudder, order, rev)
+        v.feat[k, FEAT.heading_error] = error
+        encode_row(v, k)
 
 
 # 4. the capabilities: a classical pilot and the episode metrics the agents report
@@ -97,7 +103,7 @@ class CourseKeepingTask(OpenWaterTask):
     Config = CourseKeepingConfig
     spec = SPEC
     S = S
-    kernel = staticmethod(course_keeping_update)
+    kernel = staticmethod(course_keeping_update)  # its record t: OpenWaterTask's (ts, p)
 
     def __init__(self, config: CourseKeepingConfig, n: int) -> None:
         super().__init__(config, n)
@@ -112,21 +118,6 @@ class CourseKeepingTask(OpenWaterTask):
         change = rng.uniform(*self.config.course_change_deg) * rng.choice([-1.0, 1.0])
         self.start_vessel(k, rng, heading, speed)
         self.ts[k, S.course] = (heading + change) * DEG
-
-    def info_from(self, snap: tuple) -> dict[str, Any]:
-        s, terms, f, alive = snap
-        return {
-            "reward_terms": self.terms_dict(terms),
-            "heading_error_deg": math.degrees(f[FEAT.heading_error]),
-            "diverged": not alive,
-        }
-
-    def batch_info(self) -> dict[str, Any]:
-        return {
-            "reward_terms": self.batch_weighted_terms(),
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
-            "diverged": ~self.sim.alive,
-        }
 
 
 # --- the worked example of docs/tasks.md: end ------------------------------------------------------------------

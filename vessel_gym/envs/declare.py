@@ -7,6 +7,8 @@ A task module declares
 * its features, a tuple of :class:`FeatureSpec` (name, unit, scale, meaning): every quantity the task computes
   per vessel, of which the configuration observes a subset;
 * the columns of its per-vessel task state and of its parameter row, with :func:`columns`;
+* its ``info`` entries, a tuple of :class:`Info` (name, value as a function of the vessel's named arrays,
+  meaning): the framework builds a vessel's ``info`` dict and the vector environment's arrays from them;
 * optionally, a block of reward terms that a configuration option switches on (``options``, e.g. the heel of a
   ship with roll): their kernel columns follow the terms (``spec.OPT.heel``), their weights are configuration
   fields of their own, and they are absent (no column, no ``info`` key) unless switched on.
@@ -27,8 +29,11 @@ docs show the name.
 from __future__ import annotations
 
 import dataclasses
+import functools
+import math
+import operator
 from collections import namedtuple
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -94,6 +99,78 @@ class Feature:
     column: int = 0
 
 
+@dataclass(frozen=True)
+class Info:
+    """An ``info`` entry: its key, its value and what it means.
+
+    ``value(v)`` reads the vessels' arrays by name from ``v`` (``v.ts[S.t]``, ``v.feat[FEAT.sog]``,
+    ``v.alive``, ``v.done``, any vessel array the task declares; ``v.task`` is the task): for the single
+    environment ``v``'s arrays are vessel k's rows as Python numbers (a row a list of floats), for the vector
+    environment they are fresh copies, one entry per vessel (row j of ``v.ts`` is column j of the task state).
+    So one expression gives both; the functions below (:func:`degrees`, :func:`all_of`, ...) take either kind.
+
+    ``when(config)`` false leaves the entry out, or with ``otherwise`` set gives it that constant value;
+    ``same_as`` names an earlier entry whose value it repeats (``is_success``).
+    """
+
+    name: str
+    value: Callable[[Any], Any] | None = None
+    doc: str = ""
+    when: Callable[[Any], bool] | None = None
+    otherwise: float | None = None
+    same_as: str | None = None
+
+
+# --- values of one vessel (Python numbers) or of all (numpy arrays), for Info.value -------------------------
+def once(fn: Callable[[Any], Any]) -> Callable[[Any], Any]:
+    """``fn(v)``, a quantity several entries use, computed once per ``info`` (kept in ``v.memo``)."""
+
+    @functools.wraps(fn)
+    def value(v: Any) -> Any:
+        memo = v.memo
+        if fn in memo:
+            return memo[fn]
+        out = memo[fn] = fn(v)
+        return out
+
+    return value
+
+
+def degrees(x: Any) -> Any:
+    """``x`` rad in degrees."""
+    return np.degrees(x) if isinstance(x, np.ndarray) else math.degrees(x)
+
+
+def hypot(a: Any, b: Any) -> Any:
+    return np.hypot(a, b) if isinstance(a, np.ndarray) else math.hypot(a, b)
+
+
+def maximum(a: Any, b: Any) -> Any:
+    """The larger of ``a`` and ``b`` (Python's ``max`` of one vessel's numbers, ``np.maximum`` of arrays)."""
+    return np.maximum(a, b) if isinstance(a, np.ndarray) else max(a, b)
+
+
+def all_of(*conditions: Any) -> Any:
+    """True where every condition holds."""
+    if isinstance(conditions[0], np.ndarray):
+        return functools.reduce(operator.and_, conditions)
+    return all(conditions)
+
+
+def logical_not(x: Any) -> Any:
+    return ~x if isinstance(x, np.ndarray) else not x
+
+
+def as_int(x: Any) -> Any:
+    """A count kept as a float, as an integer."""
+    return x.astype(np.int64) if isinstance(x, np.ndarray) else int(x)
+
+
+def pick(table: Sequence[Any], i: Any) -> Any:
+    """``table[i]`` (an array of objects for an array of indices)."""
+    return np.array(table, dtype=object)[i] if isinstance(i, np.ndarray) else table[i]
+
+
 def _identifier(name: str) -> str:
     if not name.isidentifier():
         raise ValueError(f"declared name {name!r} is not an identifier")
@@ -115,9 +192,13 @@ class TaskSpec:
         terms: Sequence[Term],
         features: Sequence[FeatureSpec],
         options: Sequence[Term] = (),
+        info: Sequence[Info] = (),
     ) -> None:
         self.title = title
         self.terms = tuple(terms)
+        self.info = tuple(info)
+        if "reward_terms" in (i.name for i in self.info):
+            raise ValueError(f"{title}: info['reward_terms'] is the framework's (the weighted terms)")
         self.features = tuple(features)
         self.options = tuple(options)
         self.term_names = tuple(_identifier(t.name) for t in self.terms)
@@ -140,7 +221,9 @@ class TaskSpec:
         for name, term in terms.items():
             if name not in self.term_names or term.name != name:
                 raise ValueError(f"{title}: {name!r} replaces no term of {self.title} of that name")
-        return TaskSpec(title, tuple(terms.get(t.name, t) for t in self.terms), self.features, self.options)
+        return TaskSpec(
+            title, tuple(terms.get(t.name, t) for t in self.terms), self.features, self.options, self.info
+        )
 
     def term_names_with(self, options_on: bool) -> tuple[str, ...]:
         """The reward-term columns (and ``info["reward_terms"]`` keys) of a task: the terms, then the optional

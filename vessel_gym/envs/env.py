@@ -16,7 +16,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
-from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task
+from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task, batch_info, vessel_info
 
 
 class _Renders:
@@ -81,7 +81,7 @@ class ShipEnv(_Renders, gym.Env):
             self._track = [(float(self.sim.north[0]), float(self.sim.east[0]))]
             if self.render_mode == "human":
                 self.render()
-        return self.task.obs[0].copy(), self.task.info(0)
+        return self.task.obs[0].copy(), vessel_info(self.task, 0)
 
     def step(self, action: Any):
         if not self._reset_done:
@@ -97,7 +97,7 @@ class ShipEnv(_Renders, gym.Env):
         terminated = task.terminated.item()
         self._elapsed += 1
         truncated = 0 < self._max_steps <= self._elapsed and not terminated
-        return task.obs[0].copy(), task.reward.item(), terminated, truncated, task.info(0)
+        return task.obs[0].copy(), task.reward.item(), terminated, truncated, vessel_info(task, 0)
 
     def pace(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
         """Run each step's physics in ``ticks`` slices and call ``on_tick(i)`` after slice i (1..ticks)
@@ -242,7 +242,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._needs_reset[mask] = False
         self.task.update(phase)
         self._reset_done = True
-        return self.task.observe(), self.task.batch_info()
+        return self.task.observe(), batch_info(self.task)
 
     def step(self, actions: Any):
         if not self._reset_done:
@@ -278,7 +278,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
             truncated = np.zeros(n, dtype=np.bool_)
         rewards = task.reward.copy()
         obs = task.observe()
-        info = task.batch_info()
+        info = batch_info(task)
         done = terminated | truncated
         if self.render_mode is not None:
             for k in range(len(self._tracks)):

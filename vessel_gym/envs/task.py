@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import abc
 import math
+from collections import namedtuple
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar
 
@@ -59,19 +60,180 @@ def physics_step(config: ShipEnvConfig, ship: Ship) -> float:
     return float(config.dt_s)
 
 
+#: the framework's record of the vessels' arrays, the kernel's ``v``: the simulation's state rows ``x``, input
+#: rows ``inp`` and environment rows ``env`` (current, wind as the physics sees them), ``alive``; the reward
+#: weights ``w`` (term-column order) and the observation encoding ``enc`` (:func:`encode_row
+#: <vessel_gym.envs.tasks.common.encode_row>`); the rows the kernel writes: features ``feat``, observations
+#: ``obs``, weighted reward terms ``terms``, ``reward`` and ``done`` (terminated)
+Vessels = namedtuple("Vessels", ("x", "inp", "env", "alive", "w", "enc", "feat", "obs", "terms", "reward", "done"))
+
+#: the framework's arrays an ``info`` entry may read (``v.feat``, ...), one row per vessel
+INFO_ARRAYS = ("feat", "terms", "reward", "alive", "done")
+
+
+def task_arrays(name: str, module: str, vessel: Sequence[str], shared: Sequence[str] = ()) -> Any:
+    """The record class of a task's own arrays, the kernel's ``t``: a namedtuple named ``name`` (define it at
+    module level in ``module`` under that name, so that compiled kernels cache) whose fields are the task's
+    attributes of those names. ``vessel``: arrays with one row (or entry) per vessel, which ``info`` entries
+    may read too; ``shared``: the others (parameter rows, chart tables, scratch)."""
+    cls = namedtuple(name, (*vessel, *shared), module=module)  # type: ignore[misc]
+    cls.vessel, cls.shared = tuple(vessel), tuple(shared)
+    return cls
+
+
+def kernel_records(task: Task) -> tuple[Any, Any]:
+    """(v, t): the :data:`Vessels` record of ``task`` and its own record (``task.Arrays`` of its attributes)."""
+    sim = task.sim
+    v = Vessels(
+        sim.state,
+        sim.inputs,
+        sim.env,
+        sim.alive,
+        task.weights,
+        task.enc,
+        task.feat,
+        task.obs,
+        task.terms,
+        task.reward,
+        task.terminated,
+    )
+    return v, task.Arrays(*(getattr(task, f) for f in task.Arrays._fields))
+
+
+class _Vessels:
+    """The vessels' arrays by name for the ``info`` entries, ``task`` the task and ``memo`` the values computed
+    once per ``info`` (:func:`~vessel_gym.envs.declare.once`)."""
+
+    def __init__(self, task: Task) -> None:
+        self.task = task
+        self.memo: dict = {}
+
+
+class _Probe(_Vessels):
+    """All vessels' arrays by name, copied at their first read and the names read recorded (:class:`InfoPlan`
+    learns which arrays its entries read)."""
+
+    def __init__(self, task: Task, arrays: dict[str, np.ndarray]) -> None:
+        super().__init__(task)
+        self._arrays = arrays
+        self.read: list[str] = []
+
+    def __getattr__(self, name: str) -> Any:
+        a = self._arrays.get(name)
+        if a is None:
+            raise AttributeError(f"info entries read {', '.join(self._arrays)}, task and memo, not {name!r}")
+        self.read.append(name)
+        value = a.copy() if a.ndim == 1 else a.T.copy()
+        setattr(self, name, value)
+        return value
+
+
+class InfoPlan:
+    """The ``info`` entries of a task for its config: ``reward_terms`` (the weighted terms by name), then the
+    declared :class:`~vessel_gym.envs.declare.Info` entries that apply, each a function of the vessels' arrays
+    by name (:func:`vessel_info`, :func:`batch_info`), and the arrays they read (found by evaluating them once
+    on all vessels, so that a call copies those alone)."""
+
+    def __init__(self, task: Task) -> None:
+        self.term_names = task.term_names
+        self.task = task
+        self.n = task.n
+        single: list[tuple[str, Any]] = []
+        batch: list[tuple[str, Any]] = []
+        self.repeats: list[tuple[str, str]] = []  # (entry, the entry whose value it repeats)
+        for e in task.spec.info:
+            if e.when is not None and not e.when(task.config):
+                if e.otherwise is None:
+                    continue
+                c, n = e.otherwise, task.n
+                single.append((e.name, lambda v, c=c: c))
+                batch.append((e.name, lambda v, c=c, n=n: np.full(n, c)))
+            elif e.same_as is not None:  # its place in the dict now, its value once the other's is made
+                single.append((e.name, _none))
+                batch.append((e.name, _none))
+                self.repeats.append((e.name, e.same_as))
+            else:
+                single.append((e.name, e.value))
+                batch.append((e.name, e.value))
+        self.single, self.batch = tuple(single), tuple(batch)
+        framework = (task.feat, task.terms, task.reward, task.sim.alive, task.terminated)
+        arrays = {**dict(zip(INFO_ARRAYS, framework)), **{f: getattr(task, f) for f in task.Arrays.vessel}}
+        probe = _Probe(task, arrays)
+        read = [probe.terms]  # the framework's reward_terms
+        with np.errstate(all="ignore"):  # the values now are of no interest, only what they read
+            for _name, value in self.batch:
+                read.append(value(probe))
+        used = {name: arrays[name] for name in probe.read}
+        self.rows = tuple((name, a) for name, a in used.items() if a.ndim == 2)
+        self.items = tuple((name, a) for name, a in used.items() if a.ndim == 1)
+        #: the single environment's view, refilled at each call (its values are Python numbers and lists
+        #: made anew, so an entry that returns one shares nothing with a later call)
+        self.one = _Vessels(task)
+
+
+def _none(v: Any) -> None:
+    return None
+
+
+def info_plan(task: Task) -> InfoPlan:
+    plan = task._infos
+    if plan is None:
+        plan = task._infos = InfoPlan(task)
+    return plan
+
+
+def vessel_info(task: Task, k: int) -> dict[str, Any]:
+    """Vessel k's ``info`` dict now, Python values: the declared entries of its arrays' rows as Python numbers
+    (a row a list of floats)."""
+    plan = task._infos or info_plan(task)
+    v = plan.one
+    d = v.__dict__
+    d["memo"] = {}
+    for name, a in plan.rows:
+        d[name] = a[k].tolist()
+    for name, a in plan.items:
+        d[name] = a.item(k)
+    info = {"reward_terms": dict(zip(plan.term_names, d["terms"]))}
+    for name, value in plan.single:
+        info[name] = value(v)
+    for name, same in plan.repeats:
+        info[name] = info[same]
+    return info
+
+
+def batch_info(task: Task) -> dict[str, Any]:
+    """The ``info`` of all vessels (the vector environment's), each entry a new array over the vessels: the
+    declared entries of fresh copies of the arrays (a 2-D array transposed, row j column j of every vessel),
+    so no entry is a view of an array a later step changes."""
+    plan = task._infos or info_plan(task)
+    v = _Vessels(task)
+    d = v.__dict__
+    for name, a in plan.rows:
+        d[name] = a.T.copy()
+    for name, a in plan.items:
+        d[name] = a.copy()
+    info = {"reward_terms": dict(zip(plan.term_names, d["terms"]))}
+    for name, value in plan.batch:
+        info[name] = value(v)
+    for name, same in plan.repeats:
+        info[name] = info[same].copy()
+    return info
+
+
 class Task(abc.ABC):
     """A task over one simulation of N vessels: start states, observations, reward terms, episode end.
 
-    Subclasses define ``spec`` (their :class:`~vessel_gym.envs.declare.TaskSpec`: reward terms and features by
-    name), ``Config`` (a :class:`ShipEnvConfig` subclass whose ``reward`` table is ``spec``'s weights class),
-    their compiled ``kernel`` and its ``kernel_args()``, ``observed()`` (the names of the observed features),
-    ``reset_vessel()``, ``info_from()`` (or ``info()``) and ``batch_info()``; ``scales()`` and
-    ``feature_counts()`` when their features need more than the shared scale names.
+    Subclasses define ``spec`` (their :class:`~vessel_gym.envs.declare.TaskSpec`: reward terms, features and
+    ``info`` entries by name), ``Config`` (a :class:`ShipEnvConfig` subclass whose ``reward`` table is
+    ``spec``'s weights class), their ``kernel`` and the record of the arrays it reads (``Arrays``,
+    :func:`task_arrays`), ``observed()`` (the names of the observed features) and ``reset_vessel()``;
+    ``scales()`` and ``feature_counts()`` when their features need more than the shared scale names.
     """
 
     Config: ClassVar[type[ShipEnvConfig]] = ShipEnvConfig
     spec: ClassVar[TaskSpec]
-    kernel: ClassVar[Any]  # compiled update, batched over vessels: kernel(phase, *kernel_args())
+    kernel: ClassVar[Any]  # the update of the vessels in phase: kernel(phase, v, t) (kernel_records)
+    Arrays: ClassVar[Any]  # the task's record: its arrays by name (task_arrays)
     ts: np.ndarray  # per-vessel task state (N, the task's columns), made by the task
 
     def __init__(
@@ -126,9 +288,9 @@ class Task(abc.ABC):
             axis=1,
         )
         self.obs = np.zeros((n, len(self.layout)), dtype=np.float32)
-        self._kernel_args: tuple | None = None
-        self._kernel_call: Any = None  # the kernel's compiled code for _kernel_args (compiled_entry)
-        self._call_args: tuple = ()  # _kernel_args as the compiled code takes them
+        self._records: tuple = ()  # the kernel's records (kernel_records), bound at the first update
+        self._kernel_call: Any = None  # the kernel's compiled code for them (compiled_entry)
+        self._infos: InfoPlan | None = None  # the declared info entries for this config (info_plan)
 
     @classmethod
     def from_config(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
@@ -244,47 +406,21 @@ class Task(abc.ABC):
         only if ``rev``."""
         return ("u", "v", "r", "rudder", "rudder_order") + (("rev",) if rev else ())
 
-    @abc.abstractmethod
-    def kernel_args(self) -> tuple:
-        """The arguments of the task's compiled ``kernel`` after ``phase``: arrays that live as long as the task.
-
-        Bound once, on the first update: a step then costs one call with no attribute look-ups.
-        """
-
     def update(self, phase: np.ndarray) -> None:
         """Run the task kernel; fill ``feat``, ``terms`` and ``terminated`` for the vessels in ``phase``."""
         call = self._kernel_call
         if call is not None:
-            call(phase, *self._call_args)
+            call(phase, *self._records)
             return
-        args = self._kernel_args = self.kernel_args()
-        self.kernel(phase, *args)  # compiles, or loads from the cache, the kernel for these arguments
-        self._kernel_call, self._call_args = compiled_entry(self.kernel, phase, args)
+        records = self._records = kernel_records(self)
+        self.kernel(phase, *records)  # compiles, or loads from the cache, the kernel for these records
+        self._kernel_call = compiled_entry(self.kernel, phase, records)
 
     def __getstate__(self) -> dict:
         state = self.__dict__.copy()
         state["_kernel_call"] = None  # a compiled entry point does not pickle; bound again at the first update
+        state["_infos"] = None
         return state
-
-    def info(self, k: int) -> dict[str, Any]:
-        """Vessel k's ``info`` dict now (Python scalars): :meth:`info_from` of :meth:`info_snapshot`."""
-        return self.info_from(self.info_snapshot(k))
-
-    def info_snapshot(self, k: int) -> tuple:
-        """What vessel k's ``info`` is made of: its task state, weighted reward terms and features as lists of
-        floats, and whether it is alive (a task that reads more adds to the tuple)."""
-        return self.ts[k].tolist(), self.terms[k].tolist(), self.feat[k].tolist(), self.sim.alive.item(k)
-
-    def info_from(self, snap: tuple) -> dict[str, Any]:
-        """The ``info`` dict of one vessel (Python scalars) from its :meth:`info_snapshot`.
-
-        A task defines this, or else :meth:`info` itself."""
-        raise NotImplementedError(f"{type(self).__name__} defines neither info_from(snapshot) nor info(k)")
-
-    @abc.abstractmethod
-    def batch_info(self) -> dict[str, Any]:
-        """The ``info`` of all vessels, each entry an array over the vessels (the vector environment's), built
-        anew: no entry may be a view of an array a later step changes."""
 
     def renderer(self, mode: str) -> Any:
         """A chart renderer of this task's ship and chart (pygame is imported only here)."""
@@ -324,39 +460,20 @@ class Task(abc.ABC):
         """A new array of the current observations (N, obs_dim)."""
         return self.obs.copy()
 
-    def terms_dict(self, terms: list[float]) -> dict[str, float]:
-        """``info["reward_terms"]`` of one vessel from its weighted terms as a list (:meth:`info_snapshot`)."""
-        return dict(zip(self.term_names, terms))
 
-    def batch_weighted_terms(self) -> dict[str, np.ndarray]:
-        cols = self.terms.T.copy()  # one copy; its rows are the terms, contiguous
-        return dict(zip(self.term_names, cols))
-
-    def task_columns(self) -> np.ndarray:
-        """A new (n_columns, N) copy of the task state: row j is column j of ``ts`` for all vessels (for the
-        batched ``info``: one copy instead of one per entry)."""
-        return self.ts.T.copy()
-
-
-def compiled_entry(kernel: Any, phase: np.ndarray, args: tuple) -> tuple[Any, tuple]:
-    """(code, arguments): the compiled code of the numba dispatcher ``kernel`` for ``phase`` and ``args`` of these
-    types, and the arguments after ``phase`` in the form it takes them (a kernel declared ``kernel(phase, *args)``
-    takes them as one tuple). Called without the dispatcher, which works out the numba type of every argument
-    on every call (about 50 ns per array: for a task kernel's 12-22 arrays more than a one-ship update costs).
-    Later calls must pass a phase of the same type (an int8 row). ``(kernel, args)`` if the kernel is not
-    compiled (``NUMBA_DISABLE_JIT=1``) or has no code for these types."""
+def compiled_entry(kernel: Any, phase: np.ndarray, records: tuple) -> Any:
+    """The compiled code of the numba dispatcher ``kernel`` for ``phase`` and ``records`` of these types, called
+    without the dispatcher, which works out the numba type of every argument on every call (about 50 ns per
+    array: for the 12-22 arrays of a task's records more than a one-ship update costs). Later calls must pass
+    a phase of the same type (an int8 row). ``kernel`` itself if it is not compiled (a plain function,
+    ``NUMBA_DISABLE_JIT=1``) or has no code for these types."""
     overloads = getattr(kernel, "overloads", None)
     if not overloads:
-        return kernel, args
+        return kernel
     from numba import typeof
 
-    compiled = overloads.get((typeof(phase), *(typeof(a) for a in args)))
-    if compiled is not None:
-        return compiled.entry_point, args
-    compiled = overloads.get((typeof(phase), typeof(args)))  # kernel(phase, *args): the rest as a tuple
-    if compiled is not None:
-        return compiled.entry_point, (args,)
-    return kernel, args
+    compiled = overloads.get((typeof(phase), *(typeof(r) for r in records)))
+    return kernel if compiled is None else compiled.entry_point
 
 
 def compiled_call(kernel: Any, args: tuple) -> tuple[Any, tuple]:

@@ -10,14 +10,16 @@ from vessel_gym.envs.tasks import docs_block, ids_block, render, write_docs
 
 
 def main(argv: list[str]) -> int:
-    if argv[:1] == ["--check"] and len(argv) == 2:
-        text, new = render(argv[1])
+    check = "--check" in argv  # before or after the file
+    files = [a for a in argv if a != "--check"]
+    if check and len(files) == 1:
+        text, new = render(files[0])
         if text != new:
-            print(f"{argv[1]}: generated tables are stale; run python -m vessel_gym.envs.tasks {argv[1]}")
+            print(f"{files[0]}: generated tables are stale; run python -m vessel_gym.envs.tasks {files[0]}")
             return 1
         return 0
-    if len(argv) == 1:
-        print("updated" if write_docs(argv[0]) else "unchanged")
+    if len(files) == 1:
+        print("updated" if write_docs(files[0]) else "unchanged")
         return 0
     if not argv:
         print(ids_block() + "\n\n" + docs_block())

@@ -19,8 +19,8 @@ import numpy as np
 from numba import njit
 
 from vessel_gym.envs.config import RollOptionsConfig
-from vessel_gym.envs.declare import FeatureSpec, TaskSpec, Term, columns
-from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.declare import FeatureSpec, Info, TaskSpec, Term, columns, logical_not
+from vessel_gym.envs.task import Task, _uniform, task_arrays
 from vessel_gym.physics.kinematics import (
     heading,
     helm_orders,
@@ -62,21 +62,26 @@ SPEED_LOSS_DOC = "-max(0, U0 - U) / U0"
 
 
 def task_spec(
-    title: str, terms: Sequence[Term], features: Sequence[FeatureSpec], options: Sequence[Term] = ()
+    title: str,
+    terms: Sequence[Term],
+    features: Sequence[FeatureSpec],
+    options: Sequence[Term] = (),
+    info: Sequence[Info] = (),
 ) -> TaskSpec:
     """The declaration of a task whose features are :data:`MOTION` followed by ``features`` (optional reward
-    terms ``options``)."""
-    return TaskSpec(title, terms, MOTION + tuple(features), options)
+    terms ``options``, ``info`` entries ``info``)."""
+    return TaskSpec(title, terms, MOTION + tuple(features), options, info)
 
 
 @njit(cache=True)
-def motion(x, inp, k):
+def motion(v, k):
     """Vessel k's (u, v, r, heading, north, east, rudder, rudder order, rev, rev order), asked of the physics by
-    name from the simulation's state and input rows."""
-    u, v, r = velocity_through_water(x, k)
+    name from the state and input rows of the vessels' record ``v``."""
+    x = v.x
+    u, vv, r = velocity_through_water(x, k)
     n, e = position(x, k)
-    delta_c, rev_c = helm_orders(inp, k)
-    return u, v, r, heading(x, k), n, e, rudder_angle(x, k), delta_c, shaft_speed(x, k), rev_c
+    delta_c, rev_c = helm_orders(v.inp, k)
+    return u, vv, r, heading(x, k), n, e, rudder_angle(x, k), delta_c, shaft_speed(x, k), rev_c
 
 
 @njit(cache=True)
@@ -91,17 +96,17 @@ def motion_features(f, u, v, r, delta, delta_c, rev):
 
 
 @njit(cache=True)
-def roll_features(feat, x, k, i_phi, i_p):
+def roll_features(v, k, i_phi, i_p):
     """Write vessel k's roll angle and roll rate into its feature row at columns ``i_phi``, ``i_p``."""
-    phi, p = roll(x, k)
-    feat[k, i_phi] = phi
-    feat[k, i_p] = p
+    phi, p = roll(v.x, k)
+    v.feat[k, i_phi] = phi
+    v.feat[k, i_p] = p
 
 
 @njit(cache=True)
-def heel(x, k, heel_ref):
+def heel(v, k, heel_ref):
     """Reward term -(phi / heel_ref)^2 of vessel k (heel_ref rad): 0 upright, -1 at the reference heel."""
-    phi, _p = roll(x, k)
+    phi, _p = roll(v.x, k)
     h = phi / heel_ref
     return -h * h
 
@@ -126,9 +131,10 @@ def speed_loss(U, U0):
 
 
 @njit(cache=True)
-def encode_row(feat, k, enc, out):
-    """Observation of vessel k from its features. ``enc`` rows: (feature column, scale, normalized flag);
+def encode_row(v, k):
+    """Observation of vessel k from its features. ``v.enc`` rows: (feature column, scale, normalized flag);
     normalized = clip(feature / scale, -1, 1), else clip(feature, -scale, scale); non-finite -> 0."""
+    feat, enc, out = v.feat, v.enc, v.obs
     for j in range(enc.shape[0]):
         x = feat[k, int(enc[j, 0])]
         sc = enc[j, 1]
@@ -143,13 +149,18 @@ def encode_row(feat, k, enc, out):
 
 
 @njit(cache=True)
-def finish(terms, k, w, reward):
-    """Weight the terms of vessel k in place and sum them into its reward."""
+def finish(v, k):
+    """Weight the terms of vessel k in place (``v.w``) and sum them into its reward."""
+    terms, w = v.terms, v.w
     tot = 0.0
     for j in range(terms.shape[1]):
         terms[k, j] *= w[j]
         tot += terms[k, j]
-    reward[k] = tot
+    v.reward[k] = tot
+
+
+#: the ``info`` entry of the open-water tasks: the simulation diverged (the episode's end)
+DIVERGED = Info("diverged", lambda v: logical_not(v.alive), "the simulation diverged")
 
 
 # --- the open-water tasks' Python side --------------------------------------------------------------------------
@@ -177,12 +188,17 @@ def draw_side(side: str, rng: Any) -> Any:
     return 1.0 - 2.0 * (rng.random() >= 0.5) if value is None else value
 
 
+#: the record of an open-water task's arrays (the kernel's ``t``): task state ``ts``, parameter row ``p``
+OpenWaterArrays = task_arrays("OpenWaterArrays", __name__, vessel=("ts",), shared=("p",))
+
+
 class OpenWaterTask(Task):
     """A task in open water: its task state ``ts`` (columns ``S``) keeps the original course ``psi0``, the
-    approach speed ``U0`` and the previous rudder order ``prev_order``; its parameter row is ``p``; its kernel
-    takes the arrays of :meth:`kernel_args`. ``disturbances`` (if the task has them) are drawn at each start."""
+    approach speed ``U0`` and the previous rudder order ``prev_order``; its parameter row is ``p`` (its record
+    ``Arrays``: ``ts`` and ``p``, unless the task declares more). ``disturbances`` (if the task has them) are drawn at each start."""
 
     S: ClassVar[Any]  # the columns of the task state
+    Arrays = OpenWaterArrays
     disturbances: Any = None
 
     def rudder_scale(self) -> float:
@@ -258,19 +274,3 @@ class OpenWaterTask(Task):
         self.weights = np.append(self.weights, self.config.heel_weight)
         self.terms = np.zeros((self.n, len(self.term_names)))
         self.p[i_heel_ref] = self.config.heel_ref_deg * DEG
-
-    def kernel_args(self) -> tuple:
-        return (
-            self.sim.state,
-            self.sim.inputs,
-            self.sim.alive,
-            self.ts,
-            self.p,
-            self.weights,
-            self.enc,
-            self.feat,
-            self.obs,
-            self.terms,
-            self.reward,
-            self.terminated,
-        )

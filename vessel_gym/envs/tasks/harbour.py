@@ -25,26 +25,16 @@ from vessel_gym.envs.generators import vessel_draws
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform, compiled_call
 from vessel_gym.envs.tasks.chart import (
-    CONTACT,
-    DIVERGED,
-    GROUNDING,
     OK,
-    OUT_OF_BOUNDS,
     OUTCOMES,
-    SUCCESS,
     chart_depth,
     chart_query,
     chart_tables,
     depth_tables,
     poses_clear,
 )
-from vessel_gym.envs.tasks.harbour_columns import FEAT, SPEC, P, S
-from vessel_gym.envs.tasks.harbour_kernel import (
-    PARALLEL_MIN_SHIPS,
-    _harbour_range,
-    harbour_update,
-    harbour_update_parallel,
-)
+from vessel_gym.envs.tasks.harbour_columns import SPEC, HarbourArrays, P, S
+from vessel_gym.envs.tasks.harbour_kernel import PARALLEL_MIN_SHIPS, harbour_update, harbour_update_parallel
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.shallow_water import check_hull
 from vessel_gym.physics.shipfile import load_ship
@@ -244,6 +234,7 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
 class HarbourApproachTask(Task):
     Config = HarbourApproachConfig
     spec = SPEC
+    Arrays = HarbourArrays
     kernel = staticmethod(harbour_update)
 
     @classmethod
@@ -315,8 +306,7 @@ class HarbourApproachTask(Task):
         self.p = p
         if n >= PARALLEL_MIN_SHIPS:
             self.kernel = harbour_update_parallel
-        else:  # harbour_update's loop with the chart query's scratch made once (kernel_args), not per call
-            self.kernel = _harbour_range
+        self.beams, self.hn, self.he, self.bw = self._scratch()  # the serial kernel's, made once
         #: steps per episode before truncation (time limit / control interval, rounded up)
         self.max_steps = math.ceil(tl / ci - 1e-9)
         # the time term is -1 per step in the kernel; charged per ship time scale here
@@ -517,81 +507,10 @@ class HarbourApproachTask(Task):
     def started(self, k: int | np.ndarray) -> None:
         self.ts[k, S.prev_order] = self.sim.rudder_order[k]
 
-    def kernel_args(self) -> tuple:
-        return (
-            self.sim.state,
-            self.sim.inputs,
-            self.sim.env,
-            self.sim.alive,
-            self.ts,
-            self.p,
-            self.hull,
-            self.edges,
-            self.polys,
-            self.pbox,
-            self.goal_verts,
-            self.beam_dirs,
-            self.weights,
-            self.enc,
-            self.feat,
-            self.obs,
-            self.terms,
-            self.reward,
-            self.flags,
-            self.terminated,
-            0,
-            self.n,
-        ) + (self._scratch() if self.kernel is _harbour_range else ())
-
     def _scratch(self) -> tuple:
         """The chart query's scratch arrays, as :func:`harbour_update` allocates them."""
         nb, nh = len(self.beam_dirs), len(self.hull)
         return np.empty(nb), np.empty(nh), np.empty(nh), np.empty((2, nb))
-
-    def info_snapshot(self, k: int) -> tuple:
-        # of the features the info reads the goal heading error only (a harbour row holds the range beams too)
-        return self.ts[k].tolist(), self.terms[k].tolist(), self.feat.item(k, FEAT.goal_heading_error), self.flags.item(k)
-
-    def info_from(self, snap: tuple) -> dict[str, Any]:
-        s, terms, heading_error, f = snap
-        success = f == SUCCESS
-        return {
-            "reward_terms": self.terms_dict(terms),
-            "outcome": OUTCOMES[f],
-            "success": success,
-            "is_success": success,
-            **self._state_info(f, s, math.degrees(heading_error)),
-        }
-
-    def batch_info(self) -> dict[str, Any]:
-        s = self.task_columns()
-        f = self.flags
-        success = f == SUCCESS
-        return {
-            "reward_terms": self.batch_weighted_terms(),
-            "outcome": np.array(OUTCOMES, dtype=object)[f],
-            "success": success,
-            "is_success": success.copy(),
-            **self._state_info(f, s, np.degrees(self.feat[:, FEAT.goal_heading_error])),
-        }
-
-    @staticmethod
-    def _state_info(f: Any, s: Any, heading_error_deg: Any) -> dict[str, Any]:
-        """The ``info`` entries after the outcome, of one vessel (``f`` its flag, ``s`` its task state as a
-        list) or of all (``f`` the flags, ``s`` :meth:`task_columns`)."""
-        return {
-            "contact": f == CONTACT,
-            "grounding": f == GROUNDING,
-            "out_of_bounds": f == OUT_OF_BOUNDS,
-            "diverged": f == DIVERGED,
-            "time_s": s[S.t],
-            "clearance_m": s[S.clearance],
-            "min_clearance_m": s[S.min_clearance],
-            "distance_to_goal_m": s[S.d_prev],
-            "speed_over_ground_m_s": s[S.sog],
-            "heading_error_deg": heading_error_deg,
-            "path_m": s[S.path],
-        }
 
     def overlay(self, k: int) -> dict[str, Any]:
         return {

@@ -48,60 +48,27 @@ from vessel_gym.physics.vessel import NO_REFCOUNT
 PARALLEL_MIN_SHIPS = 256
 
 
-@njit(cache=True)
-def harbour_update(phase, *args):
-    """Harbour task for vessels k0..k1-1 (phases as :func:`~vessel_gym.envs.tasks.zigzag.zigzag_update`); ``flags`` get the outcome of
-    stepped vessels. ``args`` are :func:`_harbour_range`'s from ``x`` to ``k1`` (``env`` is the simulation's
-    environment rows, ``sim.env``: current and wind as the physics sees them; the range comes last, so that the
-    task binds (0, N) with the other arguments). Allocates the chart query's scratch and runs
-    :func:`_harbour_range`."""
-    hull, beam_dirs = args[6], args[11]
-    nb = beam_dirs.shape[0]
-    beams = np.empty(nb)
-    hn = np.empty(hull.shape[0])
-    he = np.empty(hull.shape[0])
-    bw = np.empty((2, nb))
-    _harbour_range(phase, *args, beams, hn, he, bw)
+@njit(cache=True, **NO_REFCOUNT)
+def harbour_update(phase, v, t):
+    """Harbour task of every vessel in ``phase`` (phases as :func:`~vessel_gym.envs.tasks.zigzag.zigzag_update`;
+    ``v`` the vessels' record, ``t`` the task's, :data:`~vessel_gym.envs.tasks.harbour_columns.HarbourArrays`):
+    ``flags`` get the outcome of stepped vessels. The chart query's scratch is the task's."""
+    _harbour_range(phase, v, t, 0, t.ts.shape[0], t.beams, t.hn, t.he, t.bw)
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _harbour_range(
-    phase,
-    x,
-    inp,
-    env,
-    alive,
-    ts,
-    p,
-    hull,
-    edges,
-    polys,
-    pbox,
-    goal_verts,
-    beam_dirs,
-    w,
-    enc,
-    feat,
-    obs,
-    terms,
-    reward,
-    flags,
-    done,
-    k0,
-    k1,
-    beams,
-    hn,
-    he,
-    bw,
-):
+def _harbour_range(phase, v, t, k0, k1, beams, hn, he, bw):
     """:func:`harbour_update`'s loop over vessels k0..k1-1, with the chart query's scratch arrays."""
+    env, alive, feat, terms, done = v.env, v.alive, v.feat, v.terms, v.done
+    ts, p, flags, beam_dirs = t.ts, t.p, t.flags, t.beam_dirs
+    hull, edges, polys, pbox, goal_verts = t.hull, t.edges, t.polys, t.pbox, t.goal_verts
     nb = beam_dirs.shape[0]
     L = p[P.L]
     UT = p[P.U_T]
     for k in range(k0, k1):
         if phase[k] == 0:
             continue
-        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(v, k)
         s = ts[k]
         clear_row(terms, k)
         c = math.cos(psik)
@@ -169,7 +136,7 @@ def _harbour_range(
             flags[k] = OK
             s[S.min_clearance] = clear
         done[k] = flags[k] != OK
-        finish(terms, k, w, reward)
+        finish(v, k)
         s[S.d_prev] = dist
         s[S.prev_order] = dck
         s[S.prev_north] = nk
@@ -191,16 +158,21 @@ def _harbour_range(
         f[FEAT.current_x], f[FEAT.current_y] = current_body(c, sn, cur_n, cur_e)
         for j in range(nb):
             f[FEAT.beam + j] = beams[j]
-        encode_row(feat, k, enc, obs)
+        encode_row(v, k)
 
 
 @njit(cache=True, parallel=True)
-def harbour_update_parallel(phase, x, *args):
-    """:func:`harbour_update` (same arguments; its range is ignored: all vessels) with contiguous chunks of
-    vessels spread over threads (large batches: the chart query costs about half a microsecond per vessel,
-    the threads' wake-up tens of microseconds)."""
-    n = x.shape[0]
+def harbour_update_parallel(phase, v, t):
+    """:func:`harbour_update` with contiguous chunks of vessels spread over threads, each with its own scratch
+    (large batches: the chart query costs about half a microsecond per vessel, the threads' wake-up tens of
+    microseconds)."""
+    n = t.ts.shape[0]
+    nb = t.beam_dirs.shape[0]
+    nh = t.hull.shape[0]
     nchunks = min(n, MAX_CHUNKS)
     for c in prange(nchunks):
-        harbour_update(phase, x, *args[:-2], c * n // nchunks, (c + 1) * n // nchunks)
-
+        beams = np.empty(nb)
+        hn = np.empty(nh)
+        he = np.empty(nh)
+        bw = np.empty((2, nb))
+        _harbour_range(phase, v, t, c * n // nchunks, (c + 1) * n // nchunks, beams, hn, he, bw)

@@ -24,12 +24,13 @@ from vessel_gym.control.turning import (
     crossing_fraction,
 )
 from vessel_gym.envs.config import RollOptionsConfig
-from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.declare import FeatureSpec, Info, Term, all_of, columns, degrees
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
+    DIVERGED,
     HEEL_TERM,
     ROLL_FEATURES,
     RUDDER_ACTIVITY_DOC,
@@ -58,6 +59,45 @@ REVERSE = MODES.index("reverse")
 
 
 # --- declaration ------------------------------------------------------------------------------------------------
+def turning_radius(u: Any, v: Any, r: Any) -> Any:
+    """Radius of the path through the water, m: U / |r| (0 while the ship does not turn), of one vessel's
+    numbers or of arrays."""
+    if isinstance(r, np.ndarray):
+        r = np.abs(r)
+        return np.where(r > 1e-9, np.hypot(u, v) / np.maximum(r, 1e-9), 0.0)
+    r = abs(r)
+    return math.hypot(u, v) / r if r > 1e-9 else 0.0
+
+
+INFO = (
+    Info("time_s", lambda v: v.ts[S.t], "time since the start of the episode, s"),
+    Info("heading_change_deg", lambda v: degrees(v.feat[FEAT.heading_change]), "heading - original course, deg"),
+    # the motion as the kernel asked the physics for it (velocity_through_water), kept in the features
+    Info("rate_of_turn_deg_s", lambda v: degrees(v.feat[M.r]), "rate of turn, deg/s"),
+    Info("turning_radius_m", lambda v: turning_radius(v.feat[M.u], v.feat[M.v], v.feat[M.r]), "U / |r|, m"),
+    Info(
+        "commanded_rate_deg_s",
+        lambda v: degrees(v.ts[S.command]),
+        "rate mode: the commanded rate of turn, deg/s (else 0)",
+        when=lambda c: c.mode == "rate",
+        otherwise=0.0,
+    ),
+    Info(
+        "commanded_radius_m",
+        lambda v: 1.0 / v.ts[S.command],
+        "radius mode: the commanded radius, m (else 0)",
+        when=lambda c: c.mode == "radius",
+        otherwise=0.0,
+    ),
+    Info("advance_m", lambda v: v.ts[S.advance], "advance at 90 deg heading change, m"),
+    Info("transfer_m", lambda v: v.ts[S.transfer], "transfer at 90 deg, m"),
+    Info("tactical_diameter_m", lambda v: v.ts[S.tactical_diameter], "transfer at 180 deg, m"),
+    Info("reached_90", lambda v: v.ts[S.reached_90] > 0.0, "90 deg heading change reached"),
+    Info("reached_180", lambda v: v.ts[S.reached_180] > 0.0, "180 deg heading change reached"),
+    Info("success", lambda v: all_of(v.done, v.alive), "the episode ended with its goal (reverse mode)"),
+    DIVERGED,
+    Info("is_success", same_as="success", when=lambda c: c.mode == "reverse"),  # the only mode with an end
+)
 SPEC = task_spec(
     "TurningCircle-v0",
     terms=(
@@ -79,9 +119,10 @@ SPEC = task_spec(
         *ROLL_FEATURES,
     ),
     options=(HEEL_TERM,),
+    info=INFO,
 )
 TERM = SPEC.TERM
-FEAT = SPEC.FEAT
+FEAT: Any = SPEC.FEAT  # Any: the info entries above read it
 OPT = SPEC.OPT
 #: the features each mode observes after the motion
 MODE_FEATURES = {
@@ -91,7 +132,7 @@ MODE_FEATURES = {
 }
 
 #: per-vessel task state (columns of ``ts``)
-S = columns(
+S: Any = columns(  # Any: the info entries above read it
     "psi0",  # heading at the rudder order (episode start), rad
     "north0",  # midship position at the rudder order, m
     "east0",
@@ -149,28 +190,15 @@ class TurningCircleConfig(RollOptionsConfig, DisturbedOpenWaterConfig):
 
 # --- compiled step ----------------------------------------------------------------------------------------------
 @njit(cache=True, **NO_REFCOUNT)
-def turning_update(
-    phase,
-    x,
-    inp,
-    alive,
-    ts,
-    p,
-    w,
-    enc,
-    feat,
-    obs,
-    terms,
-    reward,
-    done,
-):
-    """Turning task (phases as :func:`zigzag_update`); ``done`` set on a completed course reversal."""
+def turning_update(phase, v, t):
+    """Turning task (phases and records as :func:`zigzag_update`); ``done`` set on a completed course reversal."""
+    p, ts, terms, feat, done = t.p, t.ts, v.terms, v.feat, v.done
     mode = int(p[P.mode])
     L = p[P.L]
-    for k in range(x.shape[0]):
+    for k in range(ts.shape[0]):
         if phase[k] == 0:
             continue
-        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(v, k)
         s = ts[k]
         done[k] = False
         clear_row(terms, k)
@@ -207,11 +235,11 @@ def turning_update(
             terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
             terms[k, TERM.speed_loss] = speed_loss(U, U0)
             if p[P.heel_ref] > 0.0:
-                terms[k, OPT.heel] = heel(x, k, p[P.heel_ref])
-        if not alive[k]:
+                terms[k, OPT.heel] = heel(v, k, p[P.heel_ref])
+        if not v.alive[k]:
             done[k] = True
             clear_row(terms, k)
-        finish(terms, k, w, reward)
+        finish(v, k)
         s[S.prev_order] = dck
         s[S.prev_turned] = turned
         s[S.prev_advance] = adv
@@ -225,8 +253,8 @@ def turning_update(
         f[FEAT.heading_change] = psik - s[S.psi0]
         f[FEAT.advance] = adv
         f[FEAT.transfer] = trf
-        roll_features(feat, x, k, FEAT.phi, FEAT.p)
-        encode_row(feat, k, enc, obs)
+        roll_features(v, k, FEAT.phi, FEAT.p)
+        encode_row(v, k)
 
 
 # --- the task ---------------------------------------------------------------------------------------------------
@@ -325,68 +353,6 @@ class TurningCircleTask(OpenWaterTask):
         super().started(k)
         self.ts[k, S.north0] = self.sim.north[k]
         self.ts[k, S.east0] = self.sim.east[k]
-
-    def _radius(self, k: Any) -> Any:
-        U = np.hypot(self.sim.u[k], self.sim.v[k])
-        r = np.abs(self.sim.r[k])
-        return np.where(r > 1e-9, U / np.maximum(r, 1e-9), 0.0)
-
-    @staticmethod
-    def _radius_k(u: float, v: float, r: float) -> float:
-        r = abs(r)
-        return math.hypot(u, v) / r if r > 1e-9 else 0.0
-
-    def info_snapshot(self, k: int) -> tuple:
-        return (*super().info_snapshot(k), self.terminated.item(k))
-
-    def info_from(self, snap: tuple) -> dict[str, Any]:
-        s, terms, f, alive, terminated = snap
-        cmd = s[S.command]
-        # the motion as the kernel asked the physics for it (velocity_through_water), kept in the features
-        u, v, r = f[M.u], f[M.v], f[M.r]
-        info = {
-            "reward_terms": self.terms_dict(terms),
-            "time_s": s[S.t],
-            "heading_change_deg": math.degrees(f[FEAT.heading_change]),
-            "rate_of_turn_deg_s": math.degrees(r),
-            "turning_radius_m": self._radius_k(u, v, r),
-            "commanded_rate_deg_s": float(math.degrees(cmd)) if self.mode == 0 else 0.0,
-            "commanded_radius_m": float(1.0 / cmd) if self.mode == 1 else 0.0,
-            "advance_m": s[S.advance],
-            "transfer_m": s[S.transfer],
-            "tactical_diameter_m": s[S.tactical_diameter],
-            "reached_90": s[S.reached_90] > 0.0,
-            "reached_180": s[S.reached_180] > 0.0,
-            "success": terminated and alive,
-            "diverged": not alive,
-        }
-        if self.mode == REVERSE:  # the only mode with an end state to reach
-            info["is_success"] = info["success"]
-        return info
-
-    def batch_info(self) -> dict[str, Any]:
-        s = self.task_columns()
-        cmd = s[S.command]
-        zeros = np.zeros(self.n)
-        info = {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[S.t],
-            "heading_change_deg": np.degrees(self.feat[:, FEAT.heading_change]),
-            "rate_of_turn_deg_s": np.degrees(self.sim.r),
-            "turning_radius_m": self._radius(slice(None)),
-            "commanded_rate_deg_s": np.degrees(cmd) if self.mode == 0 else zeros,
-            "commanded_radius_m": 1.0 / cmd if self.mode == 1 else zeros.copy(),
-            "advance_m": s[S.advance],
-            "transfer_m": s[S.transfer],
-            "tactical_diameter_m": s[S.tactical_diameter],
-            "reached_90": s[S.reached_90] > 0.0,
-            "reached_180": s[S.reached_180] > 0.0,
-            "success": self.terminated & self.sim.alive,
-            "diverged": ~self.sim.alive,
-        }
-        if self.mode == REVERSE:
-            info["is_success"] = info["success"].copy()
-        return info
 
     def overlay(self, k: int) -> dict[str, Any]:
         s = self.ts[k]

@@ -25,13 +25,14 @@ from vessel_gym.control.zigzag import (
     zigzag_execute,
 )
 from vessel_gym.envs.config import RollOptionsConfig
-from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.declare import FeatureSpec, Info, Term, all_of, as_int, columns, degrees, maximum, once
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
 from vessel_gym.envs.generators import vessels_draws
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import _uniform
 from vessel_gym.envs.tasks.common import (
+    DIVERGED,
     HEEL_TERM,
     ROLL_FEATURES,
     RUDDER_ACTIVITY_DOC,
@@ -76,6 +77,43 @@ ZIGZAG_FEATURES = (
     FeatureSpec("heading_deviation", "rad", (1.0, "pi"), "heading - original course, wrapped"),
     FeatureSpec("target_deviation", "rad", (1.0, "pi"), "target heading - original course"),
 )
+@once
+def _overshoot_now(v: Any) -> Any:
+    """The open measurement's overshoot so far, 0 if none is open."""
+    return v.ts[S.os_peak] * v.ts[S.os_on]
+
+
+@once
+def _per_change(v: Any) -> Any:
+    """Overshoot per course change, the open measurement counted with its overshoot so far, rad."""
+    return (v.ts[S.os_sum] + _overshoot_now(v)) / maximum(v.ts[S.changes], 1.0)
+
+
+def _success(v: Any) -> Any:
+    """No course change ended with its target missed, one reached, the overshoot per change small enough."""
+    s = v.ts
+    return all_of(s[S.missed] == 0.0, s[S.n_reached] >= 1.0, _per_change(v) <= v.task.success_overshoot)
+
+
+INFO = (
+    Info("time_s", lambda v: v.ts[S.t], "time since the start of the episode, s"),
+    Info("target_heading_deg", lambda v: degrees(v.ts[S.target]) % 360.0, "target heading, deg"),
+    Info("heading_error_deg", lambda v: degrees(v.feat[FEAT.heading_error]), "target - heading, deg"),
+    Info("course_changes", lambda v: as_int(v.ts[S.changes]), "course changes started"),
+    Info("targets_reached", lambda v: as_int(v.ts[S.n_reached]), "targets reached"),
+    Info("targets_missed", lambda v: as_int(v.ts[S.missed]), "course changes that ended with the target missed"),
+    Info("overshoot_deg", lambda v: degrees(_per_change(v)), "overshoot per course change, deg"),
+    Info(
+        "max_overshoot_deg",
+        lambda v: degrees(maximum(v.ts[S.os_max], _overshoot_now(v))),
+        "largest overshoot, deg",
+    ),
+    Info("overshoot_1_deg", lambda v: degrees(v.ts[S.os1]), "first overshoot (IMO), deg"),
+    Info("overshoot_2_deg", lambda v: degrees(v.ts[S.os2]), "second overshoot (IMO), deg"),
+    Info("success", _success, "no target missed, one reached, overshoot per change within success_overshoot"),
+    Info("is_success", same_as="success"),
+    DIVERGED,
+)
 SPEC = task_spec(
     "ZigZag",
     terms=(
@@ -91,16 +129,17 @@ SPEC = task_spec(
     ),
     features=ZIGZAG_FEATURES + ROLL_FEATURES,
     options=(HEEL_TERM,),
+    info=INFO,
 )
 TERM = SPEC.TERM
-FEAT = SPEC.FEAT
+FEAT: Any = SPEC.FEAT  # Any: the info entries above read it
 OPT = SPEC.OPT
 
 # One schedule for both target kinds: a course change starts when its start time comes (the first after the
 # seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
 # schedule, at the execute (the target reached). Overshoots are measured with the OVERSHOOT_V1 tracker.
 #: per-vessel task state (columns of ``ts``)
-S = columns(
+S: Any = columns(  # Any: the info entries above read it
     "psi0",  # original course, rad
     "target",  # target of the current course change, rad (unwrapped, same branch as the heading)
     "sign",  # direction in which the current target is reached, +1 starboard / -1 port; 0 before the first
@@ -193,25 +232,21 @@ def course_change(c: Any, rng: Any) -> Any:
 
 # --- compiled step ----------------------------------------------------------------------------------------------
 @njit(cache=True, inline="always")
-def close_row(k, s, i_psi0, i_target, i_prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done):
-    """End of a zig-zag step of vessel k: done, reward, rudder memory, features, observation.
-
-    ``i_psi0``, ``i_target`` and ``i_prev_order``: where the task keeps the original course, the target and
-    the previous rudder order in its task state ``s``.
-    """
-    uk, vk, rk, psik, _n, _e, dk, dck, revk, _revc = motion(x, inp, k)
-    done[k] = not alive[k]
-    if done[k]:
-        clear_row(terms, k)
-    finish(terms, k, w, reward)
-    s[i_prev_order] = dck
-    f = feat[k]
+def close_row(v, k, s):
+    """End of a zig-zag step of vessel k (task state row ``s``): done, reward, rudder memory, features,
+    observation."""
+    uk, vk, rk, psik, _n, _e, dk, dck, revk, _revc = motion(v, k)
+    v.done[k] = not v.alive[k]
+    if v.done[k]:
+        clear_row(v.terms, k)
+    finish(v, k)
+    s[S.prev_order] = dck
+    f = v.feat[k]
     motion_features(f, uk, vk, rk, dk, dck, revk)
-    f[FEAT.heading_error] = wrap_pi(s[i_target] - psik)
-    f[FEAT.heading_deviation] = wrap_pi(psik - s[i_psi0])
-    f[FEAT.target_deviation] = wrap_pi(s[i_target] - s[i_psi0])
-    encode_row(feat, k, enc, obs)
-
+    f[FEAT.heading_error] = wrap_pi(s[S.target] - psik)
+    f[FEAT.heading_deviation] = wrap_pi(psik - s[S.psi0])
+    f[FEAT.target_deviation] = wrap_pi(s[S.target] - s[S.psi0])
+    encode_row(v, k)
 
 
 @njit(cache=True)
@@ -228,30 +263,17 @@ def _close_overshoot(s):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def zigzag_update(
-    phase,
-    x,
-    inp,
-    alive,
-    ts,
-    p,
-    w,
-    enc,
-    feat,
-    obs,
-    terms,
-    reward,
-    done,
-):
+def zigzag_update(phase, v, t):
     """The ZigZag step of every vessel in ``phase`` (0 skip, 1 step, 2 reset: features only); a course change due
-    at the reset starts there."""
+    at the reset starts there. ``v``: the vessels' record, ``t``: the task's (``ts``, ``p``)."""
+    p, ts, terms = t.p, t.ts, v.terms
     psiz = p[P.psi_z]
     osref = p[P.os_ref]
     imo = p[P.imo] > 0.0
-    for k in range(x.shape[0]):
+    for k in range(ts.shape[0]):
         if phase[k] == 0:
             continue
-        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(x, inp, k)
+        uk, vk, rk, psik, nk, ek, dk, dck, revk, revck = motion(v, k)
         s = ts[k]
         clear_row(terms, k)
         reached_now = False
@@ -300,9 +322,9 @@ def zigzag_update(
             terms[k, TERM.rudder_activity] = rudder_activity(dck, s[S.prev_order], p[P.rudder_max])
             terms[k, TERM.speed_loss] = speed_loss(speed_through_water(uk, vk), s[S.U0])
             if p[P.heel_ref] > 0.0:
-                terms[k, OPT.heel] = heel(x, k, p[P.heel_ref])
-        roll_features(feat, x, k, FEAT.phi, FEAT.p)
-        close_row(k, s, S.psi0, S.target, S.prev_order, x, inp, alive, w, enc, feat, obs, terms, reward, done)
+                terms[k, OPT.heel] = heel(v, k, p[P.heel_ref])
+        roll_features(v, k, FEAT.phi, FEAT.p)
+        close_row(v, k, s)
 
 
 # --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
@@ -439,72 +461,6 @@ class ZigZagTask(OpenWaterTask):
         idx = np.flatnonzero(self.ts[:, S.draw])
         if len(idx):
             self._draw_changes(idx, vessels_draws(self.rngs, idx))
-
-    # --- info -------------------------------------------------------------------------------------------
-    def _metrics(self, s: Any) -> tuple[Any, Any, Any]:
-        """(overshoot per course change, largest overshoot, success) from the task columns ``s`` of all
-        vessels (the batched info): the open measurement counts with its overshoot so far."""
-        running = s[S.os_peak] * s[S.os_on]
-        per_change = (s[S.os_sum] + running) / np.maximum(s[S.changes], 1.0)
-        largest = np.maximum(s[S.os_max], running)
-        success = (s[S.missed] == 0.0) & (s[S.n_reached] >= 1.0) & (per_change <= self.success_overshoot)
-        return per_change, largest, success
-
-    def info_from(self, snap: tuple) -> dict[str, Any]:
-        s, terms, f, alive = snap
-        # as _metrics, on Python floats (the one-ship step should not pay for numpy scalar arithmetic)
-        running = s[S.os_peak] * s[S.os_on]
-        per_change = (s[S.os_sum] + running) / max(s[S.changes], 1.0)
-        success = s[S.missed] == 0.0 and s[S.n_reached] >= 1.0 and per_change <= self.success_overshoot
-        return {
-            **self.heading_info(s, terms, f),
-            "course_changes": int(s[S.changes]),
-            "targets_reached": int(s[S.n_reached]),
-            "targets_missed": int(s[S.missed]),
-            "overshoot_deg": math.degrees(per_change),
-            "max_overshoot_deg": math.degrees(max(s[S.os_max], running)),
-            "overshoot_1_deg": math.degrees(s[S.os1]),
-            "overshoot_2_deg": math.degrees(s[S.os2]),
-            "success": success,
-            "is_success": success,
-            "diverged": not alive,
-        }
-
-    def batch_info(self) -> dict[str, Any]:
-        s = self.task_columns()
-        per_change, largest, success = self._metrics(s)
-        return {
-            **self.batch_heading_info(s),
-            "course_changes": s[S.changes].astype(np.int64),
-            "targets_reached": s[S.n_reached].astype(np.int64),
-            "targets_missed": s[S.missed].astype(np.int64),
-            "overshoot_deg": np.degrees(per_change),
-            "max_overshoot_deg": np.degrees(largest),
-            "overshoot_1_deg": np.degrees(s[S.os1]),
-            "overshoot_2_deg": np.degrees(s[S.os2]),
-            "success": success,
-            "is_success": success.copy(),
-            "diverged": ~self.sim.alive,
-        }
-
-    def heading_info(self, s: list[float], terms: list[float], f: list[float]) -> dict[str, Any]:
-        """The ``info`` entries of one vessel it begins with, from its task state ``s``, weighted
-        terms and features ``f`` (:meth:`info_snapshot`)."""
-        return {
-            "reward_terms": self.terms_dict(terms),
-            "time_s": s[S.t],
-            "target_heading_deg": math.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": math.degrees(f[FEAT.heading_error]),
-        }
-
-    def batch_heading_info(self, s: np.ndarray) -> dict[str, Any]:
-        """:meth:`heading_info` of all vessels; ``s`` is :meth:`task_columns`."""
-        return {
-            "reward_terms": self.batch_weighted_terms(),
-            "time_s": s[S.t],
-            "target_heading_deg": np.degrees(s[S.target]) % 360.0,
-            "heading_error_deg": np.degrees(self.feat[:, FEAT.heading_error]),
-        }
 
     def overlay(self, k: int) -> dict[str, Any]:
         return {
