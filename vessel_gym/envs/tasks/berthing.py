@@ -23,10 +23,10 @@ import numpy as np
 from gymnasium import spaces
 
 from vessel_gym.envs.config import ShipEnvConfig
-from vessel_gym.envs.declare import FeatureSpec, Term, columns
+from vessel_gym.envs.declare import FeatureSpec, Info, Term, columns, degrees, maximum, pick
 from vessel_gym.envs.helm import ContinuousHelm, continuous_orders, real_values
 from vessel_gym.envs.registration import register_task
-from vessel_gym.envs.task import Task, _uniform
+from vessel_gym.envs.task import Task, _uniform, task_arrays
 from vessel_gym.envs.tasks.common import MOTION, task_spec
 from vessel_gym.physics.components.fenders import QuayFenders, QuayFendersParams, design_berthing_velocity
 from vessel_gym.physics.components.thrusters import OrderedComponent
@@ -37,6 +37,57 @@ from vessel_gym.physics.units import DEG
 from vessel_gym.scenarios import load_scenario
 from vessel_gym.scenarios.geometry import hull_outline
 
+#: outcomes (flags), 0 while the episode runs
+OUTCOMES = (
+    "running",
+    "success",
+    "fender_overload",
+    "contact_speed",
+    "contact",
+    "grounding",
+    "out_of_bounds",
+    "diverged",
+)
+OK, SUCCESS, OVERLOAD, FAST, CONTACT, GROUNDING, OUT, DIVERGED = range(len(OUTCOMES))
+S: Any = columns("t", "d_prev", "held", "effort", "touched", "contact_speed")  # per-vessel task state
+FEAT: Any = None  # set below from SPEC; the info entries read it
+
+
+def _limit(v: Any) -> Any:
+    """The task's PIANC contact-speed limit, one per vessel (a number for one)."""
+    return v.task.v_limit + 0.0 * v.ts[S.t]
+
+
+def _rated(v: Any) -> Any:
+    """The fenders' rated energy, kJ, one per vessel (a number for one)."""
+    return v.task.E_rated / 1e3 + 0.0 * v.ts[S.t]
+
+
+INFO = (
+    Info("outcome", lambda v: pick(OUTCOMES, v.flags), "running, success or the failure that ended it"),
+    Info("success", lambda v: v.flags == SUCCESS, "alongside within the tolerances, held"),
+    Info("is_success", same_as="success", doc="as success (the agents' name)"),
+    Info("time_s", lambda v: v.ts[S.t], "time since the start, s"),
+    Info("along_error_m", lambda v: v.feat[FEAT.along_error], "midship ahead of its place on the berth, m"),
+    Info("off_error_m", lambda v: v.feat[FEAT.off_error], "side's distance off the unloaded fender faces, m"),
+    Info("heading_error_deg", lambda v: degrees(v.feat[FEAT.berth_heading_error]), "heading - berth's, deg"),
+    Info("held_s", lambda v: v.ts[S.held], "time alongside within the tolerances so far, s"),
+    Info("touched", lambda v: v.ts[S.touched] > 0.5, "the ship has touched a fender"),
+    Info(
+        "contact_speed_m_s",
+        lambda v: v.ts[S.contact_speed],
+        "speed of compression at the first touch (0 before)",
+    ),
+    Info("contact_speed_limit_m_s", _limit, "PIANC design berthing velocity of the ship's displacement"),
+    Info("fender_energy_kJ", lambda v: v.fender_energy_kJ, "energy absorbed by each fender, kJ"),
+    Info("fender_rated_energy_kJ", _rated, "rated energy of a fender, kJ"),
+    Info("max_fender_energy_fraction", lambda v: v.feat[FEAT.fender_load], "largest fender energy / rating"),
+    Info(
+        "assist_effort",
+        lambda v: v.ts[S.effort] / maximum(v.ts[S.t], 1e-9),
+        "mean over time of the thruster and tug orders squared",
+    ),
+)
 SPEC = task_spec(
     "Berthing",
     terms=(
@@ -63,23 +114,16 @@ SPEC = task_spec(
             "assist", "-", (1.0, "1"), "actual thrust (tug force) {j} / its maximum", repeat="n_assist"
         ),
     ),
+    info=INFO,
 )
-TERM, FEAT = SPEC.TERM, SPEC.FEAT
-S = columns("t", "d_prev", "held", "effort", "contact_speed")  # per-vessel task state
+TERM = SPEC.TERM
+FEAT = SPEC.FEAT
 BerthingReward = SPEC.weights_class("BerthingReward", __name__, "Berthing reward weights.")
-
-#: outcomes (flags), 0 while the episode runs
-OUTCOMES = (
-    "running",
-    "success",
-    "fender_overload",
-    "contact_speed",
-    "contact",
-    "grounding",
-    "out_of_bounds",
-    "diverged",
+#: the task's record, the kernel's ``t``: per vessel its state, outcome flag and fender energies (kJ); the
+#: berth's geometry, its components and the simulation (the kernel is numpy over the vessels, not compiled)
+BerthingArrays = task_arrays(
+    "BerthingArrays", __name__, vessel=("ts", "flags", "fender_energy_kJ"), shared=("berth_frame",)
 )
-OK, SUCCESS, OVERLOAD, FAST, CONTACT, GROUNDING, OUT, DIVERGED = range(len(OUTCOMES))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -188,9 +232,114 @@ def scripted_pilot(env: Any) -> Any:
     return BerthingPilot(env)
 
 
-def berthing_update(phase: np.ndarray, task: Any) -> None:
-    """The step of every vessel in ``phase`` (1 stepped, 2 just reset): numpy over the vessels."""
-    task.step_vessels(phase)
+class BerthGeometry:
+    """What the kernel reads besides the arrays: the simulation (its named quantities), the fenders and the
+    thrusters and tugs, the berth's frame, the hull outline, the chart's obstacles and shoals, the limits."""
+
+    def __init__(self, task: Any) -> None:
+        for name in (
+            "sim", "fenders", "assist", "config", "berthed", "along_dir", "to_water", "psi_b", "hull", "hard",
+            "shoals", "L", "v_limit", "E_rated", "peaks", "assist_state", "n",
+        ):  # fmt: skip
+            setattr(self, name, getattr(task, name))
+        self.bounds = task.scenario.bounds_m
+
+    def frame(self) -> tuple[np.ndarray, ...]:
+        """(along error m, off error m, heading error rad, ground velocity along and off, m/s) of every vessel."""
+        sim = self.sim
+        dn, de = sim.north - self.berthed[0], sim.east - self.berthed[1]
+        along = dn * self.along_dir[0] + de * self.along_dir[1]
+        off = dn * self.to_water[0] + de * self.to_water[1]
+        vn, ve = sim.ground_velocity()
+        va = vn * self.along_dir[0] + ve * self.along_dir[1]
+        vo = vn * self.to_water[0] + ve * self.to_water[1]
+        dpsi = (sim.heading - self.psi_b + math.pi) % (2.0 * math.pi) - math.pi
+        return along, off, dpsi, va, vo
+
+    def hull_on(self, polys: list[np.ndarray]) -> np.ndarray:
+        """Every vessel's hull outline has a point inside one of ``polys``."""
+        sim = self.sim
+        psi = sim.heading[:, None]
+        c, s = np.cos(psi), np.sin(psi)
+        px = sim.north[:, None] + c * self.hull[None, :, 0] - s * self.hull[None, :, 1]
+        py = sim.east[:, None] + s * self.hull[None, :, 0] + c * self.hull[None, :, 1]
+        hit = np.zeros(px.shape[0], dtype=bool)
+        for p in polys:
+            hit |= _pip(px, py, p).any(axis=1)
+        return hit
+
+
+def berthing_update(phase: np.ndarray, v: Any, t: Any) -> None:
+    """The step of every vessel in ``phase`` (1 stepped, 2 just reset), numpy over the vessels: ``v`` the
+    framework's record of the vessels, ``t`` the task's (:data:`BerthingArrays`)."""
+    g = t.berth_frame
+    c, sim, ts, n = g.config, g.sim, t.ts, g.n
+    act = phase > 0
+    stepped = phase == 1
+    along, off, dpsi, va, vo = g.frame()
+    z = sim.component_states
+    energy = g.fenders.energies(z[:, g.peaks])  # J
+    t.fender_energy_kJ[:] = energy / 1e3
+    load = energy.max(axis=1) / g.E_rated
+    touch = g.fenders.touch_speed(n)
+    first = act & (ts[:, S.touched] == 0.0) & np.isfinite(touch)
+    ts[first, S.touched] = 1.0
+    ts[first, S.contact_speed] = touch[first]
+    ci = c.control_interval_s
+    d = np.hypot(along, off) + g.L * np.abs(dpsi) / math.pi
+    orders = np.array([np.broadcast_to(a.orders(n), (n,)) for a in g.assist]).reshape(len(g.assist), n)
+    effort = (orders**2).mean(axis=0) if len(g.assist) else np.zeros(n)
+    # alongside: touched, the side within the gap tolerance of the fender faces (or pressing on them), parallel,
+    # in place, still
+    sog = np.hypot(va, vo)
+    alongside = (
+        (ts[:, S.touched] > 0.0)
+        & (off <= c.gap_tolerance_m)
+        & (np.abs(dpsi) <= c.heading_tolerance_deg * DEG)
+        & (np.abs(along) <= c.along_tolerance_m)
+        & (sog <= c.speed_tolerance_m_s)
+    )
+    flags = t.flags
+    running = act & (flags == OK)
+    ts[stepped, S.t] += ci
+    ts[stepped, S.effort] += effort[stepped] * ci
+    ts[:, S.held] = np.where(stepped & alongside, ts[:, S.held] + ci, np.where(stepped, 0.0, ts[:, S.held]))
+    n_lo, n_hi, e_lo, e_hi = g.bounds
+    out = (sim.north < n_lo) | (sim.north > n_hi) | (sim.east < e_lo) | (sim.east > e_hi)
+    new = np.full(n, OK)
+    new = np.where(ts[:, S.held] >= c.hold_s - 1e-9, SUCCESS, new)
+    new = np.where(ts[:, S.contact_speed] > g.v_limit, FAST, new)
+    new = np.where(load > 1.0, OVERLOAD, new)
+    new = np.where(g.hull_on(g.shoals), GROUNDING, new)
+    new = np.where(g.hull_on(g.hard), CONTACT, new)
+    new = np.where(out, OUT, new)
+    new = np.where(~v.alive, DIVERGED, new)
+    ended = running & stepped & (new != OK)
+    flags[ended] = new[ended]
+    terms = v.terms
+    terms[act] = 0.0
+    progress = np.where(stepped, (ts[:, S.d_prev] - d) / g.L, 0.0)
+    terms[:, TERM.progress] = np.where(act, progress, terms[:, TERM.progress])
+    terms[:, TERM.effort] = np.where(stepped, -effort, np.where(act, 0.0, terms[:, TERM.effort]))
+    outcome = np.where(flags == SUCCESS, 1.0, -1.0)
+    terms[:, TERM.outcome] = np.where(ended, outcome, np.where(act, 0.0, terms[:, TERM.outcome]))
+    ts[act, S.d_prev] = d[act]
+    terms[act] *= v.w
+    v.reward[act] = terms[act].sum(axis=1)
+    v.done[act] = flags[act] != OK
+    f = v.feat
+    motion_now = np.column_stack([sim.u, sim.v, sim.r, sim.rudder, sim.rudder_order, sim.rev])
+    f[act, : len(MOTION)] = motion_now[act]
+    fixed = np.column_stack([along, off, dpsi, va, vo, load])
+    f[act, FEAT.along_error : FEAT.fender_load + 1] = fixed[act]
+    if g.assist:
+        f[act, FEAT.assist :] = z[:, g.assist_state][act]
+    enc = v.enc
+    cols, scale = enc[:, 0].astype(int), enc[:, 1]
+    vals = np.nan_to_num(f[:, cols], nan=0.0, posinf=0.0, neginf=0.0)
+    normalized = enc[:, 2] > 0.0
+    obs = np.where(normalized, np.clip(vals / scale, -1.0, 1.0), np.clip(vals, -scale, scale))
+    v.obs[act] = obs[act]
 
 
 @register_task(
@@ -250,6 +399,7 @@ class BerthingTask(Task):
     spec = SPEC
     S = S
     kernel = staticmethod(berthing_update)
+    Arrays = BerthingArrays
 
     def __init__(self, config: BerthingConfig, n: int) -> None:
         if config.action_type != "continuous":
@@ -274,7 +424,7 @@ class BerthingTask(Task):
         )  # fmt: skip
         self.assist = [c for c in self.sim.components if isinstance(c, OrderedComponent)]
         self.helm = BerthingHelm(config, self.sim, self.assist)
-        self._assist_state = [
+        self.assist_state = [
             self.sim.component_state_names.index(f"{c.name}.{c.states[0].name}") for c in self.assist
         ]
         if len(self.assist) != self.n_features - self.spec.n_fixed:  # the layout was made before the sim
@@ -300,7 +450,8 @@ class BerthingTask(Task):
         self.shoals = [np.array(p) for _n, p in sc.shoals(pt.T_m)]
         self.ts = np.zeros((n, len(S)))
         self.flags = np.zeros(n, dtype=np.int64)
-        self.fender_energy = np.zeros((n, len(b.fenders_m)))
+        self.fender_energy_kJ = np.zeros((n, len(b.fenders_m)))
+        self.berth_frame = BerthGeometry(self)
 
     # --- declaration hooks ----------------------------------------------------------------------------------
     def feature_counts(self) -> dict[str, int]:
@@ -318,9 +469,6 @@ class BerthingTask(Task):
 
     def scales(self) -> dict[str, float]:
         return {**super().scales(), "1": 1.0}
-
-    def kernel_args(self) -> tuple:
-        return (self,)
 
     # --- starts -------------------------------------------------------------------------------------------------
     def _clear(self, n0: float, e0: float, psi: float) -> bool:
@@ -359,145 +507,8 @@ class BerthingTask(Task):
             a.set_order(0.0, k, self.n)
         self.fenders.clear(k, self.n)
         self.ts[k] = 0.0
-        self.ts[k, S.contact_speed] = math.nan
         self.flags[k] = OK
         self.start(k, speed, math.degrees(heading), n0, e0)
-
-    # --- the step -----------------------------------------------------------------------------------------------
-    def berth_frame(self) -> tuple[np.ndarray, ...]:
-        """(along error m, off error m, heading error rad, ground velocity along and off, m/s) of every vessel."""
-        sim = self.sim
-        dn, de = sim.north - self.berthed[0], sim.east - self.berthed[1]
-        along = dn * self.along_dir[0] + de * self.along_dir[1]
-        off = dn * self.to_water[0] + de * self.to_water[1]
-        psi = sim.heading
-        vn, ve = sim.ground_velocity()
-        va = vn * self.along_dir[0] + ve * self.along_dir[1]
-        vo = vn * self.to_water[0] + ve * self.to_water[1]
-        dpsi = (psi - self.psi_b + math.pi) % (2.0 * math.pi) - math.pi
-        return along, off, dpsi, va, vo
-
-    def _hull_on(self, polys: list[np.ndarray]) -> np.ndarray:
-        sim = self.sim
-        psi = sim.heading[:, None]
-        c, s = np.cos(psi), np.sin(psi)
-        px = sim.north[:, None] + c * self.hull[None, :, 0] - s * self.hull[None, :, 1]
-        py = sim.east[:, None] + s * self.hull[None, :, 0] + c * self.hull[None, :, 1]
-        hit = np.zeros(px.shape[0], dtype=bool)
-        for p in polys:
-            hit |= _pip(px, py, p).any(axis=1)
-        return hit
-
-    def step_vessels(self, phase: np.ndarray) -> None:
-        c, sim, ts = self.config, self.sim, self.ts
-        act = phase > 0
-        stepped = phase == 1
-        along, off, dpsi, va, vo = self.berth_frame()
-        z = sim.component_states
-        peaks = z[:, self.peaks]
-        self.fender_energy[:] = self.fenders.energies(peaks)
-        load = self.fender_energy.max(axis=1) / self.E_rated
-        touch = self.fenders.touch_speed(self.n)
-        first = act & np.isnan(ts[:, S.contact_speed]) & np.isfinite(touch)
-        ts[first, S.contact_speed] = touch[first]
-        ci = c.control_interval_s
-        d = np.hypot(along, off) + self.L * np.abs(dpsi) / math.pi
-        orders = np.array([np.broadcast_to(a.orders(self.n), (self.n,)) for a in self.assist]).reshape(
-            len(self.assist), self.n
-        )
-        effort = (orders**2).mean(axis=0) if len(self.assist) else np.zeros(self.n)
-        # alongside: side within the gap tolerance of the fender faces (or pressing on them), parallel, in place,
-        # still
-        sog = np.hypot(va, vo)
-        alongside = (
-            np.isfinite(ts[:, S.contact_speed])
-            & (off <= c.gap_tolerance_m)
-            & (np.abs(dpsi) <= c.heading_tolerance_deg * DEG)
-            & (np.abs(along) <= c.along_tolerance_m)
-            & (sog <= c.speed_tolerance_m_s)
-        )
-        flags = self.flags
-        running = act & (flags == OK)
-        ts[stepped, S.t] += ci
-        ts[stepped, S.effort] += effort[stepped] * ci
-        ts[:, S.held] = np.where(
-            stepped & alongside, ts[:, S.held] + ci, np.where(stepped, 0.0, ts[:, S.held])
-        )
-        new = np.full(self.n, OK)
-        alive = sim.alive
-        n_lo, n_hi, e_lo, e_hi = self.scenario.bounds_m
-        out = (sim.north < n_lo) | (sim.north > n_hi) | (sim.east < e_lo) | (sim.east > e_hi)
-        new = np.where(ts[:, S.held] >= c.hold_s - 1e-9, SUCCESS, new)
-        new = np.where(ts[:, S.contact_speed] > self.v_limit, FAST, new)
-        new = np.where(load > 1.0, OVERLOAD, new)
-        new = np.where(self._hull_on(self.shoals), GROUNDING, new)
-        new = np.where(self._hull_on(self.hard), CONTACT, new)
-        new = np.where(out, OUT, new)
-        new = np.where(~alive, DIVERGED, new)
-        ended = running & stepped & (new != OK)
-        flags[ended] = new[ended]
-        terms = self.terms
-        terms[act] = 0.0
-        progress = np.where(stepped, (ts[:, S.d_prev] - d) / self.L, 0.0)
-        terms[:, TERM.progress] = np.where(act, progress, terms[:, TERM.progress])
-        terms[:, TERM.effort] = np.where(stepped, -effort, np.where(act, 0.0, terms[:, TERM.effort]))
-        outcome = np.where(flags == SUCCESS, 1.0, -1.0)
-        terms[:, TERM.outcome] = np.where(ended, outcome, np.where(act, 0.0, terms[:, TERM.outcome]))
-        ts[act, S.d_prev] = d[act]
-        terms[act] *= self.weights
-        self.reward[act] = terms[act].sum(axis=1)
-        self.terminated[act] = flags[act] != OK
-        f = self.feat
-        f[act, : len(MOTION)] = np.column_stack([sim.u, sim.v, sim.r, sim.rudder, sim.rudder_order, sim.rev])[
-            act
-        ]
-        fixed = np.column_stack([along, off, dpsi, va, vo, load])
-        f[act, FEAT.along_error : FEAT.fender_load + 1] = fixed[act]
-        if self.assist:
-            f[act, FEAT.assist :] = z[:, self._assist_state][act]
-        enc = self.enc
-        cols, scale = enc[:, 0].astype(int), enc[:, 1]
-        vals = np.nan_to_num(f[:, cols], nan=0.0, posinf=0.0, neginf=0.0)
-        obs = np.clip(vals / scale, -1.0, 1.0) if self.layout.normalized else np.clip(vals, -scale, scale)
-        self.obs[act] = obs[act]
-
-    # --- info ---------------------------------------------------------------------------------------------------
-    def _info(self, idx: Any) -> dict[str, Any]:
-        ts, f = self.ts[idx], self.flags[idx]
-        t = np.maximum(ts[..., S.t], 1e-9)
-        return {
-            "reward_terms": {name: self.terms[idx, j] for j, name in enumerate(self.term_names)},
-            "outcome": np.array(OUTCOMES, dtype=object)[f],
-            "success": f == SUCCESS,
-            "is_success": f == SUCCESS,
-            "time_s": ts[..., S.t],
-            "along_error_m": self.feat[idx, FEAT.along_error],
-            "off_error_m": self.feat[idx, FEAT.off_error],
-            "heading_error_deg": np.degrees(self.feat[idx, FEAT.berth_heading_error]),
-            "held_s": ts[..., S.held],
-            "touched": np.isfinite(ts[..., S.contact_speed]),
-            "contact_speed_m_s": np.nan_to_num(ts[..., S.contact_speed], nan=0.0),  # 0 until the first touch
-            "contact_speed_limit_m_s": np.full(np.shape(f), self.v_limit),
-            "fender_energy_kJ": self.fender_energy[idx] / 1e3,
-            "fender_rated_energy_kJ": np.full(np.shape(f), self.E_rated / 1e3),
-            "max_fender_energy_fraction": self.feat[idx, FEAT.fender_load],
-            "assist_effort": np.where(ts[..., S.t] > 0.0, ts[..., S.effort] / t, 0.0),
-        }
-
-    def info(self, k: int) -> dict[str, Any]:
-        out: dict[str, Any] = {}
-        for key, val in self._info(k).items():
-            if isinstance(val, dict):
-                out[key] = {name: float(v) for name, v in val.items()}
-            elif isinstance(val, np.ndarray) and val.ndim:
-                out[key] = val.tolist()
-            else:
-                out[key] = val.item() if hasattr(val, "item") else val
-        return out
-
-    def batch_info(self) -> dict[str, Any]:
-        out = self._info(slice(None))
-        return {key: (val if isinstance(val, dict) else np.array(val, copy=True)) for key, val in out.items()}
 
     def overlay(self, k: int) -> dict[str, Any]:
         return {
