@@ -237,11 +237,21 @@ class BerthGeometry:
     thrusters and tugs, the berth's frame, the hull outline, the chart's obstacles and shoals, the limits."""
 
     def __init__(self, task: Any) -> None:
-        for name in (
-            "sim", "fenders", "assist", "config", "berthed", "along_dir", "to_water", "psi_b", "hull", "hard",
-            "shoals", "L", "v_limit", "E_rated", "peaks", "assist_state", "n",
-        ):  # fmt: skip
-            setattr(self, name, getattr(task, name))
+        self.sim: Simulation = task.sim
+        self.fenders: QuayFenders = task.fenders
+        self.assist: list[OrderedComponent] = task.assist
+        self.config: BerthingConfig = task.config
+        self.berthed, self.along_dir, self.to_water = task.berthed, task.along_dir, task.to_water  # m, -, -
+        self.psi_b: float = task.psi_b  # rad
+        self.hull: np.ndarray = task.hull  # the waterline outline, body axes, m
+        self.hard: list[np.ndarray] = task.hard  # land, breakwaters, quays
+        self.shoals: list[np.ndarray] = task.shoals  # depth areas shallower than the draught
+        self.L: float = task.L
+        self.v_limit: float = task.v_limit  # m/s
+        self.E_rated: float = task.E_rated  # J
+        self.peaks: list[int] = task.peaks  # columns of the fenders' deepest compressions
+        self.assist_state: list[int] = task.assist_state  # columns of the thrusters' and tugs' states
+        self.n: int = task.n
         self.bounds = task.scenario.bounds_m
 
     def frame(self) -> tuple[np.ndarray, ...]:
