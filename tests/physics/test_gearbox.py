@@ -40,7 +40,7 @@ from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.vessel import pack
 
 SHIP = load_ship("supply")
-(ENTRY,) = SHIP.components
+(ENTRY,) = [e for e in SHIP.components if e.slot == "engine"]  # the plant (the thrusters are extras)
 PLANT = ENTRY.build(SHIP)
 C = PLANT.constants
 P = cp.compose(SHIP, pack(SHIP), [PLANT], ["engine"])
@@ -67,6 +67,8 @@ def test_supply_chooses_the_plant_in_its_ship_file_and_no_other_ship_does():
         "ReversingGearbox.engine_speed",
         "ReversingGearbox.governor",
         "ReversingGearbox.clutch",
+        "bow_thruster.thrust",  # the tunnel thrusters of the ship file, idle (docs/berthing.md)
+        "stern_thruster.thrust",
     )
     assert sim.Ps[0][ENGINE.by_component] == 1.0  # the built-in engine, governor and instant clutch are out
     # the engine's inertia is behind the clutch, in the plant's own equation: the shaft keeps its own
@@ -170,7 +172,7 @@ def test_crash_stop_sequence(dt):
     allowed = False  # the interlock has been satisfied (at the end of a step)
     for step in range(int(30.0 / dt)):
         sim.advance(dt)
-        n_E, _gov, c = sim.component_states[0]
+        n_E, _gov, c = sim.component_states[0, :3]  # the plant's states (then the thrusters')
         n_E_min = min(n_E_min, n_E)
         # speeds fall monotonically until the clutch is applied: allowed at the step's end if within it
         allowed = allowed or (sim.rev[0] <= C[C_ENGAGE_REV] and n_E <= C[C_SHIFT_REV])
@@ -263,7 +265,7 @@ def test_stop_order_releases_the_clutch(dt):
     assert sim.component_states[0][2] < -0.95
     sim.set_helm(rev_order=0.0)
     sim.advance(round(20.0 / dt) * dt)
-    n_E, _gov, c = sim.component_states[0]
+    n_E, _gov, c = sim.component_states[0, :3]  # the plant's states (then the thrusters')
     assert abs(c) < 1e-3
     assert n_E == pytest.approx(C[C_IDLE_REV], rel=0.02)
 

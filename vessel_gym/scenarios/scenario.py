@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from vessel_gym.physics.components.fenders import FenderParams
+from vessel_gym.physics.components.tug import TugParams
 from vessel_gym.physics.schema import SpecError, build, builtin_names, param, read_toml, resolve_data_path
 from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.scenarios import geometry as geo
@@ -118,6 +120,63 @@ class TrafficShip:
 
 
 @dataclass(frozen=True, kw_only=True)
+class Berth:
+    """A berth on a quay: the quay face, its fenders, the ship's side to it (docs/berthing.md)."""
+
+    name: str = param(doc="berth name (the Berthing task's ``berth`` key)")
+    quay_m: tuple[tuple[float, ...], ...] = param(
+        unit="m",
+        lo=-1e6,
+        hi=1e6,
+        doc="the quay face (wall) along the berth: [[north, east], [north, east]]; "
+        "the ship lies heading from the first point to the second",
+    )
+    side: str = param("port", choices=("port", "starboard"), doc="the ship's side to the quay")
+    fenders_m: tuple[float, ...] = param(
+        unit="m", lo=0.0, hi=1e5, doc="fender positions along the face from its first point"
+    )
+    fender: FenderParams = param(FenderParams(), doc="[berth.fender] the fender type (components.fenders)")
+    position_m: float | None = param(
+        None,
+        unit="m",
+        lo=0.0,
+        hi=1e5,
+        doc="midship's place along the face (default: the middle of the fenders)",
+    )
+    tugs: tuple[TugParams, ...] = param((), doc="[[berth.tugs]] tugs assisting the ship at this berth")
+
+    @property
+    def direction(self) -> tuple[float, float]:
+        """Unit vector [north, east] of the face, first point to second (the berthed ship's heading)."""
+        (n0, e0), (n1, e1) = self.quay_m[0], self.quay_m[1]
+        d = math.hypot(n1 - n0, e1 - e0)
+        return ((n1 - n0) / d, (e1 - e0) / d)
+
+    @property
+    def heading_deg(self) -> float:
+        """The berthed ship's heading, deg."""
+        a = self.direction
+        return math.degrees(math.atan2(a[1], a[0]))
+
+    def to_water(self) -> tuple[float, float]:
+        """Unit normal [north, east] of the face pointing into the water (away from the ship's side)."""
+        a, s = self.direction, (1.0 if self.side == "starboard" else -1.0)
+        return (s * a[1], -s * a[0])
+
+    def berthed_point(self, half_beam_m: float) -> tuple[float, float]:
+        """[north, east] of midship lying alongside the unloaded fenders."""
+        along = (
+            self.position_m
+            if self.position_m is not None
+            else 0.5 * (min(self.fenders_m) + max(self.fenders_m))
+        )
+        a, w = self.direction, self.to_water()
+        off = self.fender.height_m + half_beam_m
+        n0, e0 = self.quay_m[0]
+        return (n0 + along * a[0] + off * w[0], e0 + along * a[1] + off * w[1])
+
+
+@dataclass(frozen=True, kw_only=True)
 class Scenario:
     """A harbour scenario (see docs/scenarios.md for the file format)."""
 
@@ -146,6 +205,9 @@ class Scenario:
     goal: GoalRegion = param(doc="[goal] table")
     weather: Weather = param(Weather(), doc="[weather] table")
     traffic: tuple[TrafficShip, ...] = param((), doc="[[traffic]] other ships following routes (optional)")
+    berth: tuple[Berth, ...] = param(
+        (), doc="[[berth]] berths with their fenders (optional; docs/berthing.md)"
+    )
     path: str = field(default="", init=False, compare=False)
 
     # --- derived --------------------------------------------------------------------------------------------
@@ -162,6 +224,14 @@ class Scenario:
         if self.goal.point_m is not None:
             return (self.goal.point_m[0], self.goal.point_m[1])
         return geo.centroid(_pts(self.goal.points))
+
+    def find_berth(self, name: str | None) -> Berth:
+        """The berth of that name (None: the first); ScenarioError naming the berths there are."""
+        for b in self.berth:
+            if name is None or b.name == name:
+                return b
+        have = ", ".join(repr(b.name) for b in self.berth) or "none"
+        raise ScenarioError(f"{self.path or self.name}: no [[berth]] {name!r} (berths: {have})")
 
     def hard_obstacles(self) -> list[tuple[str, str, list[tuple[float, float]]]]:
         """(kind, name, points) of every land, breakwater and quay polygon."""
@@ -297,10 +367,34 @@ def validate(sc: Scenario, where: str = "scenario") -> None:
             if geo.point_in_polygon((p[0], p[1]), obs):
                 raise ScenarioError(f"{where} route_m[{i}]: on {kind} {name!r}")
     _validate_traffic(sc, where, ship)
+    _validate_berths(sc, where)
     if sc.start.speed_m_s[0] <= 0.0:
         raise ScenarioError(f"{where} start speed_m_s: the minimum must be > 0 (steady approach)")
     if not math.isfinite(sc.water_depth_m):  # pragma: no cover - schema already rejects
         raise ScenarioError(f"{where} water_depth_m: must be finite")
+
+
+def _validate_berths(sc: Scenario, where: str) -> None:
+    """The ``[[berth]]`` entries: a face of two distinct points, fenders on it, the water side navigable."""
+    for i, b in enumerate(sc.berth):
+        w = f"{where} {_label('berth', i, b.name)}"
+        if len(b.quay_m) != 2 or any(len(p) != 2 for p in b.quay_m):
+            raise ScenarioError(f"{w} quay_m: expected [[north, east], [north, east]]")
+        length = math.hypot(b.quay_m[1][0] - b.quay_m[0][0], b.quay_m[1][1] - b.quay_m[0][1])
+        if length < 1.0:
+            raise ScenarioError(f"{w} quay_m: the two points must be apart")
+        if len(b.fenders_m) < 2 or max(b.fenders_m) > length:
+            raise ScenarioError(f"{w} fenders_m: at least 2 fenders, each within the face's {length:g} m")
+        if b.position_m is not None and b.position_m > length:
+            raise ScenarioError(f"{w} position_m: beyond the face's {length:g} m")
+        wn, we = b.to_water()
+        probe = (0.5 * (b.quay_m[0][0] + b.quay_m[1][0]) + 2.0 * b.fender.height_m * wn,
+                 0.5 * (b.quay_m[0][1] + b.quay_m[1][1]) + 2.0 * b.fender.height_m * we)  # fmt: skip
+        for kind, name, obs in sc.hard_obstacles():
+            if geo.point_in_polygon(probe, obs):
+                raise ScenarioError(
+                    f"{w}: the water side of the face is on {kind} {name!r} (side {b.side!r} the wrong way?)"
+                )
 
 
 def _validate_traffic(sc: Scenario, where: str, own_ship: Ship) -> None:
