@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import abc
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 from gymnasium import spaces
@@ -11,7 +11,6 @@ from numba import njit
 
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.physics.schema import SpecError
-from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
 
 
@@ -62,13 +61,25 @@ def real_values(action: Any, what: str) -> np.ndarray:
     return raw.astype(np.float64, copy=False)
 
 
+class Helmed(Protocol):
+    """What a helm steers: a simulation, or a view of some of its vessels (CollisionAvoidance's own ships)."""
+
+    n: int
+
+    def ship(self, k: int = 0) -> Any: ...
+
+    def telegraph_rev(self, telegraph: Any, k: int | None = None) -> Any: ...
+
+    def set_helm(self, rudder_order_rad: Any = None, rev_order: Any = None, k: Any = None) -> None: ...
+
+
 class Helm(abc.ABC):
     """Turns actions into rudder and shaft-speed orders for all N vessels (one ``set_helm`` call)."""
 
     space: spaces.Space
     engine: bool
 
-    def __init__(self, config: ShipEnvConfig, sim: Simulation) -> None:
+    def __init__(self, config: ShipEnvConfig, sim: Helmed) -> None:
         self.sim = sim
         self.engine = config.engine_control
         n = sim.n
@@ -97,7 +108,7 @@ class ContinuousHelm(Helm):
     a[1] shaft-speed order as a fraction of full ahead (a > 0) or full astern (a < 0) telegraph rpm.
     Out-of-range values are clipped; NaN raises ValueError."""
 
-    def __init__(self, config: ShipEnvConfig, sim: Simulation) -> None:
+    def __init__(self, config: ShipEnvConfig, sim: Helmed) -> None:
         super().__init__(config, sim)
         limit = config.rudder_limit_deg
         self.rudder_limit_rad = np.array(
@@ -166,7 +177,7 @@ class DiscreteHelm(Helm):
     """Helm orders from ``rudder_orders_deg`` (Discrete) or helm order x telegraph step (MultiDiscrete).
     An index out of range raises ValueError (a discrete order cannot be clipped meaningfully)."""
 
-    def __init__(self, config: ShipEnvConfig, sim: Simulation) -> None:
+    def __init__(self, config: ShipEnvConfig, sim: Helmed) -> None:
         super().__init__(config, sim)
         self.orders_rad = np.asarray(config.rudder_orders_deg, dtype=np.float64) * DEG
         self.steps = np.asarray(config.telegraph_steps, dtype=np.int64)
@@ -213,5 +224,5 @@ class DiscreteHelm(Helm):
         self.sim.set_helm(rudder_order_rad=self.orders_rad[actions[:, 0]], rev_order=rev)
 
 
-def make_helm(config: ShipEnvConfig, sim: Simulation) -> Helm:
+def make_helm(config: ShipEnvConfig, sim: Helmed) -> Helm:
     return ContinuousHelm(config, sim) if config.action_type == "continuous" else DiscreteHelm(config, sim)

@@ -115,7 +115,7 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
         "starboard once its TCPA is below half the meeting time, and resumes its course past the CPA",
     )
     target_turn_deg: float = param(35.0, unit="deg", lo=5.0, hi=90.0, doc="a reacting target's alteration")
-    reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")
+    reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")  # type: ignore[valid-type]
 
 
 #: the record of the task's arrays (the step's ``t``): per own ship the task state, the COLREG scores, the

@@ -52,6 +52,27 @@ def _checks(prefix: str):  # an info entry's value: a count per check
     return lambda v: {c: as_int(v.scores[getattr(SC, f"{prefix}_{c}")]) for c in CHECKS}
 
 
+#: the per-ship task state
+S = columns(
+    "n0",
+    "e0",
+    "n1",
+    "e1",  # route start and goal, m
+    "t",  # s since the start
+    "prev_goal",  # m, distance to the goal at the last step
+    "prev_order",  # rad
+    "prev_side",  # +1/-1: side of the last rudder order beyond port_order (0: none yet)
+    "reversals",  # rudder reversals (port <-> starboard orders)
+    "min_sep",  # m, closest range to any other ship
+    "path",  # m sailed
+    "prev_n",
+    "prev_e",  # m
+    "outcome",  # OUTCOMES index
+    "straight",  # m, the route's length
+    typename="CollisionAvoidanceState",
+)
+
+
 #: the info entries (their values read the task state ``ts``, the ``scores``, ``scenario_id`` and
 #: ``planned_dcpa``: the columns S below, read when an info is made)
 INFO = (
@@ -114,25 +135,6 @@ SPEC = task_spec(
 )
 TERM, FEAT = SPEC.TERM, SPEC.FEAT
 
-#: the per-ship task state
-S = columns(
-    "n0",
-    "e0",
-    "n1",
-    "e1",  # route start and goal, m
-    "t",  # s since the start
-    "prev_goal",  # m, distance to the goal at the last step
-    "prev_order",  # rad
-    "prev_side",  # +1/-1: side of the last rudder order beyond port_order (0: none yet)
-    "reversals",  # rudder reversals (port <-> starboard orders)
-    "min_sep",  # m, closest range to any other ship
-    "path",  # m sailed
-    "prev_n",
-    "prev_e",  # m
-    "outcome",  # OUTCOMES index
-    "straight",  # m, the route's length
-    typename="CollisionAvoidanceState",
-)
 #: the parameter row
 P = columns(
     "dt",

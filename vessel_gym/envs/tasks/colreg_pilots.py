@@ -147,6 +147,7 @@ class VelocityObstaclePilot(RouteFollower):
                 blocked += c < -math.radians(2.0)  # rule 17(c): no turn to port for a target on the port side
         if give_way_block:  # rule 8(b): an alteration large enough to be readily apparent
             cost += (np.abs(_wrap(c - los)) < self.substantial) * 0.5
+        assert self.chosen is not None  # sized by the caller, act(), before any choice
         prev = self.chosen[i]
         if math.isfinite(prev):
             cost += 0.2 * np.abs(h - prev) / np.pi  # hold a choice rather than chatter
