@@ -16,6 +16,7 @@ quantities to the FMU's variables (with their units), start values and the commu
     inputs = { shaft_speed = { name = "n", unit = "rpm" }, rev_order = "n_set" }
     outputs = { shaft_torque = { name = "Q", unit = "kN.m" } }
     hold_torque = "Q_start"             # optional: a parameter that starts the FMU steady at this torque
+    # optional input load_torque (N m, Q_P + Q_f at t_k): for a plant with a clutch (docs/fmi.md)
     start = { J = 1200.0 }              # optional: start values of parameters and inputs
 
 **Co-simulation.** At each communication point t_k the slot's quantities at t_k are the FMU's inputs, its
