@@ -153,6 +153,17 @@ def test_load_torque_naming_a_missing_variable_is_one_line(gearbox_dir, tmp_path
     assert len(err.splitlines()) == 1 and "gearbox.fmu" in err and "'Q_load'" in err, err
 
 
+def test_gearbox_fmu_is_valid_with_units(gearbox_dir):
+    from fmpy import read_model_description
+    from fmpy.validation import validate_fmu
+
+    fmu = str(gearbox_dir / "gearbox.fmu")
+    assert validate_fmu(fmu) == []
+    units = {v.name: (v.causality, v.unit) for v in read_model_description(fmu).modelVariables}
+    assert units["load_torque"] == ("input", "N.m")
+    assert units["shaft_speed"] == ("input", "1/s") and units["shaft_torque"] == ("output", "N.m")
+
+
 def test_gearbox_fmu_needs_a_gearbox(tmp_path):
     with pytest.raises(ValueError, match="no ReversingGearbox"):
         build_gearbox_fmu("kvlcc2", tmp_path / "g.fmu")
