@@ -16,6 +16,7 @@ quantities to the FMU's variables (with their units), start values and the commu
     inputs = { shaft_speed = { name = "n", unit = "rpm" }, rev_order = "n_set" }
     outputs = { shaft_torque = { name = "Q", unit = "kN.m" } }
     hold_torque = "Q_start"             # optional: a parameter that starts the FMU steady at this torque
+    # optional input load_torque (N m, Q_P + Q_f at t_k): for a plant with a clutch (docs/fmi.md)
     start = { J = 1200.0 }              # optional: start values of parameters and inputs
 
 **Co-simulation.** At each communication point t_k the slot's quantities at t_k are the FMU's inputs, its
@@ -101,6 +102,7 @@ class FmuSlot:
     OUTPUTS: dict[str, str] = {}
     HOLD: str | None = None  # the slot quantity a reset holds steady (unit in OUTPUTS), or None
     OPTIONAL_INPUTS = False  # True: the map names any subset of INPUTS (a force FMU's state inputs)
+    OPTIONAL: frozenset[str] = frozenset()  # inputs the map may leave out (the others it must name)
     states = (
         State("clock", "s", 0.0, "time since the vessel's reset (tells the component where a stage is)"),
     )
@@ -144,8 +146,12 @@ class FmuSlot:
             raise FmuError(f"{where}: no binary for this platform {platform} (the FMU has: {have})")
         self.md = md
         self.variables = {v.name: v for v in md.modelVariables}
+        inputs = params.get("inputs")
+        quantities = self.INPUTS
+        if isinstance(inputs, dict):
+            quantities = {q: u for q, u in self.INPUTS.items() if q in inputs or q not in self.OPTIONAL}
         self.inputs = self._ports(
-            params.get("inputs"), self.INPUTS, "inputs", ("input",), optional=self.OPTIONAL_INPUTS
+            inputs, quantities, "inputs", ("input",), optional=self.OPTIONAL_INPUTS, known=self.INPUTS
         )
         self.outputs = self._ports(params.get("outputs"), self.OUTPUTS, "outputs", ("output",))
         self.hold = None
@@ -188,14 +194,21 @@ class FmuSlot:
         return self.variables[name]
 
     def _ports(
-        self, spec: Any, quantities: dict[str, str], key: str, causalities: tuple, optional: bool = False
+        self,
+        spec: Any,
+        quantities: dict[str, str],
+        key: str,
+        causalities: tuple,
+        optional: bool = False,
+        known: dict[str, str] | None = None,
     ) -> dict[str, _Port]:
         where = str(self.path)
+        known = quantities if known is None else known
         if not isinstance(spec, dict):
             raise FmuError(f"{where}: params {key}: expected a table {', '.join(quantities)} = variable")
-        extra = sorted(set(spec) - set(quantities))
+        extra = sorted(set(spec) - set(known))
         if extra:
-            raise FmuError(f"{where}: params {key}: {extra[0]!r} is not one of {', '.join(quantities)}")
+            raise FmuError(f"{where}: params {key}: {extra[0]!r} is not one of {', '.join(known)}")
         missing = sorted(set(quantities) - set(spec))
         if optional:
             quantities = {q: u for q, u in quantities.items() if q in spec}
@@ -381,7 +394,8 @@ class FmuEngine(FmuSlot, Engine):
     state) and ``rev_order`` (rev/s, the telegraph's order); output ``shaft_torque`` (N m, drive torque at the
     propeller shaft). Ship-file key ``shaft_inertia_kgm2``: the engine's inertia referred to the shaft."""
 
-    INPUTS = {"shaft_speed": "rev/s", "rev_order": "rev/s"}
+    INPUTS = {"shaft_speed": "rev/s", "rev_order": "rev/s", "load_torque": "N.m"}
+    OPTIONAL = frozenset({"load_torque"})
     OUTPUTS = {"shaft_torque": "N.m"}
     HOLD = "shaft_torque"
     states = FmuSlot.states
@@ -401,7 +415,10 @@ class FmuEngine(FmuSlot, Engine):
         return self.inertia
 
     def _slot_values(self, sim: Any, x: np.ndarray, clock: np.ndarray) -> dict[str, np.ndarray]:
-        return {"shaft_speed": x[:, lo.X_REV], "rev_order": sim.rev_order}
+        values = {"shaft_speed": x[:, lo.X_REV], "rev_order": sim.rev_order}
+        if "load_torque" in self.inputs:
+            values["load_torque"] = load_torque(sim, x)
+        return values
 
     def shaft_torque(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:
         return self._held_output(sim, x, s, "shaft_torque")
@@ -417,6 +434,22 @@ class FmuEngine(FmuSlot, Engine):
             self._hold_value[k] = Q[k]
             self._initialise(k, {q: float(v[k]) for q, v in values.items()})
         return np.zeros((x.shape[0], 1))
+
+
+def load_torque(sim: Any, x: np.ndarray) -> np.ndarray:
+    """The propeller's and the shafting's torque on the shaft, Q_P + Q_f (N m), of every vessel at ``x``: what
+    ``ReversingGearbox.evaluate`` gives its clutch (``gearbox.gearbox_batch``), from the vessel's own force
+    evaluation (the one home of the wake and the four-quadrant propeller)."""
+    from vessel_gym.physics.propulsion import shaft_friction_torque
+    from vessel_gym.physics.vessel import force_terms
+
+    out = np.empty(x.shape[0])
+    for k in range(x.shape[0]):
+        P = sim.Ps[sim.ship_index[k]]
+        xk = np.ascontiguousarray(x[k], dtype=float)
+        f = force_terms(P, xk, sim.env[k], sim.env[k, lo.E_T_OVER_H], True)
+        out[k] = f.Q_prop + shaft_friction_torque(P, xk[lo.X_REV])
+    return out
 
 
 class FmuSteeringGear(FmuSlot, SteeringGear):
@@ -486,4 +519,4 @@ class FmuForce(FmuSlot, Component):
         return self._held[: x.shape[0]].copy()
 
 
-__all__ = ["FORCE_INPUTS", "FmuEngine", "FmuError", "FmuForce", "FmuSteeringGear", "UNITS"]
+__all__ = ["FORCE_INPUTS", "FmuEngine", "FmuError", "FmuForce", "FmuSteeringGear", "UNITS", "load_torque"]

@@ -87,6 +87,26 @@ def build_engine_fmu(ship: str | Path, out: str | Path, force: bool = False) -> 
     return write_new(path, data, force)
 
 
+def build_gearbox_fmu(ship: str | Path, out: str | Path, force: bool = False) -> Path:
+    """Write an FMU of ``ship``'s geared plant with friction clutches (:mod:`vessel_gym.fmi.gearbox_slave`,
+    the ``ReversingGearbox`` component's equations) to the file ``out``; it needs the ``load_torque`` input
+    (docs/fmi.md, "The governor and the gearbox")."""
+    require("pythonfmu")
+    from vessel_gym.fmi.gearbox_slave import VARIABLES
+    from vessel_gym.physics.components.gearbox import ReversingGearbox
+    from vessel_gym.physics.shipfile import load_ship, resolve_ship_path
+
+    loaded = load_ship(ship)
+    if loaded.engine is None or not any(e.cls is ReversingGearbox for e in loaded.components):
+        raise ValueError(f"{loaded.path or loaded.name}: the ship has no ReversingGearbox engine to export")
+    path = Path(out)
+    check_free([path], force, "gearbox FMU")
+    units = {name: unit for name, _, unit, _ in VARIABLES if unit != "1"}
+    description = f"vessel-gym geared plant with friction clutches of {loaded.name!r} (resources/ship.toml)"
+    data = _build("gearbox_slave.py", "vessel_gym_gearbox.py", resolve_ship_path(ship), {}, units, description)
+    return write_new(path, data, force)
+
+
 def build_steering_gear_fmu(ship: str | Path, out: str | Path, force: bool = False) -> Path:
     """Write an FMU of ``ship``'s own steering gear (:mod:`vessel_gym.fmi.gear_slave`) to the file ``out``."""
     require("pythonfmu")

@@ -1,7 +1,8 @@
 """The one way the slave scripts (:mod:`~vessel_gym.fmi.ship_slave`, :mod:`~vessel_gym.fmi.engine_slave`,
-:mod:`~vessel_gym.fmi.gear_slave`) declare their real variables: a parameter is fixed at initialisation, an
-input continuous, an output continuous and calculated by the slave. The scripts run inside their FMU on a host
-with vessel-gym installed, so they import this module like the physics.
+:mod:`~vessel_gym.fmi.gear_slave`, :mod:`~vessel_gym.fmi.gearbox_slave`) declare their real variables: a
+parameter is fixed at initialisation, an input continuous, an output continuous and calculated by the slave.
+The scripts run inside their FMU on a host with vessel-gym installed, so they import this module like the
+physics.
 """
 
 from __future__ import annotations
