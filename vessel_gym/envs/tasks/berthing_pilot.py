@@ -130,7 +130,10 @@ class BerthingPilot(HelmPolicy):
         L, dt = self.L, self.dt
         sog = np.hypot(va, vo)
         final = self.final | (
-            (np.abs(ea) < 0.1 * L) & (np.abs(eo - self.off_A) < 0.1 * L) & (np.abs(h) < 0.1) & (sog < self.arrive)
+            (np.abs(ea) < 0.1 * L)
+            & (np.abs(eo - self.off_A) < 0.1 * L)
+            & (np.abs(h) < 0.1)
+            & (sog < self.arrive)
         )
         self.final = final
         # desired ground velocity in the berth frame (along, off)
