@@ -14,6 +14,10 @@ section 4.2.3 on approach velocities; Hensen 2003 on the approach to a berth):
    design velocity of the ship's displacement), holding the place along the quay and the berth's heading;
    alongside, a small push keeps the ship on the fenders.
 
+A ship on tugs (``stop_first``) is berthed as a VLCC is: no sway control while it makes way, stopped and
+parallel at the approach point, then sideways at most 0.1 m/s, falling linearly from one beam off to half the
+PIANC velocity at first contact.
+
 The controller: desired body-frame velocities over ground (u_d, v_d) and a heading reference; PI on the
 velocity errors times the ship's surge and sway masses (with added mass), PD on heading through a rate
 reference and the yaw inertia; the force demands are allocated to the engine (surge: ahead / astern, dead
