@@ -186,3 +186,50 @@ def test_a_bad_berth_is_a_one_line_error_naming_file_and_key(tmp_path, old, new,
     with pytest.raises(ScenarioError) as err:
         load_scenario(path)
     assert str(path) in str(err.value) and message in str(err.value) and "\n" not in str(err.value)
+
+
+TANKER = "vessel_gym/BerthingTanker-v0"
+
+
+def test_the_tankers_physics_step_resolves_the_stiffest_fender_contact():
+    """The step against the contact's stiffness: every fender bottoming out (BOTTOM_SLOPE x R_R / H each) on
+    the ship's dry mass alone (no added mass: the highest frequency) stays well inside RK4's stability bound
+    on the imaginary axis (omega dt < 2 sqrt 2), so the contact cannot make the integration diverge."""
+    from vessel_gym.physics.components.fenders import BOTTOM_SLOPE
+
+    env = gym.make(TANKER)
+    task = env.unwrapped.task
+    assert task.config.method == "rk4"
+    f = task.berth.fender
+    k = len(task.berth.fenders_m) * BOTTOM_SLOPE * f.rated_reaction_kN * 1e3 / f.height_m  # N/m
+    omega = math.sqrt(k / task.ship.mass_kg)  # rad/s
+    assert task.dt == pytest.approx(1.0)
+    assert omega * task.dt < 1.0 < 2.0 * math.sqrt(2.0)
+    env.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_scripted_pilot_berths_the_tanker_on_two_tugs(seed):
+    """The VLCC stops off the berth and comes in sideways on its tugs: touching under PIANC's 0.031 m/s for
+    312,600 t (condition a), no faster than 0.1 m/s sideways in the last beam off, in place and parallel."""
+    env = gym.make(TANKER)
+    task = env.unwrapped.task
+    pilot = BerthingPilot(env)
+    assert pilot.stop_first and pilot.V_lat <= 0.1
+    obs, _info = env.reset(seed=seed)
+    pilot.reset()
+    lateral = []
+    for _ in range(900):
+        obs, _r, term, trunc, info = env.step(pilot(obs))
+        if 0.0 < info["off_error_m"] < task.ship.particulars.B_m:
+            lateral.append(-float(task.berth_frame.frame()[4][0]))
+        if term or trunc:
+            break
+    assert info["outcome"] == "success"
+    assert info["contact_speed_limit_m_s"] == pytest.approx(0.0314, abs=0.0005)
+    assert 0.0 < info["contact_speed_m_s"] < info["contact_speed_limit_m_s"]
+    assert 0.0 < info["max_fender_energy_fraction"] < 0.1
+    assert max(lateral) <= 0.11
+    assert abs(info["heading_error_deg"]) <= 3.0 and abs(info["along_error_m"]) <= 5.0
+    env.close()

@@ -14,6 +14,10 @@ section 4.2.3 on approach velocities; Hensen 2003 on the approach to a berth):
    design velocity of the ship's displacement), holding the place along the quay and the berth's heading;
    alongside, a small push keeps the ship on the fenders.
 
+A ship on tugs (``stop_first``) is berthed as a VLCC is: no sway control while it makes way, stopped and
+parallel at the approach point, then sideways at most 0.1 m/s, falling linearly from one beam off to half the
+PIANC velocity at first contact.
+
 The controller: desired body-frame velocities over ground (u_d, v_d) and a heading reference; PI on the
 velocity errors times the ship's surge and sway masses (with added mass), PD on heading through a rate
 reference and the yaw inertia; the force demands are allocated to the engine (surge: ahead / astern, dead
@@ -45,6 +49,7 @@ class BerthingPilot(HelmPolicy):
         lateral_gain: float = 0.01,
         contact_speed_m_s: float = 0.04,
         press_fraction: float = 0.05,
+        stop_first: bool | None = None,
     ) -> None:
         super().__init__(env)
         task = env.unwrapped.task
@@ -91,6 +96,20 @@ class BerthingPilot(HelmPolicy):
         # touch at no more than half the PIANC design velocity of the task
         self.V_c = min(self.V_c, 0.5 * task.v_limit)
         self.press = press_fraction * sum(abs(u[1]) for u in self.units) / max(len(self.units), 1)
+        #: stop at the approach point before going sideways (default: when the lateral units are tugs, as a
+        #: VLCC berths): arrive there below a tenth of the sideways speed, no sway control while under way
+        #: (tugs cannot push a ship making way), and the sideways leg at most 0.1 m/s
+        tugs = any(not u[2] for u in self.units)
+        self.stop_first = tugs if stop_first is None else stop_first
+        self.arrive = 0.25
+        if self.stop_first:
+            self.V_lat = min(self.V_lat, 0.1)
+            # the sideways speed falls linearly from V_lat one beam off to the contact speed
+            self.k_lat = min(self.k_lat, self.V_lat / pt.B_m)
+            self.arrive = 0.01
+            # the yaw rate: what half the units' moment reaches in two loop times (a ship at rest has little
+            # yaw damping)
+            self.r_max = min(0.01, 0.5 * N_max / self.I_z * 2.0 * self.T_lat) if self.units else 0.01
         self.final: np.ndarray | bool = False
         self.I = np.zeros(3)
 
@@ -115,7 +134,10 @@ class BerthingPilot(HelmPolicy):
         L, dt = self.L, self.dt
         sog = np.hypot(va, vo)
         final = self.final | (
-            (np.abs(ea) < 0.1 * L) & (np.abs(eo - self.off_A) < 0.1 * L) & (np.abs(h) < 0.1) & (sog < 0.25)
+            (np.abs(ea) < 0.1 * L)
+            & (np.abs(eo - self.off_A) < 0.1 * L)
+            & (np.abs(h) < 0.1)
+            & (sog < self.arrive)
         )
         self.final = final
         # desired ground velocity in the berth frame (along, off)
@@ -140,13 +162,24 @@ class BerthingPilot(HelmPolicy):
         u_d, v_d = c * x_d + s * y_d, -s * x_d + c * y_d
         x_g, y_g = va, self.s_w * vo
         u_g, v_g = c * x_g + s * y_g, -s * x_g + c * y_g
+        if self.stop_first:
+            # sideways no faster than half the units' side force can take off over the distance to go, and
+            # no sway control while the ship makes way (above about 1 kn)
+            v_max = np.minimum(np.sqrt(self.a_lat * dist), 2.0 * self.V_lat)
+            v_d = np.where(final, v_d, np.where(sog < 0.5, np.clip(v_d, -v_max, v_max), v_g))
         e_h = (h - h_d + math.pi) % (2.0 * math.pi) - math.pi
-        r_d = np.clip(-5.0 * self.r_max * e_h, -self.r_max, self.r_max)
+        # heading loop: a third as fast as the rate loop under it when the units are slow (tugs)
+        k_h = 1.0 / (3.0 * self.T_lat) if self.stop_first else 5.0 * self.r_max  # 1/s
+        r_d = np.clip(-k_h * e_h, -self.r_max, self.r_max)
         err = np.stack([u_d - u_g, v_d - v_g, r_d - r], axis=-1)
         gains = np.array([1.0 / 30.0, 1.0 / self.T_lat, 1.0 / self.T_lat])
         inertia = np.array([self.M_u, self.M_v, self.I_z])
         # damping feed-forward: the free-decay time constants of a ship of this kind (surge, sway, yaw)
         damping = inertia / np.array([90.0, 45.0, 12.0])
+        if self.stop_first:
+            # stopped off the berth the hull's sway and yaw damping is quadratic cross-flow drag, tens of kN at
+            # 0.1 m/s for a VLCC against the 45 s linear decay's MN: the PI terms carry it
+            damping = damping * np.array([1.0, 0.0, 0.0])
         limit = np.array([0.3, 0.3, 0.3]) * np.array(
             [self.K_prop * self.n_slow**2, self.press / 0.05, self.press * L]
         )
