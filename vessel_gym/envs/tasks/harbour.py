@@ -258,6 +258,10 @@ class HarbourApproachTask(Task):
 
             seed = split_seed(config.layout_split, config.layout_index)
             scenario = generate_harbour(seed, config.ship if config.ship is not None else "kvlcc2_l7")
+        if scenario is None and "\x00" in config.scenario:  # the OS refuses it, with a message of its own
+            raise SpecError(
+                f"HarbourApproach config scenario: {config.scenario!r} contains U+0000, which no file name holds"
+            )
         sc = scenario if scenario is not None else load_scenario(config.scenario)
         ship = load_ship(config.ship if config.ship is not None else sc.load_ship())
         time_scale = ship.particulars.L_m / ship.test_speed_m_s  # s
