@@ -143,7 +143,7 @@ def bench_vector_parts(ids: tuple[str, ...], num_envs: int, steps: int) -> None:
             task.helm.apply(task.helm.batch(a, num_envs))
             acc["helm"].append(tt() - t)
             t = pt()
-            task.advance()
+            task.sim.step(task.nsub)
             acc["physics"].append(pt() - t)
             t = pt()
             Task.update(task, task.phase)
