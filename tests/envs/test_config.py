@@ -74,3 +74,13 @@ def test_docs_list_every_config_key():
         for cls in (task.Config, type(task.Config().reward)):
             for f in dataclasses.fields(cls):
                 assert f"`{f.name}`" in doc, (cls.__name__, f.name)
+
+
+def test_scenario_name_with_a_nul_is_a_one_line_error_naming_it():
+    from vessel_gym.physics.schema import SpecError
+
+    with pytest.raises(SpecError) as err:
+        gym.make("vessel_gym/HarbourApproach-v2", scenario="my_har\x00bour.toml")
+    msg = str(err.value)
+    assert "'my_har\\x00bour.toml'" in msg and "U+0000" in msg
+    assert "\x00" not in msg and "\n" not in msg

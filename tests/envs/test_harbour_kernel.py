@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import vessel_gym  # noqa: F401
+from vessel_gym.envs.task import observation_features
 from vessel_gym.envs.tasks import chart, harbour_kernel
 from vessel_gym.physics.environment import CALM, Environment
 from vessel_gym.physics.units import KNOT_M_S
@@ -45,7 +46,7 @@ def test_observation_follows_set_environment():
     sim = task.sim
     sim.set_environment(Environment(current_speed_m_s=0.5, current_to_deg=90.0, wind_speed_m_s=2.0))
     obs, _r, _term, _trunc, info = env.step(np.zeros(2, dtype=np.float32))
-    names = [f.name for f in task.observation_features()]
+    names = [f.name for f in observation_features(task)]
     reading = sim.bridge(0)
     sog = reading.sog_kn * KNOT_M_S
     # over ground = through the water rotated to north/east + the current (0.5 m/s towards east)

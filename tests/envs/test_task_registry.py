@@ -23,6 +23,7 @@ from vessel_gym.envs.tasks.common import (
     finish,
     motion,
     motion_features,
+    motion_observed,
     reset_options,
     task_spec,
 )
@@ -111,7 +112,7 @@ class CourseKeepingTask(OpenWaterTask):
         self.p = np.array([self.rudder_scale()])
 
     def observed(self) -> tuple[str, ...]:
-        return self.motion_observed(rev=self.config.engine_control) + ("heading_error",)
+        return motion_observed(rev=self.config.engine_control) + ("heading_error",)
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Any) -> None:
         heading, speed, _ = reset_options(self.config, options, rng, self.U_T)

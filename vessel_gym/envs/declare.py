@@ -136,39 +136,42 @@ def once(fn: Callable[[Any], Any]) -> Callable[[Any], Any]:
     return value
 
 
+_ARRAY = np.ndarray
+
+
 def degrees(x: Any) -> Any:
     """``x`` rad in degrees."""
-    return np.degrees(x) if isinstance(x, np.ndarray) else math.degrees(x)
+    return np.degrees(x) if type(x) is _ARRAY else math.degrees(x)
 
 
 def hypot(a: Any, b: Any) -> Any:
-    return np.hypot(a, b) if isinstance(a, np.ndarray) else math.hypot(a, b)
+    return np.hypot(a, b) if type(a) is _ARRAY else math.hypot(a, b)
 
 
 def maximum(a: Any, b: Any) -> Any:
     """The larger of ``a`` and ``b`` (Python's ``max`` of one vessel's numbers, ``np.maximum`` of arrays)."""
-    return np.maximum(a, b) if isinstance(a, np.ndarray) else max(a, b)
+    return np.maximum(a, b) if type(a) is _ARRAY else max(a, b)
 
 
 def all_of(*conditions: Any) -> Any:
     """True where every condition holds."""
-    if isinstance(conditions[0], np.ndarray):
+    if type(conditions[0]) is _ARRAY:
         return functools.reduce(operator.and_, conditions)
     return all(conditions)
 
 
 def logical_not(x: Any) -> Any:
-    return ~x if isinstance(x, np.ndarray) else not x
+    return ~x if type(x) is _ARRAY else not x
 
 
 def as_int(x: Any) -> Any:
     """A count kept as a float, as an integer."""
-    return x.astype(np.int64) if isinstance(x, np.ndarray) else int(x)
+    return x.astype(np.int64) if type(x) is _ARRAY else int(x)
 
 
 def pick(table: Sequence[Any], i: Any) -> Any:
     """``table[i]`` (an array of objects for an array of indices)."""
-    return np.array(table, dtype=object)[i] if isinstance(i, np.ndarray) else table[i]
+    return np.array(table, dtype=object)[i] if type(i) is _ARRAY else table[i]
 
 
 def _identifier(name: str) -> str:

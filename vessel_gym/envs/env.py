@@ -16,7 +16,13 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
-from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task, batch_info, vessel_info
+from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, Task, batch_info, reset_vessels, vessel_info
+
+
+def task_overlay(task: Task, k: int) -> dict[str, Any]:
+    """What the chart draws of vessel k besides the ship: the task's ``overlay(k)`` if it has one."""
+    overlay = getattr(task, "overlay", None)
+    return {} if overlay is None else overlay(k)
 
 
 class _Renders:
@@ -64,7 +70,7 @@ class ShipEnv(_Renders, gym.Env):
         #: steps after which an episode is truncated, counted here (0: none; Gymnasium's TimeLimit may count)
         self._max_steps = 0
         self._elapsed = 0
-        self._pacing: tuple[int, Callable[[int], None] | None] = (1, None)  # Task.advance's (ticks, on_tick)
+        self._pacing: tuple[int, Callable[[int], None] | None] = (1, None)  # _advance's (ticks, on_tick)
 
     @classmethod
     def make_task(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
@@ -88,7 +94,7 @@ class ShipEnv(_Renders, gym.Env):
             raise RuntimeError("call reset() before step()")
         task = self.task
         task.helm.apply_single(action)
-        task.advance(*self._pacing)
+        self._advance(*self._pacing)
         task.update(self._step_phase)
         if self.render_mode is not None:
             self._track.append((float(self.sim.north[0]), float(self.sim.east[0])))
@@ -99,10 +105,27 @@ class ShipEnv(_Renders, gym.Env):
         truncated = 0 < self._max_steps <= self._elapsed and not terminated
         return task.obs[0].copy(), task.reward.item(), terminated, truncated, vessel_info(task, 0)
 
+    def _advance(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
+        """Advance the ship one control step (the task's ``nsub`` physics steps).
+
+        With ``on_tick``, in ``ticks`` slices: after slice i (1..ticks) the physics has made ``i * nsub // ticks``
+        of its steps and ``on_tick(i)`` is called (the same steps as one call, so the same states)."""
+        nsub, sim = self.task.nsub, self.sim
+        if on_tick is None:
+            sim.step(nsub)
+            return
+        done = 0
+        for i in range(1, ticks + 1):
+            due = i * nsub // ticks
+            if due > done:
+                sim.step(due - done)
+                done = due
+            on_tick(i)
+
     def pace(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
         """Run each step's physics in ``ticks`` slices and call ``on_tick(i)`` after slice i (1..ticks)
-        (:meth:`Task.advance <vessel_gym.envs.task.Task.advance>`): ``vessel-gym serve`` paces a control step
-        to wall-clock time this way and services its link between slices. ``pace()`` steps at once again."""
+        (:meth:`_advance`): ``vessel-gym serve`` paces a control step to wall-clock time this way and services
+        its link between slices. ``pace()`` steps at once again."""
         if ticks < 1:
             raise ValueError(f"ticks must be >= 1, got {ticks}")
         self._pacing = (int(ticks), on_tick)
@@ -117,13 +140,15 @@ class ShipEnv(_Renders, gym.Env):
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array' or 'human'")
             return None
         if self._renderer is None:
-            self._renderer = self.task.renderer(self.render_mode)
+            from vessel_gym.ui.chart import task_renderer  # pygame is imported only here
+
+            self._renderer = task_renderer(self.task, self.render_mode)
         return self._renderer.draw(
             self.sim,
             0,
             self._track,
             telegraph=self._telegraph(),
-            overlay=self.task.overlay(0),
+            overlay=task_overlay(self.task, 0),
             targets=self._traffic_targets(),
         )
 
@@ -206,7 +231,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._reset_done = False
 
     def _reset_vessels(self, idx: np.ndarray, options: dict | None) -> None:
-        self.task.reset_vessels(idx, options)
+        reset_vessels(self.task, idx, options)
         self._steps[idx] = 0
         if self.render_mode is not None:
             for k in idx[idx < len(self._tracks)].tolist():
@@ -242,7 +267,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
         self._needs_reset[mask] = False
         self.task.update(phase)
         self._reset_done = True
-        return self.task.observe(), batch_info(self.task)
+        return self.task.obs.copy(), batch_info(self.task)
 
     def step(self, actions: Any):
         if not self._reset_done:
@@ -255,7 +280,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
         if self.autoreset_mode == AutoresetMode.DISABLED and resets:
             raise RuntimeError("autoreset disabled: reset the finished sub-environments (options reset_mask)")
         task.helm.apply(a)
-        task.advance()
+        self.sim.step(task.nsub)  # every vessel one control step
         if resets:
             self._reset_vessels(np.flatnonzero(done_prev), None)
             phase = np.where(done_prev, PHASE_RESET, PHASE_STEP).astype(np.int8)
@@ -277,7 +302,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
         else:
             truncated = np.zeros(n, dtype=np.bool_)
         rewards = task.reward.copy()
-        obs = task.observe()
+        obs = task.obs.copy()
         info = batch_info(task)
         done = terminated | truncated
         if self.render_mode is not None:
@@ -298,7 +323,7 @@ class ShipVectorEnv(_Renders, VectorEnv):
             self._reset_vessels(idx, None)
             phase2 = np.where(done, PHASE_RESET, 0).astype(np.int8)
             task.update(phase2)
-            obs[idx] = task.observe()[idx]
+            obs[idx] = task.obs[idx]
             info["final_obs"] = final_obs
             info["_final_obs"] = done.copy()
             info["final_info"] = final_info
@@ -313,9 +338,11 @@ class ShipVectorEnv(_Renders, VectorEnv):
             gym.logger.warn("render() called without a render_mode; pass render_mode='rgb_array'")
             return None
         if self._renderer is None:
-            self._renderer = self.task.renderer("rgb_array")
+            from vessel_gym.ui.chart import task_renderer  # pygame is imported only here
+
+            self._renderer = task_renderer(self.task, "rgb_array")
         return tuple(
-            self._renderer.draw(self.sim, k, self._tracks[k], telegraph=None, overlay=self.task.overlay(k))
+            self._renderer.draw(self.sim, k, self._tracks[k], telegraph=None, overlay=task_overlay(self.task, k))
             for k in range(len(self._tracks))
         )
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import abc
 import math
 from collections import namedtuple
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar
 
 import numpy as np
@@ -268,7 +268,7 @@ class Task(abc.ABC):
         self.L = self.ship.particulars.L_m
         self.delta_max = float(self.ship.steering_gear.max_angle_deg * DEG)
         self.rev_full = float(np.max(np.abs(self.helm.rev_table[0]))) or 1.0
-        self.layout = ObservationLayout(self.observation_features(), config.observation_type == "normalized")
+        self.layout = ObservationLayout(observation_features(self), config.observation_type == "normalized")
         self.term_names = self.spec.term_names  # the keys of info["reward_terms"], in kernel column order
         self.weights = self.spec.weight_vector(config.reward)
         self.n_features = self.spec.n_features(self.feature_counts())
@@ -294,91 +294,35 @@ class Task(abc.ABC):
 
     @classmethod
     def from_config(cls, config: Any, overrides: Mapping[str, Any], n: int) -> Task:
-        """The task of ``n`` vessels from a config (instance, mapping, TOML path or None) and keyword overrides;
-        ``overrides["preset"]`` names the registered preset (:mod:`vessel_gym.envs.registration`) whose values
-        lie under a mapping or TOML config and the overrides."""
+        """The task of ``n`` vessels from a config (instance, mapping, TOML path or None) and keyword overrides
+        (:func:`task_config`)."""
         over = dict(overrides)
         preset = over.pop("preset", None)
-        task = cls(cls.build_config(config, over, preset), n)
+        task = cls(task_config(cls, config, over, preset), n)
         task.preset = preset
         return task
-
-    @classmethod
-    def build_config(cls, config: Any, overrides: Mapping[str, Any], preset: str | None) -> Any:
-        """:meth:`from_config`'s config: the class defaults, the preset's values, ``config``, ``overrides``."""
-        presets = getattr(getattr(cls, "declaration", None), "presets", {})
-        if preset is not None and preset not in presets:
-            raise SpecError(f"{cls.__name__}: no preset {preset!r} (have: {', '.join(presets)})")
-        where = f"{preset or cls.__name__} config"
-        return make_config(cls.Config, config, where=where, base=presets.get(preset), **overrides)
 
     # subclass interface
     @abc.abstractmethod
     def observed(self) -> Sequence[str]:
-        """The names of the observed features, in observation order (see :meth:`motion_observed`)."""
+        """The names of the observed features, in observation order (see
+        :func:`~vessel_gym.envs.tasks.common.motion_observed`)."""
 
     @abc.abstractmethod
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
         """Put vessel k at a new start drawn with ``rng`` (``options`` as the environment's reset)."""
 
-    def reset_vessels(self, idx: np.ndarray, options: Mapping | None) -> None:
-        """Reset the vessels ``idx``: vessel k by :meth:`reset_vessel` with its generator ``rngs[k]``, so each
-        draws exactly what a lone reset draws, and the simulation's starts (:meth:`start`) gathered into one
-        batched ``Simulation.reset`` (numpy over the vessels, one steady-state solve per distinct approach)."""
-        if type(self).reset_batch is not Task.reset_batch:  # a start written over arrays: all at once
-            self.reset_batch(idx, self.rngs.draws(idx), options)
-            return
-        rng = getattr(self.rngs, "lazy", self.rngs.__getitem__)  # lazy: made at a first draw (env.py)
-        if len(idx) == 1:
-            k = int(idx[0])
-            self.reset_vessel(k, rng(k), options)
-            return
-        self._starts = starts = ([], [], [], [], [])
-        try:
-            for k in idx.tolist():
-                self.reset_vessel(k, rng(k), options)
-        finally:
-            self._starts = None
-        if not starts[0]:  # a task that resets the simulation itself
-            return
-        ks = np.array(starts[0], dtype=np.int64)
-        sp, hd, xs, ys = (np.array(v, dtype=float) for v in starts[1:])
-        self.sim.reset(speed_m_s=sp, heading_deg=hd, x_m=xs, y_m=ys, k=ks)
-        self.started(ks)
-
     def reset_batch(self, idx: np.ndarray, rng: Any, options: Mapping | None) -> None:
         """Reset the vessels ``idx`` (int64 array) at once, in numpy over arrays: each draw of ``rng`` gives one
         number per vessel (:class:`~vessel_gym.envs.generators.BatchDraws`: vessel k's from its own stream) or,
         for one vessel, a numpy Generator's number. A task that writes its start this way defines it (then
-        :meth:`reset_vessels` calls it, and its :meth:`reset_vessel` is the one-vessel case); the others start
+        :func:`reset_vessels` calls it, and its :meth:`reset_vessel` is the one-vessel case); the others start
         one vessel at a time."""
         raise NotImplementedError
 
-    def start(self, k: int, speed: float, heading: float, x_m: float = 0.0, y_m: float = 0.0) -> None:
-        """Vessel k in a steady straight approach (``Simulation.reset``) at ``speed`` (m/s) on ``heading`` (deg)
-        at (``x_m``, ``y_m``), then :meth:`started`: at once, or with the others of a :meth:`reset_vessels`
-        batch (the simulation's state of vessel k is then new only after the task's ``reset_vessel``)."""
-        starts = self._starts
-        if starts is None:
-            self.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=x_m, y_m=y_m, k=k)
-            self.started(k)
-            return
-        for column, value in zip(starts, (k, speed, heading, x_m, y_m)):
-            column.append(value)
-
-    def start_batch(self, idx: np.ndarray, speed: Any, heading: Any, x_m: Any = 0.0, y_m: Any = 0.0) -> None:
-        """:meth:`start` of the vessels ``idx`` at once (values scalars or arrays over ``idx``): one batched
-        ``Simulation.reset``, then :meth:`started` (one vessel: the simulation's scalar path)."""
-        k: Any = idx
-        if len(idx) == 1:
-            k = int(idx[0])
-            speed, heading, x_m, y_m = (float(np.ravel(v)[0]) for v in (speed, heading, x_m, y_m))
-        self.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=x_m, y_m=y_m, k=k)
-        self.started(k)
-
     def started(self, k: int | np.ndarray) -> None:  # noqa: B027 (a task that keeps nothing has nothing to do)
         """Copy what the task keeps of the vessels' start states (``k`` one index or an array of them) once
-        the simulation has them (:meth:`start`)."""
+        the simulation has them (:func:`start`)."""
 
     def scales(self) -> dict[str, float]:
         """What each scale name of the declared features is worth for this task's ship (extend in a task)."""
@@ -396,16 +340,6 @@ class Task(abc.ABC):
         """Copies of each repeated feature (config key -> count); none unless a task declares one."""
         return {}
 
-    def observation_features(self) -> list[Feature]:
-        """The observation entries, in order: the declared features of :meth:`observed`, scales resolved."""
-        return self.spec.layout(self.observed(), self.scales(), self.feature_counts())
-
-    @staticmethod
-    def motion_observed(rev: bool) -> tuple[str, ...]:
-        """The features every observation begins with: motion through the water and the helm; the shaft speed
-        only if ``rev``."""
-        return ("u", "v", "r", "rudder", "rudder_order") + (("rev",) if rev else ())
-
     def update(self, phase: np.ndarray) -> None:
         """Run the task kernel; fill ``feat``, ``terms`` and ``terminated`` for the vessels in ``phase``."""
         call = self._kernel_call
@@ -422,43 +356,72 @@ class Task(abc.ABC):
         state["_infos"] = None
         return state
 
-    def renderer(self, mode: str) -> Any:
-        """A chart renderer of this task's ship and chart (pygame is imported only here)."""
-        from vessel_gym.ui.chart import ChartRenderer
 
-        return ChartRenderer(
-            mode,
-            ship=self.ship,
-            scenario=getattr(self, "scenario", None),
-            fps=1.0 / self.config.control_interval_s,
-        )
+# --- what the framework does with a task: its config, starts, observation layout --------------------------------
+def task_config(cls: type[Task], config: Any, overrides: Mapping[str, Any], preset: str | None) -> Any:
+    """The config of a task of class ``cls``: the class defaults, the registered preset's values
+    (:mod:`vessel_gym.envs.registration`), ``config`` (instance, mapping, TOML path or None), ``overrides``."""
+    presets = getattr(getattr(cls, "declaration", None), "presets", {})
+    if preset is not None and preset not in presets:
+        raise SpecError(f"{cls.__name__}: no preset {preset!r} (have: {', '.join(presets)})")
+    where = f"{preset or cls.__name__} config"
+    return make_config(cls.Config, config, where=where, base=presets.get(preset), **overrides)
 
-    def overlay(self, k: int) -> dict[str, Any]:
-        """What the chart draws besides the ship (target heading, goal, ...)."""
-        return {}
 
-    # shared
-    def advance(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
-        """Advance every vessel one control step (``nsub`` physics steps).
+def reset_vessels(task: Task, idx: np.ndarray, options: Mapping | None) -> None:
+    """Reset the vessels ``idx``: vessel k by the task's ``reset_vessel`` with its generator ``rngs[k]``, so
+    each draws exactly what a lone reset draws, and the simulation's starts (:func:`start`) gathered into one
+    batched ``Simulation.reset`` (numpy over the vessels, one steady-state solve per distinct approach); a task
+    that defines ``reset_batch`` resets them all at once."""
+    if type(task).reset_batch is not Task.reset_batch:  # a start written over arrays: all at once
+        task.reset_batch(idx, task.rngs.draws(idx), options)  # type: ignore[attr-defined]
+        return
+    rng = getattr(task.rngs, "lazy", task.rngs.__getitem__)  # lazy: made at a first draw (env.py)
+    if len(idx) == 1:
+        k = int(idx[0])
+        task.reset_vessel(k, rng(k), options)
+        return
+    task._starts = starts = ([], [], [], [], [])
+    try:
+        for k in idx.tolist():
+            task.reset_vessel(k, rng(k), options)
+    finally:
+        task._starts = None
+    if not starts[0]:  # a task that resets the simulation itself
+        return
+    ks = np.array(starts[0], dtype=np.int64)
+    sp, hd, xs, ys = (np.array(v, dtype=float) for v in starts[1:])
+    task.sim.reset(speed_m_s=sp, heading_deg=hd, x_m=xs, y_m=ys, k=ks)
+    task.started(ks)
 
-        With ``on_tick``, in ``ticks`` slices: after slice i (1..ticks) the physics has made ``i * nsub // ticks``
-        of its steps and ``on_tick(i)`` is called (the same steps as one call, so the same states). This is how
-        ``vessel-gym serve`` paces a control step to wall-clock time and services its link between slices
-        (:meth:`ShipEnv.pace <vessel_gym.envs.env.ShipEnv.pace>`)."""
-        if on_tick is None:
-            self.sim.step(self.nsub)
-            return
-        done = 0
-        for i in range(1, ticks + 1):
-            due = i * self.nsub // ticks
-            if due > done:
-                self.sim.step(due - done)
-                done = due
-            on_tick(i)
 
-    def observe(self) -> np.ndarray:
-        """A new array of the current observations (N, obs_dim)."""
-        return self.obs.copy()
+def start(task: Task, k: int, speed: float, heading: float, x_m: float = 0.0, y_m: float = 0.0) -> None:
+    """Vessel k in a steady straight approach (``Simulation.reset``) at ``speed`` (m/s) on ``heading`` (deg)
+    at (``x_m``, ``y_m``), then the task's ``started``: at once, or with the others of a :func:`reset_vessels`
+    batch (the simulation's state of vessel k is then new only after the task's ``reset_vessel``)."""
+    starts = task._starts
+    if starts is None:
+        task.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=x_m, y_m=y_m, k=k)
+        task.started(k)
+        return
+    for column, value in zip(starts, (k, speed, heading, x_m, y_m)):
+        column.append(value)
+
+
+def start_batch(task: Task, idx: np.ndarray, speed: Any, heading: Any, x_m: Any = 0.0, y_m: Any = 0.0) -> None:
+    """:func:`start` of the vessels ``idx`` at once (values scalars or arrays over ``idx``): one batched
+    ``Simulation.reset``, then the task's ``started`` (one vessel: the simulation's scalar path)."""
+    k: Any = idx
+    if len(idx) == 1:
+        k = int(idx[0])
+        speed, heading, x_m, y_m = (float(np.ravel(v)[0]) for v in (speed, heading, x_m, y_m))
+    task.sim.reset(speed_m_s=speed, heading_deg=heading, x_m=x_m, y_m=y_m, k=k)
+    task.started(k)
+
+
+def observation_features(task: Task) -> list[Feature]:
+    """The observation entries, in order: the declared features the task observes, scales resolved."""
+    return task.spec.layout(task.observed(), task.scales(), task.feature_counts())
 
 
 def compiled_entry(kernel: Any, phase: np.ndarray, records: tuple) -> Any:

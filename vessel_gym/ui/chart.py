@@ -46,6 +46,17 @@ def depth_colour(depth_m: float, draught_m: float, deep_m: float) -> tuple[int, 
     return tuple(int(round(a + (b - a) * f)) for a, b in zip((200, 228, 240), DEEP))  # type: ignore[return-value]
 
 
+def task_renderer(task: Any, mode: str) -> ChartRenderer:
+    """A chart renderer of an environment task's ship and chart (its ``scenario`` if it has one), at its control
+    rate."""
+    return ChartRenderer(
+        mode,
+        ship=task.ship,
+        scenario=getattr(task, "scenario", None),
+        fps=1.0 / task.config.control_interval_s,
+    )
+
+
 class ChartRenderer:
     """Draws a chart of vessel k of a simulation; ``mode`` "human" (window) or "rgb_array" (returns frames).
 

@@ -20,7 +20,7 @@ from numba import njit
 
 from vessel_gym.envs.config import RollOptionsConfig
 from vessel_gym.envs.declare import FeatureSpec, Info, TaskSpec, Term, columns, logical_not
-from vessel_gym.envs.task import Task, _uniform, task_arrays
+from vessel_gym.envs.task import Task, _uniform, start, start_batch, task_arrays
 from vessel_gym.physics.kinematics import (
     heading,
     helm_orders,
@@ -45,6 +45,12 @@ MOTION = (
     FeatureSpec("rev", "rev/s", (1.5, "full rev"), "propeller shaft speed (tachometer)"),
 )
 M = columns(*(f.name for f in MOTION), typename="Motion")
+
+def motion_observed(rev: bool) -> tuple[str, ...]:
+    """The features every observation begins with: motion through the water and the helm; the shaft speed only
+    if ``rev``."""
+    return ("u", "v", "r", "rudder", "rudder_order") + (("rev",) if rev else ())
+
 
 #: the roll features of the open-water tasks (observed with ``observe_roll``, on a ship with roll). A harmonic
 #: roll of amplitude heel_ref at the ship's upright free-roll frequency omega_phi has the peak rate
@@ -210,14 +216,14 @@ class OpenWaterTask(Task):
         state but for the original course, the approach speed and (:meth:`started`) the rudder order, and
         return that row."""
         self._clear_start(k, rng, float(heading), speed)
-        self.start(k, speed, heading)
+        start(self, k, speed, heading)
         return self.ts[k]
 
     def start_vessels(self, idx: np.ndarray, rng: Any, heading: Any, speed: Any) -> None:
         """:meth:`start_vessel` of the vessels ``idx`` at once (``heading``, ``speed``: scalars or arrays over
         ``idx``; ``rng``: their draws), with one batched ``Simulation.reset``."""
         self._clear_start(idx, rng, heading, speed)
-        self.start_batch(idx, speed, heading)
+        start_batch(self, idx, speed, heading)
 
     def _clear_start(self, k: Any, rng: Any, heading: Any, speed: Any) -> None:
         """Disturbances drawn and set, task state rows cleared but for the original course and approach speed."""
@@ -232,13 +238,6 @@ class OpenWaterTask(Task):
         self.ts[k, self.S.prev_order] = self.sim.rudder_order[k]
 
     # --- the roll options (tasks whose config is a RollOptionsConfig) ------------------------------------------
-    def observation_features(self) -> list[Any]:
-        # the first point of the construction at which the ship is known: the roll options are checked here,
-        # before the observation layout or anything else uses them
-        if isinstance(self.config, RollOptionsConfig):
-            self.check_roll_options()
-        return super().observation_features()
-
     def check_roll_options(self) -> None:
         """Refuse the roll options on a 3-DOF ship, with a one-line error naming the option."""
         c = self.config
@@ -253,7 +252,10 @@ class OpenWaterTask(Task):
         """The shared scale names and, with the roll options, those of :data:`ROLL_FEATURES`: the heel
         reference, rad, and that times the ship's upright free-roll frequency omega_phi, 1/s
         (:func:`~vessel_gym.physics.roll.free_roll_frequency`): the peak rate of a harmonic roll of amplitude
-        heel_ref."""
+        heel_ref. The roll options are checked here, the first point of the construction at which the ship is
+        known, before the observation layout or anything else uses them."""
+        if isinstance(self.config, RollOptionsConfig):
+            self.check_roll_options()
         out = super().scales()
         if isinstance(self.config, RollOptionsConfig):
             omega = free_roll_frequency(self.sim.Ps[0])

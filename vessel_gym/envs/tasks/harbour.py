@@ -23,7 +23,7 @@ import numpy as np
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.generators import vessel_draws
 from vessel_gym.envs.registration import register_task
-from vessel_gym.envs.task import Task, _uniform, compiled_call
+from vessel_gym.envs.task import Task, _uniform, compiled_call, start_batch, task_config
 from vessel_gym.envs.tasks.chart import (
     OK,
     OUTCOMES,
@@ -248,7 +248,7 @@ class HarbourApproachTask(Task):
             over["scenario"] = scenario.path or scenario.name
         else:
             scenario = None
-        task = cls(cls.build_config(config, over, preset), n, scenario=scenario)
+        task = cls(task_config(cls, config, over, preset), n, scenario=scenario)
         task.preset = preset
         return task
 
@@ -258,6 +258,10 @@ class HarbourApproachTask(Task):
 
             seed = split_seed(config.layout_split, config.layout_index)
             scenario = generate_harbour(seed, config.ship if config.ship is not None else "kvlcc2_l7")
+        if scenario is None and "\x00" in config.scenario:  # the OS refuses it, with a message of its own
+            raise SpecError(
+                f"HarbourApproach config scenario: {config.scenario!r} contains U+0000, which no file name holds"
+            )
         sc = scenario if scenario is not None else load_scenario(config.scenario)
         ship = load_ship(config.ship if config.ship is not None else sc.load_ship())
         time_scale = ship.particulars.L_m / ship.test_speed_m_s  # s
@@ -502,7 +506,7 @@ class HarbourApproachTask(Task):
         ts[idx, S.d_prev] = [math.hypot(gn - a, ge - b) for a, b in zip(n0.tolist(), e0.tolist())]
         ts[idx, S.prev_north], ts[idx, S.prev_east] = n0, e0
         self.flags[idx] = OK
-        self.start_batch(idx, speed, heading, n0, e0)
+        start_batch(self, idx, speed, heading, n0, e0)
 
     def started(self, k: int | np.ndarray) -> None:
         self.ts[k, S.prev_order] = self.sim.rudder_order[k]

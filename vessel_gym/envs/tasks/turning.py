@@ -44,6 +44,7 @@ from vessel_gym.envs.tasks.common import (
     heel,
     motion,
     motion_features,
+    motion_observed,
     reset_options,
     roll_features,
     rudder_activity,
@@ -326,7 +327,7 @@ class TurningCircleTask(OpenWaterTask):
 
     def observed(self) -> tuple[str, ...]:
         return (
-            self.motion_observed(rev=self.config.engine_control)
+            motion_observed(rev=self.config.engine_control)
             + MODE_FEATURES[self.config.mode]
             + self.roll_observed()
         )

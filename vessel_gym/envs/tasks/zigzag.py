@@ -45,6 +45,7 @@ from vessel_gym.envs.tasks.common import (
     heel,
     motion,
     motion_features,
+    motion_observed,
     reset_options,
     roll_features,
     rudder_activity,
@@ -417,7 +418,7 @@ class ZigZagTask(OpenWaterTask):
         self.switch_on_heel(P.heel_ref)
 
     def observed(self) -> tuple[str, ...]:
-        motion_and_heading = self.motion_observed(rev=self.config.engine_control)
+        motion_and_heading = motion_observed(rev=self.config.engine_control)
         return motion_and_heading + tuple(f.name for f in ZIGZAG_FEATURES) + self.roll_observed()
 
 
