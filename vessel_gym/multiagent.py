@@ -39,7 +39,7 @@ except ImportError as exc:  # pragma: no cover - the extra is installed in CI
 
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
 from vessel_gym.envs.registration import declaration, task_class
-from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, vessel_info
+from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, reset_vessels, vessel_info
 
 
 class ShipParallelEnv(ParallelEnv):
@@ -92,12 +92,12 @@ class ShipParallelEnv(ParallelEnv):
         task.rngs = self._rngs
         known = getattr(task, "reset_options", ())
         opts = {k: v for k, v in (options or {}).items() if k in known} or None
-        task.reset_vessels(np.arange(self.n), opts)
+        reset_vessels(task, np.arange(self.n), opts)
         task.update(np.full(self.n, PHASE_RESET, dtype=np.int8))
         self.agents = list(self.possible_agents)
         self._live[:] = True
         self._steps = 0
-        obs = task.observe()
+        obs = task.obs.copy()
         return {a: obs[k] for k, a in enumerate(self.possible_agents)}, {
             a: vessel_info(task, k) for k, a in enumerate(self.possible_agents)
         }
@@ -111,11 +111,11 @@ class ShipParallelEnv(ParallelEnv):
             if self._live[k]:
                 batch[k] = helm.single(act)[0]
         helm.apply(helm.batch(batch, self.n))
-        task.advance()
+        task.sim.step(task.nsub)  # every vessel one control step
         phase = np.where(self._live, PHASE_STEP, 0).astype(np.int8)
         task.update(phase)
         self._steps += 1
-        obs_all = task.observe()
+        obs_all = task.obs.copy()
         live = [a for a in self.agents]
         obs, rewards, terms, truncs, infos = {}, {}, {}, {}, {}
         timeout = 0 < self.max_cycles <= self._steps
@@ -132,7 +132,7 @@ class ShipParallelEnv(ParallelEnv):
         return obs, rewards, terms, truncs, infos
 
     def state(self) -> np.ndarray:
-        obs = self.task.observe()
+        obs = self.task.obs.copy()
         obs[~self._live] = 0.0
         return obs.reshape(-1)
 

@@ -40,9 +40,11 @@ def test_every_recorded_search_brackets_the_untuned_design_and_the_file_names_re
                 assert min(values) <= defaults[name] <= max(values), (env_id, name)
         assert rec["episodes"] <= 100
         assert set(tuned[env_id]["pid"]) == set(rec["grid"]), env_id
-    # every built-in task declares a tuned and an untuned pilot, and every tuned entry is a registered id
+    # a task with a `pid` pilot keeps its untuned design by name beside it (a task whose classical pilot is
+    # another kind, Berthing's DP pilot `scripted`, has none), and every tuned entry is a registered id
     for env_id, decl in registered().items():
-        assert {"pid", "pid-nomoto"} <= set(decl.pilots), env_id
+        if "pid" in decl.pilots:
+            assert "pid-nomoto" in decl.pilots, env_id
     assert set(tuned) <= set(registered())
 
 

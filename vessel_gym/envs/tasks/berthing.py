@@ -26,7 +26,7 @@ from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.declare import FeatureSpec, Info, Term, columns, degrees, maximum, pick
 from vessel_gym.envs.helm import ContinuousHelm, continuous_orders, real_values
 from vessel_gym.envs.registration import register_task
-from vessel_gym.envs.task import Task, _uniform, task_arrays
+from vessel_gym.envs.task import Task, _uniform, start, task_arrays
 from vessel_gym.envs.tasks.common import MOTION, task_spec
 from vessel_gym.physics.components.fenders import QuayFenders, QuayFendersParams, design_berthing_velocity
 from vessel_gym.physics.components.thrusters import OrderedComponent
@@ -518,7 +518,7 @@ class BerthingTask(Task):
         self.fenders.clear(k, self.n)
         self.ts[k] = 0.0
         self.flags[k] = OK
-        self.start(k, speed, math.degrees(heading), n0, e0)
+        start(self, k, speed, math.degrees(heading), n0, e0)
 
     def overlay(self, k: int) -> dict[str, Any]:
         return {

@@ -19,13 +19,14 @@ from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.registration import register_task
-from vessel_gym.envs.task import Task, _uniform, task_arrays
+from vessel_gym.envs.task import Task, _uniform, start, task_arrays
 from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
 from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa
 from vessel_gym.envs.tasks.colreg_rules import R, new_record
 from vessel_gym.envs.tasks.colreg_situation import read_situation
 from vessel_gym.envs.tasks.colreg_step import colreg_update
+from vessel_gym.envs.tasks.common import motion_observed
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
@@ -349,7 +350,7 @@ class CollisionAvoidanceTask(Task):
     def observed(self) -> tuple[str, ...]:
         own = ("cross_track", "course_error", "goal_sin", "goal_cos", "goal_distance")
         slots = tuple(f"t{j}_{f}" for j in range(self.config.observed_targets) for f in _field_names())
-        return self.motion_observed(rev=self.config.engine_control) + own + slots
+        return motion_observed(rev=self.config.engine_control) + own + slots
 
     # --- the start of an encounter -------------------------------------------------------------------------
     def draw(self, name: str | None, rng: np.random.Generator) -> Encounter:
@@ -425,7 +426,7 @@ class CollisionAvoidanceTask(Task):
         for slot, (n0, e0, psi, speed, tcpa) in zip(slots, ships):
             j = members[slot]
             n, e = n0 * ch - e0 * sh, n0 * sh + e0 * ch
-            self.start(j, speed, (psi + h) / DEG, n, e)
+            start(self, j, speed, (psi + h) / DEG, n, e)
             world.active[j] = True
             world.course[j] = psi + h
             if slot < c.agents:  # an own ship: its route runs through its meeting point to twice as far
@@ -449,7 +450,7 @@ class CollisionAvoidanceTask(Task):
                 self.scores[j, SC.score] = 1.0
                 self.scores[j, SC.delay] = -1.0
         for slot in range(len(enc.targets) + 1, len(members)):  # empty slots: parked
-            self.start(members[slot], enc.speed, 0.0, 0.0, 0.0)
+            start(self, members[slot], enc.speed, 0.0, 0.0, 0.0)
 
     def update(self, phase: np.ndarray) -> None:
         """The task's step, then (``targets_react``) the scripted targets' rudder orders for the next step."""
