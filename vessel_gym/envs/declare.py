@@ -122,15 +122,17 @@ class Info:
 
 
 # --- values of one vessel (Python numbers) or of all (numpy arrays), for Info.value -------------------------
+_UNSET = object()
+
+
 def once(fn: Callable[[Any], Any]) -> Callable[[Any], Any]:
     """``fn(v)``, a quantity several entries use, computed once per ``info`` (kept in ``v.memo``)."""
 
     @functools.wraps(fn)
     def value(v: Any) -> Any:
-        memo = v.memo
-        if fn in memo:
-            return memo[fn]
-        out = memo[fn] = fn(v)
+        out = v.memo.get(fn, _UNSET)
+        if out is _UNSET:
+            out = v.memo[fn] = fn(v)
         return out
 
     return value
