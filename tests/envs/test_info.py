@@ -153,3 +153,29 @@ def test_declared_entries_follow_the_config():
             assert binfo["is_success"] is not binfo["success"]  # a copy: the two arrays share nothing
         venv.close()
         env.close()
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_batch_info_from_the_columns_read_equals_the_whole_copy(env_id, monkeypatch):
+    """The vector env copies only the columns its entries read where that saves (many ships) and the whole
+    transposed array otherwise: both give the same info, bit for bit."""
+    import vessel_gym.envs.task as T
+
+    venv = gym.make_vec(env_id, num_envs=3, vectorization_mode="vector_entry_point")
+    venv.action_space.seed(0)
+    venv.reset(seed=0)
+    for _ in range(5):
+        venv.step(venv.action_space.sample())
+    task = venv.unwrapped.task
+    infos, copies = [], []
+    for saves in (0, 10**9):  # 0: the columns read, always; 10**9: the whole copy, always
+        monkeypatch.setattr(T, "COPY_SAVES", saves)
+        task._infos = None
+        infos.append(batch_info(task))
+        copies.append([cols is None for name, _a, cols in T.info_plan(task).columns if name != "terms"])
+    assert copies[0] and not any(copies[0]) and all(copies[1])
+    _assert_same_batch_info(infos[0], infos[1])
+    for key, want in infos[1].items():
+        if isinstance(want, np.ndarray) and want.dtype != object:
+            assert infos[0][key].tobytes() == want.tobytes(), key
+    venv.close()

@@ -193,6 +193,7 @@ def test_generated_docs_row_and_tables():
     block = docs_block(decls)
     assert "#### CourseKeeping (`CourseKeepingTask`, `CourseKeepingConfig`)" in block
     assert "| `course_change_deg` |" in block and "| `heading_error` | 1 |" in block
+    assert "| `heading_error_deg` | course - heading, deg |" in block  # the declared info entries
 
 
 def test_training_defaults_from_the_declaration():

@@ -109,8 +109,9 @@ class Info:
     environment they are fresh copies, one entry per vessel (row j of ``v.ts`` is column j of the task state).
     So one expression gives both; the functions below (:func:`degrees`, :func:`all_of`, ...) take either kind.
 
-    ``when(config)`` false leaves the entry out, or with ``otherwise`` set gives it that constant value;
-    ``same_as`` names an earlier entry whose value it repeats (``is_success``).
+    ``when(config)`` false leaves the entry out, or with ``otherwise`` set gives it that constant value (``doc``
+    says when: the docs cannot read a function); ``same_as`` names an earlier entry whose value it repeats
+    (``is_success``).
     """
 
     name: str
@@ -122,15 +123,17 @@ class Info:
 
 
 # --- values of one vessel (Python numbers) or of all (numpy arrays), for Info.value -------------------------
+_UNSET = object()
+
+
 def once(fn: Callable[[Any], Any]) -> Callable[[Any], Any]:
     """``fn(v)``, a quantity several entries use, computed once per ``info`` (kept in ``v.memo``)."""
 
     @functools.wraps(fn)
     def value(v: Any) -> Any:
-        memo = v.memo
-        if fn in memo:
-            return memo[fn]
-        out = memo[fn] = fn(v)
+        out = v.memo.get(fn, _UNSET)
+        if out is _UNSET:
+            out = v.memo[fn] = fn(v)
         return out
 
     return value
@@ -312,6 +315,16 @@ class TaskSpec:
             where = f"{col}.." if f.repeat else f"{col}"
             doc = f.doc.format(j="j", angle=f"360 j / {f.repeat}") if f.repeat else f.doc
             rows.append(f"| {where} | `{name}` | {f.unit} | {f.scale_text()} | {_md(doc)} |")
+        return "\n".join(rows)
+
+    def info_table(self) -> str:
+        """Markdown table of the ``info`` entries (docs/envs.md carries it), ``reward_terms`` first."""
+        rows = ["| key | meaning |", "|---|---|", "| `reward_terms` | the weighted reward terms by name |"]
+        for i in self.info:
+            doc = i.doc or (f"the same as `{i.same_as}`" if i.same_as else "")
+            if i.when is not None and i.otherwise is not None:
+                doc += f"; else {i.otherwise:g}"
+            rows.append(f"| `{i.name}` | {_md(doc)} |")
         return "\n".join(rows)
 
     def docs(self) -> str:

@@ -110,22 +110,38 @@ class _Vessels:
 
 
 class _Probe(_Vessels):
-    """All vessels' arrays by name, copied at their first read and the names read recorded (:class:`InfoPlan`
-    learns which arrays its entries read)."""
+    """All vessels' arrays by name, the columns read recorded (:class:`InfoPlan` learns which arrays and columns
+    its entries read)."""
 
     def __init__(self, task: Task, arrays: dict[str, np.ndarray]) -> None:
         super().__init__(task)
         self._arrays = arrays
-        self.read: list[str] = []
+        self.read: dict[str, set[int]] = {}
 
     def __getattr__(self, name: str) -> Any:
         a = self._arrays.get(name)
         if a is None:
             raise AttributeError(f"info entries read {', '.join(self._arrays)}, task and memo, not {name!r}")
-        self.read.append(name)
-        value = a.copy() if a.ndim == 1 else a.T.copy()
+        cols = self.read.setdefault(name, set())
+        if a.ndim == 1:
+            value: Any = a.copy()
+        else:
+            value = _Columns(a, cols)
         setattr(self, name, value)
         return value
+
+
+class _Columns:
+    """Column j of a 2-D array of all vessels, copied, recorded in ``cols``."""
+
+    def __init__(self, a: np.ndarray, cols: set[int]) -> None:
+        self._a, self._cols = a, cols
+
+    def __getitem__(self, j: int) -> np.ndarray:
+        if not isinstance(j, (int, np.integer)):
+            raise TypeError(f"info entries read one column of a vessel array at a time, not [{j!r}]")
+        self._cols.add(int(j))
+        return self._a[:, j].copy()
 
 
 class InfoPlan:
@@ -159,16 +175,33 @@ class InfoPlan:
         framework = (task.feat, task.terms, task.reward, task.sim.alive, task.terminated)
         arrays = {**dict(zip(INFO_ARRAYS, framework)), **{f: getattr(task, f) for f in task.Arrays.vessel}}
         probe = _Probe(task, arrays)
-        read = [probe.terms]  # the framework's reward_terms
         with np.errstate(all="ignore"):  # the values now are of no interest, only what they read
             for _name, value in self.batch:
-                read.append(value(probe))
-        used = {name: arrays[name] for name in probe.read}
+                value(probe)
+        used = {name: arrays[name] for name in ("terms", *probe.read)}  # terms: the framework's reward_terms
         self.rows = tuple((name, a) for name, a in used.items() if a.ndim == 2)
         self.items = tuple((name, a) for name, a in used.items() if a.ndim == 1)
+        #: the vector environment's copies of each 2-D array: the columns the entries read (None: all of them,
+        #: the transposed array in one copy, where fewer would save little)
+        self.columns = tuple(
+            (name, a, self._columns(a, None if name == "terms" else probe.read.get(name))) for name, a in self.rows
+        )
         #: the single environment's view, refilled at each call (its values are Python numbers and lists
         #: made anew, so an entry that returns one shares nothing with a later call)
         self.one = _Vessels(task)
+
+
+    def _columns(self, a: np.ndarray, read: set[int] | None) -> list[int] | None:
+        """The columns of ``a`` to copy for the entries, or None for all: a copy of the columns read pays where
+        it leaves out at least COPY_SAVES elements (of smaller arrays a single copy of all costs less)."""
+        if read is None or self.n * (a.shape[1] - len(read)) < COPY_SAVES:
+            return None
+        return sorted(read)
+
+
+#: elements left out of a copy from which copying the columns an info reads beats one copy of all (measured
+#: on ZigZag-v1: at 16 ships the whole copy, at 1024 the columns read)
+COPY_SAVES = 4096
 
 
 def _none(v: Any) -> None:
@@ -203,13 +236,13 @@ def vessel_info(task: Task, k: int) -> dict[str, Any]:
 
 def batch_info(task: Task) -> dict[str, Any]:
     """The ``info`` of all vessels (the vector environment's), each entry a new array over the vessels: the
-    declared entries of fresh copies of the arrays (a 2-D array transposed, row j column j of every vessel),
-    so no entry is a view of an array a later step changes."""
+    declared entries of fresh copies of the arrays (of a 2-D array the columns the entries read, ``[j]``
+    column j of every vessel), so no entry is a view of an array a later step changes."""
     plan = task._infos or info_plan(task)
     v = _Vessels(task)
     d = v.__dict__
-    for name, a in plan.rows:
-        d[name] = a.T.copy()
+    for name, a, cols in plan.columns:  # [j]: column j of every vessel, a fresh copy
+        d[name] = a.T.copy() if cols is None else dict(zip(cols, a.T[cols]))
     for name, a in plan.items:
         d[name] = a.copy()
     info = {"reward_terms": dict(zip(plan.term_names, d["terms"]))}

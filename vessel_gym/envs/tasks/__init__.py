@@ -107,13 +107,14 @@ def ids_table(decls: dict[str, Any] | None = None) -> str:
 
 
 def task_docs(cls: Any) -> str:
-    """A task's generated section: config keys, then its reward and feature tables."""
+    """A task's generated section: config keys, then its reward, feature and ``info`` tables."""
     spec = cls.spec
     head = " ".join((cls.__doc__ or "").strip().split("\n\n")[0].split())
     return (
         f"#### {cls.__name__.removesuffix('Task')} (`{cls.__name__}`, `{cls.Config.__name__}`)\n\n"
         f"{_md(head)}\n\nConfig keys (besides the shared ones above):\n\n{config_table_task(cls)}\n\n"
-        f"Reward terms (`reward` table):\n\n{spec.reward_table()}\n\nFeatures:\n\n{spec.feature_table()}\n"
+        f"Reward terms (`reward` table):\n\n{spec.reward_table()}\n\nFeatures:\n\n{spec.feature_table()}\n\n"
+        f"`info` entries:\n\n{spec.info_table()}\n"
     )
 
 

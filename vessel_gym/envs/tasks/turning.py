@@ -79,14 +79,14 @@ INFO = (
     Info(
         "commanded_rate_deg_s",
         lambda v: degrees(v.ts[S.command]),
-        "rate mode: the commanded rate of turn, deg/s (else 0)",
+        "rate mode: the commanded rate of turn, deg/s",
         when=lambda c: c.mode == "rate",
         otherwise=0.0,
     ),
     Info(
         "commanded_radius_m",
         lambda v: 1.0 / v.ts[S.command],
-        "radius mode: the commanded radius, m (else 0)",
+        "radius mode: the commanded radius, m",
         when=lambda c: c.mode == "radius",
         otherwise=0.0,
     ),
@@ -97,7 +97,9 @@ INFO = (
     Info("reached_180", lambda v: v.ts[S.reached_180] > 0.0, "180 deg heading change reached"),
     Info("success", lambda v: all_of(v.done, v.alive), "the episode ended with its goal (reverse mode)"),
     DIVERGED,
-    Info("is_success", same_as="success", when=lambda c: c.mode == "reverse"),  # the only mode with an end
+    Info(  # the only mode with an end state to reach
+        "is_success", doc="reverse mode: the same as `success`", same_as="success", when=lambda c: c.mode == "reverse"
+    ),
 )
 SPEC = task_spec(
     "TurningCircle-v0",

@@ -79,21 +79,18 @@ ZIGZAG_FEATURES = (
     FeatureSpec("target_deviation", "rad", (1.0, "pi"), "target heading - original course"),
 )
 @once
-def _overshoot_now(v: Any) -> Any:
-    """The open measurement's overshoot so far, 0 if none is open."""
-    return v.ts[S.os_peak] * v.ts[S.os_on]
-
-
-@once
-def _per_change(v: Any) -> Any:
-    """Overshoot per course change, the open measurement counted with its overshoot so far, rad."""
-    return (v.ts[S.os_sum] + _overshoot_now(v)) / maximum(v.ts[S.changes], 1.0)
+def _overshoots(v: Any) -> tuple[Any, Any]:
+    """(overshoot per course change, largest overshoot), rad: the open measurement counts with its overshoot
+    so far."""
+    s = v.ts
+    running = s[S.os_peak] * s[S.os_on]
+    return (s[S.os_sum] + running) / maximum(s[S.changes], 1.0), maximum(s[S.os_max], running)
 
 
 def _success(v: Any) -> Any:
     """No course change ended with its target missed, one reached, the overshoot per change small enough."""
     s = v.ts
-    return all_of(s[S.missed] == 0.0, s[S.n_reached] >= 1.0, _per_change(v) <= v.task.success_overshoot)
+    return all_of(s[S.missed] == 0.0, s[S.n_reached] >= 1.0, _overshoots(v)[0] <= v.task.success_overshoot)
 
 
 INFO = (
@@ -103,12 +100,8 @@ INFO = (
     Info("course_changes", lambda v: as_int(v.ts[S.changes]), "course changes started"),
     Info("targets_reached", lambda v: as_int(v.ts[S.n_reached]), "targets reached"),
     Info("targets_missed", lambda v: as_int(v.ts[S.missed]), "course changes that ended with the target missed"),
-    Info("overshoot_deg", lambda v: degrees(_per_change(v)), "overshoot per course change, deg"),
-    Info(
-        "max_overshoot_deg",
-        lambda v: degrees(maximum(v.ts[S.os_max], _overshoot_now(v))),
-        "largest overshoot, deg",
-    ),
+    Info("overshoot_deg", lambda v: degrees(_overshoots(v)[0]), "overshoot per course change, deg"),
+    Info("max_overshoot_deg", lambda v: degrees(_overshoots(v)[1]), "largest overshoot, deg"),
     Info("overshoot_1_deg", lambda v: degrees(v.ts[S.os1]), "first overshoot (IMO), deg"),
     Info("overshoot_2_deg", lambda v: degrees(v.ts[S.os2]), "second overshoot (IMO), deg"),
     Info("success", _success, "no target missed, one reached, overshoot per change within success_overshoot"),
