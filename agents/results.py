@@ -482,7 +482,13 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                     ev = _test_eval(env_id, p, args.episodes, eval_seed, kw, plots, tracks)
                     rec = run_record(p)
                     per_seed.append(
-                        {"path": str(p), "seed": rec.get("seed"), "summary": ev["summary"], "record": rec}
+                        {
+                            "path": str(p),
+                            "seed": rec.get("seed"),
+                            "selected_at_timesteps": rec.get("selected_at_timesteps"),
+                            "summary": ev["summary"],
+                            "record": rec,
+                        }
                     )
                     if main and args.ship_dir is not None:
                         meta = shipped.make_sidecar(

@@ -67,6 +67,27 @@ def _zigzag_goal(row: dict[str, Any], P: dict[str, Any]) -> tuple[bool, str]:
     return met, text
 
 
+def zigzag_seed_table(row: dict[str, Any], P: dict[str, Any]) -> str:
+    """Markdown table of one method's seeds on the ZigZag goal's figures (empty without per-seed detail)."""
+    per = row.get("per_seed") or []
+    if not per:
+        return ""
+    head = ["seed", "tested model", "return", "heading error deg", "overshoot / course change deg"]
+    head += ["rudder rate deg/s", "success %", "goal"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for x in per:
+        S, sel = x["summary"], x.get("selected_at_timesteps")
+        model = f"best at {sel / 1000:.0f}k" if sel is not None else "final"
+        checks = zigzag_checks(S, P)
+        missed = [label for key, label, _ in ZIGZAG_GOAL_KEYS if not checks[key]]
+        cells = [str(x.get("seed")), model, f"{S['return_mean']:.1f}", f"{S['heading_error_deg_mean']:.2f}"]
+        cells += [f"{S['overshoot_deg_mean']:.2f}", f"{S['rudder_rate_deg_s_mean']:.2f}"]
+        cells += [_num(100.0 * S["success_rate"], ".0f") if "success_rate" in S else "—"]
+        cells += ["met" if not missed else "misses " + ", ".join(missed)]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def _median(values: list[float]) -> float:
     v = sorted(float(x) for x in values)
     n = len(v)
@@ -279,7 +300,10 @@ def _env_block(results: dict[str, Any], env_id: str) -> str:
         v = verdict(sec["kind"], sec["rows"]) if sec.get("main") else ""
         if v:
             out += [v, ""]
+        pid = next((r for r in sec["rows"] if r["agent"] == "pid"), None)
         for row in sec["rows"] if sec.get("main") else []:
+            if sec["kind"] == "zigzag" and pid is not None and row.get("per_seed"):
+                out += [f"Per seed, `{row['agent']}` (test episodes):", "", zigzag_seed_table(row, pid["summary"]), ""]
             curve = results.get("curves", {}).get(f"{sec['env_id']}:{row.get('algo')}") or {}
             pid_ret = (curve.get("pid_validation") or {}).get("return")
             t = time_to_solve_table(row, pid_ret)

@@ -63,6 +63,10 @@ def test_zigzag_verdict() -> None:
     v = results.verdict("zigzag", [pid, seeds3])
     assert v.startswith("**Beats") and "heading error 10.00 vs 13.00 (ok)" in v
     assert "2 of 3 seeds meet all four on their own" in v
+    seeds3["per_seed"][2]["seed"], seeds3["per_seed"][2]["selected_at_timesteps"] = 7, 250_000
+    rows = results_doc.zigzag_seed_table(seeds3, pid["summary"]).splitlines()
+    assert rows[2].endswith("| met |") and rows[4].startswith("| 7 | best at 250k | -45.0 | 14.00 |")
+    assert rows[4].endswith("| misses return, heading error |")
     table = results.table("zigzag", [pid, good])
     assert "| pid | — | — | -40.0 ± 5.0 | 13.0 ± 1.0 |" in table
     assert "150k (budget) | 10.0 (3.3)" in table
