@@ -18,11 +18,16 @@ classical pilot follows (``bc``: the PPO network cloned from the pilot by DAgger
 one model per training seed too; ``--no-bc`` leaves it out). Extra evaluations (``EXTRA_EVALS``) run the
 same agents on other configurations of the environment.
 
+``--select best`` tests and ships each run's best model of the periodic validation instead of its final one.
+
 Writes ``<out>/results.json`` (every seed's test summary too), the learning curves
 ``<out>/curves/<env>_<algo>.png`` (mean over seeds of the validation return and its 95 % Student-t interval
-over seeds; success rate too where the task has one), the trajectory plots of the test episodes
-``<out>/tracks/<env>_<agent>.png`` (each baseline and the first seed's agent of each algorithm), replaces the part of ``--doc`` between the markers
-``<!-- results:begin -->`` and ``<!-- results:end -->`` (the rest of the page, the discussion, is kept; default
+over seeds; success rate too where the task has one; and each seed against training wall-clock minutes,
+with the tuned ``pid`` on the same validation episodes), the time to solve per seed (:func:`time_to_solve`),
+the trajectory plots of the test episodes
+``<out>/tracks/<env>_<agent>.png`` (each baseline and the first seed's agent of each algorithm), replaces each environment's block of ``--doc`` between its markers
+``<!-- results:begin ENV_ID -->`` and ``<!-- results:end ENV_ID -->`` (the rest of the page, the discussion and
+other environments' blocks, is kept; default
 ``<out>/results.md``, so that the committed ``docs/results.md`` changes only when it is named) and, with
 ``--ship-dir DIR``, copies every trained model with its JSON sidecar to DIR (``agents/trained`` for the shipped
 agents, see ``agents/shipped.py``).
