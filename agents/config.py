@@ -31,6 +31,7 @@ META_KEYS = (
     "env_kwargs",
     "eval_env_kwargs",
     "env_wrapper",
+    "action_filter",
     "noise_type",
     "noise_std",
 )
@@ -229,6 +230,7 @@ class RunConfig:
     env_kwargs: dict[str, Any]
     eval_env_kwargs: dict[str, Any]
     env_wrapper: Any
+    action_filter: Any  # wrappers of agents.wrappers applied in training and evaluation (run record, sidecar)
     policy_kwargs: dict[str, Any]
     algo_kwargs: dict[str, Any]
     noise: tuple[str, float] | None
@@ -269,6 +271,7 @@ def run_config(algo: str, env_id: str, hyperparams: Mapping[str, Any]) -> RunCon
 
     try:
         wrappers.resolve(hp.get("env_wrapper"))
+        wrappers.resolve(hp.get("action_filter"))
     except ValueError as exc:
         raise UsageError(f"hyperparameter {exc}") from None
     kwargs = {k: v for k, v in hp.items() if k not in META_KEYS}
@@ -299,6 +302,7 @@ def run_config(algo: str, env_id: str, hyperparams: Mapping[str, Any]) -> RunCon
         env_kwargs=dict(env_kwargs),
         eval_env_kwargs=dict(eval_env_kwargs),
         env_wrapper=copy.deepcopy(hp.get("env_wrapper")),
+        action_filter=copy.deepcopy(hp.get("action_filter")),
         policy_kwargs=kwargs.pop("policy_kwargs"),
         algo_kwargs=kwargs,
         noise=noise,

@@ -15,6 +15,9 @@ from agents.config import UsageError, resolve_env_id, sidecar
 from agents.envs import make_env
 from vessel_gym.policy import BASELINES as PILOTS  # every classical pilot's name (the tasks declare them)
 
+#: ``evaluate(action_filter=RECORDED)``: the action filter named by the model's run record or sidecar
+RECORDED = object()
+
 
 def run_record(agent: str | Path) -> dict[str, Any]:
     """The run record ``<stem>.yml`` written next to a trained model, else the JSON sidecar of a shipped
@@ -161,6 +164,7 @@ def evaluate(
     progress: Callable[[int, dict[str, Any]], None] | None = None,
     render_mode: str | None = None,
     wrap: Callable[[Any], Any] | None = None,
+    action_filter: Any = RECORDED,
 ) -> dict[str, Any]:
     """Run ``episodes`` episodes (episode i from ``reset(seed=seed + i)``) of a baseline or trained agent.
 
@@ -168,7 +172,9 @@ def evaluate(
     hyperparameter block, which default to its ``env_kwargs``), else none. Returns
     ``{"env_id", "agent", "env_kwargs", "summary", "episodes"}``; see :func:`run_episode` for the metrics.
     ``render_mode`` is passed to ``gym.make``; ``wrap(env)`` may wrap the environment (recording tracks or
-    frames, :mod:`agents.visual`) without changing what the agent sees.
+    frames, :mod:`agents.visual`) without changing what the agent sees. ``action_filter`` (the key of
+    :mod:`agents.wrappers`: wrappers between the agent and the helm) defaults to the model's run record or
+    sidecar; it is applied inside ``wrap``, so recorders see the orders the ship was given.
     """
     env_id = resolve_env_id(env_id)
     if episodes < 1:
@@ -181,7 +187,10 @@ def evaluate(
         raise UsageError(f"agent {spec!r} was trained on {rec['env_id']}, not {env_id}")
     recorded = rec.get("eval_env_kwargs", rec.get("env_kwargs"))
     kwargs = dict(recorded or {}) if env_kwargs is None else dict(env_kwargs)
-    env = make_env(env_id, kwargs if render_mode is None else {**kwargs, "render_mode": render_mode})
+    if action_filter is RECORDED:
+        action_filter = rec.get("action_filter")
+    env_kw = kwargs if render_mode is None else {**kwargs, "render_mode": render_mode}
+    env = make_env(env_id, env_kw, action_filter)
     if wrap is not None:
         env = wrap(env)
     try:
@@ -193,4 +202,7 @@ def evaluate(
                 progress(i, eps[-1])
     finally:
         env.close()
-    return {"env_id": env_id, "agent": spec, "env_kwargs": kwargs, "summary": summarize(eps), "episodes": eps}
+    out = {"env_id": env_id, "agent": spec, "env_kwargs": kwargs}
+    if action_filter:
+        out["action_filter"] = action_filter
+    return {**out, "summary": summarize(eps), "episodes": eps}

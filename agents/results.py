@@ -18,11 +18,16 @@ classical pilot follows (``bc``: the PPO network cloned from the pilot by DAgger
 one model per training seed too; ``--no-bc`` leaves it out). Extra evaluations (``EXTRA_EVALS``) run the
 same agents on other configurations of the environment.
 
+``--select best`` tests and ships each run's best model of the periodic validation instead of its final one.
+
 Writes ``<out>/results.json`` (every seed's test summary too), the learning curves
 ``<out>/curves/<env>_<algo>.png`` (mean over seeds of the validation return and its 95 % Student-t interval
-over seeds; success rate too where the task has one), the trajectory plots of the test episodes
-``<out>/tracks/<env>_<agent>.png`` (each baseline and the first seed's agent of each algorithm), replaces the part of ``--doc`` between the markers
-``<!-- results:begin -->`` and ``<!-- results:end -->`` (the rest of the page, the discussion, is kept; default
+over seeds; success rate too where the task has one; and each seed against training wall-clock minutes,
+with the tuned ``pid`` on the same validation episodes), the time to solve per seed (:func:`time_to_solve`),
+the trajectory plots of the test episodes
+``<out>/tracks/<env>_<agent>.png`` (each baseline and the first seed's agent of each algorithm), replaces each environment's block of ``--doc`` between its markers
+``<!-- results:begin ENV_ID -->`` and ``<!-- results:end ENV_ID -->`` (the rest of the page, the discussion and
+other environments' blocks, is kept; default
 ``<out>/results.md``, so that the committed ``docs/results.md`` changes only when it is named) and, with
 ``--ship-dir DIR``, copies every trained model with its JSON sidecar to DIR (``agents/trained`` for the shipped
 agents, see ``agents/shipped.py``).
@@ -146,6 +151,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--resume", action="store_true", help="train only the models not yet in --out, evaluate all"
     )
+    p.add_argument(
+        "--select",
+        choices=("final", "best"),
+        default="final",
+        help="which model of each run to test and ship: the final one, or the best of the periodic "
+        "validation evaluations (<stem>_best.zip; model selection on the validation seeds only)",
+    )
     p.add_argument("--no-bc", action="store_true", help="no behaviour-cloning rows (BC_PLAN)")
     p.add_argument("--threads", type=positive(int, "--threads"), default=1, help="torch threads")
     p.add_argument(
@@ -181,15 +193,23 @@ def interval95(x: Any) -> tuple[np.ndarray, np.ndarray]:
 
 def learning_curves(logs: list[Path]) -> dict[str, Any] | None:
     """The periodic validation evaluations of several seeds' runs (SB3 ``evaluations.npz``), on the
-    evaluation steps the runs share: ``{"timesteps", "return": [seed][eval], "success": ... or None}``."""
+    evaluation steps the runs share: ``{"timesteps", "return": [seed][eval], "success": ... or None,
+    "wall_min"/"cpu_min": [seed][eval] or None}`` (training minutes until each evaluation, from
+    ``eval_times.npz`` of :mod:`agents.training`; ``None`` for runs that did not record them)."""
+    from agents.training import EVAL_TIMES_FILE
+
     runs = []
     for d in logs:
         f = d / "evaluations.npz"
         if f.is_file():
             with np.load(f) as z:
                 succ = z["successes"] if "successes" in z.files and z["successes"].size else None
+                times = None
+                if (d / EVAL_TIMES_FILE).is_file():
+                    with np.load(d / EVAL_TIMES_FILE) as tz:
+                        times = (tz["wall_s"] / 60.0, tz["cpu_s"] / 60.0)
                 runs.append(
-                    (z["timesteps"], z["results"].mean(axis=1), None if succ is None else succ.mean(1))
+                    (z["timesteps"], z["results"].mean(axis=1), None if succ is None else succ.mean(1), times)
                 )
     if not runs:
         return None
@@ -198,14 +218,49 @@ def learning_curves(logs: list[Path]) -> dict[str, Any] | None:
         "timesteps": [int(t) for t in runs[0][0][:n]],
         "return": [[float(v) for v in r[1][:n]] for r in runs],
         "success": None,
+        "wall_min": None,
+        "cpu_min": None,
     }
     if all(r[2] is not None for r in runs):
         out["success"] = [[float(v) for v in r[2][:n]] for r in runs]
+    if all(r[3] is not None and len(r[3][0]) >= n for r in runs):
+        out["wall_min"] = [[float(v) for v in r[3][0][:n]] for r in runs]
+        out["cpu_min"] = [[float(v) for v in r[3][1][:n]] for r in runs]
     return out
 
 
-def plot_curves(curves: dict[str, Any], path: Path, title: str) -> Path:
-    """PNG of the validation return (and success rate) against steps: mean over seeds and 95 % interval."""
+#: time to solve: the validation success rate first at least this (docs/results.md)
+SOLVED_SUCCESS = 0.9
+
+
+def time_to_solve(curves: dict[str, Any], pid_return: float | None = None) -> list[dict[str, Any]]:
+    """Per seed: the first periodic validation evaluation at which the success rate reaches
+    :data:`SOLVED_SUCCESS` (and, given ``pid_return``, the first at which the validation return reaches the
+    pilot's on the same episodes): its steps and the training wall and CPU minutes until then (``None``:
+    never within the run)."""
+    out = []
+    for i in range(len(curves["return"])):
+        row: dict[str, Any] = {}
+        tests = []
+        if curves.get("success"):
+            tests.append(("success", [v >= SOLVED_SUCCESS for v in curves["success"][i]]))
+        if pid_return is not None:
+            tests.append(("pid_return", [v >= pid_return for v in curves["return"][i]]))
+        for name, hits in tests:
+            j = next((k for k, h in enumerate(hits) if h), None)
+            row[name] = None
+            if j is not None:
+                row[name] = {"steps": curves["timesteps"][j]}
+                for key in ("wall_min", "cpu_min"):
+                    row[name][key] = curves[key][i][j] if curves.get(key) else None
+        out.append(row)
+    return out
+
+
+def plot_curves(curves: dict[str, Any], path: Path, title: str, pid: dict[str, float] | None = None) -> Path:
+    """PNG of the validation return (and success rate) against steps (mean over seeds and 95 % interval)
+    and, where the runs recorded it, against training wall-clock minutes (one line per seed); ``pid``:
+    the pilot's validation ``return``/``success`` on the same episodes as a horizontal line."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -214,10 +269,12 @@ def plot_curves(curves: dict[str, Any], path: Path, title: str) -> Path:
     panels = [("return", "validation return")] + (
         [("success", "validation success rate")] if curves["success"] else []
     )
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4), squeeze=False)
+    walls = curves.get("wall_min")
+    nrow = 2 if walls else 1
+    fig, axes = plt.subplots(nrow, len(panels), figsize=(5.5 * len(panels), 4 * nrow), squeeze=False)
     t = np.asarray(curves["timesteps"], dtype=float)
     try:
-        for ax, (key, label) in zip(axes[0], panels):
+        for ax, (key, _label) in zip(axes[0], panels):
             data = np.asarray(curves[key], dtype=float)
             mean, half = interval95(data)
             for row in data:
@@ -225,12 +282,20 @@ def plot_curves(curves: dict[str, Any], path: Path, title: str) -> Path:
             ax.plot(t, mean, color="C0", lw=1.5, label=f"mean of {data.shape[0]} seeds")
             ax.fill_between(t, mean - half, mean + half, color="C0", alpha=0.25, label="95 % interval")
             ax.set_xlabel("environment steps")
+        if walls:
+            for ax, (key, _label) in zip(axes[1], panels):
+                for i, (w, row) in enumerate(zip(walls, curves[key])):
+                    ax.plot(w, row, lw=1.0, marker=".", ms=3, label=f"seed {i}")
+                ax.set_xlabel("training wall-clock minutes (validation time left out)")
+        for ax, (key, label) in [(a, pk) for r in axes for a, pk in zip(r, panels)]:
+            if pid and pid.get(key) is not None:
+                ax.axhline(pid[key], color="k", ls="--", lw=0.8, label="pid (tuned)")
             ax.set_ylabel(label)
             ax.grid(True, lw=0.3)
-            ax.legend(fontsize=8)
+            ax.legend(fontsize=7)
         fig.suptitle(title, fontsize=10)
         path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=100, bbox_inches="tight")
+        fig.savefig(path, dpi=90, bbox_inches="tight")
     finally:
         plt.close(fig)
     return path
@@ -268,6 +333,7 @@ def _training(recs: list[dict[str, Any]]) -> dict[str, Any]:
         return float(np.mean(v)) if v else None
 
     return {
+        "selected_at_timesteps": mean("selected_at_timesteps"),
         "num_timesteps": mean("num_timesteps"),
         "train_time_s": mean("train_time_s"),
         "cpu_time_s": mean("cpu_time_s"),
@@ -328,6 +394,13 @@ def _cloned(env_id: str, train_seeds: list[int], out: Path, args: argparse.Names
     return paths
 
 
+def _pid_validation(env_id: str, episodes: int, kw: dict[str, Any]) -> dict[str, Any]:
+    """The tuned pilot on the validation episodes of the learning curves: mean ``return`` and ``success``
+    rate (``None`` where the task has none), the reference line of the curves and of the time to solve."""
+    ev = evaluate(env_id, "pid", episodes, seeds.VALIDATION_START, kw)["summary"]
+    return {"return": ev["return_mean"], "success": ev.get("success_rate")}
+
+
 def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     import stable_baselines3 as sb3
     import torch
@@ -345,6 +418,8 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     for env_id in envs:
         trained: list[tuple[str, list[Path]]] = []
         eval_kwargs: dict[str, Any] | None = None
+        pid_val: dict[str, Any] | None = None
+        solved: dict[str, list[dict[str, Any]]] = {}
         for algo in args.algos or PLAN.get(env_id, ("ppo",)):
             cfg = run_config(algo, env_id, load_hyperparams(algo, env_id))
             if eval_kwargs is None:
@@ -368,18 +443,31 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                         eval_episodes=args.eval_episodes,
                     )
                     _log(f"  {res.n_timesteps} steps in {res.wall_time_s / 60:.1f} min -> {res.model_path}")
-                    # only the final model is reported: no stale "best" of an earlier run next to it
-                    path.with_name(path.stem + "_best.zip").unlink(missing_ok=True)
-                    path.with_name(path.stem + "_best.yml").unlink(missing_ok=True)
+                    if args.select == "final":  # no stale "best" of an earlier run next to the final model
+                        path.with_name(path.stem + "_best.zip").unlink(missing_ok=True)
+                        path.with_name(path.stem + "_best.yml").unlink(missing_ok=True)
                 if not path.is_file():
                     raise UsageError(f"no model {path} (train first, without --skip-train)")
+                if args.select == "best":
+                    path = path.with_name(path.stem + "_best.zip")
+                    if not path.is_file():
+                        raise UsageError(f"no model {path} (--select best needs the periodic evaluations)")
                 paths.append(path)
             trained.append((algo, paths))
-            curves = learning_curves([out / "logs" / p.stem for p in paths])
+            curves = learning_curves([out / "logs" / model_stem(algo, env_id, s) for s in train_seeds])
             if curves is not None:
+                if pid_val is None:
+                    pid_val = _pid_validation(env_id, args.eval_episodes, eval_kwargs or {})
                 png = out / "curves" / f"{env_short_name(env_id)}_{algo}.png"
                 title = f"{algo} on {env_id}: validation episodes, {len(paths)} seeds"
-                curves_out[f"{env_id}:{algo}"] = {**curves, "png": str(plot_curves(curves, png, title))}
+                solve = time_to_solve(curves, pid_val["return"])
+                curves_out[f"{env_id}:{algo}"] = {
+                    **curves,
+                    "png": str(plot_curves(curves, png, title, pid_val)),
+                    "pid_validation": pid_val,
+                    "time_to_solve": solve,
+                }
+                solved[algo] = solve
         if env_id in BC_PLAN and not args.no_bc:
             trained.append(("bc", _cloned(env_id, train_seeds, out / "bc", args)))
         configs = [("training configuration", eval_kwargs or {}, True)]
@@ -401,7 +489,13 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                     ev = _test_eval(env_id, p, args.episodes, eval_seed, kw, plots, tracks)
                     rec = run_record(p)
                     per_seed.append(
-                        {"path": str(p), "seed": rec.get("seed"), "summary": ev["summary"], "record": rec}
+                        {
+                            "path": str(p),
+                            "seed": rec.get("seed"),
+                            "selected_at_timesteps": rec.get("selected_at_timesteps"),
+                            "summary": ev["summary"],
+                            "record": rec,
+                        }
                     )
                     if main and args.ship_dir is not None:
                         meta = shipped.make_sidecar(
@@ -412,6 +506,8 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
                         shipped_files.append(str(shipped.ship(p, meta, dest)))
                 rows.append(
                     {
+                        "algo": algo,
+                        "time_to_solve": solved.get(algo) if main else None,
                         "agent": f"{ROW_NAMES.get(algo, algo)} ({len(paths)} seeds)",
                         "summary": aggregate([r["summary"] for r in per_seed]),
                         "training": _training([r["record"] for r in per_seed]),
@@ -433,6 +529,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
         "argv": argv,
         "date": dt.date.today().isoformat(),
         "timesteps": args.timesteps,
+        "select": args.select,
         "seeds": args.seeds,
         "training_seeds": train_seeds,
         "episodes": args.episodes,

@@ -5,13 +5,15 @@ first (:func:`vessel_gym.policy.load_policy` reads it from the part before the f
 short env id with its version, then the training seed. Next to it ``<same stem>.json``:
 
 * ``env_id``, ``env_version`` (the ``-vN`` of the id), ``env_kwargs`` / ``eval_env_kwargs`` (what the agent
-  was trained and is evaluated with), ``algo``, ``hyperparams`` (the block as trained);
+  was trained and is evaluated with), ``action_filter`` (wrappers of :mod:`agents.wrappers` between the
+  network and the helm, e.g. a rudder rate limit, that evaluation applies too; ``null``: none), ``algo``, ``hyperparams`` (the block as trained);
 * ``seed`` (training seed; copies ``seed .. seed + n_envs - 1``), ``n_timesteps`` (budget),
   ``num_timesteps`` (steps trained), ``n_envs``;
 * ``validation_seeds`` / ``test_seeds`` (the episode seed ranges of :mod:`agents.seeds` used for model
   selection and for the final numbers), ``test`` (the test-set summary, when evaluated);
 * ``vessel_gym_version``, ``stable_baselines3``, ``torch``, ``created`` (UTC date);
-* ``train_time_s`` / ``cpu_time_s`` (wall-clock and CPU time of training), and for a model made by another
+* ``train_time_s`` / ``cpu_time_s`` (wall-clock and CPU time of training), ``selected_at_timesteps`` (a
+  model chosen as the best of the periodic validation evaluations: the step it was saved at), and for a model made by another
   method than training with its algorithm (shipped in a subdirectory named after it, e.g. ``bc/``):
   ``method``, ``method_detail`` and the method's settings and log (``bc``, ``bc_rounds``);
 * ``test_episodes`` (written by ``results.py``): the per-episode test figures, so a re-evaluation of a few
@@ -83,6 +85,7 @@ def make_sidecar(record: Mapping[str, Any], validation_episodes: int, test_episo
         "env_version": env_version(env_id),
         "env_kwargs": record.get("env_kwargs") or {},
         "eval_env_kwargs": record.get("eval_env_kwargs") or {},
+        "action_filter": record.get("action_filter"),
         "algo": record["algo"],
         "hyperparams": record.get("hyperparams") or {},
         "seed": int(record["seed"]),
@@ -96,7 +99,8 @@ def make_sidecar(record: Mapping[str, Any], validation_episodes: int, test_episo
         "torch": str(torch.__version__),
         "created": dt.datetime.now(dt.timezone.utc).date().isoformat(),
     }
-    for key in ("train_time_s", "cpu_time_s", "method", "method_detail", "bc", "bc_rounds"):
+    keys = ("train_time_s", "cpu_time_s", "selected_at_timesteps", "method", "method_detail", "bc", "bc_rounds")
+    for key in keys:
         if record.get(key) is not None:  # training times; how a model not trained by its algo was made
             out[key] = record[key]
     if record.get("test") is not None:

@@ -66,25 +66,48 @@ def _stop_on_wall_clock(seconds: float) -> Any:
     return StopOnWallClock()
 
 
+#: per periodic evaluation, the training time spent until then (next to SB3's ``evaluations.npz``)
+EVAL_TIMES_FILE = "eval_times.npz"
+
+
 def _validation_callback(seed0: int) -> type:
-    """SB3 ``EvalCallback`` that reseeds its environment (copy i: ``seed0 + i``) before every evaluation."""
+    """SB3 ``EvalCallback`` that reseeds its environment (copy i: ``seed0 + i``) before every evaluation and
+    writes :data:`EVAL_TIMES_FILE`: ``timesteps``, ``wall_s`` and ``cpu_s`` of training until each evaluation
+    (the evaluations' own time left out: they measure, they do not train), for learning curves over wall time
+    and the time to solve."""
     from stable_baselines3.common.callbacks import EvalCallback
 
     class ValidationCallback(EvalCallback):
+        def _on_training_start(self) -> None:
+            super()._on_training_start()
+            self._t0, self._c0 = time.perf_counter(), time.process_time()
+            self._eval_wall = self._eval_cpu = 0.0
+            self.eval_times: dict[str, list[float]] = {"timesteps": [], "wall_s": [], "cpu_s": []}
+
         def _on_step(self) -> bool:
-            if self.eval_freq > 0 and self.n_calls % self.eval_freq == 0:
-                self.eval_env.seed(seed0)
-            return super()._on_step()
+            if not (self.eval_freq > 0 and self.n_calls % self.eval_freq == 0):
+                return super()._on_step()
+            self.eval_env.seed(seed0)
+            w, c = time.perf_counter(), time.process_time()
+            self.eval_times["timesteps"].append(self.num_timesteps)
+            self.eval_times["wall_s"].append(w - self._t0 - self._eval_wall)
+            self.eval_times["cpu_s"].append(c - self._c0 - self._eval_cpu)
+            go_on = super()._on_step()
+            self._eval_wall += time.perf_counter() - w
+            self._eval_cpu += time.process_time() - c
+            if self.log_path is not None:
+                np.savez(Path(self.log_path).parent / EVAL_TIMES_FILE, **self.eval_times)
+            return go_on
 
     return ValidationCallback
 
 
 def _test_evaluation(
-    env_id: str, model: Path, episodes: int, env_kwargs: Mapping[str, Any]
+    env_id: str, model: Path, episodes: int, env_kwargs: Mapping[str, Any], action_filter: Any
 ) -> dict[str, Any]:
     """:func:`evaluate` of a trained model on the first ``episodes`` test seeds, for the run record."""
     start = seeds.episode_seeds("test", episodes)[0]
-    summary = evaluate(env_id, model, episodes, start, env_kwargs)["summary"]
+    summary = evaluate(env_id, model, episodes, start, env_kwargs, action_filter=action_filter)["summary"]
     return {"seeds": f"{start}..{start + episodes - 1}", **json_safe(summary)}
 
 
@@ -182,7 +205,10 @@ def train(
     stem = model_stem(algo, env_id, seed)
     out.mkdir(parents=True, exist_ok=True)
 
-    venv = make_vec_env(env_id, cfg.n_envs, seed, vec, cfg.env_kwargs, env_wrapper=cfg.env_wrapper)
+    from agents.wrappers import join
+
+    train_wrappers = join(cfg.action_filter, cfg.env_wrapper)  # the filter innermost: it is the agent's
+    venv = make_vec_env(env_id, cfg.n_envs, seed, vec, cfg.env_kwargs, env_wrapper=train_wrappers or None)
     try:
         if cfg.normalize is not None:
             norm = dict(cfg.normalize)
@@ -200,7 +226,9 @@ def train(
             # one copy per validation episode, all reseeded before every evaluation: the same episodes each time
             val0 = seeds.episode_seeds("validation", eval_episodes)[0]
             eval_vec = "native" if vec == "native" else "dummy"
-            eval_venv = make_vec_env(env_id, eval_episodes, val0, eval_vec, cfg.eval_env_kwargs)
+            eval_venv = make_vec_env(
+                env_id, eval_episodes, val0, eval_vec, cfg.eval_env_kwargs, env_wrapper=cfg.action_filter
+            )
             if cfg.normalize is not None:
                 eval_venv = VecNormalize(
                     eval_venv, training=False, norm_obs=cfg.normalize["norm_obs"], norm_reward=False
@@ -248,6 +276,7 @@ def train(
         "env_kwargs": cfg.env_kwargs,
         "eval_env_kwargs": cfg.eval_env_kwargs,
         "env_wrapper": cfg.env_wrapper,
+        "action_filter": cfg.action_filter,
         "vecnormalize": vn_path.name if vn_path else None,
         "train_time_s": round(wall, 2),
         "cpu_time_s": round(cpu, 2),
@@ -264,13 +293,17 @@ def train(
         record["eval_episodes"] = eval_episodes
         record["validation_seeds"] = f"{val0}..{val0 + eval_episodes - 1}"
     if test_episodes:
-        record["test"] = _test_evaluation(env_id, model_path, test_episodes, cfg.eval_env_kwargs)
+        record["test"] = _test_evaluation(
+            env_id, model_path, test_episodes, cfg.eval_env_kwargs, cfg.action_filter
+        )
     record_path = sidecar(model_path, ".yml")
     record_path.write_text(yaml.safe_dump(record, sort_keys=False))
     if best_path is not None:
         best_record = {**record, "selected_at_timesteps": best_step, "selected_from": model_path.name}
         if test_episodes:
-            best_record["test"] = _test_evaluation(env_id, best_path, test_episodes, cfg.eval_env_kwargs)
+            best_record["test"] = _test_evaluation(
+                env_id, best_path, test_episodes, cfg.eval_env_kwargs, cfg.action_filter
+            )
         if vn_path is not None:  # observation statistics of the end of the run (exact without norm_obs)
             best_vn = sidecar(best_path, "_vecnormalize.pkl")
             best_vn.write_bytes(vn_path.read_bytes())

@@ -1,14 +1,22 @@
-"""Training-time environment wrappers named by the ``env_wrapper`` key of a hyperparameter block.
+"""Environment wrappers named by the ``env_wrapper`` and ``action_filter`` keys of a hyperparameter block.
 
-A wrapper here changes what the agent is trained on (e.g. an extra reward term), never the observation or
-action spaces, so a trained model still runs in the unwrapped registered environment
-(``evaluate.py``, :func:`vessel_gym.policy.load_policy`, ``vessel-gym serve --agent``). Evaluation always
-uses the registered reward, so returns of all agents stay comparable.
+No wrapper here changes the observation or action spaces. Two kinds:
+
+* ``env_wrapper`` (training only): changes what the agent is trained on (e.g. an extra reward term), so a
+  trained model still runs in the unwrapped registered environment (``evaluate.py``,
+  :func:`vessel_gym.policy.load_policy`, ``vessel-gym serve --agent``). Evaluation always uses the
+  registered reward, so returns of all agents stay comparable.
+* ``action_filter`` (training AND evaluation): changes how an action becomes a helm order (e.g. a rate limit
+  on the rudder order), part of the agent as much as its network. The run record and the shipped sidecar
+  carry the key, and ``evaluate.py`` (:func:`agents.evaluation.evaluate`) applies it around the registered
+  environment; the reward is still the registered one.
 
 In a hyperparameter block (rl-baselines3-zoo form; a bare class name means this module)::
 
     env_wrapper:
       - RudderEffortPenalty: {weight: 0.3}
+    action_filter:
+      - RudderRateLimit: {max_rate_deg_s: 4.64}
 """
 
 from __future__ import annotations
@@ -87,8 +95,93 @@ class RudderEffortPenaltyVector(gym.vector.VectorWrapper):
         return obs, np.asarray(reward, dtype=np.float64) + terms, terminated, truncated, info
 
 
+def _rate_setup(env: gym.Env | gym.vector.VectorEnv, max_rate_deg_s: float) -> tuple[Any, float]:
+    """(observation layout, largest change of the rudder order per control interval as a fraction of the
+    rudder limit) of a rudder rate limit; ``ValueError`` for a non-positive or non-finite rate."""
+    if not np.isfinite(max_rate_deg_s) or max_rate_deg_s <= 0.0:
+        raise ValueError(f"RudderRateLimit max_rate_deg_s must be > 0, got {max_rate_deg_s}")
+    base = env.unwrapped
+    layout = base.observation_layout
+    limit = float(layout.scale[layout.index("rudder_order")])  # rad: an action of 1 orders the rudder limit
+    step = np.radians(float(max_rate_deg_s)) * float(base.config.control_interval_s)  # rad per interval
+    return layout, step / limit
+
+
+def _rate_limited(actions: np.ndarray, order: np.ndarray, step: float) -> np.ndarray:
+    """``actions`` (rows: ships) with the rudder column moved from ``order`` (the present rudder order as a
+    fraction of the limit) towards the requested order by at most ``step``."""
+    out = np.clip(np.asarray(actions, dtype=np.float32), -1.0, 1.0).copy()
+    out[:, 0] = order + np.clip(out[:, 0] - order, -step, step)
+    return out
+
+
+class RudderRateLimit(gym.Wrapper):
+    """Rate limit of the rudder order: the action still asks for a rudder order (fraction of the limit), the
+    order given moves towards it by at most ``max_rate_deg_s`` x control interval per step, starting from the
+    order in force (``rudder_order`` of the last observation).
+
+    A mean |change of rudder order| per second above ``max_rate_deg_s`` is then impossible, so a helm cannot
+    chatter between the stops whatever the network asks, and the exploration noise of training reaches the
+    rudder low-passed. The steering gear itself turns the rudder at ``max_rate_deg_s`` of the ship file
+    (2.32 deg/s on the KVLCC2); a limit of about twice that lets the order lead the rudder without binding
+    the manoeuvre. An action filter (``action_filter`` key): applied in training and evaluation alike.
+    """
+
+    def __init__(self, env: gym.Env, max_rate_deg_s: float = 4.64) -> None:
+        super().__init__(env)
+        self.max_rate_deg_s = float(max_rate_deg_s)
+        self._layout, self._step = _rate_setup(env, self.max_rate_deg_s)
+        self._order = 0.0
+        self._limit = float(self._layout.scale[self._layout.index("rudder_order")])
+
+    def _track(self, obs: Any) -> None:
+        self._order = float(self._layout.value(obs, "rudder_order")) / self._limit
+
+    def reset(self, **kwargs: Any) -> tuple[Any, dict[str, Any]]:
+        obs, info = self.env.reset(**kwargs)
+        self._track(obs)
+        return obs, info
+
+    def step(self, action: Any) -> tuple[Any, float, bool, bool, dict[str, Any]]:
+        a = np.asarray(action, dtype=np.float32).reshape(1, -1)
+        limited = _rate_limited(a, np.array([self._order]), self._step)[0]
+        obs, reward, terminated, truncated, info = self.env.step(limited.reshape(np.shape(action)))
+        self._track(obs)
+        return obs, reward, terminated, truncated, info
+
+
+class RudderRateLimitVector(gym.vector.VectorWrapper):
+    """:class:`RudderRateLimit` over a native vector environment with same-step autoreset: each ship's order
+    in force is that of the observation last returned (a new episode's first one after an autoreset)."""
+
+    def __init__(self, env: gym.vector.VectorEnv, max_rate_deg_s: float = 4.64) -> None:
+        super().__init__(env)
+        self.max_rate_deg_s = float(max_rate_deg_s)
+        self._layout, self._step = _rate_setup(env, self.max_rate_deg_s)
+        self._limit = float(self._layout.scale[self._layout.index("rudder_order")])
+        self._order = np.zeros(self.num_envs)
+
+    def _track(self, obs: Any) -> None:
+        self._order = np.asarray(self._layout.value(obs, "rudder_order"), dtype=np.float64) / self._limit
+
+    def reset(self, **kwargs: Any) -> tuple[Any, dict[str, Any]]:
+        obs, info = self.env.reset(**kwargs)
+        self._track(obs)
+        return obs, info
+
+    def step(self, actions: Any) -> tuple[Any, Any, Any, Any, dict[str, Any]]:
+        a = np.asarray(actions, dtype=np.float32)
+        limited = _rate_limited(a.reshape(self.num_envs, -1), self._order, self._step).reshape(a.shape)
+        obs, reward, terminated, truncated, info = self.env.step(limited)
+        self._track(obs)
+        return obs, reward, terminated, truncated, info
+
+
 #: the vector-environment twin of each wrapper (used with the native vector environments)
-VECTOR_TWINS: dict[type, type] = {RudderEffortPenalty: RudderEffortPenaltyVector}
+VECTOR_TWINS: dict[type, type] = {
+    RudderEffortPenalty: RudderEffortPenaltyVector,
+    RudderRateLimit: RudderRateLimitVector,
+}
 
 
 def resolve(spec: Any) -> list[tuple[type, dict[str, Any]]]:
@@ -119,6 +212,15 @@ def resolve(spec: Any) -> list[tuple[type, dict[str, Any]]]:
     return out
 
 
+def join(*specs: Any) -> list[Any]:
+    """Several ``env_wrapper``/``action_filter`` values as one list, in order (``None`` contributes none)."""
+    out: list[Any] = []
+    for spec in specs:
+        if spec is not None:
+            out += spec if isinstance(spec, list) else [spec]
+    return out
+
+
 def apply(env: gym.Env, wrappers: list[tuple[type, dict[str, Any]]]) -> gym.Env:
     """``env`` inside the wrappers, first entry innermost."""
     for cls, kwargs in wrappers:
@@ -144,7 +246,10 @@ __all__ = [
     "VECTOR_TWINS",
     "RudderEffortPenalty",
     "RudderEffortPenaltyVector",
+    "RudderRateLimit",
+    "RudderRateLimitVector",
     "apply",
+    "join",
     "resolve",
     "vector_twins",
 ]

@@ -63,7 +63,7 @@ def test_linear_schedule_and_nested_overrides() -> None:
     assert cfg.algo_kwargs["learning_rate"](0.5) == pytest.approx(5e-4)
     assert cfg.policy_kwargs["net_arch"] == [32, 32]
     assert cfg.env_kwargs["reward"]["overshoot"] == 2
-    assert cfg.env_kwargs["reward"]["rudder_activity"] == 1.0  # merged into the file's other reward weights
+    assert cfg.env_kwargs["reward"]["rudder_activity"] == 0.5  # merged into the file's other reward weights
 
 
 def test_missing_block_and_file(tmp_path: Path) -> None:

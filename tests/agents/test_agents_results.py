@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from agents import results, seeds
+from agents import results, results_doc, seeds
 
 
 def _row(agent, trained=False, **summary):
@@ -20,8 +20,8 @@ def _row(agent, trained=False, **summary):
     }
 
 
-def _zz(agent, he, os_, rud, rate, trained=False):
-    return _row(
+def _zz(agent, he, os_, rud, rate, trained=False, ret=-40.0):
+    row = _row(
         agent,
         trained,
         heading_error_deg_mean=he,
@@ -35,20 +35,64 @@ def _zz(agent, he, os_, rud, rate, trained=False):
         rudder_rate_deg_s_mean=rate,
         rudder_rate_deg_s_std=0.1,
     )
+    row["summary"]["return_mean"] = ret
+    return row
 
 
 def test_zigzag_verdict() -> None:
+    """The goal: higher return, lower heading error, overshoot <= the PID's + 0.25 deg, rudder rate <= 1.5x;
+    judged on the median over the seeds where the row has them."""
     pid = _zz("pid", 13.0, 1.0, 4.0, 2.0)
-    good = _zz("ppo_ZigZag-v1_s0", 9.0, 0.5, 5.0, 2.5, trained=True)
-    bad = _zz("ppo_ZigZag-v1_s0", 9.0, 0.5, 14.0, 7.0, trained=True)
+    good = _zz("ppo_ZigZag-v1_s0", 9.0, 1.2, 14.0, 2.9, trained=True, ret=-30.0)  # rudder is not judged
     assert results.verdict("zigzag", [pid, good]).startswith("**Beats")
-    assert results.verdict("zigzag", [pid, bad]).startswith("**Does not beat")
+    for bad in (
+        _zz("a", 9.0, 1.3, 5.0, 2.5, trained=True, ret=-30.0),  # overshoot 0.05 deg over the margin
+        _zz("b", 9.0, 0.5, 5.0, 3.1, trained=True, ret=-30.0),  # rudder rate 1.55x
+        _zz("c", 9.0, 0.5, 5.0, 2.5, trained=True, ret=-41.0),  # lower return
+        _zz("d", 13.0, 0.5, 5.0, 2.5, trained=True, ret=-30.0),  # heading error not lower
+    ):
+        v = results.verdict("zigzag", [pid, bad])
+        assert v.startswith("**Does not beat") and "**not met**" in v
+    assert "overshoot per course change 1.30 vs 1.25 (misses by 0.05)" in results.verdict(
+        "zigzag", [pid, _zz("a", 9.0, 1.3, 5.0, 2.5, trained=True, ret=-30.0)]
+    )
+    # per seed: the median of each figure; here 2 of 3 seeds meet all four, the median too
+    seeds3 = _zz("ppo (3 seeds)", 0, 0, 0, 0, trained=True)
+    seeds3["per_seed"] = [{"summary": _zz("s", he, 1.0, 5.0, 2.0, ret=r)["summary"]} for he, r in
+                          ((9.0, -30.0), (10.0, -35.0), (14.0, -45.0))]  # fmt: skip
+    v = results.verdict("zigzag", [pid, seeds3])
+    assert v.startswith("**Beats") and "heading error 10.00 vs 13.00 (ok)" in v
+    assert "2 of 3 seeds meet all four on their own" in v
+    seeds3["per_seed"][2]["seed"], seeds3["per_seed"][2]["selected_at_timesteps"] = 7, 250_000
+    rows = results_doc.zigzag_seed_table(seeds3, pid["summary"]).splitlines()
+    assert rows[2].endswith("| met |") and rows[4].startswith("| 7 | best at 250k | -45.0 | 14.00 |")
+    assert rows[4].endswith("| misses return, heading error |")
     table = results.table("zigzag", [pid, good])
     assert "| pid | — | — | -40.0 ± 5.0 | 13.0 ± 1.0 |" in table
     assert "150k (budget) | 10.0 (3.3)" in table
     assert "success %" not in table  # ZigZag-v1 has no success flag
     pid["summary"]["success_rate"], good["summary"]["success_rate"] = 0.0, 0.5
-    assert "| 50 ± 10 | 50 | 5.0 ± 1.0 |" in results.table("zigzag", [pid, good])
+    assert "| 50 ± 10 | 50 | 14.0 ± 1.0 |" in results.table("zigzag", [pid, good])
+
+
+def test_time_to_solve_per_seed() -> None:
+    """The first periodic validation evaluation at which the success rate reaches 90 % (and the return the
+    pilot's), with the training minutes until then; None where a seed never got there."""
+    curves = {
+        "timesteps": [100, 200, 300],
+        "return": [[1.0, 5.0, 9.0], [0.0, 0.0, 1.0]],
+        "success": [[0.5, 0.9, 1.0], [0.0, 0.2, 0.3]],
+        "wall_min": [[1.0, 2.0, 3.0], [1.5, 3.0, 4.5]],
+        "cpu_min": [[0.5, 1.0, 1.5], [1.0, 2.0, 3.0]],
+    }
+    solve = results.time_to_solve(curves, pid_return=8.0)
+    assert solve[0]["success"] == {"steps": 200, "wall_min": 2.0, "cpu_min": 1.0}
+    assert solve[0]["pid_return"]["steps"] == 300
+    assert solve[1] == {"success": None, "pid_return": None}
+    row = {"per_seed": [{"seed": 3}, {"seed": 4}], "time_to_solve": solve}
+    table = results_doc.time_to_solve_table(row, 8.0)
+    assert "| 3 | 0k | 2.00 (1.00) | 0k | 3.00 (1.50) |" in table  # steps in thousands
+    assert "| 4 | not within the run | — | not within the run | — |" in table
 
 
 def test_harbour_verdict_and_table() -> None:
@@ -71,6 +115,23 @@ def test_harbour_verdict_and_table() -> None:
     seeds5["training"]["train_time_s"] = 1500.0  # 25 min: over the goal's 20-minute limit
     assert "per seed: not met: too slow to train" in results.verdict("harbour", [pid, seeds5])
     assert "contact 15, success 5" in results.table("harbour", [pid, rl])
+
+
+def test_write_doc_replaces_only_the_blocks_of_the_run(tmp_path: Path) -> None:
+    """One block per environment id: a run over one environment leaves the others' blocks as they were and
+    adds a block the page does not have after the page's generated blocks."""
+    a0 = f"{results_doc.begin_marker('A')}\nold A\n{results_doc.end_marker('A')}"
+    b0 = f"{results_doc.begin_marker('B')}\nold B\n{results_doc.end_marker('B')}"
+    doc = tmp_path / "results.md"
+    doc.write_text(f"# Results\n\nintro\n\n{a0}\n\n{b0}\n\ndiscussion\n")
+    a1 = a0.replace("old A", "new A")
+    c1 = f"{results_doc.begin_marker('C')}\nnew C\n{results_doc.end_marker('C')}"
+    results.write_doc(doc, f"{a1}\n\n{c1}")
+    text = doc.read_text()
+    assert "new A" in text and "old A" not in text and "old B" in text and "new C" in text
+    assert text.index("old B") < text.index("new C") < text.index("discussion")
+    results.write_doc(doc, c1.replace("new C", "newer C"))
+    assert doc.read_text().count("results:begin C") == 1 and "newer C" in doc.read_text()
 
 
 def test_write_doc_keeps_the_discussion(tmp_path: Path) -> None:

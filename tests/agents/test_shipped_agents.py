@@ -27,7 +27,12 @@ def test_names_follow_the_convention() -> None:
 
 #: the shipped agents re-evaluated by test_shipped_agent_reproduces_its_recorded_test_episodes: the first
 #: seed of each row that a goal of docs/results.md is judged on
-REPRODUCED = ("ppo_ZigZagRandom-v1_seed0.zip", "ppo_HarbourApproach-v1_seed0.zip", "bc/ppo_HarbourApproach-v1_seed0.zip")
+REPRODUCED = (
+    "ppo_ZigZagRandom-v1_seed0.zip",
+    "sac_ZigZagRandom-v1_seed0.zip",
+    "ppo_HarbourApproach-v1_seed0.zip",
+    "bc/ppo_HarbourApproach-v1_seed0.zip",
+)
 #: a shipped agent stays small enough for the repository (a 128x128 PPO zip is ~540 kB with its optimiser
 #: state; the 64x64 ones ~150 kB)
 MAX_ZIP_BYTES = 600_000
@@ -69,6 +74,20 @@ def test_shipped_agent_reproduces_its_recorded_test_episodes(name: str) -> None:
     if "heading_error_deg" in first[0]:
         he = sum(e["heading_error_deg"] for e in first) / 2
         assert out["mean_heading_error_deg"] == pytest.approx(he, abs=0.1)
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sac"])
+def test_shipped_zigzag_agent_is_evaluated_behind_its_action_filter(algo: str) -> None:
+    """The ZigZagRandom-v1 agents were trained behind a rudder rate limit; their sidecars name it and
+    evaluation applies it from there: no episode's mean order rate exceeds the limit."""
+    path = shipped.TRAINED_DIR / f"{algo}_ZigZagRandom-v1_seed0.zip"
+    meta = shipped.read_sidecar(path)
+    (spec,) = meta["action_filter"]
+    limit = spec["RudderRateLimit"]["max_rate_deg_s"]
+    ev = common.evaluate(meta["env_id"], path, 1, meta["test_episodes"][0]["seed"])
+    assert ev["action_filter"] == meta["action_filter"]
+    assert ev["episodes"][0]["rudder_rate_deg_s"] <= limit
+    assert ev["episodes"][0]["return"] == pytest.approx(meta["test_episodes"][0]["return"], rel=0.01, abs=0.01)
 
 
 @pytest.mark.slow
