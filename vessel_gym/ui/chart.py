@@ -313,7 +313,10 @@ class ChartRenderer:
         n, e, psi = berth["target"]
         c, s = math.cos(psi), math.sin(psi)
         pg.draw.polygon(
-            surf, BERTH_TARGET, [self.to_screen(n + c * x - s * y, e + s * x + c * y) for x, y in self.hull], 1
+            surf,
+            BERTH_TARGET,
+            [self.to_screen(n + c * x - s * y, e + s * x + c * y) for x, y in self.hull],
+            1,
         )
         for base, face, fraction in zip(berth["fender_base_m"], berth["fender_face_m"], berth["fender_load"]):
             a, b = self.to_screen(*base), self.to_screen(*face)
