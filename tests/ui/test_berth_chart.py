@@ -86,3 +86,15 @@ def test_a_fender_past_its_rating_turns_magenta_and_a_compressed_one_coloured():
     assert _near(frame, r.to_screen(*f2), fender_colour(1.5), r=3)
     r.close()
     env.close()
+
+
+def test_the_environments_own_render_draws_the_berth():
+    env = gym.make("vessel_gym/Berthing-v0", render_mode="rgb_array")
+    env.reset(seed=1)
+    frame = env.render()
+    r = env.unwrapped._renderer
+    x0, y0, w, h = r.inset_rect
+    inset = frame[y0 : y0 + h, x0 : x0 + w].astype(int)
+    assert (np.abs(inset - fender_colour(0.0)).max(axis=2) == 0).sum() >= 5 * 9  # five unused fenders
+    assert (np.abs(inset - QUAY_FACE).max(axis=2) == 0).sum() > w  # the quay face across the inset
+    env.close()
