@@ -144,3 +144,25 @@ def test_the_command_line_plays_a_berthing_task_and_refuses_another_in_one_line(
     code = main(["play", "harbour", "--env", "vessel_gym/Berthing-v0", "--out", str(tmp_path)])
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1 and "[[berth]]" in err
+
+
+def test_the_debrief_of_a_berthing_by_the_scripted_pilot_is_a_success_within_the_limits():
+    from vessel_gym.envs.tasks.berthing_pilot import BerthingPilot
+
+    c = BerthingConsole("vessel_gym/Berthing-v0", {})
+    obs, _ = c.env.reset(seed=0)
+    c.start_distance = 300.0
+    pilot = BerthingPilot(c.env)
+    pilot.reset()
+    steps, term = 0, False
+    while not term and steps < 900:
+        obs, _r, term, _t, info = c.env.step(pilot(obs))
+        steps += 1
+    d = c.debrief(str(info["outcome"]), steps, 0, info, [])
+    c.env.close()
+    assert d.outcome == "success" and d.reason == "alongside within the tolerances, held"
+    assert 0.0 < d.contact_speed_m_s < d.contact_speed_limit_m_s and d.max_fender_fraction < 1.0
+    assert d.score == pytest.approx(
+        50.0 + 25.0 * (1.0 - d.contact_speed_m_s / 0.110) + 25.0 * (1.0 - d.max_fender_fraction), abs=0.1
+    )
+    assert abs(d.off_error_m) <= 0.1 and abs(d.heading_error_deg) <= 3.0
