@@ -214,7 +214,19 @@ def build_parser() -> argparse.ArgumentParser:
         sub.add_parser(name, help=text, add_help=False)
 
     pl = sub.add_parser("play", help="drive a scenario's ship with the keyboard (pygame), debrief at the end")
-    pl.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
+    pl.add_argument(
+        "scenario",
+        nargs="?",
+        default=None,
+        help="built-in scenario name or .toml path (default: harbour, or the --env preset's)",
+    )
+    pl.add_argument(
+        "--env",
+        metavar="ID",
+        default=None,
+        help="a berthing task to play (vessel_gym/Berthing-v0, vessel_gym/BerthingTanker-v0): thruster and "
+        "tug keys, berthing debrief (docs/berthing.md); default: the harbour approach",
+    )
     pl.add_argument(
         "--seed",
         type=int_in("--seed", 0, SEED_MAX),
@@ -576,10 +588,19 @@ def _main(argv: Sequence[str] | None) -> int:
             from vessel_gym.scenarios import load_scenario
             from vessel_gym.ui.play import play
 
-            load_scenario(args.scenario)  # bad names fail here, before a window opens
+            if args.env is not None:
+                from vessel_gym.ui.play_berthing import berthing_ids
+
+                if args.env not in berthing_ids():
+                    raise ValueError(
+                        f"play --env: {args.env!r} is not a berthing task (one of {', '.join(berthing_ids())})"
+                    )
+            if args.scenario is not None or args.env is None:
+                load_scenario(args.scenario or "harbour")  # bad names fail here, before a window opens
             _need_window(args.command)
             debrief = play(
                 args.scenario,
+                env_id=args.env,
                 seed=args.seed,
                 max_steps=args.max_steps,
                 speedup=args.speedup,

@@ -36,6 +36,20 @@ WIND = (80, 150, 255)
 CURRENT = (60, 200, 120)
 TARGET = (230, 140, 0)
 TRAFFIC = (150, 60, 170)
+QUAY_FACE = (25, 25, 30)  # a berth's quay face (fender line)
+BERTH_TARGET = (0, 120, 200)  # the berthed pose's outline
+
+
+def fender_colour(fraction: float) -> tuple[int, int, int]:
+    """A fender's colour by how much of its rating is used (energy absorbed, or compression now, against the
+    rated one): white unused, green to yellow to red at the rating, magenta beyond it."""
+    if fraction <= 0.0:
+        return (245, 245, 245)
+    if fraction > 1.0:
+        return (230, 0, 200)
+    if fraction <= 0.5:
+        return (int(round(510 * fraction)), 200, 40)
+    return (255, int(round(200 - 400 * (fraction - 0.5))), 40)
 
 
 def depth_colour(depth_m: float, draught_m: float, deep_m: float) -> tuple[int, int, int]:
@@ -102,6 +116,7 @@ class ChartRenderer:
         self.clock = pygame.time.Clock()
         self.hull = np.array(hull_outline(ship.particulars.L_m, ship.particulars.B_m))
         self._background = None
+        self.inset_rect: tuple[int, int, int, int] | None = None  # the berth inset (x, y, w, h), once drawn
         self.view: tuple[float, float, float] = (0.0, 0.0, 1.0)  # centre north, centre east, px per m
         if scenario is not None:
             n0, n1, e0, e1 = scenario.bounds_m
@@ -127,7 +142,9 @@ class ChartRenderer:
         self.view = (north, east, min(self.chart_w, self.height) / extent)
 
     # --- drawing --------------------------------------------------------------------------------------------
-    def _chart_background(self) -> Any:
+    def _chart_background(self, goal: bool = True) -> Any:
+        """The chart without the ship; ``goal``: the scenario's goal area and start area (not for a task
+        whose goal is a berth)."""
         pg = self.pg
         surf = pg.Surface((self.chart_w, self.height))
         sc = self.scenario
@@ -141,13 +158,15 @@ class ChartRenderer:
             pg.draw.polygon(surf, depth_colour(d.depth_m, T, deep), self._poly(d.points))
             if d.depth_m < T:
                 pg.draw.polygon(surf, (200, 170, 90), self._poly(d.points), 1)
-        pg.draw.polygon(surf, START, self._poly(sc.start.points), 1)
+        if goal:
+            pg.draw.polygon(surf, START, self._poly(sc.start.points), 1)
         for kind, colour in (("land", LAND), ("breakwater", BREAKWATER), ("quay", QUAY)):
             for a in getattr(sc, kind):
                 pg.draw.polygon(surf, colour, self._poly(a.points))
                 pg.draw.polygon(surf, LAND_EDGE if kind == "land" else (60, 60, 60), self._poly(a.points), 1)
-        goal = self._poly(sc.goal.points)
-        pg.draw.polygon(surf, GOAL, goal, 2)
+        if not goal:
+            return surf
+        pg.draw.polygon(surf, GOAL, self._poly(sc.goal.points), 2)
         gp = self.to_screen(*sc.goal_point)
         h = math.radians(sc.goal.heading_deg)
         tip = (gp[0] + 18 * math.sin(h), gp[1] - 18 * math.cos(h))
@@ -227,7 +246,7 @@ class ChartRenderer:
             self._grid(chart)
         else:
             if self._background is None:
-                self._background = self._chart_background()
+                self._background = self._chart_background(goal="berth" not in overlay)
             chart = self._background.copy()
         if "original_course_rad" in overlay:
             o = overlay.get("origin_m", track[0] if track else (north, east))
@@ -238,6 +257,9 @@ class ChartRenderer:
             pg.draw.line(chart, DIM, a, b, 1)
         if len(track) > 1:
             pg.draw.lines(chart, TRACK, False, self._poly(track), 2)
+        berth = overlay.get("berth")
+        if berth is not None:
+            self._berth(chart, berth, 3)
         for t in targets:
             r = t.reading
             if not (math.isfinite(r.x_m) and math.isfinite(r.y_m) and math.isfinite(r.hdg_deg)):
@@ -268,6 +290,8 @@ class ChartRenderer:
             pg.draw.polygon(chart, SHIP, outline)
             pg.draw.polygon(chart, (80, 0, 0), outline, 1)
         self._scale_bar(chart)
+        if berth is not None:
+            self._berth_inset(chart, berth, (north, east, psi) if finite else None)
         title = overlay.get("title")
         if title:
             chart.blit(self.font.render(title, True, (0, 0, 0)), (10, 8))
@@ -280,6 +304,59 @@ class ChartRenderer:
                 self.clock.tick(self.fps)
             return None
         return np.transpose(np.array(pg.surfarray.pixels3d(self.screen)), axes=(1, 0, 2)).copy()
+
+    def _berth(self, surf: Any, berth: dict, fender_px: int) -> None:
+        """A berth of the overlay (``BerthingTask.overlay``): the quay face, the berthed pose's outline and
+        the fenders coloured by :func:`fender_colour`, each at least ``fender_px`` pixels across."""
+        pg = self.pg
+        pg.draw.line(surf, QUAY_FACE, *self._poly(berth["quay_m"]), 3)
+        n, e, psi = berth["target"]
+        c, s = math.cos(psi), math.sin(psi)
+        pg.draw.polygon(
+            surf,
+            BERTH_TARGET,
+            [self.to_screen(n + c * x - s * y, e + s * x + c * y) for x, y in self.hull],
+            1,
+        )
+        for base, face, fraction in zip(berth["fender_base_m"], berth["fender_face_m"], berth["fender_load"]):
+            a, b = self.to_screen(*base), self.to_screen(*face)
+            w = max(fender_px, int(round(math.hypot(b[0] - a[0], b[1] - a[1]))))
+            centre = (int(round(0.5 * (a[0] + b[0]))), int(round(0.5 * (a[1] + b[1]))))
+            rect = pg.Rect(0, 0, w, w)
+            rect.center = centre
+            pg.draw.rect(surf, fender_colour(float(fraction)), rect)
+            if w >= 6:  # an outline where there is room for it
+                pg.draw.rect(surf, QUAY_FACE, rect, 1)
+
+    def _berth_inset(self, chart: Any, berth: dict, pose: tuple[float, float, float] | None) -> None:
+        """A magnified view of the berth (one and a half ship lengths across) in the chart's lower right
+        corner: the quay, the berthed pose, the fenders at scale and the ship when it is in the view."""
+        pg = self.pg
+        w, h = min(240, self.chart_w // 2), min(180, self.height // 3)
+        L = self.ship.particulars.L_m
+        n0, e0, _psi = berth["target"]
+        saved = (self.view, self.chart_w, self.height)
+        self.view, self.chart_w, self.height = (n0, e0, w / (1.5 * L)), w, h
+        try:
+            inset = pg.Surface((w, h))
+            inset.fill(WATER)
+            sc = self.scenario
+            for a in () if sc is None else (*sc.quay, *sc.breakwater, *sc.land):
+                pg.draw.polygon(inset, QUAY, self._poly(a.points))
+            self._berth(inset, berth, 7)
+            if pose is not None:
+                n, e, psi = pose
+                c, s = math.cos(psi), math.sin(psi)
+                outline = [self.to_screen(n + c * x - s * y, e + s * x + c * y) for x, y in self.hull]
+                pg.draw.polygon(inset, SHIP, outline)
+                pg.draw.polygon(inset, (80, 0, 0), outline, 1)
+            inset.blit(self.small.render(berth.get("name", "berth"), True, (0, 0, 0)), (4, h - 14))
+        finally:
+            self.view, self.chart_w, self.height = saved
+        x0, y0 = self.chart_w - w - 6, self.height - h - 6
+        chart.blit(inset, (x0, y0))
+        pg.draw.rect(chart, QUAY_FACE, (x0 - 1, y0 - 1, w + 2, h + 2), 1)
+        self.inset_rect = (x0, y0, w, h)
 
     def _panel(self, sim: Any, k: int, telegraph: int | None, overlay: dict) -> None:
         pg = self.pg
@@ -317,6 +394,8 @@ class ChartRenderer:
         line("telegraph", tg)
         if "clearance_m" in overlay:
             line("clearance", f"{overlay['clearance_m']:5.1f} m")
+        for label, value in overlay.get("rows", ()):
+            line(label, value)
         if overlay.get("outcome") not in (None, "running"):
             line("outcome", str(overlay["outcome"]), (255, 200, 80))
         # rudder indicator: order (orange tick) and actual (bar), +-35 deg

@@ -13,7 +13,7 @@ key events at the given steps, so they take the same path as a person's key pres
 from __future__ import annotations
 
 import io
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -95,9 +95,101 @@ def score(
     return 40.0 * made_good * (0.5 if outcome in ("contact", "grounding") else 1.0)
 
 
+class HarbourConsole:
+    """The keyboard helm of HarbourApproach: rudder orders in 5 degree steps and the engine telegraph."""
+
+    def __init__(self, scenario: str, env_overrides: Mapping[str, Any]) -> None:
+        from vessel_gym.envs.tasks.harbour import own_ship
+        from vessel_gym.scenarios import load_scenario
+        from vessel_gym.scenarios.traffic import Traffic
+
+        sc_loaded = load_scenario(scenario)
+        self.env = HarbourApproachEnv(
+            preset="HarbourApproach-v2",
+            scenario=sc_loaded,
+            action_type="discrete",
+            engine_control=True,
+            rudder_orders_deg=RUDDER_ORDERS_DEG,
+            telegraph_steps=TELEGRAPH_STEPS,
+            **{**own_ship(sc_loaded), **env_overrides},
+        )
+        self.task = self.env.task
+        self.name = self.task.scenario.name
+        self.rudder_i = RUDDER_ORDERS_DEG.index(0.0)
+        self.tele_i = 0
+        self.traffic = Traffic.from_scenario(
+            self.task.scenario, self.task.dt, self.env.config.control_interval_s
+        )
+        self.time_limit_s = 400.0
+
+    def reset(self, seed: int | None) -> dict:
+        _obs, info = self.env.reset(seed=seed)
+        # start with the telegraph step closest to the approach shaft speed
+        rev0 = float(self.env.sim.rev_order[0])
+        self.tele_i = int(np.argmin(np.abs(self.task.helm.rev_table[0] - rev0)))
+        self.start_distance = float(info["distance_to_goal_m"])
+        return info
+
+    def key(self, pygame: Any, k: int) -> None:
+        if k in (pygame.K_LEFT, pygame.K_a):
+            self.rudder_i = max(self.rudder_i - 1, 0)
+        elif k in (pygame.K_RIGHT, pygame.K_d):
+            self.rudder_i = min(self.rudder_i + 1, len(RUDDER_ORDERS_DEG) - 1)
+        elif k in (pygame.K_SPACE, pygame.K_m):
+            self.rudder_i = RUDDER_ORDERS_DEG.index(0.0)
+        elif k in (pygame.K_UP, pygame.K_w):
+            self.tele_i = min(self.tele_i + 1, len(TELEGRAPH_STEPS) - 1)
+        elif k in (pygame.K_DOWN, pygame.K_s):
+            self.tele_i = max(self.tele_i - 1, 0)
+
+    def action(self) -> np.ndarray:
+        return np.array([self.rudder_i, self.tele_i])
+
+    @property
+    def telegraph(self) -> int | None:
+        return TELEGRAPH_STEPS[self.tele_i]
+
+    def overlay(self) -> dict:
+        return self.task.overlay(0)
+
+    def targets(self, steps: int) -> Sequence[Any]:
+        return self.traffic.lazy_targets(steps) if self.traffic is not None else ()
+
+    def contact(self, info: Mapping[str, Any]) -> bool:
+        return bool(info["contact"] or info["grounding"])
+
+    def debrief(
+        self, outcome: str, steps: int, contacts: int, info: Mapping[str, Any], track: list
+    ) -> Debrief:
+        return Debrief(
+            scenario=self.name,
+            outcome=outcome,
+            time_s=float(info["time_s"]),
+            steps=steps,
+            min_clearance_m=float(info["min_clearance_m"]),
+            contacts=contacts,
+            path_m=float(info["path_m"]),
+            start_distance_m=self.start_distance,
+            final_distance_m=float(info["distance_to_goal_m"]),
+            final_speed_m_s=float(info["speed_over_ground_m_s"]),
+            final_heading_error_deg=float(info["heading_error_deg"]),
+            score=score(
+                outcome,
+                float(info["time_s"]),
+                float(info["min_clearance_m"]),
+                self.start_distance,
+                float(info["distance_to_goal_m"]),
+                self.task.L,
+                self.task.U_T,
+            ),
+            track=track,
+        )
+
+
 def play(
-    scenario: str = "harbour",
+    scenario: str | None = None,
     *,
+    env_id: str | None = None,
     seed: int | None = None,
     max_steps: int | None = None,
     realtime: bool = True,
@@ -107,13 +199,16 @@ def play(
     size: tuple[int, int] = (800, 600),
     force: bool = False,
     **env_overrides: Any,
-) -> Debrief:
-    """Drive the scenario's ship with the keyboard; return the :class:`Debrief` (and write its track PNG).
+) -> Any:
+    """Drive the scenario's ship with the keyboard; return the debrief (:class:`Debrief`, or
+    :class:`~vessel_gym.ui.play_berthing.BerthingDebrief` for a berthing task) and write its track PNG.
 
     Args:
-        scenario: built-in scenario name or scenario file.
+        scenario: built-in scenario name or scenario file (default: "harbour", or the task preset's).
+        env_id: a berthing task's id (``vessel_gym/Berthing-v0``, ``vessel_gym/BerthingTanker-v0``): berth
+            with its thrusters or tugs (keys in :mod:`vessel_gym.ui.play_berthing`); None: HarbourApproach.
         seed: start pose and weather draw.
-        max_steps: stop after this many control steps (default: the 400 s time limit).
+        max_steps: stop after this many control steps (default: the task's time limit, 400 s in the harbour).
         realtime: pace the simulation to the wall clock (x ``speedup``); False runs as fast as it can.
         speedup: initial time speed-up (keys 1-4 change it).
         keys: scripted key presses ``(step, key name)`` (pygame key names: "left", "up", "space", "q" ...),
@@ -122,45 +217,32 @@ def play(
         size: window size in pixels.
         force: replace an existing debrief PNG (otherwise :class:`~vessel_gym.outputs.OutputExistsError`
             is raised before the window opens).
-        env_overrides: further HarbourApproach config keys.
+        env_overrides: further config keys of the task.
     """
     import pygame
 
-    from vessel_gym.envs.tasks.harbour import own_ship
-    from vessel_gym.scenarios import load_scenario
-    from vessel_gym.scenarios.traffic import Traffic
     from vessel_gym.ui.chart import ChartRenderer
 
-    sc_loaded = load_scenario(scenario)
-    env = HarbourApproachEnv(
-        preset="HarbourApproach-v2",
-        scenario=sc_loaded,
-        action_type="discrete",
-        engine_control=True,
-        rudder_orders_deg=RUDDER_ORDERS_DEG,
-        telegraph_steps=TELEGRAPH_STEPS,
-        **{**own_ship(sc_loaded), **env_overrides},
-    )
-    task = env.task
-    sc = task.scenario
-    png = None if out_dir is None else Path(out_dir) / f"debrief_{safe_name(sc.name)}.png"
+    if env_id is None:
+        console: Any = HarbourConsole(scenario or "harbour", env_overrides)
+    else:
+        from vessel_gym.ui.play_berthing import BerthingConsole
+
+        overrides = dict(env_overrides, **({} if scenario is None else {"scenario": scenario}))
+        console = BerthingConsole(env_id, overrides)
+    env, task = console.env, console.task
+    png = None if out_dir is None else Path(out_dir) / f"debrief_{safe_name(console.name)}.png"
     if png is not None:
         check_free([png], force, "--out")
     dt = env.config.control_interval_s
-    limit = int(round(400.0 / dt)) if max_steps is None else int(max_steps)
-    obs, info = env.reset(seed=seed)
-    rudder_i = RUDDER_ORDERS_DEG.index(0.0)
-    # start with the telegraph step closest to the approach shaft speed
-    rev0 = float(env.sim.rev_order[0])
-    tele_i = int(np.argmin(np.abs(task.helm.rev_table[0] - rev0)))
-    view = ChartRenderer("human", ship=task.ship, scenario=sc, fps=0.0, size=size)
-    traffic = Traffic.from_scenario(sc, task.dt, dt)  # drawn only: the debrief scores the own ship
+    limit = int(round(console.time_limit_s / dt)) if max_steps is None else int(max_steps)
+    info = console.reset(seed)
+    view = ChartRenderer("human", ship=task.ship, scenario=task.scenario, fps=0.0, size=size)
     clock = pygame.time.Clock()
     scripted: dict[int, list[int]] = {}
     for step, name in keys:
         scripted.setdefault(int(step), []).append(pygame.key.key_code(name))
     track = [(float(env.sim.north[0]), float(env.sim.east[0]))]
-    start_distance = float(info["distance_to_goal_m"])
     outcome = "max_steps"
     contacts = 0
     paused = False
@@ -177,16 +259,6 @@ def play(
                     k = ev.key
                     if k in (pygame.K_ESCAPE, pygame.K_q):
                         quit_ = True
-                    elif k in (pygame.K_LEFT, pygame.K_a):
-                        rudder_i = max(rudder_i - 1, 0)
-                    elif k in (pygame.K_RIGHT, pygame.K_d):
-                        rudder_i = min(rudder_i + 1, len(RUDDER_ORDERS_DEG) - 1)
-                    elif k in (pygame.K_SPACE, pygame.K_m):
-                        rudder_i = RUDDER_ORDERS_DEG.index(0.0)
-                    elif k in (pygame.K_UP, pygame.K_w):
-                        tele_i = min(tele_i + 1, len(TELEGRAPH_STEPS) - 1)
-                    elif k in (pygame.K_DOWN, pygame.K_s):
-                        tele_i = max(tele_i - 1, 0)
                     elif k in (pygame.K_1, pygame.K_2, pygame.K_3, pygame.K_4):
                         speedup = SPEEDUPS[k - pygame.K_1]
                     elif k in (pygame.K_PLUS, pygame.K_EQUALS, pygame.K_KP_PLUS):
@@ -195,6 +267,8 @@ def play(
                         speedup = max(speedup / 2.0, 0.125)
                     elif k == pygame.K_p:
                         paused = not paused
+                    else:
+                        console.key(pygame, k)
             if quit_:
                 outcome = "quit"
                 break
@@ -203,57 +277,35 @@ def play(
                     env.sim,
                     0,
                     track,
-                    telegraph=TELEGRAPH_STEPS[tele_i],
-                    overlay={**task.overlay(0), "title": f"{sc.name}  (paused)"},
-                    targets=traffic.lazy_targets(steps) if traffic is not None else (),
+                    telegraph=console.telegraph,
+                    overlay={**console.overlay(), "title": f"{console.name}  (paused)"},
+                    targets=console.targets(steps),
                 )
                 clock.tick(20)
                 continue
-            obs, _r, terminated, _truncated, info = env.step(np.array([rudder_i, tele_i]))
+            _obs, _r, terminated, _truncated, info = env.step(console.action())
             steps += 1
             track.append((float(env.sim.north[0]), float(env.sim.east[0])))
             view.draw(
                 env.sim,
                 0,
                 track,
-                telegraph=TELEGRAPH_STEPS[tele_i],
-                overlay={**task.overlay(0), "title": f"{sc.name}  x{speedup:g}"},
-                targets=traffic.lazy_targets(steps) if traffic is not None else (),
+                telegraph=console.telegraph,
+                overlay={**console.overlay(), "title": f"{console.name}  x{speedup:g}"},
+                targets=console.targets(steps),
             )
             if realtime:
                 clock.tick(speedup / dt)
             if terminated:
                 outcome = info["outcome"]
-                contacts += int(info["contact"] or info["grounding"])
+                contacts += int(console.contact(info))
                 break
         else:
             if max_steps is None:
                 outcome = "time_limit"
     finally:
         view.close()
-    debrief = Debrief(
-        scenario=sc.name,
-        outcome=outcome,
-        time_s=float(info["time_s"]),
-        steps=steps,
-        min_clearance_m=float(info["min_clearance_m"]),
-        contacts=contacts,
-        path_m=float(info["path_m"]),
-        start_distance_m=start_distance,
-        final_distance_m=float(info["distance_to_goal_m"]),
-        final_speed_m_s=float(info["speed_over_ground_m_s"]),
-        final_heading_error_deg=float(info["heading_error_deg"]),
-        score=score(
-            outcome,
-            float(info["time_s"]),
-            float(info["min_clearance_m"]),
-            start_distance,
-            float(info["distance_to_goal_m"]),
-            task.L,
-            task.U_T,
-        ),
-        track=track,
-    )
+    debrief = console.debrief(outcome, steps, contacts, info, track)
     if png is not None:
         debrief.track_png = str(write_track_png(env, debrief, png, size, force))
     env.close()
@@ -261,8 +313,8 @@ def play(
 
 
 def write_track_png(
-    env: HarbourApproachEnv,
-    debrief: Debrief,
+    env: Any,
+    debrief: Any,
     path: Path,
     size: tuple[int, int] = (800, 600),
     force: bool = False,

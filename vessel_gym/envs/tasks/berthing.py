@@ -521,7 +521,33 @@ class BerthingTask(Task):
         start(self, k, speed, math.degrees(heading), n0, e0)
 
     def overlay(self, k: int) -> dict[str, Any]:
+        """What the chart draws (``vessel_gym.ui.chart``): the berth (quay face, fenders coloured by the larger
+        of the energy they absorbed and their compression now, each against its rating; the berthed pose) and
+        panel rows (distance off, contact speed against the PIANC limit, the most loaded fender)."""
+        fenders, b = self.fenders, self.berth
+        H = b.fender.height_m
+        compression = fenders.deflections(self.sim)[k] / (b.fender.rated_deflection * H)
+        energy = self.fender_energy_kJ[k] * 1e3 / self.E_rated
+        load = np.maximum(compression, energy)
+        base = fenders.faces - H * np.asarray(fenders.to_water)
+        along, off = self.berth_frame.frame()[:2]
+        v_touch = float(self.ts[k, S.contact_speed])
+        contact = f"{v_touch:.3f} / {self.v_limit:.3f} m/s" if self.ts[k, S.touched] > 0.0 else "-"
         return {
-            "title": f"Berthing: {self.scenario.name}, {self.berth.name}",
+            "title": f"Berthing: {self.scenario.name}, {b.name}",
             "outcome": OUTCOMES[int(self.flags[k])],
+            "berth": {
+                "name": b.name,
+                "quay_m": [tuple(p) for p in b.quay_m[:2]],
+                "fender_base_m": base.tolist(),
+                "fender_face_m": fenders.faces.tolist(),
+                "fender_load": load.tolist(),
+                "target": (float(self.berthed[0]), float(self.berthed[1]), float(self.psi_b)),
+            },
+            "rows": [
+                ("off fenders", f"{float(off[k]):6.1f} m"),
+                ("along", f"{float(along[k]):+6.1f} m"),
+                ("contact", contact),
+                ("fender max", f"{100.0 * float(energy.max()):5.1f} % of E_R"),
+            ],
         }
