@@ -152,8 +152,8 @@ def test_vector_env_and_metrics():
     venv = gym.make_vec(ID, num_envs=2, vectorization_mode="vector_entry_point")
     venv.reset(seed=0)
     _o, _r, _t, _tr, info = venv.step(np.zeros((2, 4), dtype=np.float32))
-    # a per-vessel row is transposed in the batch info (row j: fender j of every vessel)
-    assert info["fender_energy_kJ"].shape == (5, 2) and info["outcome"].shape == (2,)
+    # a per-vessel row stays a row in the batch info, vessels first as in every vector info entry
+    assert info["fender_energy_kJ"].shape == (2, 5) and info["outcome"].shape == (2,)
     venv.close()
     assert BerthingTask.declaration.max_episode_steps == 900
 

@@ -177,6 +177,18 @@ def pick(table: Sequence[Any], i: Any) -> Any:
     return np.array(table, dtype=object)[i] if type(i) is _ARRAY else table[i]
 
 
+def whole_rows(x: Any) -> Any:
+    """A vessel array read whole (not one column ``[j]`` at a time): one vessel's row as a list, or the (N,
+    columns) array of all vessels (the vector environment hands an entry each 2-D array transposed, so that
+    ``[j]`` is column j over the vessels)."""
+    if type(x) is list:
+        return x
+    every = getattr(x, "every_column", None)
+    if every is not None:  # the info plan's probe: the entry reads every column
+        return every()
+    return x.T
+
+
 def _identifier(name: str) -> str:
     if not name.isidentifier():
         raise ValueError(f"declared name {name!r} is not an identifier")

@@ -143,6 +143,11 @@ class _Columns:
         self._cols.add(int(j))
         return self._a[:, j].copy()
 
+    def every_column(self) -> np.ndarray:
+        """The whole array (:func:`~vessel_gym.envs.declare.whole_rows`), every column recorded as read."""
+        self._cols.update(range(self._a.shape[1]))
+        return self._a.copy()
+
 
 class InfoPlan:
     """The ``info`` entries of a task for its config: ``reward_terms`` (the weighted terms by name), then the
@@ -178,6 +183,7 @@ class InfoPlan:
         with np.errstate(all="ignore"):  # the values now are of no interest, only what they read
             for _name, value in self.batch:
                 value(probe)
+        self.read = probe.read  # by array, the columns its entries read
         used = {name: arrays[name] for name in ("terms", *probe.read)}  # terms: the framework's reward_terms
         self.rows = tuple((name, a) for name, a in used.items() if a.ndim == 2)
         self.items = tuple((name, a) for name, a in used.items() if a.ndim == 1)
@@ -194,8 +200,8 @@ class InfoPlan:
     def _columns(self, a: np.ndarray, read: set[int] | None) -> list[int] | None:
         """The columns of ``a`` to copy for the entries, or None for all: a copy of the columns read pays where
         it leaves out at least COPY_SAVES elements (of smaller arrays a single copy of all costs less)."""
-        if read is None or self.n * (a.shape[1] - len(read)) < COPY_SAVES:
-            return None
+        if read is None or len(read) == a.shape[1] or self.n * (a.shape[1] - len(read)) < COPY_SAVES:
+            return None  # every column read (an entry reads the array whole: whole_rows), or too few left out
         return sorted(read)
 
 

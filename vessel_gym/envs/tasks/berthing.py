@@ -23,7 +23,7 @@ import numpy as np
 from gymnasium import spaces
 
 from vessel_gym.envs.config import ShipEnvConfig
-from vessel_gym.envs.declare import FeatureSpec, Info, Term, columns, degrees, maximum, pick
+from vessel_gym.envs.declare import FeatureSpec, Info, Term, columns, degrees, maximum, pick, whole_rows
 from vessel_gym.envs.helm import ContinuousHelm, continuous_orders, real_values
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform, start, task_arrays
@@ -79,7 +79,7 @@ INFO = (
         "speed of compression at the first touch (0 before)",
     ),
     Info("contact_speed_limit_m_s", _limit, "PIANC design berthing velocity of the ship's displacement"),
-    Info("fender_energy_kJ", lambda v: v.fender_energy_kJ, "energy absorbed by each fender, kJ"),
+    Info("fender_energy_kJ", lambda v: whole_rows(v.fender_energy_kJ), "energy absorbed by each fender, kJ"),
     Info("fender_rated_energy_kJ", _rated, "rated energy of a fender, kJ"),
     Info("max_fender_energy_fraction", lambda v: v.feat[FEAT.fender_load], "largest fender energy / rating"),
     Info(
