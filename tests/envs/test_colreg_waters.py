@@ -159,3 +159,28 @@ def test_velocity_obstacle_pilot_keeps_off_the_banks():
     result = evaluate(CHANNEL, "pid", episodes=3, seed=0)
     s = result["summary"]
     assert s["grounding_rate"] == 0.0 and s["collision_rate"] == 0.0 and s["success_rate"] == 1.0
+
+
+def test_velocity_obstacle_pilot_blocks_headings_into_land():
+    """A slow ship dead ahead in the own lane: with clear sensors the pilot passes it to port (its first free
+    heading); with land read within 6 L on the port bow (sectors 18-23: 270-345 deg) it turns to starboard
+    instead, onto a heading whose sector reads clear."""
+    from vessel_gym.envs.tasks.colreg_pilots import VelocityObstaclePilot
+
+    env = gym.make(CHANNEL, observation_type="physical")
+    lay = env.unwrapped.observation_layout
+    obs, _ = env.reset(seed=0, options={"scenario": "lanes:overtaking"})
+    assert lay.value(obs, "t0_overtaking") == 1.0
+    clear = obs.copy()
+    for i in range(24):
+        clear[lay.index(f"sensor{i}")] = 10.0 * L
+    free = VelocityObstaclePilot(env).heading_error(clear)
+    assert free < -math.radians(5.0)  # to port
+    coast = clear.copy()
+    for i in range(18, 24):
+        coast[lay.index(f"sensor{i}")] = 2.0 * L
+    c = VelocityObstaclePilot(env).heading_error(coast)
+    assert c > math.radians(5.0)  # to starboard
+    sector = int(round((c % (2.0 * math.pi)) / math.radians(15.0))) % 24
+    assert lay.value(coast, f"sensor{sector}") >= 6.0 * L
+    env.close()
