@@ -184,3 +184,20 @@ def test_velocity_obstacle_pilot_blocks_headings_into_land():
     sector = int(round((c % (2.0 * math.pi)) / math.radians(15.0))) % 24
     assert lay.value(coast, f"sensor{sector}") >= 6.0 * L
     env.close()
+
+
+def test_evaluate_json_reports_the_grounding_rate(capsys):
+    import json
+
+    from agents.evaluate import main
+    from agents.evaluation import summarize
+
+    assert main(["--env", CHANNEL, "--agent", "pid", "--episodes", "1", "--seed", "0", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["grounding_rate"] == 0.0 and out["collision_rate"] == 0.0 and out["success_rate"] == 1.0
+    assert out["per_episode"][0]["grounding"] == 0.0
+    # a rate over episodes, not a mean of a metric
+    s = summarize(
+        [{"seed": 0, "grounding": 1.0}, {"seed": 1, "grounding": 0.0}, {"seed": 2, "grounding": 0.0}]
+    )
+    assert s["grounding_rate"] == pytest.approx(1.0 / 3.0) and "grounding_mean" not in s
