@@ -44,6 +44,7 @@ from agents.common import (
     json_safe,
     parse_assignments,
 )
+from agents.evaluation import RATES
 from vessel_gym.cli_args import OneLineParser, UsageError, error_line, int_in, require_extra
 
 #: summary keys printed (when present) with their labels
@@ -123,7 +124,7 @@ def contract(result: dict[str, Any], files: dict[str, str] | None = None) -> dic
     for key, src in CONTRACT:
         if src in s:
             out[key] = s[src]
-    for rate in ("success_rate", "collision_rate"):
+    for rate in (f"{name}_rate" for name in RATES):
         if rate in s:
             out[rate] = s[rate]
     for k, v in s.items():

@@ -131,12 +131,12 @@ def run_episode(env: Any, policy: Any, seed: int) -> dict[str, Any]:
 
 
 #: the per-episode outcomes (0/1) summarised as rates ``<name>_rate``
-RATES = ("success", "collision")
+RATES = ("success", "collision", "grounding")
 
 
 def summarize(episodes: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
-    """Mean and standard deviation over episodes of every numeric metric (NaN-aware; ``success`` and
-    ``collision`` as rates, ``outcome`` as counts)."""
+    """Mean and standard deviation over episodes of every numeric metric (NaN-aware; ``success``,
+    ``collision`` and ``grounding`` as rates, ``outcome`` as counts)."""
     out: dict[str, Any] = {"episodes": len(episodes)}
     keys = [k for k in episodes[0] if k not in ("seed", "outcome")]
     for k in keys:

@@ -8,6 +8,7 @@ the rule checks (``colreg_rules.py``) and the baselines (``colreg_pilots.py``).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -20,9 +21,9 @@ from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform, start, task_arrays
-from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SPEC, P, S
-from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, Encounter, generate, imazu
-from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa
+from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SENSOR_MAX, SPEC, P, S
+from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, LANES, Encounter, generate, imazu, lanes
+from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, polygon_edges, sweep_bearings
 from vessel_gym.envs.tasks.colreg_rules import R, new_record
 from vessel_gym.envs.tasks.colreg_situation import read_situation
 from vessel_gym.envs.tasks.colreg_step import colreg_update
@@ -30,7 +31,8 @@ from vessel_gym.envs.tasks.common import motion_observed
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
-from vessel_gym.scenarios.geometry import hull_outline
+from vessel_gym.scenarios.geometry import hull_outline, point_in_polygon
+from vessel_gym.scenarios.scenario import load_scenario
 
 CollisionAvoidanceReward = SPEC.weights_class(
     "CollisionAvoidanceReward", __name__, "CollisionAvoidance reward weights."
@@ -47,8 +49,9 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
     )
     encounters: str = param(
         "imazu",
-        choices=("imazu", "generated", "mixed"),
-        doc="what a reset draws: an Imazu case, a generated encounter, or either (half each)",
+        choices=("imazu", "generated", "mixed", "lanes"),
+        doc="what a reset draws: an Imazu case, a generated encounter, either (half each), or traffic in a "
+        "two-lane scheme (own lane and opposite lane, colreg_encounters.lanes)",
     )
     initial_heading_deg: tuple[float, ...] = param(
         (0.0, 360.0),
@@ -116,6 +119,20 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
         "starboard once its TCPA is below half the meeting time, and resumes its course past the CPA",
     )
     target_turn_deg: float = param(35.0, unit="deg", lo=5.0, hi=90.0, doc="a reacting target's alteration")
+    waters: str = param(
+        "",
+        doc="restricted waters: a scenario (built-in name or TOML path) whose land and depth areas the own ship "
+        "must keep off, in the frame of the own ship's start (origin, heading north: the heading is not drawn); "
+        "its goal point is the goal. Empty: open sea",
+    )
+    under_keel_m: float = param(
+        2.0, unit="m", lo=0.0, hi=50.0, doc="grounding: charted depth below the draught plus this margin"
+    )
+    opposite_lane_L: float = param(
+        7.5, unit="L", lo=0.0, hi=100.0, doc="lanes: the opposite lane's centre line, this far to port"
+    )
+    sensors: int = param(0, unit="-", lo=0, hi=SENSOR_MAX, doc="range-sensor sectors observed (0: no sweep)")
+    sensor_range_L: float = param(10.0, unit="L", lo=0.5, hi=200.0, doc="the range-sensor sweep's reach")
     reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")  # type: ignore[valid-type]
 
 
@@ -178,6 +195,21 @@ class World:
         self.reach = math.hypot(L, B)  # m: centres farther apart than this cannot touch
         self.slots_observed = observed
         self.course = np.zeros(n + worlds * targets)  # rad, each ship's course at the start
+        # restricted waters (set by the task): the polygons a hull must not reach (land, and depth areas
+        # shallower than the draught plus the under-keel margin) with their boxes, and all their edges
+        self.obstacles: list[tuple[list, tuple[float, float, float, float]]] = []
+        self.edges = np.zeros((0, 4))
+        # the range-sensor sweep: its rays' relative bearings (rad; empty: no sweep) and sectors
+        self.sensors = 0
+        self.bearings = np.zeros(0)
+
+    def set_waters(self, polys: list) -> None:
+        """The obstacles of restricted waters: polygons of (north, east) points, m."""
+        self.obstacles = [
+            (p, (min(q[0] for q in p), max(q[0] for q in p), min(q[1] for q in p), max(q[1] for q in p)))
+            for p in polys
+        ]
+        self.edges = polygon_edges(polys)
 
 
 def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
@@ -189,6 +221,7 @@ def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
     out: dict[str, Any] = {
         "success": float(last["success"]),
         "collision": float(last["collision"]),
+        "grounding": float(last["grounding"]),
         "min_separation_m": last["min_separation_m"],
         "min_separation_L": last["min_separation_L"],
         "path_ratio": last["path_ratio"],
@@ -223,7 +256,15 @@ def vo_nomoto_pilot(env: Any) -> Any:
 
 
 @register_task(
-    presets={"CollisionAvoidance-v0": {}},
+    presets={
+        "CollisionAvoidance-v0": {},
+        "CollisionAvoidanceChannel-v0": {
+            "waters": "colreg_tss",
+            "encounters": "lanes",
+            "sensors": 24,
+            "initial_heading_deg": (0.0, 0.0),
+        },
+    },
     max_episode_steps=400,
     pilots={"pid": vo_pilot, "pid-nomoto": vo_nomoto_pilot, "scripted": route_pilot},
     metrics=episode_metrics,
@@ -255,17 +296,20 @@ class CollisionAvoidanceTask(Task):
     | colreg | 0.5 | -1 while the rudder order is to port with a head-on or give-way target closing |
     | rudder | 0.05 | -abs(change of rudder order) / (2 x rudder limit) |
     | collision | 20.0 | -1 at contact of the hull outlines |
+    | grounding | 20.0 | -1 when the hull outline reaches land or a shoal |
     | arrival | 10.0 | +1 on reaching the goal |
 
     ## Episode End
 
-    * Termination: arrival (within ``goal_radius_L`` of the goal or abeam of it), collision, straying
+    * Termination: arrival (within ``goal_radius_L`` of the goal or abeam of it), collision, grounding
+      (restricted waters, ``waters``: the hull outline reaches land or water shallower than the draught plus
+      ``under_keel_m``), straying
       beyond ``max_cross_track_L`` from the route, divergence.
     * Truncation: 400 steps (4000 s at the default 10 s control interval, twice the route at test speed).
 
     ## Info
 
-    ``reward_terms``, ``scenario``, ``outcome``, ``success``, ``is_success``, ``collision``, ``time_s``,
+    ``reward_terms``, ``scenario``, ``outcome``, ``success``, ``is_success``, ``collision``, ``grounding``, ``time_s``,
     ``min_separation_m``, ``min_separation_L``, ``planned_dcpa_m`` (smallest planned DCPA of the encounter),
     ``path_ratio``, ``rudder_reversals``, ``colreg_score``, ``colreg_checks``, ``colreg_violations``,
     ``reaction_delay_s`` (mean over the pairs acted for, from detection to the first alteration; -1 before any),
@@ -296,6 +340,26 @@ class CollisionAvoidanceTask(Task):
         self.helm = make_helm(config, OwnShips(self.sim, n))
         B = self.ship.particulars.B_m
         self.world = World(n, config.agents, config.max_targets, self.L, B, config.observed_targets)
+        self.waters = None
+        if config.waters:
+            self.waters = _load_waters(config.waters)
+            draught = self.ship.particulars.T_m + config.under_keel_m  # m: shallower than this grounds
+            polys = [pts for _kind, _name, pts in self.waters.hard_obstacles()]
+            polys += [pts for _name, pts in self.waters.shoals(draught)]
+            if self.waters.water_depth_m < draught:  # the open water itself would be a shoal
+                raise SpecError(
+                    f"CollisionAvoidance: waters {config.waters!r}: water_depth_m "
+                    f"{self.waters.water_depth_m:g} m is below the draught + under_keel_m ({draught:g} m)"
+                )
+            self.world.set_waters(polys)
+            if not point_in_polygon((0.0, 0.0), [tuple(q) for q in self.waters.start.points]):
+                raise SpecError(
+                    f"CollisionAvoidance: waters {config.waters!r}: its start region must hold "
+                    "the origin (the own ship's start)"
+                )
+        if config.sensors:
+            self.world.sensors = config.sensors
+            self.world.bearings = sweep_bearings(config.sensors)
         self.ts = np.zeros((n, len(S)))
         self.scores = np.zeros((n, len(SC)))
         self.scores[:, SC.score] = 1.0
@@ -320,6 +384,7 @@ class CollisionAvoidanceTask(Task):
         p[P.substantial] = c.substantial_deg * DEG
         p[P.stand_on_course] = c.stand_on_tolerance_deg * DEG
         p[P.stand_on_speed] = c.stand_on_speed_fraction
+        p[P.sensor_range] = c.sensor_range_L * self.L
         self.p = p
         T = self.L / self.U_T  # s
         # the reacting targets' heading law (PIDHeadingAutopilot's default gains): Kp, Kd (s), rudder limit,
@@ -343,6 +408,7 @@ class CollisionAvoidanceTask(Task):
                 "tcpa scale": c.tcpa_L * self.L / self.U_T,
                 "route length": 2.0 * c.tcpa_L * self.L,
                 "max cross track": c.max_cross_track_L * self.L,
+                "sensor range": c.sensor_range_L * self.L,
             }
         )
         return out
@@ -350,7 +416,8 @@ class CollisionAvoidanceTask(Task):
     def observed(self) -> tuple[str, ...]:
         own = ("cross_track", "course_error", "goal_sin", "goal_cos", "goal_distance")
         slots = tuple(f"t{j}_{f}" for j in range(self.config.observed_targets) for f in _field_names())
-        return motion_observed(rev=self.config.engine_control) + own + slots
+        sensors = tuple(f"sensor{i}" for i in range(self.config.sensors))
+        return motion_observed(rev=self.config.engine_control) + own + slots + sensors
 
     # --- the start of an encounter -------------------------------------------------------------------------
     def draw(self, name: str | None, rng: np.random.Generator) -> Encounter:
@@ -385,6 +452,18 @@ class CollisionAvoidanceTask(Task):
             dcpa = tuple(rng.uniform(*c.generated_dcpa_L) * self.L for _ in types)
             tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
             return generate(types, dcpa, tcpa, self.U_T, rng)
+        if kind == "lanes":
+            if arg:
+                types = tuple(arg.split("+"))
+            else:
+                lo, hi = max(c.generated_targets[0], need, 1), min(c.generated_targets[-1], c.max_targets)
+                count = int(rng.integers(lo, max(lo, hi) + 1))
+                types = tuple(str(rng.choice(list(LANES))) for _ in range(count))
+            if not need <= len(types) <= c.max_targets:
+                raise ValueError(f"{name}: {len(types)} targets; this task takes {need} to {c.max_targets}")
+            T = c.tcpa_L * self.L / self.U_T
+            tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
+            return lanes(types, tcpa, self.U_T, self.L, c.opposite_lane_L * self.L, rng)
         if kind == "file" and arg:
             enc = read_situation(arg)
             if not need <= len(enc.targets) <= c.max_targets:
@@ -393,7 +472,8 @@ class CollisionAvoidanceTask(Task):
                 )
             return enc
         raise ValueError(
-            f"unknown scenario {name!r} (imazu, imazu:1..22, generated, generated:<type>[+<type>...], file:<path>)"
+            f"unknown scenario {name!r} (imazu, imazu:1..22, generated, generated:<type>[+<type>...], "
+            "lanes, lanes:<type>[+<type>...], file:<path>)"
         )
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
@@ -406,9 +486,15 @@ class CollisionAvoidanceTask(Task):
         scenario = opts.pop("scenario", None)
         drawn = _uniform(rng, c.initial_heading_deg)
         heading = float(opts.pop("heading_deg", drawn))
+        if self.waters is not None:  # the waters are fixed on the chart: the own ship starts heading north
+            if heading != 0.0 and "heading_deg" in (options or {}):
+                raise ValueError("heading_deg: restricted waters fix the own ship's start heading (north, 0)")
+            heading = 0.0
         if opts:
             raise ValueError(f"unknown reset option(s) {sorted(opts)} (allowed: heading_deg, scenario)")
         enc = self.draw(scenario, rng)
+        if self.waters is not None:  # the goal is the waters' goal point
+            enc = dataclasses.replace(enc, goal=self.waters.goal_point)
         w = world.world_of[k]
         if enc.name not in self.scenario_names:
             self.scenario_names.append(enc.name)
@@ -498,6 +584,13 @@ def steer_targets(sim: Simulation, world: World, law: tuple) -> None:
                     ref = world.course[j] + turn
             e = wrap_pi(ref - psi[j])
             sim.set_helm(rudder_order_rad=min(max(Kp * e - Kd * r[j], -limit), limit), k=j)
+
+
+def _load_waters(name: str) -> Any:
+    try:
+        return load_scenario(name)
+    except SpecError as exc:
+        raise SpecError(f"CollisionAvoidance waters: {exc}") from None
 
 
 def _case(text: str) -> int:

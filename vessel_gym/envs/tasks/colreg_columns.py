@@ -31,6 +31,8 @@ _FIELDS = (
 )
 TARGET_FIELDS = columns(*(f[0] for f in _FIELDS), typename="TargetFields")
 SLOT = len(_FIELDS)  # feature columns per slot
+#: range-sensor sectors declared (the config observes the first ``sensors`` of them)
+SENSOR_MAX = 36
 
 #: the rule checks (colreg_rules.CHECKS is this tuple)
 CHECKS = ("early", "substantial", "starboard", "not_ahead", "stand_on", "no_port")
@@ -44,8 +46,10 @@ SC = columns(
     "delay",  # s, mean reaction delay over the pairs acted for (-1 before any)
     typename="ColregScores",
 )
-OUTCOMES = ("running", "arrived", "collision", "strayed", "diverged")
-_ARRIVED, _COLLISION, _DIVERGED = (OUTCOMES.index(o) for o in ("arrived", "collision", "diverged"))
+OUTCOMES = ("running", "arrived", "collision", "strayed", "diverged", "grounding")
+_ARRIVED, _COLLISION, _DIVERGED, _GROUNDING = (
+    OUTCOMES.index(o) for o in ("arrived", "collision", "diverged", "grounding")
+)
 
 
 def _checks(prefix: str):  # an info entry's value: a count per check
@@ -87,6 +91,11 @@ INFO = (
     Info("success", lambda v: v.ts[S.outcome] == _ARRIVED, "arrived at the goal"),
     Info("is_success", same_as="success", doc="success, as Stable-Baselines3 logs it"),
     Info("collision", lambda v: v.ts[S.outcome] == _COLLISION, "the hull outlines touched"),
+    Info(
+        "grounding",
+        lambda v: v.ts[S.outcome] == _GROUNDING,
+        "the hull outline reached land or water shallower than the draught + under_keel_m",
+    ),
     Info("time_s", lambda v: v.ts[S.t], "time since the start, s"),
     Info("min_separation_m", lambda v: v.ts[S.min_sep], "closest centre-to-centre range so far, m"),
     Info("min_separation_L", lambda v: v.ts[S.min_sep] / v.task.L, "the same in own ship lengths"),
@@ -115,6 +124,7 @@ SPEC = task_spec(
         Term("colreg", 0.5, "-1 while the rudder order is to port with a head-on or give-way target closing"),
         Term("rudder", 0.05, RUDDER_ACTIVITY_DOC),
         Term("collision", 20.0, "-1 at contact of the hull outlines (the episode's last step)"),
+        Term("grounding", 20.0, "-1 when the hull outline reaches land or a shoal (the episode's last step)"),
         Term("arrival", 10.0, "+1 on reaching the goal (within goal_radius_L L, or abeam of it)"),
     ),
     features=(
@@ -129,6 +139,16 @@ SPEC = task_spec(
             FeatureSpec(f"t{j}_{name}", unit, scale, f"target slot {j}: " + doc.format(j=j))
             for j in range(K_MAX)
             for name, unit, scale, doc in _FIELDS
+        ),
+        *(
+            FeatureSpec(
+                f"sensor{i}",
+                "m",
+                (1.0, "sensor range"),
+                f"range-sensor sector {i}: nearest land, shoal or hull outline (sector i of N centred on "
+                "i x 360 / N deg clockwise from the bow; the sensor range where none)",
+            )
+            for i in range(SENSOR_MAX)
         ),
     ),
     info=INFO,
@@ -151,5 +171,6 @@ P = columns(
     "substantial",  # rad
     "stand_on_course",  # rad
     "stand_on_speed",  # fraction
+    "sensor_range",  # m, the range-sensor sweep's reach
     typename="CollisionAvoidanceParams",
 )

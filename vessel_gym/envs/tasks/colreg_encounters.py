@@ -168,3 +168,40 @@ def generate(
             raise ValueError(f"no {name} start found for DCPA {d:g} m, TCPA {t:g} s in {tries} draws")
     label = "+".join(situations)
     return Encounter(f"generated:{label}", U, tuple(targets), tuple(planned))
+
+
+#: the traffic of a two-lane scheme (``lanes``): per type, the target's course relative to the own ship's
+#: (deg), its speed as a fraction of the own ship's and its lateral offset from the own ship's track line
+#: (ship lengths; ``opposing``: about the opposite lane's centre line)
+LANES = {
+    "overtaking": (0.0, (0.3, 0.5), (-0.5, 0.5)),  # a slow ship ahead in the own lane
+    "opposing": (180.0, (0.5, 1.0), (-1.5, 1.5)),  # a ship in the opposite lane, on the reciprocal course
+}
+
+
+def lanes(
+    types: tuple[str, ...],
+    tcpa_s: tuple[float, ...],
+    U: float,
+    L: float,
+    opposite_m: float,
+    rng: np.random.Generator,
+) -> Encounter:
+    """Traffic in a two-lane scheme: the own ship at the origin heading north in its lane at ``U`` m/s; per
+    target of ``types`` (``LANES`` key) a ship in the own lane ahead (``overtaking``) or in the opposite lane,
+    whose centre line is ``opposite_m`` m to port, on the reciprocal course (``opposing``), with its course,
+    speed and lateral offset drawn from the type's ranges and its start where it comes abeam of the own ship
+    (both keeping course and speed) after ``tcpa_s`` s."""
+    targets, planned = [], []
+    for name, t in zip(types, tcpa_s):
+        if name not in LANES:
+            raise ValueError(f"no lane traffic {name!r} (have: {', '.join(LANES)})")
+        course, speed_ratio, offset_L = LANES[name]
+        psi = math.radians(course)
+        speed = U * rng.uniform(*speed_ratio)
+        e = rng.uniform(*offset_L) * L - (opposite_m if name == "opposing" else 0.0)
+        n = (U - speed * math.cos(psi)) * t  # closing speed along the lanes x time to come abeam
+        d, tc = planned_cpa(n, e, psi, speed, U)
+        targets.append(Target(n, e, psi, speed, classify(n, e, 0.0, psi, True)))
+        planned.append((d, tc))
+    return Encounter("lanes:" + "+".join(types), U, tuple(targets), tuple(planned))

@@ -12,6 +12,8 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
+import numpy as np
+
 from vessel_gym.control.angles import wrap_pi
 from vessel_gym.physics.kinematics import body_point_to_earth
 from vessel_gym.scenarios.geometry import Point, polygons_overlap
@@ -79,3 +81,48 @@ def classify(pn: float, pe: float, psi_o: float, psi_t: float, closing: bool) ->
     if abs(wrap_pi(beta)) <= HEAD_ON_HALF_WIDTH and abs(wrap_pi(alpha)) <= HEAD_ON_HALF_WIDTH:
         return HEAD_ON
     return GIVE_WAY if beta < math.pi else STAND_ON
+
+
+#: rays cast per sector of the range-sensor sweep (the sector reports their smallest range)
+RAYS_PER_SECTOR = 5
+
+
+def sweep_bearings(sectors: int) -> np.ndarray:
+    """Relative bearings (rad, clockwise from the bow) of the sweep's rays, sector by sector: sector i is
+    centred on i x 360 / ``sectors`` deg (sector 0 dead ahead) and its RAYS_PER_SECTOR rays spread evenly over
+    its width."""
+    w = 2.0 * math.pi / sectors
+    offsets = (np.arange(RAYS_PER_SECTOR) + 0.5) / RAYS_PER_SECTOR * w - 0.5 * w
+    return (np.arange(sectors)[:, None] * w + offsets[None, :]).ravel()
+
+
+def polygon_edges(polys: Sequence[Sequence[Point]]) -> np.ndarray:
+    """The edges of closed polygons as rows (a_n, a_e, b_n, b_e), m."""
+    rows = [(*p[i], *p[(i + 1) % len(p)]) for p in polys for i in range(len(p))]
+    return np.array(rows, dtype=np.float64).reshape(-1, 4)
+
+
+def sweep(
+    n: float, e: float, psi: float, bearings: np.ndarray, edges: np.ndarray, max_range: float
+) -> np.ndarray:
+    """Range (m) along each ray from (``n``, ``e``) at relative ``bearings`` (rad, from the bow ``psi``) to the
+    nearest of ``edges`` (rows a_n, a_e, b_n, b_e; land, shoals and hull outlines), ``max_range`` where a ray
+    meets none within it. Ray-segment intersection: o + t d = a + s (b - a), t >= 0, 0 <= s <= 1."""
+    out = np.full(len(bearings), max_range)
+    if not len(edges):
+        return out
+    c = psi + bearings
+    dn, de = np.cos(c)[:, None], np.sin(c)[:, None]
+    an, ae = edges[:, 0] - n, edges[:, 1] - e  # a - o
+    sn, se = edges[:, 2] - edges[:, 0], edges[:, 3] - edges[:, 1]  # b - a
+    denom = dn * se - de * sn  # cross(d, b - a)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (an * se - ae * sn) / denom  # cross(a - o, b - a) / denom
+        s = (an * de - ae * dn) / denom  # cross(a - o, d) / denom
+    hit = (np.abs(denom) > 1e-12) & (t >= 0.0) & (s >= 0.0) & (s <= 1.0)
+    return np.minimum(np.where(hit, t, max_range).min(axis=1), max_range)
+
+
+def sector_minima(ranges: np.ndarray, sectors: int) -> np.ndarray:
+    """The smallest range of each sector's rays (``sweep`` over ``sweep_bearings(sectors)``)."""
+    return ranges.reshape(sectors, RAYS_PER_SECTOR).min(axis=1)

@@ -11,7 +11,9 @@
   relative velocity on the starboard side of the line of sight, so the target is left to port). A stand-on
   target is ignored until it is within ``release_range_L`` (rule 17(a)), then avoided without turning to
   port for a target on the port side (17(c)). When the line of sight is blocked by a give-way target, the
-  alteration is at least ``substantial_deg`` (rule 8(b)).
+  alteration is at least ``substantial_deg`` (rule 8(b)). In restricted waters, with the range-sensor sweep
+  observed (``sensors``), a heading whose sector reads land, a shoal or a hull nearer than ``land_L`` ship
+  lengths is blocked too: the pilot keeps off the coast.
 
 Everything is computed in the own ship's body frame (x forward, y starboard) from the target list.
 """
@@ -77,6 +79,7 @@ class VelocityObstaclePilot(RouteFollower):
         horizon_tcpa: float = 1.2,
         fan_deg: float = 90.0,
         step_deg: float = 2.5,
+        land_L: float = 6.0,
     ) -> None:
         super().__init__(env, Kp, Ki, Kd, lookahead_L)
         task = env.unwrapped.task
@@ -88,6 +91,8 @@ class VelocityObstaclePilot(RouteFollower):
         self.fan = np.radians(np.arange(-fan_deg, fan_deg + 1e-9, step_deg))  # route-relative headings
         self.K = c.observed_targets
         self.chosen: np.ndarray | None = None  # route-relative heading chosen at the last step, per row
+        self.sensors = c.sensors
+        self.land = land_L * self.L
 
     def reset(self, mask: np.ndarray | None = None) -> None:
         super().reset(mask)
@@ -145,6 +150,10 @@ class VelocityObstaclePilot(RouteFollower):
                 give_way_block = True
             if stand_on and t["bearing_sin"] < 0.0:
                 blocked += c < -math.radians(2.0)  # rule 17(c): no turn to port for a target on the port side
+        if self.sensors:  # a heading into land, a shoal or a hull within land_L is blocked
+            reads = np.array([float(self.get(obs, f"sensor{i}")) for i in range(self.sensors)])
+            sector = np.rint((c % (2.0 * np.pi)) / (2.0 * np.pi / self.sensors)).astype(int) % self.sensors
+            blocked += reads[sector] < self.land
         if give_way_block:  # rule 8(b): an alteration large enough to be readily apparent
             cost += (np.abs(_wrap(c - los)) < self.substantial) * 0.5
         assert self.chosen is not None  # sized by the caller, act(), before any choice

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.task import PHASE_STEP
 from vessel_gym.envs.tasks.colreg_columns import FEAT, OUTCOMES, SLOT, TARGET_FIELDS, TERM, P, S
@@ -24,7 +26,10 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     cpa,
     hulls_touch,
     place,
+    polygon_edges,
     relative_bearing,
+    sector_minima,
+    sweep,
 )
 from vessel_gym.envs.tasks.colreg_rules import R, detect, score_row, track
 from vessel_gym.envs.tasks.common import (
@@ -43,6 +48,7 @@ from vessel_gym.physics.kinematics import (
     position,
     velocity_through_water,
 )
+from vessel_gym.scenarios.geometry import polygons_overlap
 
 #: the one-hot situation columns of a target slot; being overtaken is a stand-on role (rule 17), as crossing
 ONE_HOT = {
@@ -52,8 +58,8 @@ ONE_HOT = {
     STAND_ON: "stand_on",
     OVERTAKEN: "stand_on",
 }
-ARRIVED, COLLISION, STRAYED, DIVERGED = (
-    OUTCOMES.index(o) for o in ("arrived", "collision", "strayed", "diverged")
+ARRIVED, COLLISION, STRAYED, DIVERGED, GROUNDING = (
+    OUTCOMES.index(o) for o in ("arrived", "collision", "strayed", "diverged", "grounding")
 )
 
 
@@ -107,6 +113,9 @@ def colreg_update(phase, v, t):
         collided = False
         port_with_give_way = False
         listed = []
+        hulls = []  # the other ships' outlines within the sensors' reach
+        sensing = world.sensors > 0
+        grounded = stepped and _aground(own_outline, n, e, world)
         on, oe, opsi, ovn, ove = _ship(x, env, k)
         for slot, j in enumerate(world.members[world.world_of[k]]):
             if slot == w_slot or not world.active[j]:
@@ -117,8 +126,12 @@ def colreg_update(phase, v, t):
             rng = math.hypot(pn, pe)
             dcpa, tcpa = cpa(pn, pe, wn, we)
             closest = min(closest, rng)
-            if stepped and rng < world.reach and hulls_touch(own_outline, place(world.outline, tn, te, tpsi)):
-                collided = True
+            if (stepped and rng < world.reach) or (sensing and rng < p[P.sensor_range] + world.reach):
+                outline = place(world.outline, tn, te, tpsi)
+                if stepped and rng < world.reach and hulls_touch(own_outline, outline):
+                    collided = True
+                if sensing:
+                    hulls.append(outline)
             rec = pairs[k, slot]
             if rec[R.situation] == SAFE and rng <= p[P.detection]:
                 sit = classify(pn, pe, psi, tpsi, dcpa < p[P.risk] and tcpa > 0.0)
@@ -157,6 +170,8 @@ def colreg_update(phase, v, t):
             outcome = DIVERGED
         elif collided:
             outcome = COLLISION
+        elif grounded:
+            outcome = GROUNDING
         elif goal <= p[P.goal_radius] or (leg > 0.0 and (ln * gn + le * ge) <= 0.0):
             outcome = ARRIVED  # at the goal, or past its abeam line
         elif abs(cross) > p[P.max_cross]:
@@ -168,6 +183,7 @@ def colreg_update(phase, v, t):
             terms[k, TERM.colreg] = -1.0 if port_with_give_way else 0.0
             terms[k, TERM.rudder] = rudder_activity(order, s[S.prev_order], p[P.rudder_limit])
             terms[k, TERM.collision] = -1.0 if outcome == COLLISION else 0.0
+            terms[k, TERM.grounding] = -1.0 if outcome == GROUNDING else 0.0
             terms[k, TERM.arrival] = 1.0 if outcome == ARRIVED else 0.0
             side = 1.0 if order > p[P.port_order] else (-1.0 if order < -p[P.port_order] else 0.0)
             if side != 0.0:
@@ -175,7 +191,7 @@ def colreg_update(phase, v, t):
                     s[S.reversals] += 1.0
                 s[S.prev_side] = side
             s[S.outcome] = outcome
-            if outcome in (ARRIVED, COLLISION, STRAYED):
+            if outcome in (ARRIVED, COLLISION, STRAYED, GROUNDING):
                 leaving.append(k)
         if math.isfinite(closest):
             s[S.min_sep] = min(s[S.min_sep], closest)
@@ -189,7 +205,25 @@ def colreg_update(phase, v, t):
         feat[k, FEAT.goal_sin] = math.sin(goal_brg)
         feat[k, FEAT.goal_cos] = math.cos(goal_brg)
         feat[k, FEAT.goal_distance] = goal
+        if sensing:
+            edges = world.edges if not hulls else _stack(world.edges, polygon_edges(hulls))
+            reach = sweep(n, e, psi, world.bearings, edges, p[P.sensor_range])
+            feat[k, FEAT.sensor0 : FEAT.sensor0 + world.sensors] = sector_minima(reach, world.sensors)
         encode_row(v, k)
         score_row(pairs[k], t.scores[k], p)
     for k in leaving:  # a ship whose episode ended leaves the encounter (after every ship has seen it)
         world.active[k] = False
+
+
+def _aground(outline, n, e, world) -> bool:
+    """Whether a hull outline on the chart reaches one of the waters' obstacles (land, or a depth area
+    shallower than the draught plus the under-keel margin): the polygons share a point."""
+    r = world.reach
+    for poly, (n0, n1, e0, e1) in world.obstacles:
+        if n0 - r <= n <= n1 + r and e0 - r <= e <= e1 + r and polygons_overlap(outline, poly):
+            return True
+    return False
+
+
+def _stack(a, b):
+    return np.concatenate((a, b)) if len(a) else b
