@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.physics.components.tug import Tug
-from vessel_gym.ui.play import RUDDER_STEP_DEG
+from vessel_gym.ui.panels import RUDDER_STEP_DEG
 
 ENGINE_STEPS = 4  # engine orders in quarters of full ahead / astern rpm
 ASSIST_STEP = 0.25  # a thruster's or tug's order per key press
