@@ -166,14 +166,14 @@ class InfoPlan:
         cols: list[int] = []  # their columns of the info rows
         single: list[tuple[str, Any]] = []
         batch: list[tuple[str, Any]] = []
-        #: (entry, its column of the info rows, its row of the vector env's copy) of the entries given as
-        #: an int, a bool (the others are the column's float)
-        self.ints: list[tuple[str, int, int]] = []
-        self.bools: list[tuple[str, int, int]] = []
+        #: (entry, its column of the info rows) of the entries given as an int, a bool (the others are the
+        #: column's float)
+        self.ints: list[tuple[str, int]] = []
+        self.bools: list[tuple[str, int]] = []
         self.repeats: list[tuple[str, str]] = []  # (entry, the entry whose value it repeats)
         self.consts: list[tuple[str, float]] = []  # (entry, its value under this config: when false, otherwise)
         for e in task.spec.info:
-            kept = (e.name, getattr(INFO, e.name), len(names))
+            kept = (e.name, getattr(INFO, e.name))
             if e.when is not None and not e.when(task.config):
                 if e.otherwise is None:
                     continue
@@ -251,9 +251,9 @@ def vessel_info(task: Task, k: int) -> dict[str, Any]:
     row = plan.info_rows[k].tolist()
     info = {"reward_terms": dict(zip(plan.term_names, task.terms[k].tolist()))}
     info.update(zip(plan.names, row if plan.pick is None else plan.pick(row)))
-    for name, j, _i in plan.ints:
+    for name, j in plan.ints:
         info[name] = int(row[j])
-    for name, j, _i in plan.bools:
+    for name, j in plan.bools:
         info[name] = row[j] != 0.0
     for name, c in plan.consts:
         info[name] = c
@@ -278,14 +278,13 @@ def batch_info(task: Task) -> dict[str, Any]:
     the arrays they read (of a 2-D array the columns the entries read, ``[j]`` column j of every vessel), so no
     entry is a view of an array a later step changes."""
     plan = task._infos or info_plan(task)
-    t = plan.info_rows.T
-    rows = t.copy() if plan.cols is None else t[plan.cols]
+    rows = plan.info_rows.T.copy()  # [j]: column j of every vessel (one copy of all: fewer rows cost more)
     info: dict[str, Any] = {"reward_terms": dict(zip(plan.term_names, task.terms.T.copy()))}
-    info.update(zip(plan.names, rows))
-    for name, _j, i in plan.ints:
-        info[name] = rows[i].astype(np.int64)
-    for name, _j, i in plan.bools:
-        info[name] = rows[i] != 0.0
+    info.update(zip(plan.names, rows if plan.cols is None else [rows[j] for j in plan.cols]))
+    for name, j in plan.ints:
+        info[name] = rows[j].astype(np.int64)
+    for name, j in plan.bools:
+        info[name] = rows[j] != 0.0
     for name, c in plan.consts:
         info[name] = np.full(plan.n, c)
     if plan.batch:
