@@ -271,3 +271,17 @@ def test_view_with_no_server_says_so(capsys, monkeypatch):
     assert code == 1 and out == ""
     assert err.strip().splitlines()[-1].startswith(f"vessel-gym view: no state from 127.0.0.1:{port} in ")
     assert "vessel-gym serve" in err
+
+
+@pytest.mark.parametrize("argv", [("imo", "x\x00.toml"), ("play", "x\x00.toml")])
+def test_a_file_name_with_a_nul_is_escaped_in_its_one_line_error(capsys, argv):
+    """A NUL (or any control character) in a file name is written as repr writes it, in the error the file
+    reader raises as well as on the command line: one line, no raw control character."""
+    from vessel_gym.physics.schema import SpecError, read_toml
+
+    with pytest.raises(SpecError) as err:
+        read_toml("x\x00.toml")
+    assert str(err.value) == "x\\x00.toml: cannot read (embedded null byte)"
+    code, out, err_text = run(capsys, *argv)
+    assert code == 2 and out == ""
+    assert err_text == "vessel-gym: x\\x00.toml: cannot read (embedded null byte)\n"

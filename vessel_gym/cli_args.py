@@ -18,10 +18,18 @@ class UsageError(ValueError):
     """Bad command-line input (exit code 2)."""
 
 
+def printable(text: object) -> str:
+    """``text`` with each character that is not printable (a NUL, a newline, an escape) written as Python's
+    repr writes it (``x\\x00.toml``): the one home of how a file name or other user input goes into a one-line
+    error (:func:`error_line`, and the errors that name a file, :func:`vessel_gym.physics.schema.read_toml`),
+    so that the line stays one line and shows what was given."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(text))
+
+
 def error_line(message: object) -> None:
-    """Print an error on stderr as exactly one line: control characters from the user's input are escaped."""
-    text = "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message))
-    print(text, file=sys.stderr)
+    """Print an error on stderr as exactly one line: control characters from the user's input are escaped
+    (:func:`printable`)."""
+    print(printable(message), file=sys.stderr)
 
 
 class DefaultsFormatter(argparse.HelpFormatter):

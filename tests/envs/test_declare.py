@@ -96,7 +96,7 @@ def test_a_reordered_declaration_relabels_nothing(monkeypatch):
     the reordered columns)."""
     reference = _rollout_terms(_make("vessel_gym/ZigZag-v1", observation_type="physical"))
     spec = zigzag.SPEC
-    reordered = TaskSpec(spec.title, tuple(reversed(spec.terms)), spec.features)
+    reordered = TaskSpec(spec.title, tuple(reversed(spec.terms)), spec.features, info=spec.info)
     assert reordered.TERM.heading_error == len(spec.terms) - 1  # the heading error moved to the last column
     monkeypatch.setattr(zigzag, "TERM", reordered.TERM)
     monkeypatch.setattr(ZigZagTask, "spec", reordered)

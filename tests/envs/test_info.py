@@ -173,9 +173,10 @@ def test_batch_info_from_the_columns_read_equals_the_whole_copy(env_id, monkeypa
         task._infos = None
         infos.append(batch_info(task))
         plan = T.info_plan(task)
-        whole = {name for name, a, _c in plan.columns if len(plan.read.get(name, ())) == a.shape[1]}
-        copies.append([cols is None for name, _a, cols in plan.columns if name != "terms" and name not in whole])
-    assert copies[0] and not any(copies[0]) and all(copies[1])  # arrays read whole are copied whole always
+        copies.append([cols is None for name, _a, cols in plan.columns])
+        # an array whose every column an entry reads (whole_rows) is copied whole
+        whole = [len(plan.read[name]) == a.shape[1] for name, a, _c in plan.columns]
+    assert copies[0] == whole and all(copies[1])  # (no such array where the kernel writes the entries)
     _assert_same_batch_info(infos[0], infos[1])
     for key, want in infos[1].items():
         if isinstance(want, np.ndarray) and want.dtype != object:

@@ -103,6 +103,12 @@ class Feature:
 class Info:
     """An ``info`` entry: its key, its value and what it means.
 
+    Without ``value`` (and ``same_as``) the task's kernel writes the entry: a number in column
+    ``spec.INFO.<name>`` of the vessel's info row (``v.info[k, INFO.name]``), given to the ``info`` as ``kind``
+    (``float``; ``int``, truncated; ``bool``, true where the column is not 0). The framework then builds the
+    single environment's entries from the row in one pass and the vector environment's from one copy of it,
+    with no Python call per entry: what a kernel can compute is best written there.
+
     ``value(v)`` reads the vessels' arrays by name from ``v`` (``v.ts[S.t]``, ``v.feat[FEAT.sog]``,
     ``v.alive``, ``v.done``, any vessel array the task declares; ``v.task`` is the task): for the single
     environment ``v``'s arrays are vessel k's rows as Python numbers (a row a list of floats), for the vector
@@ -120,6 +126,12 @@ class Info:
     when: Callable[[Any], bool] | None = None
     otherwise: float | None = None
     same_as: str | None = None
+    kind: type = float
+
+    @property
+    def written(self) -> bool:
+        """The task's kernel writes it into the info row (no ``value``, no ``same_as``)."""
+        return self.value is None and self.same_as is None
 
 
 # --- values of one vessel (Python numbers) or of all (numpy arrays), for Info.value -------------------------
@@ -140,6 +152,10 @@ def once(fn: Callable[[Any], Any]) -> Callable[[Any], Any]:
 
 
 _ARRAY = np.ndarray
+
+#: degrees per rad, as a kernel writes an angle into the info row: math.degrees(x) and np.degrees(x) are
+#: x * (180 / pi) to the bit (x / DEG, pi / 180 = DEG, is not)
+RAD_TO_DEG = 180.0 / math.pi
 
 
 def degrees(x: Any) -> Any:
@@ -226,6 +242,12 @@ class TaskSpec:
         columns(*self.term_names, *self.option_names, typename="Terms")  # an option may not reuse a term's name
         self.OPT = columns(*self.option_names, start=len(self.term_names), typename="Options")
         self.FEAT = columns(*self.feature_names, typename="Features")
+        #: entry name -> column of the info rows, every entry in declaration order (the kernel writes the
+        #: columns of the entries without a value; the others' columns stay unused)
+        self.INFO = columns(*(_identifier(i.name) for i in self.info), typename="InfoColumns")
+        for i in self.info:
+            if i.kind not in (float, int, bool):
+                raise ValueError(f"{title}: info[{i.name!r}] kind {i.kind!r} is not float, int or bool")
         repeated = [i for i, f in enumerate(self.features) if f.repeat is not None]
         if repeated and repeated != [len(self.features) - 1]:
             raise ValueError(f"{title}: only the last feature may repeat")

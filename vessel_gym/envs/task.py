@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import abc
 import math
+import operator
 from collections import namedtuple
 from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar
@@ -64,8 +65,11 @@ def physics_step(config: ShipEnvConfig, ship: Ship) -> float:
 #: rows ``inp`` and environment rows ``env`` (current, wind as the physics sees them), ``alive``; the reward
 #: weights ``w`` (term-column order) and the observation encoding ``enc`` (:func:`encode_row
 #: <vessel_gym.envs.tasks.common.encode_row>`); the rows the kernel writes: features ``feat``, observations
-#: ``obs``, weighted reward terms ``terms``, ``reward`` and ``done`` (terminated)
-Vessels = namedtuple("Vessels", ("x", "inp", "env", "alive", "w", "enc", "feat", "obs", "terms", "reward", "done"))
+#: ``obs``, weighted reward terms ``terms``, ``reward``, ``done`` (terminated) and the ``info`` entries the kernel
+#: writes (``info``, columns ``spec.INFO``)
+Vessels = namedtuple(
+    "Vessels", ("x", "inp", "env", "alive", "w", "enc", "feat", "obs", "terms", "reward", "done", "info")
+)
 
 #: the framework's arrays an ``info`` entry may read (``v.feat``, ...), one row per vessel
 INFO_ARRAYS = ("feat", "terms", "reward", "alive", "done")
@@ -96,6 +100,7 @@ def kernel_records(task: Task) -> tuple[Any, Any]:
         task.terms,
         task.reward,
         task.terminated,
+        task.info_rows,
     )
     return v, task.Arrays(*(getattr(task, f) for f in task.Arrays._fields))
 
@@ -126,7 +131,7 @@ class _Probe(_Vessels):
         if a.ndim == 1:
             value: Any = a.copy()
         else:
-            value = _Columns(a, cols)
+            value = _Columns(a, cols, name)
         setattr(self, name, value)
         return value
 
@@ -134,8 +139,8 @@ class _Probe(_Vessels):
 class _Columns:
     """Column j of a 2-D array of all vessels, copied, recorded in ``cols``."""
 
-    def __init__(self, a: np.ndarray, cols: set[int]) -> None:
-        self._a, self._cols = a, cols
+    def __init__(self, a: np.ndarray, cols: set[int], name: str) -> None:
+        self._a, self._cols, self.name = a, cols, name
 
     def __getitem__(self, j: int) -> np.ndarray:
         if not isinstance(j, (int, np.integer)):
@@ -151,51 +156,72 @@ class _Columns:
 
 class InfoPlan:
     """The ``info`` entries of a task for its config: ``reward_terms`` (the weighted terms by name), then the
-    declared :class:`~vessel_gym.envs.declare.Info` entries that apply, each a function of the vessels' arrays
-    by name (:func:`vessel_info`, :func:`batch_info`), and the arrays they read (found by evaluating them once
-    on all vessels, so that a call copies those alone)."""
+    declared :class:`~vessel_gym.envs.declare.Info` entries that apply, in declaration order (:func:`vessel_info`,
+    :func:`batch_info`). An entry the kernel writes is a column of the task's info rows (``info_rows``), taken
+    with the others in one pass; an entry with a ``value`` is a function of the vessels' arrays by name, and
+    the arrays those read are found by evaluating them once on all vessels, so that a call copies those alone."""
 
     def __init__(self, task: Task) -> None:
         self.term_names = task.term_names
         self.task = task
         self.n = task.n
+        INFO = task.spec.INFO
+        names: list[str] = []  # the entries that apply, in order
+        cols: list[int] = []  # their columns of the info rows
         single: list[tuple[str, Any]] = []
         batch: list[tuple[str, Any]] = []
+        #: (entry, its column of the info rows) of the entries given as an int, a bool (the others are the
+        #: column's float)
+        self.ints: list[tuple[str, int]] = []
+        self.bools: list[tuple[str, int]] = []
         self.repeats: list[tuple[str, str]] = []  # (entry, the entry whose value it repeats)
+        self.consts: list[tuple[str, float]] = []  # (entry, its value under this config: when false, otherwise)
         for e in task.spec.info:
+            kept = (e.name, getattr(INFO, e.name))
             if e.when is not None and not e.when(task.config):
                 if e.otherwise is None:
                     continue
-                c, n = e.otherwise, task.n
-                single.append((e.name, lambda v, c=c: c))
-                batch.append((e.name, lambda v, c=c, n=n: np.full(n, c)))
+                self.consts.append((e.name, e.otherwise))
             elif e.same_as is not None:  # its place in the dict now, its value once the other's is made
-                single.append((e.name, _none))
-                batch.append((e.name, _none))
                 self.repeats.append((e.name, e.same_as))
+            elif e.written:
+                if e.kind is int:
+                    self.ints.append(kept)
+                elif e.kind is bool:
+                    self.bools.append(kept)
             else:
                 single.append((e.name, e.value))
                 batch.append((e.name, e.value))
+            names.append(e.name)
+            cols.append(kept[1])
+        self.names = tuple(names)
+        self.info_rows = task.info_rows
+        #: the columns of the entries that apply, or None where those are all columns in order
+        self.cols: list[int] | None = None if cols == list(range(len(INFO))) else cols
+        self.pick: Any = None  # a row's values of those columns (itemgetter gives a tuple of two or more)
+        if self.cols is not None:
+            self.pick = operator.itemgetter(*cols) if len(cols) > 1 else lambda r: [r[j] for j in cols]
         self.single, self.batch = tuple(single), tuple(batch)
         framework = (task.feat, task.terms, task.reward, task.sim.alive, task.terminated)
         arrays = {**dict(zip(INFO_ARRAYS, framework)), **{f: getattr(task, f) for f in task.Arrays.vessel}}
         probe = _Probe(task, arrays)
         with np.errstate(all="ignore"):  # the values now are of no interest, only what they read
-            for _name, value in self.batch:
-                value(probe)
+            for name, value in self.batch:
+                if isinstance(value(probe), _Columns):
+                    raise TypeError(
+                        f"info entry {name!r} gives a vessel array itself: read its columns [j], or all of each "
+                        "vessel's row with vessel_gym.envs.declare.whole_rows"
+                    )
         self.read = probe.read  # by array, the columns its entries read
-        used = {name: arrays[name] for name in ("terms", *probe.read)}  # terms: the framework's reward_terms
+        used = {name: arrays[name] for name in probe.read}
         self.rows = tuple((name, a) for name, a in used.items() if a.ndim == 2)
         self.items = tuple((name, a) for name, a in used.items() if a.ndim == 1)
         #: the vector environment's copies of each 2-D array: the columns the entries read (None: all of them,
         #: the transposed array in one copy, where fewer would save little)
-        self.columns = tuple(
-            (name, a, self._columns(a, None if name == "terms" else probe.read.get(name))) for name, a in self.rows
-        )
+        self.columns = tuple((name, a, self._columns(a, probe.read.get(name))) for name, a in self.rows)
         #: the single environment's view, refilled at each call (its values are Python numbers and lists
         #: made anew, so an entry that returns one shares nothing with a later call)
         self.one = _Vessels(task)
-
 
     def _columns(self, a: np.ndarray, read: set[int] | None) -> list[int] | None:
         """The columns of ``a`` to copy for the entries, or None for all: a copy of the columns read pays where
@@ -222,19 +248,28 @@ def info_plan(task: Task) -> InfoPlan:
 
 
 def vessel_info(task: Task, k: int) -> dict[str, Any]:
-    """Vessel k's ``info`` dict now, Python values: the declared entries of its arrays' rows as Python numbers
-    (a row a list of floats)."""
+    """Vessel k's ``info`` dict now, Python values: its info row's entries in one pass, then the entries with a
+    ``value`` of its arrays' rows as Python numbers (a row a list of floats)."""
     plan = task._infos or info_plan(task)
-    v = plan.one
-    d = v.__dict__
-    d["memo"] = {}
-    for name, a in plan.rows:
-        d[name] = a[k].tolist()
-    for name, a in plan.items:
-        d[name] = a.item(k)
-    info = {"reward_terms": dict(zip(plan.term_names, d["terms"]))}
-    for name, value in plan.single:
-        info[name] = value(v)
+    row = plan.info_rows[k].tolist()
+    info = {"reward_terms": dict(zip(plan.term_names, task.terms[k].tolist()))}
+    info.update(zip(plan.names, row if plan.pick is None else plan.pick(row)))
+    for name, j in plan.ints:
+        info[name] = int(row[j])
+    for name, j in plan.bools:
+        info[name] = row[j] != 0.0
+    for name, c in plan.consts:
+        info[name] = c
+    if plan.single:
+        v = plan.one
+        d = v.__dict__
+        d["memo"] = {}
+        for name, a in plan.rows:
+            d[name] = a[k].tolist()
+        for name, a in plan.items:
+            d[name] = a.item(k)
+        for name, value in plan.single:
+            info[name] = value(v)
     for name, same in plan.repeats:
         info[name] = info[same]
     return info
@@ -242,18 +277,28 @@ def vessel_info(task: Task, k: int) -> dict[str, Any]:
 
 def batch_info(task: Task) -> dict[str, Any]:
     """The ``info`` of all vessels (the vector environment's), each entry a new array over the vessels: the
-    declared entries of fresh copies of the arrays (of a 2-D array the columns the entries read, ``[j]``
-    column j of every vessel), so no entry is a view of an array a later step changes."""
+    info rows' entries from one fresh copy of their columns, the entries with a ``value`` of fresh copies of
+    the arrays they read (of a 2-D array the columns the entries read, ``[j]`` column j of every vessel), so no
+    entry is a view of an array a later step changes."""
     plan = task._infos or info_plan(task)
-    v = _Vessels(task)
-    d = v.__dict__
-    for name, a, cols in plan.columns:  # [j]: column j of every vessel, a fresh copy
-        d[name] = a.T.copy() if cols is None else dict(zip(cols, a.T[cols]))
-    for name, a in plan.items:
-        d[name] = a.copy()
-    info = {"reward_terms": dict(zip(plan.term_names, d["terms"]))}
-    for name, value in plan.batch:
-        info[name] = value(v)
+    rows = plan.info_rows.T.copy()  # [j]: column j of every vessel (one copy of all: fewer rows cost more)
+    info: dict[str, Any] = {"reward_terms": dict(zip(plan.term_names, task.terms.T.copy()))}
+    info.update(zip(plan.names, rows if plan.cols is None else [rows[j] for j in plan.cols]))
+    for name, j in plan.ints:
+        info[name] = rows[j].astype(np.int64)
+    for name, j in plan.bools:
+        info[name] = rows[j] != 0.0
+    for name, c in plan.consts:
+        info[name] = np.full(plan.n, c)
+    if plan.batch:
+        v = _Vessels(task)
+        d = v.__dict__
+        for name, a, cols in plan.columns:  # [j]: column j of every vessel, a fresh copy
+            d[name] = a.T.copy() if cols is None else dict(zip(cols, a.T[cols]))
+        for name, a in plan.items:
+            d[name] = a.copy()
+        for name, value in plan.batch:
+            info[name] = value(v)
     for name, same in plan.repeats:
         info[name] = info[same].copy()
     return info
@@ -316,6 +361,7 @@ class Task(abc.ABC):
         self.reward = np.zeros(n)
         self.terminated = np.zeros(n, dtype=np.bool_)
         self.phase = np.full(n, PHASE_STEP, dtype=np.int8)
+        self.info_rows = np.zeros((n, len(self.spec.INFO)))  # the info entries the kernel writes (InfoPlan)
         self.rngs: Sequence[np.random.Generator] = ()  # per-vessel generators, set by the environment
         self._starts: tuple[list, ...] | None = None  # the starts gathered by reset_vessels, else None
         self.enc = np.stack(

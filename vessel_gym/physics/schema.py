@@ -16,6 +16,8 @@ import typing
 from pathlib import Path
 from typing import Any
 
+from vessel_gym.cli_args import printable  # how a file name goes into a one-line error
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
@@ -60,34 +62,34 @@ def read_toml(path: Path, max_bytes: int = MAX_FILE_BYTES) -> dict:
     try:
         st = os.stat(path)
     except FileNotFoundError:
-        raise SpecError(f"{path}: file not found") from None
+        raise SpecError(f"{printable(path)}: file not found") from None
     except (OSError, ValueError) as exc:  # permission, name too long, loop, embedded NUL byte
-        raise SpecError(f"{path}: cannot read ({_reason(exc)})") from None
+        raise SpecError(f"{printable(path)}: cannot read ({_reason(exc)})") from None
     _check_regular(path, st, max_bytes)
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
     except (OSError, ValueError) as exc:
-        raise SpecError(f"{path}: cannot read ({_reason(exc)})") from None
+        raise SpecError(f"{printable(path)}: cannot read ({_reason(exc)})") from None
     try:
         with os.fdopen(fd, "rb") as fh:
             _check_regular(path, os.fstat(fh.fileno()), max_bytes)
             raw = fh.read(max_bytes + 1)
     except OSError as exc:
-        raise SpecError(f"{path}: cannot read ({_reason(exc)})") from None
+        raise SpecError(f"{printable(path)}: cannot read ({_reason(exc)})") from None
     if len(raw) > max_bytes:  # grew after the size check
-        raise SpecError(f"{path}: file is larger than the limit of {_size(max_bytes)}")
+        raise SpecError(f"{printable(path)}: file is larger than the limit of {_size(max_bytes)}")
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise SpecError(f"{path}: not UTF-8 text (invalid byte at offset {exc.start})") from None
+        raise SpecError(f"{printable(path)}: not UTF-8 text (invalid byte at offset {exc.start})") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise SpecError(f"{path}: TOML syntax error: {exc}") from None
+        raise SpecError(f"{printable(path)}: TOML syntax error: {exc}") from None
     except RecursionError:
-        raise SpecError(f"{path}: arrays or tables nested too deeply") from None
+        raise SpecError(f"{printable(path)}: arrays or tables nested too deeply") from None
     except ValueError as exc:  # an integer beyond Python's digit limit for str -> int (4300 by default)
-        raise SpecError(f"{path}: a number is too long ({exc})") from None
+        raise SpecError(f"{printable(path)}: a number is too long ({exc})") from None
 
 
 def _reason(exc: Exception) -> str:
@@ -100,11 +102,11 @@ def _size(n: int) -> str:
 
 def _check_regular(path: Path, st: os.stat_result, max_bytes: int) -> None:
     if stat.S_ISDIR(st.st_mode):
-        raise SpecError(f"{path}: is a directory, expected a .toml file")
+        raise SpecError(f"{printable(path)}: is a directory, expected a .toml file")
     if not stat.S_ISREG(st.st_mode):
-        raise SpecError(f"{path}: not a regular file (a device, pipe or socket is not read)")
+        raise SpecError(f"{printable(path)}: not a regular file (a device, pipe or socket is not read)")
     if st.st_size > max_bytes:
-        raise SpecError(f"{path}: file is {_size(st.st_size)}, larger than the limit of {_size(max_bytes)}")
+        raise SpecError(f"{printable(path)}: file is {_size(st.st_size)}, larger than the limit of {_size(max_bytes)}")
 
 
 def as_float(value: int | float, where: str) -> float:

@@ -9,29 +9,27 @@ indices into the step as constants.
 
 from __future__ import annotations
 
-from typing import Any
-
-from vessel_gym.envs.declare import FeatureSpec, Info, Term, columns, degrees, pick
+from vessel_gym.envs.declare import FeatureSpec, Info, Term, columns, pick
 from vessel_gym.envs.task import task_arrays
-from vessel_gym.envs.tasks.chart import CONTACT, DIVERGED, GROUNDING, OUT_OF_BOUNDS, OUTCOMES, SUCCESS
+from vessel_gym.envs.tasks.chart import OUTCOMES
 from vessel_gym.envs.tasks.common import RUDDER_ACTIVITY_DOC, task_spec
 
 #: the ``info`` entries: the outcome (a vessel's ``flags``) and the episode's figures (its task state ``ts``)
-INFO = (
+INFO_ENTRIES = (
     Info("outcome", lambda v: pick(OUTCOMES, v.flags), "running, success, contact, grounding, ..."),
-    Info("success", lambda v: v.flags == SUCCESS, "stopped in the goal area, on heading"),
+    Info("success", doc="stopped in the goal area, on heading", kind=bool),
     Info("is_success", same_as="success"),
-    Info("contact", lambda v: v.flags == CONTACT, "the hull touched a hard obstacle"),
-    Info("grounding", lambda v: v.flags == GROUNDING, "the hull touched a shoal"),
-    Info("out_of_bounds", lambda v: v.flags == OUT_OF_BOUNDS, "the ship left the chart"),
-    Info("diverged", lambda v: v.flags == DIVERGED, "the simulation diverged"),
-    Info("time_s", lambda v: v.ts[S.t], "time since the start of the episode, s"),
-    Info("clearance_m", lambda v: v.ts[S.clearance], "clearance of the hull now, m"),
-    Info("min_clearance_m", lambda v: v.ts[S.min_clearance], "smallest clearance this episode, m"),
-    Info("distance_to_goal_m", lambda v: v.ts[S.d_prev], "distance to the goal point, m"),
-    Info("speed_over_ground_m_s", lambda v: v.ts[S.sog], "speed over ground, m/s"),
-    Info("heading_error_deg", lambda v: degrees(v.feat[FEAT.goal_heading_error]), "goal heading - heading, deg"),
-    Info("path_m", lambda v: v.ts[S.path], "distance sailed over ground, m"),
+    Info("contact", doc="the hull touched a hard obstacle", kind=bool),
+    Info("grounding", doc="the hull touched a shoal", kind=bool),
+    Info("out_of_bounds", doc="the ship left the chart", kind=bool),
+    Info("diverged", doc="the simulation diverged", kind=bool),
+    Info("time_s", doc="time since the start of the episode, s"),
+    Info("clearance_m", doc="clearance of the hull now, m"),
+    Info("min_clearance_m", doc="smallest clearance this episode, m"),
+    Info("distance_to_goal_m", doc="distance to the goal point, m"),
+    Info("speed_over_ground_m_s", doc="speed over ground, m/s"),
+    Info("heading_error_deg", doc="goal heading - heading, deg"),
+    Info("path_m", doc="distance sailed over ground, m"),
 )
 
 SPEC = task_spec(
@@ -66,14 +64,15 @@ SPEC = task_spec(
             "beam", "m", (1.0, "beam range"), "free range at {angle} deg clockwise from the bow", "n_beams"
         ),
     ),
-    info=INFO,
+    info=INFO_ENTRIES,
 )
 TERM = SPEC.TERM
-FEAT: Any = SPEC.FEAT  # Any: the info entries above read it
+FEAT = SPEC.FEAT
+INFO = SPEC.INFO
 
 #: per-vessel task state (columns of ``ts``); the current and the wind are not task state: the kernel asks the
 #: physics for those it applies
-S: Any = columns(  # Any: the info entries above read it
+S = columns(
     "d_prev",  # distance to the goal point at the previous step, m
     "prev_order",  # rudder order of the previous step, rad
     "min_clearance",  # smallest clearance this episode, m

@@ -12,6 +12,7 @@ import numpy as np
 from numba import njit, prange
 
 from vessel_gym.control.angles import wrap_pi
+from vessel_gym.envs.declare import RAD_TO_DEG
 from vessel_gym.envs.tasks.chart import (
     CONTACT,
     DIVERGED,
@@ -30,7 +31,7 @@ from vessel_gym.envs.tasks.common import (
     motion_features,
     rudder_activity,
 )
-from vessel_gym.envs.tasks.harbour_columns import FEAT, TERM, P, S
+from vessel_gym.envs.tasks.harbour_columns import FEAT, INFO, TERM, P, S
 from vessel_gym.physics.integrate import MAX_CHUNKS
 from vessel_gym.physics.kinematics import (
     air_velocity,
@@ -159,6 +160,20 @@ def _harbour_range(phase, v, t, k0, k1, beams, hn, he, bw):
         for j in range(nb):
             f[FEAT.beam + j] = beams[j]
         encode_row(v, k)
+        fl = flags[k]
+        i = v.info[k]
+        i[INFO.success] = 1.0 if fl == SUCCESS else 0.0
+        i[INFO.contact] = 1.0 if fl == CONTACT else 0.0
+        i[INFO.grounding] = 1.0 if fl == GROUNDING else 0.0
+        i[INFO.out_of_bounds] = 1.0 if fl == OUT_OF_BOUNDS else 0.0
+        i[INFO.diverged] = 1.0 if fl == DIVERGED else 0.0
+        i[INFO.time_s] = s[S.t]
+        i[INFO.clearance_m] = s[S.clearance]
+        i[INFO.min_clearance_m] = s[S.min_clearance]
+        i[INFO.distance_to_goal_m] = s[S.d_prev]
+        i[INFO.speed_over_ground_m_s] = s[S.sog]
+        i[INFO.heading_error_deg] = herr * RAD_TO_DEG  # as math.degrees computes it
+        i[INFO.path_m] = s[S.path]
 
 
 @njit(cache=True, parallel=True)

@@ -24,7 +24,7 @@ from vessel_gym.control.turning import (
     crossing_fraction,
 )
 from vessel_gym.envs.config import RollOptionsConfig
-from vessel_gym.envs.declare import FeatureSpec, Info, Term, all_of, columns, degrees
+from vessel_gym.envs.declare import RAD_TO_DEG, FeatureSpec, Info, Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
 from vessel_gym.envs.registration import register_task
@@ -70,32 +70,31 @@ def turning_radius(u: Any, v: Any, r: Any) -> Any:
     return math.hypot(u, v) / r if r > 1e-9 else 0.0
 
 
-INFO = (
-    Info("time_s", lambda v: v.ts[S.t], "time since the start of the episode, s"),
-    Info("heading_change_deg", lambda v: degrees(v.feat[FEAT.heading_change]), "heading - original course, deg"),
-    # the motion as the kernel asked the physics for it (velocity_through_water), kept in the features
-    Info("rate_of_turn_deg_s", lambda v: degrees(v.feat[M.r]), "rate of turn, deg/s"),
+INFO_ENTRIES = (
+    Info("time_s", doc="time since the start of the episode, s"),
+    Info("heading_change_deg", doc="heading - original course, deg"),
+    Info("rate_of_turn_deg_s", doc="rate of turn, deg/s"),
+    # the motion as the kernel asked the physics for it (velocity_through_water), kept in the features; Python's
+    # math.hypot is not the C library's hypot a kernel would call, so this one stays a function
     Info("turning_radius_m", lambda v: turning_radius(v.feat[M.u], v.feat[M.v], v.feat[M.r]), "U / |r|, m"),
     Info(
         "commanded_rate_deg_s",
-        lambda v: degrees(v.ts[S.command]),
-        "rate mode: the commanded rate of turn, deg/s",
+        doc="rate mode: the commanded rate of turn, deg/s",
         when=lambda c: c.mode == "rate",
         otherwise=0.0,
     ),
     Info(
         "commanded_radius_m",
-        lambda v: 1.0 / v.ts[S.command],
-        "radius mode: the commanded radius, m",
+        doc="radius mode: the commanded radius, m",
         when=lambda c: c.mode == "radius",
         otherwise=0.0,
     ),
-    Info("advance_m", lambda v: v.ts[S.advance], "advance at 90 deg heading change, m"),
-    Info("transfer_m", lambda v: v.ts[S.transfer], "transfer at 90 deg, m"),
-    Info("tactical_diameter_m", lambda v: v.ts[S.tactical_diameter], "transfer at 180 deg, m"),
-    Info("reached_90", lambda v: v.ts[S.reached_90] > 0.0, "90 deg heading change reached"),
-    Info("reached_180", lambda v: v.ts[S.reached_180] > 0.0, "180 deg heading change reached"),
-    Info("success", lambda v: all_of(v.done, v.alive), "the episode ended with its goal (reverse mode)"),
+    Info("advance_m", doc="advance at 90 deg heading change, m"),
+    Info("transfer_m", doc="transfer at 90 deg, m"),
+    Info("tactical_diameter_m", doc="transfer at 180 deg, m"),
+    Info("reached_90", doc="90 deg heading change reached", kind=bool),
+    Info("reached_180", doc="180 deg heading change reached", kind=bool),
+    Info("success", doc="the episode ended with its goal (reverse mode)", kind=bool),
     DIVERGED,
     Info(  # the only mode with an end state to reach
         "is_success", doc="reverse mode: the same as `success`", same_as="success", when=lambda c: c.mode == "reverse"
@@ -122,11 +121,12 @@ SPEC = task_spec(
         *ROLL_FEATURES,
     ),
     options=(HEEL_TERM,),
-    info=INFO,
+    info=INFO_ENTRIES,
 )
 TERM = SPEC.TERM
-FEAT: Any = SPEC.FEAT  # Any: the info entries above read it
+FEAT = SPEC.FEAT
 OPT = SPEC.OPT
+INFO = SPEC.INFO
 #: the features each mode observes after the motion
 MODE_FEATURES = {
     "rate": ("commanded_rate", "rate_error"),
@@ -135,7 +135,7 @@ MODE_FEATURES = {
 }
 
 #: per-vessel task state (columns of ``ts``)
-S: Any = columns(  # Any: the info entries above read it
+S = columns(
     "psi0",  # heading at the rudder order (episode start), rad
     "north0",  # midship position at the rudder order, m
     "east0",
@@ -258,6 +258,18 @@ def turning_update(phase, v, t):
         f[FEAT.transfer] = trf
         roll_features(v, k, FEAT.phi, FEAT.p)
         encode_row(v, k)
+        i = v.info[k]  # degrees as math.degrees computes them (RAD_TO_DEG)
+        i[INFO.time_s] = s[S.t]
+        i[INFO.heading_change_deg] = f[FEAT.heading_change] * RAD_TO_DEG
+        i[INFO.rate_of_turn_deg_s] = f[M.r] * RAD_TO_DEG
+        i[INFO.commanded_rate_deg_s] = s[S.command] * RAD_TO_DEG
+        i[INFO.commanded_radius_m] = 1.0 / s[S.command] if s[S.command] != 0.0 else 0.0
+        i[INFO.advance_m] = s[S.advance]
+        i[INFO.transfer_m] = s[S.transfer]
+        i[INFO.tactical_diameter_m] = s[S.tactical_diameter]
+        i[INFO.reached_90] = 1.0 if s[S.reached_90] > 0.0 else 0.0
+        i[INFO.reached_180] = 1.0 if s[S.reached_180] > 0.0 else 0.0
+        i[INFO.success] = 1.0 if done[k] and v.alive[k] else 0.0
 
 
 # --- the task ---------------------------------------------------------------------------------------------------

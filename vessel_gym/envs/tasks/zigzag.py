@@ -25,7 +25,7 @@ from vessel_gym.control.zigzag import (
     zigzag_execute,
 )
 from vessel_gym.envs.config import RollOptionsConfig
-from vessel_gym.envs.declare import FeatureSpec, Info, Term, all_of, as_int, columns, degrees, maximum, once
+from vessel_gym.envs.declare import RAD_TO_DEG, FeatureSpec, Info, Term, columns
 from vessel_gym.envs.disturbances import Disturbances, DisturbedOpenWaterConfig
 from vessel_gym.envs.env import ShipEnv, ShipVectorEnv
 from vessel_gym.envs.generators import vessels_draws
@@ -78,33 +78,22 @@ ZIGZAG_FEATURES = (
     FeatureSpec("heading_deviation", "rad", (1.0, "pi"), "heading - original course, wrapped"),
     FeatureSpec("target_deviation", "rad", (1.0, "pi"), "target heading - original course"),
 )
-@once
-def _overshoots(v: Any) -> tuple[Any, Any]:
-    """(overshoot per course change, largest overshoot), rad: the open measurement counts with its overshoot
-    so far."""
-    s = v.ts
-    running = s[S.os_peak] * s[S.os_on]
-    return (s[S.os_sum] + running) / maximum(s[S.changes], 1.0), maximum(s[S.os_max], running)
-
-
-def _success(v: Any) -> Any:
-    """No course change ended with its target missed, one reached, the overshoot per change small enough."""
-    s = v.ts
-    return all_of(s[S.missed] == 0.0, s[S.n_reached] >= 1.0, _overshoots(v)[0] <= v.task.success_overshoot)
-
-
-INFO = (
-    Info("time_s", lambda v: v.ts[S.t], "time since the start of the episode, s"),
-    Info("target_heading_deg", lambda v: degrees(v.ts[S.target]) % 360.0, "target heading, deg"),
-    Info("heading_error_deg", lambda v: degrees(v.feat[FEAT.heading_error]), "target - heading, deg"),
-    Info("course_changes", lambda v: as_int(v.ts[S.changes]), "course changes started"),
-    Info("targets_reached", lambda v: as_int(v.ts[S.n_reached]), "targets reached"),
-    Info("targets_missed", lambda v: as_int(v.ts[S.missed]), "course changes that ended with the target missed"),
-    Info("overshoot_deg", lambda v: degrees(_overshoots(v)[0]), "overshoot per course change, deg"),
-    Info("max_overshoot_deg", lambda v: degrees(_overshoots(v)[1]), "largest overshoot, deg"),
-    Info("overshoot_1_deg", lambda v: degrees(v.ts[S.os1]), "first overshoot (IMO), deg"),
-    Info("overshoot_2_deg", lambda v: degrees(v.ts[S.os2]), "second overshoot (IMO), deg"),
-    Info("success", _success, "no target missed, one reached, overshoot per change within success_overshoot"),
+INFO_ENTRIES = (
+    Info("time_s", doc="time since the start of the episode, s"),
+    Info("target_heading_deg", doc="target heading, deg"),
+    Info("heading_error_deg", doc="target - heading, deg"),
+    Info("course_changes", doc="course changes started", kind=int),
+    Info("targets_reached", doc="targets reached", kind=int),
+    Info("targets_missed", doc="course changes that ended with the target missed", kind=int),
+    Info("overshoot_deg", doc="overshoot per course change, deg"),
+    Info("max_overshoot_deg", doc="largest overshoot, deg"),
+    Info("overshoot_1_deg", doc="first overshoot (IMO), deg"),
+    Info("overshoot_2_deg", doc="second overshoot (IMO), deg"),
+    Info(
+        "success",
+        doc="no target missed, one reached, overshoot per change within success_overshoot",
+        kind=bool,
+    ),
     Info("is_success", same_as="success"),
     DIVERGED,
 )
@@ -123,17 +112,18 @@ SPEC = task_spec(
     ),
     features=ZIGZAG_FEATURES + ROLL_FEATURES,
     options=(HEEL_TERM,),
-    info=INFO,
+    info=INFO_ENTRIES,
 )
 TERM = SPEC.TERM
-FEAT: Any = SPEC.FEAT  # Any: the info entries above read it
+FEAT = SPEC.FEAT
 OPT = SPEC.OPT
+INFO = SPEC.INFO
 
 # One schedule for both target kinds: a course change starts when its start time comes (the first after the
 # seeded delay; in the random schedule every leg time; in the IMO schedule the leg time limit) or, in the IMO
 # schedule, at the execute (the target reached). Overshoots are measured with the OVERSHOOT_V1 tracker.
 #: per-vessel task state (columns of ``ts``)
-S: Any = columns(  # Any: the info entries above read it
+S = columns(
     "psi0",  # original course, rad
     "target",  # target of the current course change, rad (unwrapped, same branch as the heading)
     "sign",  # direction in which the current target is reached, +1 starboard / -1 port; 0 before the first
@@ -171,6 +161,7 @@ P = columns(
     "leg_limit",  # IMO schedule: the next change starts at the latest this long after the last, s
     "reach",  # target_reached term per radian of course change, 1/rad
     "heel_ref",  # heel reference of the heel term, rad; 0: the term is off (no column)
+    "success_overshoot",  # success: overshoot per course change at most this, rad
     typename="ZigZagParams",
 )
 
@@ -241,6 +232,27 @@ def close_row(v, k, s):
     f[FEAT.heading_deviation] = wrap_pi(psik - s[S.psi0])
     f[FEAT.target_deviation] = wrap_pi(s[S.target] - s[S.psi0])
     encode_row(v, k)
+
+
+@njit(cache=True, inline="always")
+def write_info(v, k, s, p):
+    """Vessel k's info row from its task state row ``s`` (the open measurement counts with its overshoot so
+    far); degrees as Python's math.degrees computes them (x * (180 / pi)), so the values are its to the bit."""
+    i = v.info[k]
+    running = s[S.os_peak] * s[S.os_on]
+    per_change = (s[S.os_sum] + running) / max(s[S.changes], 1.0)
+    i[INFO.time_s] = s[S.t]
+    i[INFO.target_heading_deg] = (s[S.target] * RAD_TO_DEG) % 360.0
+    i[INFO.heading_error_deg] = v.feat[k, FEAT.heading_error] * RAD_TO_DEG
+    i[INFO.course_changes] = s[S.changes]
+    i[INFO.targets_reached] = s[S.n_reached]
+    i[INFO.targets_missed] = s[S.missed]
+    i[INFO.overshoot_deg] = per_change * RAD_TO_DEG
+    i[INFO.max_overshoot_deg] = max(s[S.os_max], running) * RAD_TO_DEG
+    i[INFO.overshoot_1_deg] = s[S.os1] * RAD_TO_DEG
+    i[INFO.overshoot_2_deg] = s[S.os2] * RAD_TO_DEG
+    good = s[S.missed] == 0.0 and s[S.n_reached] >= 1.0 and per_change <= p[P.success_overshoot]
+    i[INFO.success] = 1.0 if good else 0.0
 
 
 @njit(cache=True)
@@ -319,6 +331,7 @@ def zigzag_update(phase, v, t):
                 terms[k, OPT.heel] = heel(v, k, p[P.heel_ref])
         roll_features(v, k, FEAT.phi, FEAT.p)
         close_row(v, k, s)
+        write_info(v, k, s, p)
 
 
 # --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
@@ -404,6 +417,7 @@ class ZigZagTask(OpenWaterTask):
             if config.success_overshoot_deg is not None
             else 0.5 * self.overshoot_ref
         )
+        p[P.success_overshoot] = self.success_overshoot
         p[P.psi_z] = self.psi_z
         p[P.os_ref] = self.overshoot_ref
         p[P.leg_limit] = self.leg_time_limit
