@@ -208,6 +208,22 @@ def test_the_tankers_physics_step_resolves_the_stiffest_fender_contact():
     env.close()
 
 
+def test_the_tankers_tugs_are_observed_by_the_force_along_their_lines():
+    """A square-on tug's force is all sway: the observation reads it along the line (its first state, the
+    surge component, stays 0), following the order with the tug's lag."""
+    env = gym.make(TANKER)
+    env.reset(seed=0)
+    task = env.unwrapped.task
+    order = np.array([0.0, 0.0, 1.0, -1.0], dtype=np.float32)  # rudder, engine, the two tugs
+    for _ in range(30):  # 30 control steps
+        env.step(order)
+    tugs = task.feat[0, -2:]
+    t_s = task.sim.t
+    T = task.assist[0].params.time_constant_s
+    assert tugs[0] == pytest.approx(1.0 - math.exp(-t_s / T), rel=0.05) and tugs[1] == pytest.approx(-tugs[0])
+    env.close()
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_scripted_pilot_berths_the_tanker_on_two_tugs(seed):

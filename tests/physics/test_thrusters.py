@@ -99,3 +99,6 @@ def test_a_tug_pulls_within_its_bollard_pull_along_its_line_after_its_lag():
     sim.advance(400.0)
     F = sim.named_forces()["bow_tug"]
     assert math.hypot(F.X[0], F.Y[0]) == pytest.approx(full, rel=1e-4)
+    # what it delivers, on the order's scale: the force along its line / bollard pull, whatever the line angle
+    s_now = np.array([[F.X[0], F.Y[0]]]) / full
+    assert tug.delivered(s_now)[0] == pytest.approx(1.0, rel=1e-4)

@@ -111,7 +111,11 @@ SPEC = task_spec(
         FeatureSpec("vg_off", "m/s", (0.5, "U_T"), "velocity over ground away from the quay (+ off)"),
         FeatureSpec("fender_load", "-", (1.5, "1"), "largest energy absorbed by a fender / its rated energy"),
         FeatureSpec(
-            "assist", "-", (1.0, "1"), "actual thrust (tug force) {j} / its maximum", repeat="n_assist"
+            "assist",
+            "-",
+            (1.0, "1"),
+            "thruster j's thrust, or tug j's force along its line, / its maximum (+ to starboard)",
+            repeat="n_assist",
         ),
     ),
     info=INFO,
@@ -250,7 +254,7 @@ class BerthGeometry:
         self.v_limit: float = task.v_limit  # m/s
         self.E_rated: float = task.E_rated  # J
         self.peaks: list[int] = task.peaks  # columns of the fenders' deepest compressions
-        self.assist_state: list[int] = task.assist_state  # columns of the thrusters' and tugs' states
+        self.assist_states: list[list[int]] = task.assist_states  # columns of each unit's states
         self.n: int = task.n
         self.bounds = task.scenario.bounds_m
 
@@ -343,7 +347,8 @@ def berthing_update(phase: np.ndarray, v: Any, t: Any) -> None:
     fixed = np.column_stack([along, off, dpsi, va, vo, load])
     f[act, FEAT.along_error : FEAT.fender_load + 1] = fixed[act]
     if g.assist:
-        f[act, FEAT.assist :] = z[:, g.assist_state][act]
+        for j, (c, cols) in enumerate(zip(g.assist, g.assist_states)):
+            f[act, FEAT.assist + j] = c.delivered(z[:, cols])[act]
     enc = v.enc
     cols, scale = enc[:, 0].astype(int), enc[:, 1]
     vals = np.nan_to_num(f[:, cols], nan=0.0, posinf=0.0, neginf=0.0)
@@ -434,8 +439,9 @@ class BerthingTask(Task):
         )  # fmt: skip
         self.assist = [c for c in self.sim.components if isinstance(c, OrderedComponent)]
         self.helm = BerthingHelm(config, self.sim, self.assist)
-        self.assist_state = [
-            self.sim.component_state_names.index(f"{c.name}.{c.states[0].name}") for c in self.assist
+        self.assist_states = [
+            [self.sim.component_state_names.index(f"{c.name}.{st.name}") for st in c.states]
+            for c in self.assist
         ]
         if len(self.assist) != self.n_features - self.spec.n_fixed:  # the layout was made before the sim
             raise RuntimeError("Berthing: assist count changed")  # pragma: no cover

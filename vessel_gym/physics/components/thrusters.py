@@ -78,6 +78,11 @@ class OrderedComponent(Component):
         o = self.order
         return np.broadcast_to(o, (n,)) if o.size in (1, n) else np.zeros(n)
 
+    def delivered(self, s: np.ndarray) -> np.ndarray:
+        """What it delivers now, on its order's scale (signed, 1: its maximum along the ordered direction), from
+        its states ``s`` (N, len(states)): the first state, for a component whose state is that."""
+        return s[:, 0]
+
 
 @dataclass(frozen=True, kw_only=True)
 class TunnelThrusterParams:

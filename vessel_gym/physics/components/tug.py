@@ -72,6 +72,10 @@ class Tug(OrderedComponent):
         target = np.column_stack([o * self.direction[0], o * self.direction[1]])
         return (target - s) / self.params.time_constant_s
 
+    def delivered(self, s: np.ndarray) -> np.ndarray:
+        """The force along its line / bollard pull (+ towards starboard, as the order)."""
+        return s[:, 0] * self.direction[0] + s[:, 1] * self.direction[1]
+
     def forces(self, sim: Any, x: np.ndarray, s: np.ndarray) -> np.ndarray:  # type: ignore[override]
         X, Y = self.F_max * s[:, 0], self.F_max * s[:, 1]
         return np.column_stack([X, Y, self.params.x_m * Y])
