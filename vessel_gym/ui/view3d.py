@@ -36,6 +36,7 @@ import numpy as np
 
 from vessel_gym.scenarios.geometry import hull_outline
 from vessel_gym.ui.chart import depth_colour
+from vessel_gym.ui.panels import RUDDER_STEP_DEG
 from vessel_gym.ui.view3d_gate import (
     PageGate,
     bind_page_socket,
@@ -61,7 +62,6 @@ from vessel_gym.ui.view3d_scene import (
     wave_number,
 )
 
-RUDDER_STEP_DEG = 5.0
 TRACK_POINTS = 2000  # own-ship track kept, one point per TRACK_SPACING_S
 TRACK_SPACING_S = 1.0  # s of simulation time between track points
 FRAME_PERIOD_S = 1.0 / 30.0  # scene updates, s
@@ -626,7 +626,6 @@ __all__ = [
     "HUD_PERIOD_S",
     "LinkClient",
     "PageGate",
-    "RUDDER_STEP_DEG",
     "SEA_PERIOD_S",
     "STATS_PERIOD_S",
     "TRACK_POINTS",
