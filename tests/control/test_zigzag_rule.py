@@ -8,7 +8,6 @@ import pytest
 
 from vessel_gym.control import (
     OVERSHOOT_IMO,
-    OVERSHOOT_V0,
     OVERSHOOT_V1,
     OvershootTracker,
     overshoot_step,
@@ -25,14 +24,13 @@ def test_execute_flips_the_target_about_the_original_course():
     assert zigzag_execute(1.0, -1.0, 0.2) == (1.0, 1.2)
 
 
-@pytest.mark.parametrize("mode", [OVERSHOOT_IMO, OVERSHOOT_V0])
 @pytest.mark.parametrize("sign", [1.0, -1.0])
-def test_overshoot_of_a_sinusoidal_swing(mode, sign):
+def test_overshoot_of_a_sinusoidal_swing(sign):
     """psi = sign A sin(w t): the overshoot past psi_z is A - psi_z at t = pi / (2 w), to sampling error
     A (w dt)^2 / 2 in angle and dt in time."""
     A, w, dt, psi_z = math.radians(18.0), 0.05, 0.1, math.radians(10.0)
     t = math.asin(psi_z / A) / w  # the execute, where the heading reaches psi_z
-    tr = OvershootTracker(mode)
+    tr = OvershootTracker(OVERSHOOT_IMO)
     tr.start(sign, sign * psi_z, sign * A * math.sin(w * t), t)
     while not tr.update(sign * A * math.sin(w * t), sign * A * w * math.cos(w * t), t):
         t += dt
@@ -42,13 +40,12 @@ def test_overshoot_of_a_sinusoidal_swing(mode, sign):
 
 
 def test_modes_differ_on_a_zero_yaw_rate():
-    """v0 ends the measurement where the yaw rate is zero (sign r <= 0), the trial only once it has reversed."""
+    """The trial ends the measurement once the yaw rate has strictly reversed; V1 never ends it itself."""
     peak = 0.1
-    assert overshoot_step(1.0, 0.0, peak, 0.05, 0.0, OVERSHOOT_V0) == (peak, False, True)
     assert overshoot_step(1.0, 0.0, peak, 0.05, 0.0, OVERSHOOT_IMO) == (peak, False, False)
     assert overshoot_step(1.0, 0.0, peak, 0.05, -1e-3, OVERSHOOT_IMO) == (peak, False, True)
-    # v0 takes the sample that ends the measurement into the peak; the trial keeps it open while it grows
-    assert overshoot_step(1.0, 0.0, peak, 0.2, 0.0, OVERSHOOT_V0) == (0.2, True, True)
+    assert overshoot_step(1.0, 0.0, peak, 0.05, -1e-3, OVERSHOOT_V1) == (peak, False, False)
+    # the trial keeps the measurement open while the excursion grows, whatever the yaw rate
     assert overshoot_step(1.0, 0.0, peak, 0.2, -1e-3, OVERSHOOT_IMO) == (0.2, True, False)
 
 

@@ -25,7 +25,6 @@ from vessel_gym.control.turning import (
 )
 from vessel_gym.control.zigzag import (
     OVERSHOOT_IMO,
-    OVERSHOOT_V0,
     OVERSHOOT_V1,
     OvershootTracker,
     overshoot_excursion,
@@ -37,7 +36,6 @@ from vessel_gym.control.zigzag import (
 __all__ = [
     "ADVANCE_HEADING_RAD",
     "OVERSHOOT_IMO",
-    "OVERSHOOT_V0",
     "OVERSHOOT_V1",
     "TACTICAL_HEADING_RAD",
     "OvershootTracker",

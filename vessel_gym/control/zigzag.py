@@ -14,17 +14,12 @@ trials helm (:class:`vessel_gym.manoeuvres.helms.ZigZagHelm`), the ZigZag task k
 * :func:`overshoot_excursion` and :func:`overshoot_step`: the excursion past the target and one step of the
   tracker that finds its extreme.
 
-The tracker has three modes, because the ZigZag-v0 environment has always measured a little differently from
-the trial (docs/control.md), v0 keeps its accounting so that its rewards and info do not change, and
-ZigZag-v1 measures per course change:
+The tracker has two modes, because an environment's reward needs a measurement per course change that the
+trial's does not give:
 
 * :data:`OVERSHOOT_IMO` (the trial): the extreme is the last sample at which the excursion still grew (within
   :data:`PEAK_TOL_RAD`); the measurement ends at the first sample after it at which the yaw rate has strictly
   reversed.
-* :data:`OVERSHOOT_V0` (ZigZag-v0): every control step first updates the peak, then ends the measurement if
-  the yaw rate is reversed or zero (sign x r <= 0), so the peak includes the step that ends it. The task also
-  closes a measurement still running when the next target is reached, charging what it had so far as a
-  complete overshoot (in the trial the ship always turns back before it can reach the next target).
 * :data:`OVERSHOOT_V1` (ZigZag-v1 and ZigZagRandom-v1): the overshoot of a course change is the largest
   excursion past its target from the sample at which the target is reached until the measurement is closed
   from outside, when the next course change starts (in the IMO schedule, where a change starts at the very
@@ -39,8 +34,7 @@ from __future__ import annotations
 from numba import njit
 
 OVERSHOOT_IMO = 0
-OVERSHOOT_V0 = 1
-OVERSHOOT_V1 = 2
+OVERSHOOT_V1 = 1
 #: tolerance of the trial's "excursion still growing" test, rad (a sample equal to the peak to rounding
 #: keeps the measurement open)
 PEAK_TOL_RAD = 1e-12
@@ -73,8 +67,8 @@ def overshoot_step(sign, target, peak, heading, r, mode):
 
     ``peak`` (rad) is the largest excursion past ``target`` so far (start it with the excursion at the
     execute); ``rose`` tells that this sample set it; ``finished`` that the extreme has passed (``peak`` is
-    then the overshoot angle). ``r`` is the yaw rate, rad/s; ``mode`` :data:`OVERSHOOT_IMO`,
-    :data:`OVERSHOOT_V0` or :data:`OVERSHOOT_V1` (module docstring; in V1 ``finished`` is always False: the
+    then the overshoot angle). ``r`` is the yaw rate, rad/s; ``mode`` :data:`OVERSHOOT_IMO`
+    or :data:`OVERSHOOT_V1` (module docstring; in V1 ``finished`` is always False: the
     caller closes the measurement when the next course change starts).
     """
     exc = overshoot_excursion(sign, target, heading)
@@ -82,12 +76,9 @@ def overshoot_step(sign, target, peak, heading, r, mode):
         if exc > peak - PEAK_TOL_RAD:
             return exc, True, False
         return peak, False, sign * r < 0.0
-    rose = exc > peak
-    if rose:
-        peak = exc
-    if mode == OVERSHOOT_V1:
-        return peak, rose, False
-    return peak, rose, sign * r <= 0.0
+    if exc > peak:
+        return exc, True, False
+    return peak, False, False
 
 
 class OvershootTracker:
@@ -139,7 +130,6 @@ class OvershootTracker:
 
 __all__ = [
     "OVERSHOOT_IMO",
-    "OVERSHOOT_V0",
     "OVERSHOOT_V1",
     "PEAK_TOL_RAD",
     "OvershootTracker",
