@@ -246,7 +246,17 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--force", action="store_true", help="replace an existing debrief plot")
 
     sv = sub.add_parser("serve", help="run a scenario in real time with the UDP link (NMEA, JSON state/helm)")
-    sv.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
+    sv.add_argument(
+        "scenario", nargs="?", default=None, help="built-in scenario name or .toml path (default: harbour)"
+    )
+    sv.add_argument(
+        "--env",
+        default=None,
+        metavar="ID",
+        help="a task to serve instead of a harbour scenario: vessel_gym/CollisionAvoidance-v0, "
+        "vessel_gym/CollisionAvoidanceChannel-v0 (targets as AIS, COLREG debrief), vessel_gym/Berthing-v0, "
+        "vessel_gym/BerthingTanker-v0 (thruster and tug orders, berthing debrief)",
+    )
     sv.add_argument(
         "--nmea",
         metavar="HOST:PORT",
@@ -269,7 +279,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulated seconds per wall-clock second",
     )
     sv.add_argument(
-        "--agent", default="pid", help="helm when no human holds it: pid, pid-nomoto, scripted or an SB3 .zip"
+        "--agent",
+        default=None,
+        help="helm when no human holds it: pid, pid-nomoto, scripted or an SB3 .zip (default: pid, or the "
+        "task's scripted pilot where it has no pid)",
     )
     sv.add_argument("--allow-remote", action="store_true", help="allow binding to a non-loopback address")
     sv.add_argument(
@@ -619,6 +632,7 @@ def _main(argv: Sequence[str] | None) -> int:
             )
             return serve(
                 args.scenario,
+                env=args.env,
                 nmea=nmea,
                 json_bind=host_port(args.json, "--json"),
                 listen_only=[host_port(t, "--view") for t in args.view],
