@@ -246,16 +246,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--force", action="store_true", help="replace an existing debrief plot")
 
     sv = sub.add_parser("serve", help="run a scenario in real time with the UDP link (NMEA, JSON state/helm)")
+    sv.add_argument("scenario", nargs="?", help="built-in scenario name or .toml path (default: harbour)")
     sv.add_argument(
-        "scenario", nargs="?", default=None, help="built-in scenario name or .toml path (default: harbour)"
-    )
-    sv.add_argument(
-        "--env",
-        default=None,
-        metavar="ID",
-        help="a task to serve instead of a harbour scenario: vessel_gym/CollisionAvoidance-v0, "
-        "vessel_gym/CollisionAvoidanceChannel-v0 (targets as AIS, COLREG debrief), vessel_gym/Berthing-v0, "
-        "vessel_gym/BerthingTanker-v0 (thruster and tug orders, berthing debrief)",
+        "--env", metavar="ID", help="a CollisionAvoidance or Berthing task instead (docs/protocol.md 6.1)"
     )
     sv.add_argument(
         "--nmea",
@@ -280,9 +273,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sv.add_argument(
         "--agent",
-        default=None,
-        help="helm when no human holds it: pid, pid-nomoto, scripted or an SB3 .zip (default: pid, or the "
-        "task's scripted pilot where it has no pid)",
+        help="helm when no human holds it: pid, pid-nomoto, scripted or SB3 .zip (default pid; Berthing: scripted)",
     )
     sv.add_argument("--allow-remote", action="store_true", help="allow binding to a non-loopback address")
     sv.add_argument(
