@@ -294,3 +294,39 @@ def test_serve_env_errors_are_one_line(capsys):
     assert err.count("\n") == 0 and "serve runs one of" in err and "vessel_gym/Berthing-v0" in err
     assert main(["serve", "harbour", "--env", "vessel_gym/Berthing-v0", "--duration", "1"]) == 2
     assert "not both" in capsys.readouterr().err
+
+
+def test_pygame_helm_panel_orders_the_thrusters_of_a_berthing_ship():
+    """The pygame helm panel learns the units from the welcome, and its z/x keys order the bow thruster of a
+    Berthing ship on the link (the environment stepped by the panel's frame hook, in one thread)."""
+    pytest.importorskip("pygame")
+    from vessel_gym.ui import panels
+
+    env = gym.make("vessel_gym/Berthing-v0")
+    w = UdpLinkWrapper(env, LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=()))
+    zero = np.zeros(env.action_space.shape, dtype=np.float32)
+    task = env.unwrapped.task
+    bow = task.assist[0]
+    pressed = []
+    try:
+        w.reset(seed=5)
+
+        def frame(i, panel, conn):
+            w.step(zero)
+            if i == 5:
+                panel.handle_key("t")
+            if panel.ready and len(panel.assist) == 2 and not pressed:
+                for key in ("x", "x", "c"):
+                    panel.handle_key(key)
+                pressed.append(i)
+
+        result = panels.run_helm(
+            w.link.json_address, name="pilot", max_frames=60, fps=100.0, headless=True, size=(640, 400),
+            capture=True, on_frame=frame,
+        )  # fmt: skip
+        assert pressed and result.owned_helm
+        assert result.panel.assist == [0.5, -0.25]
+        assert bow.orders(1)[0] == pytest.approx(0.5) and task.assist[1].orders(1)[0] == pytest.approx(-0.25)
+        assert len(np.unique(result.last_frame.reshape(-1, 3), axis=0)) > 20
+    finally:
+        w.close()

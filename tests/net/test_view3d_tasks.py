@@ -3,6 +3,7 @@ then the real page in headless chromium on a served Berthing-v0), the fenders co
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
@@ -19,7 +20,7 @@ import pytest
 from vessel_gym.net import protocol as P
 from vessel_gym.ui import view3d as V
 from vessel_gym.ui.view3d_scene import FENDER_LOAD_COLOURS, fender_colour
-from vessel_gym.ui.view3d_tasks import AssistControls, TaskScene, hud_rows
+from vessel_gym.ui.view3d_tasks import AssistControls, TaskScene, hud_rows, outcome_figures
 
 from .chromium import Chromium, chromium_path
 from .helpers import make_reading
@@ -144,6 +145,14 @@ def test_controls_step_the_orders_only_with_the_helm_and_follow_the_units():
     ]
 
 
+def test_outcome_events_show_the_tasks_figures():
+    colreg = {"event": "outcome", "outcome": "success", "colreg_score": 0.88, "colreg_violations": 1}
+    assert outcome_figures(colreg) == ": COLREG score 0.88, 1 in violation"
+    berth = {"event": "outcome", "contact_speed_m_s": 0.07, "max_fender_energy_fraction": 0.42}
+    assert outcome_figures(berth) == ": contact 0.07 m/s, fender max 42 % of rated"
+    assert outcome_figures({"event": "outcome", "path_m": 3.0, "colreg_score": "x"}) == ""
+
+
 def test_fenders_are_drawn_and_recoloured_by_load_and_the_route_as_a_line():
     class Scene:
         def __init__(self):
@@ -173,47 +182,25 @@ def test_fenders_are_drawn_and_recoloured_by_load_and_the_route_as_a_line():
     )
 
 
-def test_berthing_page_in_headless_chromium_orders_the_bow_thruster(tmp_path):
-    """A served Berthing-v0 in the real page: the scene is drawn (screenshot not blank, the fenders in their
-    colours), the helm URL's page shows the thruster buttons; after H (taking the pilot's orders in force), 0
-    (every unit to 0), two clicks on "bow_thruster to starboard" and the X key, the state echoes the bow
-    thruster's order +0.75 from the server."""
+@contextlib.contextmanager
+def _served_page(tmp_path, env_id: str, camera: str, time_factor: str):
+    """serve --env ENV_ID and view3d on free ports; yields the page's helm URL and the two processes."""
     if chromium_path() is None:
         pytest.skip("chromium is not installed (Debian package chromium)")
     pytest.importorskip("viser")
     pytest.importorskip("websockets")
-    Image = pytest.importorskip("PIL.Image")
-    import numpy as np
-
     env = {**os.environ, "PYTHONPATH": f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
     udp, http = _free_port(socket.SOCK_DGRAM), _free_port()
     py = [sys.executable, "-m", "vessel_gym.cli"]
     procs = []
     try:
-        serve = ["serve", "--env", "vessel_gym/Berthing-v0", "--json", f"127.0.0.1:{udp}", "--nmea", "off"]
-        serve += ["--time-factor", "2", "--duration", "400", "--seed", "1"]
-        procs.append(
-            subprocess.Popen(
-                py + serve, env=env, stdout=open(tmp_path / "serve.log", "w"), stderr=subprocess.STDOUT
-            )
-        )
-        view = [
-            "view3d",
-            "--server",
-            f"127.0.0.1:{udp}",
-            "--http",
-            f"127.0.0.1:{http}",
-            "--camera",
-            "top-down",
-        ]
-        procs.append(
-            subprocess.Popen(
-                py + view + ["--duration", "390"],
-                env=env,
-                stdout=open(tmp_path / "view3d.log", "w"),
-                stderr=open(tmp_path / "view3d.err", "w"),
-            )
-        )
+        serve = ["serve", "--env", env_id, "--json", f"127.0.0.1:{udp}", "--nmea", "off"]
+        serve += ["--time-factor", time_factor, "--duration", "400", "--seed", "1"]
+        log = open(tmp_path / "serve.log", "w")
+        procs.append(subprocess.Popen(py + serve, env=env, stdout=log, stderr=subprocess.STDOUT))
+        view = ["view3d", "--server", f"127.0.0.1:{udp}", "--http", f"127.0.0.1:{http}", "--camera", camera]
+        out, err = open(tmp_path / "view3d.log", "w"), open(tmp_path / "view3d.err", "w")
+        procs.append(subprocess.Popen(py + view + ["--duration", "390"], env=env, stdout=out, stderr=err))
         url = f"http://127.0.0.1:{http}/"
         deadline = time.monotonic() + 90
         while True:
@@ -221,13 +208,66 @@ def test_berthing_page_in_headless_chromium_orders_the_bow_thruster(tmp_path):
                 rf"open ({re.escape(url)}helm/[A-Za-z0-9_-]+) ", (tmp_path / "view3d.log").read_text()
             )
             if found:
-                helm_url = found.group(1)
-                with urllib.request.urlopen(helm_url, timeout=5) as r:
+                with urllib.request.urlopen(found.group(1), timeout=5) as r:
                     assert r.status == 200
                 break
             assert all(p.poll() is None for p in procs), (tmp_path / "view3d.err").read_text()
             assert time.monotonic() < deadline, "the page was not served within 90 s"
             time.sleep(0.5)
+        yield found.group(1), procs
+    finally:
+        for p in procs:
+            p.terminate()
+        for p in procs:
+            try:
+                p.wait(15)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
+
+
+def test_channel_page_in_headless_chromium_draws_the_target_ships(tmp_path):
+    """A served CollisionAvoidanceChannel-v0 in the real page: the waters' name in the HUD and the target ships
+    drawn in the traffic's orange (the harbour camera over the whole scheme, kilometres across: the clip planes
+    follow the scene's size)."""
+    Image = pytest.importorskip("PIL.Image")
+    import numpy as np
+
+    with _served_page(tmp_path, "vessel_gym/CollisionAvoidanceChannel-v0", "harbour", "20") as (
+        helm_url,
+        procs,
+    ):
+        with Chromium() as browser:
+            browser.call("Page.navigate", url=helm_url)
+            for _ in range(360):  # serve's first start compiles its kernels (minutes on a loaded machine)
+                browser.pump(0.5)
+                if "colreg_tss" in browser.text() and "Heading" in browser.text():
+                    break
+            assert "colreg_tss" in browser.text(), (tmp_path / "serve.log").read_text()
+            orange = 0
+            for i in range(10):
+                browser.pump(1.0)
+                shot = browser.screenshot(str(tmp_path / f"channel{i}.png"))
+                im = np.asarray(Image.open(io.BytesIO(shot)).convert("RGB")).astype(int)[:, :940]
+                r, g, b = im[..., 0], im[..., 1], im[..., 2]
+                mask = (r > 170) & (g > 90) & (g < 190) & (b < 90)
+                mask[:200, :330] = False  # the software-WebGL notice
+                orange = int(mask.sum())
+                if orange >= 4:
+                    break
+            assert orange >= 4, f"no target ship drawn; screenshots in {tmp_path}"
+            assert browser.errors() == []
+        assert (tmp_path / "view3d.err").read_text() == ""
+
+
+def test_berthing_page_in_headless_chromium_orders_the_bow_thruster(tmp_path):
+    """A served Berthing-v0 in the real page: the scene is drawn (screenshot not blank), the helm URL's page shows the thruster buttons; after H (taking the pilot's orders in force), 0
+    (every unit to 0), two clicks on "bow_thruster to starboard" and the X key, the state echoes the bow
+    thruster's order +0.75 from the server."""
+    Image = pytest.importorskip("PIL.Image")
+    import numpy as np
+
+    with _served_page(tmp_path, "vessel_gym/Berthing-v0", "top-down", "2") as (helm_url, procs):
         with Chromium() as browser:
             browser.call("Page.navigate", url=helm_url)
             text = ""
@@ -275,12 +315,3 @@ def test_berthing_page_in_headless_chromium_orders_the_bow_thruster(tmp_path):
         assert "helm takeovers 1;" in log, log
         assert errors == []
         assert (tmp_path / "view3d.err").read_text() == ""
-    finally:
-        for p in procs:
-            p.terminate()
-        for p in procs:
-            try:
-                p.wait(15)
-            except subprocess.TimeoutExpired:
-                p.kill()
-                p.wait()

@@ -27,12 +27,9 @@ import numpy as np
 
 from vessel_gym.envs.debrief import BerthingDebrief, berthing_debrief
 from vessel_gym.physics.components.tug import Tug
-from vessel_gym.ui.panels import RUDDER_STEP_DEG
+from vessel_gym.ui.panels import ASSIST_KEYS, ASSIST_STEP, RUDDER_STEP_DEG
 
 ENGINE_STEPS = 4  # engine orders in quarters of full ahead / astern rpm
-ASSIST_STEP = 0.25  # a thruster's or tug's order per key press
-#: key pairs (to port, to starboard) of the first, second and third thruster or tug
-ASSIST_KEYS = (("z", "x"), ("c", "v"), (",", "."))
 _KEY_NAMES = {"z": "K_z", "x": "K_x", "c": "K_c", "v": "K_v", ",": "K_COMMA", ".": "K_PERIOD"}
 
 

@@ -63,7 +63,7 @@ from vessel_gym.ui.view3d_scene import (
     triangulate,
     wave_number,
 )
-from vessel_gym.ui.view3d_tasks import AssistControls, TaskScene, hud_rows
+from vessel_gym.ui.view3d_tasks import AssistControls, TaskScene, hud_rows, outcome_figures
 
 TRACK_POINTS = 2000  # own-ship track kept, one point per TRACK_SPACING_S
 TRACK_SPACING_S = 1.0  # s of simulation time between track points
@@ -438,6 +438,15 @@ class Viewer3D:
             self._arrow_handles.append(handle)
 
     def _cameras(self, st: dict) -> None:
+        # Clip planes for the scene's size: viser's 1000 m far plane hides an open-sea encounter's targets
+        # kilometres off; the near plane grows with it to keep the depth buffer's precision (1e5 : 1).
+        x0, x1, y0, y1 = self._extent
+        far = max(1000.0, 4.0 * max(x1 - x0, y1 - y0))
+        for client in self.server.get_clients().values():
+            try:
+                client.camera.far, client.camera.near = far, max(0.01, 1e-5 * far)
+            except (AssertionError, ValueError):  # camera not reported by the browser yet
+                continue
         x, y, h = st.get("y_m"), st.get("x_m"), st.get("hdg_deg")
         if self.camera == "free" or not all(isinstance(v, (int, float)) for v in (x, y, h)):
             return
@@ -505,7 +514,7 @@ class Viewer3D:
         if link.events:
             e = link.events[-1]
             what = e.get("outcome") or e.get("what") or ""
-            lines.append(f"| Episode {e.get('episode')} | {e.get('event')} {what} |")
+            lines.append(f"| Episode {e.get('episode')} | {e.get('event')} {what}{outcome_figures(e)} |")
         return "\n".join(lines)
 
     def close(self) -> None:

@@ -5,7 +5,7 @@ the harbour's traffic.
 
 Controls (shown once the link's welcome names the ship's thrusters and tugs; they act only while this page
 holds the helm): per unit a "to port" and a "to starboard" button, a quarter of its range per press (the
-keyboard's ``play`` step, :data:`~vessel_gym.ui.play_berthing.ASSIST_STEP`), keys Z / X (first unit), Q / W
+keyboard's ``play`` step, :data:`~vessel_gym.ui.panels.ASSIST_STEP`), keys Z / X (first unit), Q / W
 (second), O / P (third), and ``0`` every unit to zero. A thruster's order is its fraction of rated rpm, a tug's
 the fraction of its bollard pull along its line, + towards starboard.
 """
@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from vessel_gym.ui.play_berthing import ASSIST_STEP
+from vessel_gym.ui.panels import ASSIST_STEP
 from vessel_gym.ui.view3d_scene import COLOURS, RELIEF_T, chart_to_scene, fender_colour, prism
 
 #: hotkeys (to port, to starboard) of the first three thrusters or tugs (C is the camera's, M midships)
@@ -103,6 +103,22 @@ def hud_rows(st: dict, link: Any) -> list[str]:
         j = int(np.argmax(load))
         rows.append(f"| Fenders | fender {j + 1} at {100.0 * load[j]:.0f} % of rated |")
     return rows
+
+
+def outcome_figures(event: dict) -> str:
+    """The task's figures of an ``outcome`` event for the HUD: the COLREG score and violations, or the contact
+    speed and the most loaded fender ("" for a harbour's)."""
+    num = lambda k: event.get(k) if isinstance(event.get(k), (int, float)) else None  # noqa: E731
+    parts = []
+    if num("colreg_score") is not None:
+        parts.append(f"COLREG score {num('colreg_score'):.2f}")
+        if num("colreg_violations") is not None:
+            parts.append(f"{num('colreg_violations'):.0f} in violation")
+    if num("contact_speed_m_s") is not None:
+        parts.append(f"contact {num('contact_speed_m_s'):.2f} m/s")
+    if num("max_fender_energy_fraction") is not None:
+        parts.append(f"fender max {100.0 * num('max_fender_energy_fraction'):.0f} % of rated")
+    return (": " + ", ".join(parts)) if parts else ""
 
 
 class TaskScene:
