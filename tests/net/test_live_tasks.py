@@ -330,3 +330,30 @@ def test_pygame_helm_panel_orders_the_thrusters_of_a_berthing_ship():
         assert len(np.unique(result.last_frame.reshape(-1, 3), axis=0)) > 20
     finally:
         w.close()
+
+
+def test_the_tankers_tugs_are_its_helm_units_and_take_a_panels_orders(peers):
+    env = gym.make("vessel_gym/BerthingTanker-v0")
+    assert [(u.name, u.kind) for u in assist_units(env)] == [("bow_tug", "tug"), ("stern_tug", "tug")]
+    w = UdpLinkWrapper(env, LinkConfig(json_bind=("127.0.0.1", 0), nmea_destinations=()))
+    try:
+        w.reset(seed=1)
+        server = w.link.json_address
+        panel = peers()
+        panel.join(server, lambda: w.service(), "helm", 20.0)
+        zero = np.zeros(env.action_space.shape, dtype=np.float32)
+        for seq in range(1, 4):
+            panel.send(
+                server, P.encode_helm(seq, 0.0, telegraph=0, session=panel.session, assist=[-0.5, 1.0])
+            )
+            time.sleep(0.005)
+            w.step(zero)
+        tugs = env.unwrapped.task.assist
+        assert w.steered_by == "human" and [t.orders(1)[0] for t in tugs] == [-0.5, 1.0]
+        welcome = [m for m in panel.messages() if m["type"] == "welcome"]
+        assert welcome[-1]["assist"] == [
+            {"name": "bow_tug", "kind": "tug"},
+            {"name": "stern_tug", "kind": "tug"},
+        ]
+    finally:
+        w.close()
