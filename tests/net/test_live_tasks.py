@@ -357,3 +357,18 @@ def test_the_tankers_tugs_are_its_helm_units_and_take_a_panels_orders(peers):
         ]
     finally:
         w.close()
+
+
+def test_pygame_panel_chart_draws_the_fenders_by_load():
+    pytest.importorskip("pygame")
+    from vessel_gym.ui import panels
+    from vessel_gym.ui.chart import fender_colour
+
+    quad = lambda e: [[20.0, e], [20.0, e + 8.0], [28.0, e + 8.0], [28.0, e]]  # noqa: E731  (north, east), m
+    scene = {
+        "features": [{"kind": "fender", "points": quad(-30.0)}, {"kind": "fender", "points": quad(30.0)}]
+    }
+    state = {"x_m": 0.0, "y_m": 0.0, "hdg_deg": 0.0, "fender_load": [0.3, 1.2], "targets": []}
+    frame = panels.render_frame_array(state, scene=scene)
+    colours = {tuple(c) for c in frame.reshape(-1, 3)}
+    assert fender_colour(0.3) in colours and fender_colour(1.2) in colours

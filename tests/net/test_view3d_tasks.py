@@ -19,7 +19,7 @@ import pytest
 
 from vessel_gym.net import protocol as P
 from vessel_gym.ui import view3d as V
-from vessel_gym.ui.view3d_scene import FENDER_LOAD_COLOURS, fender_colour
+from vessel_gym.ui.chart import fender_colour
 from vessel_gym.ui.view3d_tasks import AssistControls, TaskScene, hud_rows, outcome_figures
 
 from .chromium import Chromium, chromium_path
@@ -172,14 +172,10 @@ def test_fenders_are_drawn_and_recoloured_by_load_and_the_route_as_a_line():
     ts.build(sc, feats, T=5.0, L=76.0)
     assert len(sc.meshes) == 2 and len(sc.lines) == 1
     name, v, kw = sc.meshes[0]
-    assert kw["color"] == FENDER_LOAD_COLOURS[0][1] and v[:, 2].min() < 0.0 < v[:, 2].max()
+    assert kw["color"] == fender_colour(0.0) and v[:, 2].min() < 0.0 < v[:, 2].max()
     assert sorted(set(v[:, 0].round(3))) == [10.0, 12.0]  # scene x is the chart's east
-    ts.update({"fender_load": [0.0, 1.3]})
-    assert ts.fenders[0].color is None and ts.fenders[1].color == FENDER_LOAD_COLOURS[-1][1]
-    assert fender_colour(0.5) == FENDER_LOAD_COLOURS[1][1]
-    assert fender_colour(0.25) == tuple(
-        round((a + b) / 2) for a, b in zip(FENDER_LOAD_COLOURS[0][1], FENDER_LOAD_COLOURS[1][1])
-    )
+    ts.update({"fender_load": [0.01, 1.3]})  # the first changed by less than FENDER_RECOLOUR
+    assert ts.fenders[0].color is None and ts.fenders[1].color == fender_colour(1.3) != fender_colour(1.0)
 
 
 @contextlib.contextmanager

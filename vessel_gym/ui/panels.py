@@ -39,6 +39,7 @@ import numpy as np
 from vessel_gym.net.clients import Address, ServerConnection
 from vessel_gym.net.protocol import MAX_ASSIST
 from vessel_gym.physics.bridge import Telegraph
+from vessel_gym.ui.chart import fender_colour
 
 RUDDER_STEP_DEG = 5.0
 ASSIST_STEP = 0.25  # a thruster's or tug's order per key press (fraction of its range)
@@ -194,9 +195,12 @@ _SHOAL = (92, 84, 52)
 _GOAL = (70, 190, 90)
 
 
-def _draw_chart(pygame, surface, scene: Mapping, to_screen: Callable, draught_m: float) -> None:
+def _draw_chart(
+    pygame, surface, scene: Mapping, to_screen: Callable, draught_m: float, fender_load: object = None
+) -> None:
     """The v2 scenario under the ships: depth areas shallower than the own draught (shoals), land,
-    breakwaters and quays filled, the goal outlined (same geometry as the simulation's chart)."""
+    breakwaters and quays filled, the goal outlined (same geometry as the simulation's chart), a berth's
+    fenders coloured by ``fender_load`` (the state's, in fender order; the chart's colours)."""
     features = [f for f in scene.get("features") or [] if isinstance(f, Mapping)]
 
     def poly(f: Mapping) -> list | None:
@@ -224,6 +228,12 @@ def _draw_chart(pygame, surface, scene: Mapping, to_screen: Callable, draught_m:
             pts = poly(f)
             if pts:
                 pygame.draw.polygon(surface, _GOAL, pts, 2)
+    loads = fender_load if isinstance(fender_load, list) else []
+    for j, f in enumerate(f for f in features if f.get("kind") == "fender"):
+        pts = poly(f)
+        load = loads[j] if j < len(loads) and isinstance(loads[j], (int, float)) else 0.0
+        if pts:
+            pygame.draw.polygon(surface, fender_colour(float(load)), pts)
 
 
 def render(
@@ -341,7 +351,7 @@ def render(
         return ccx + (y_m - oy) * scale, ccy - (x_m - ox) * scale
 
     if scene is not None:
-        _draw_chart(pygame, surface, scene, to_screen, own_draught_m)
+        _draw_chart(pygame, surface, scene, to_screen, own_draught_m, s.get("fender_load"))
     for k in (0.5, 1.0):
         pygame.draw.circle(surface, _RING, (int(ccx), int(ccy)), int(rng * k * scale), 1)
     text(f"range {rng:.0f} m", int(cx0 + 10), 10, _DIM, small)

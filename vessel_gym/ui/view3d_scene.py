@@ -49,19 +49,6 @@ COLOURS = {
     "current": (60, 200, 120),
     "route": (120, 60, 160),
 }
-#: a fender's colour by its load (absorbed energy or compression over its rating): green at 0, yellow at half,
-#: red at the rating and beyond
-FENDER_LOAD_COLOURS = ((0.0, (40, 160, 60)), (0.5, (230, 200, 30)), (1.0, (210, 30, 30)))
-
-
-def fender_colour(load: float) -> tuple[int, int, int]:
-    """The colour of a fender at ``load`` (fraction of its rating), linear between FENDER_LOAD_COLOURS."""
-    x = min(max(float(load), 0.0), 1.0) if math.isfinite(load) else 0.0
-    for (x0, c0), (x1, c1) in zip(FENDER_LOAD_COLOURS, FENDER_LOAD_COLOURS[1:]):
-        if x <= x1:
-            f = (x - x0) / (x1 - x0)
-            return tuple(round(a + f * (b - a)) for a, b in zip(c0, c1))  # type: ignore[return-value]
-    return FENDER_LOAD_COLOURS[-1][1]
 
 
 # ---------------------------------------------------------------------------------------------------------------

@@ -1,5 +1,6 @@
 """What the 3D page adds for the served tasks beyond a harbour (``vessel-gym serve --env``): the thruster and tug
-controls of the helm (Berthing), the fenders coloured by their load and the own ship's route (CollisionAvoidance)
+controls of the helm (Berthing), the fenders coloured by their load (the chart's colours,
+:func:`~vessel_gym.ui.chart.fender_colour`) and the own ship's route (CollisionAvoidance)
 in the scene, and their rows of the HUD. The target ships need nothing here: they are ships of the scene like
 the harbour's traffic.
 
@@ -17,8 +18,9 @@ from typing import Any
 
 import numpy as np
 
+from vessel_gym.ui.chart import fender_colour
 from vessel_gym.ui.panels import ASSIST_STEP
-from vessel_gym.ui.view3d_scene import COLOURS, RELIEF_T, chart_to_scene, fender_colour, prism
+from vessel_gym.ui.view3d_scene import COLOURS, RELIEF_T, chart_to_scene, prism
 
 #: hotkeys (to port, to starboard) of the first three thrusters or tugs (C is the camera's, M midships)
 ASSIST_HOTKEYS = (("Z", "X"), ("Q", "W"), ("O", "P"))
