@@ -248,7 +248,9 @@ def build_parser() -> argparse.ArgumentParser:
     sv = sub.add_parser("serve", help="run a scenario in real time with the UDP link (NMEA, JSON state/helm)")
     sv.add_argument("scenario", nargs="?", help="built-in scenario name or .toml path (default: harbour)")
     sv.add_argument(
-        "--env", metavar="ID", help="a CollisionAvoidance or Berthing task instead (docs/protocol.md 6.1)"
+        "--env",
+        metavar="ID",
+        help="a CollisionAvoidance or Berthing task instead (docs/protocol.md 6.1; default: none)",
     )
     sv.add_argument(
         "--nmea",
