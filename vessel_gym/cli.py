@@ -246,7 +246,12 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--force", action="store_true", help="replace an existing debrief plot")
 
     sv = sub.add_parser("serve", help="run a scenario in real time with the UDP link (NMEA, JSON state/helm)")
-    sv.add_argument("scenario", nargs="?", default="harbour", help="built-in scenario name or .toml path")
+    sv.add_argument("scenario", nargs="?", help="built-in scenario name or .toml path (default: harbour)")
+    sv.add_argument(
+        "--env",
+        metavar="ID",
+        help="a CollisionAvoidance or Berthing task instead (docs/protocol.md 6.1; default: none)",
+    )
     sv.add_argument(
         "--nmea",
         metavar="HOST:PORT",
@@ -269,7 +274,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulated seconds per wall-clock second",
     )
     sv.add_argument(
-        "--agent", default="pid", help="helm when no human holds it: pid, pid-nomoto, scripted or an SB3 .zip"
+        "--agent",
+        help="helm when no human holds it: pid, pid-nomoto, scripted or SB3 .zip (default pid; Berthing: scripted)",
     )
     sv.add_argument("--allow-remote", action="store_true", help="allow binding to a non-loopback address")
     sv.add_argument(
@@ -619,6 +625,7 @@ def _main(argv: Sequence[str] | None) -> int:
             )
             return serve(
                 args.scenario,
+                env=args.env,
                 nmea=nmea,
                 json_bind=host_port(args.json, "--json"),
                 listen_only=[host_port(t, "--view") for t in args.view],

@@ -378,11 +378,11 @@ def test_serve_makes_its_env_without_an_upgrade_warning():
     """serve chooses HarbourApproach-v2 itself: the user is not told to upgrade an id they never named."""
     import warnings
 
-    from vessel_gym.net.serve import _make_served
+    from vessel_gym.net.served import Served
     from vessel_gym.scenarios import load_scenario
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        env = _make_served({"scenario": load_scenario("harbour")})
+        env = Served(None, load_scenario("harbour")).make({})
     env.close()
     assert not [w for w in caught if "out of date" in str(w.message)], [str(w.message) for w in caught]

@@ -7,8 +7,9 @@ import os
 import numpy as np
 import pytest
 
+from vessel_gym.envs.debrief import berthing_score
 from vessel_gym.ui.play import play
-from vessel_gym.ui.play_berthing import BerthingConsole, berthing_score
+from vessel_gym.ui.play_berthing import BerthingConsole
 
 pygame = pytest.importorskip("pygame")
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import socket
+from collections.abc import Sequence
 
 from vessel_gym.net import protocol
 from vessel_gym.net.protocol import ProtocolError
@@ -111,13 +112,19 @@ class ServerConnection:
             self.hello()
 
     def send_helm(
-        self, rudder_order_deg: float, telegraph: int | None = None, rpm_order: float | None = None
+        self,
+        rudder_order_deg: float,
+        telegraph: int | None = None,
+        rpm_order: float | None = None,
+        assist: Sequence[float] | None = None,
     ) -> None:
-        """Send one full helm command with the next ``seq`` (nothing before the server gave a session)."""
+        """Send one full helm command with the next ``seq`` (nothing before the server gave a session);
+        ``assist``: one order per thruster or tug the welcome named."""
         if self.session is None:
             return
         self._seq += 1
-        self._sendto(protocol.encode_helm(self._seq, rudder_order_deg, telegraph, rpm_order, self.session))
+        data = protocol.encode_helm(self._seq, rudder_order_deg, telegraph, rpm_order, self.session, assist)
+        self._sendto(data)
         self.helm_sent += 1
 
     def poll(self, now_s: float = 0.0) -> int:

@@ -7,8 +7,8 @@ is a registered helm client, counts, and tells v2 clients who owns the helm:
 - The first command while nobody owns the helm takes ownership; commands from other panels are refused
   (``not_owner``) while an owner exists.
 - When the owner is lost (watchdog, bye, timeout, role change, new session) ``helm_ok`` becomes false and the
-  failsafe policy applies to the orders: ``hold`` keeps the last order, ``midships_stop`` orders rudder 0 and
-  telegraph STOP (or 0 rpm).
+  failsafe policy applies to the orders: ``hold`` keeps the last order, ``midships_stop`` orders rudder 0,
+  telegraph STOP (or 0 rpm) and every thruster and tug to 0.
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ class HelmState:
     helm_ok: bool = False
     failsafe: bool = False
     seq: int | None = None
+    assist: tuple[float, ...] = ()  # thruster and tug orders, fractions in [-1, 1] (HelmCommand.assist)
 
     @property
     def has_orders(self) -> bool:
@@ -112,6 +113,7 @@ class HelmOwner:
                     rudder_order_deg=0.0,
                     telegraph=None if orders.telegraph is None else 0,
                     rpm_order=None if orders.rpm_order is None else 0.0,
+                    assist=(0.0,) * len(orders.assist),
                 )
         self._update()
 
@@ -138,4 +140,5 @@ class HelmOwner:
             helm_ok=self.owner is not None and o is not None and not self._failsafe,
             failsafe=self._failsafe,
             seq=None if o is None else o.seq,
+            assist=() if o is None else o.assist,
         )

@@ -51,12 +51,14 @@ from vessel_gym.net.link_config import LinkConfig  # noqa: F401
 from vessel_gym.net.nmea_feed import NmeaFeed
 from vessel_gym.net.protocol import (
     MAX_DATAGRAM_BYTES,
+    NO_EXTRAS,
     REASONS,
     Bye,
     Hello,
     HelmCommand,
     ProtocolError,
     ShipParticulars,
+    StateExtras,
     StatsRequest,
     Target,
     encode_challenge,
@@ -163,17 +165,16 @@ class UdpLink:
         self._static_due = -math.inf
         self._stats_due = math.inf
         self._nmea_feed = NmeaFeed(config, self._encode_failed)
-        self._scene_source: tuple = (None, (), None)  # what set_scene was given
+        self._scene_source: tuple = (None, (), None, ())  # what set_scene was given
         self._scene: list[bytes] | None = []  # its v2 datagrams, encoded on first need (None: not yet)
         self.last_error: str | None = None  # text of the last counted encoding/socket error
-        counters = ["rx_datagrams", "rx_accepted", "tx_state", "tx_welcome", "tx_challenge", "tx_stats"]
-        counters += ["tx_nmea_datagrams"]
-        counters += ["tx_nmea_sentences", "tx_ais_sentences", "tx_error", "rx_error", "encode_error"]
-        counters += ["clients_joined", "clients_left", "clients_timed_out", "clients_evicted"]
-        counters += ["rx_budget_spent"]
-        counters += ["helm_takeovers", "helm_watchdog", "helm_released", "tx_v2"]
-        counters += [f"drop_{r}" for r in REASONS + LINK_DROP_REASONS]
-        self._counters: dict[str, int] = dict.fromkeys(counters, 0)
+        #: what the owner adds to each state (thrusters, tugs, fenders), asked only when a state is encoded
+        self.state_extras: Callable[[], StateExtras] | None = None
+        counters = """rx_datagrams rx_accepted tx_state tx_welcome tx_challenge tx_stats tx_nmea_datagrams
+            tx_nmea_sentences tx_ais_sentences tx_error rx_error encode_error clients_joined clients_left
+            clients_timed_out clients_evicted rx_budget_spent helm_takeovers helm_watchdog helm_released tx_v2 """
+        counters += " ".join(f"drop_{r}" for r in REASONS + LINK_DROP_REASONS)
+        self._counters: dict[str, int] = dict.fromkeys(counters.split(), 0)
 
     # -- properties -------------------------------------------------------------------------------------------
 
@@ -192,17 +193,10 @@ class UdpLink:
     @property
     def clients(self) -> list[dict[str, object]]:
         """Snapshot of the registered clients: address, role, rate_hz, name, last_seen_s, helm owner flag."""
-        return [
-            {
-                "address": addr,
-                "role": c.role,
-                "rate_hz": c.rate_hz,
-                "name": c.name,
-                "last_seen_s": c.last_seen,
-                "owner": addr == self._helm.owner,
-            }
-            for addr, c in self._clients.items()
-        ]
+        owner = self._helm.owner
+        keys = ("address", "role", "rate_hz", "name", "last_seen_s", "owner")
+        rows = [(a, c.role, c.rate_hz, c.name, c.last_seen, a == owner) for a, c in self._clients.items()]
+        return [dict(zip(keys, row)) for row in rows]
 
     def pop_helm_changes(self) -> list[HelmChange]:
         """The helm ownership changes since the last call, oldest first (kept until popped, at most 1000)."""
@@ -403,8 +397,10 @@ class UdpLink:
         scenario: object | None,
         ships: Sequence[ShipParticulars],
         environment: object | None = None,
+        features: Sequence[dict] = (),
     ) -> None:
-        """Publish the scene (protocol v2): the scenario's polygons and sea state and the ships' particulars.
+        """Publish the scene (protocol v2): the scenario's polygons (and the task's ``features``: fenders, the
+        route) and sea state and the ships' particulars.
 
         Sent now to every client that said ``"proto": 2`` and later to each one when it joins; call it again at
         each reset (the sea state is drawn per episode). The datagrams are encoded only when a v2 client needs
@@ -412,7 +408,7 @@ class UdpLink:
         """
         if self._closed:
             return
-        self._scene_source = (scenario, tuple(ships), environment)
+        self._scene_source = (scenario, tuple(ships), environment, tuple(features))
         self._scene = None
         for addr, c in self._clients.items():
             if c.proto >= 2:
@@ -421,10 +417,10 @@ class UdpLink:
 
     def _scene_datagrams(self) -> list[bytes]:
         if self._scene is None:
-            scenario, ships, environment = self._scene_source
+            scenario, ships, environment, features = self._scene_source
             seq = self._next_seq()
             try:
-                scene = encode_scenario(seq, scenario, environment)
+                scene = encode_scenario(seq, scenario, environment, extra_features=features)
                 scene += [encode_particulars(seq, ship) for ship in ships]
             except (ValueError, TypeError, OverflowError) as exc:
                 self._counters["encode_error"] += 1
@@ -544,7 +540,8 @@ class UdpLink:
     def _encode_state(self, own: BridgeReading, targets: Sequence[Target]) -> list[bytes]:
         self._state_seq += 1
         try:
-            return encode_state(self._state_seq, own, self._helm.state.helm_ok, targets)
+            extras = self.state_extras() if self.state_extras is not None else NO_EXTRAS
+            return encode_state(self._state_seq, own, self._helm.state.helm_ok, targets, extras=extras)
         except (ValueError, TypeError, OverflowError) as exc:
             self._counters["encode_error"] += 1
             self.last_error = f"state: {exc}"

@@ -74,20 +74,44 @@ from vessel_gym.net.wire import (  # noqa: F401
 )
 from vessel_gym.physics.bridge import BridgeReading
 
+#: most thrusters and tugs one ship's helm orders (each a number of ``helm.assist``)
+MAX_ASSIST = 8
+ASSIST_KINDS = ("thruster", "tug")
+
+
+@dataclass(frozen=True)
+class AssistUnit:
+    """A thruster or tug the helm orders besides rudder and engine: its ``name`` (the ship file's or the
+    berth's) and ``kind`` (:data:`ASSIST_KINDS`). Its order is a fraction in [-1, 1], + towards starboard: a
+    thruster's of its rated rpm, a tug's of its bollard pull along its line."""
+
+    name: str
+    kind: str
+
+    def __post_init__(self) -> None:
+        if self.kind not in ASSIST_KINDS:
+            raise ValueError(
+                f"AssistUnit {self.name!r}: kind must be one of {ASSIST_KINDS}, not {self.kind!r}"
+            )
+
 
 @dataclass(frozen=True)
 class Limits:
-    """Physical limits used to clamp helm orders: rudder order to +-``max_rudder_deg`` (deg), rpm order to
-    +-``max_rpm`` (rev/min)."""
+    """What helm orders may say: rudder order clamped to +-``max_rudder_deg`` (deg), rpm order to +-``max_rpm``
+    (rev/min); ``assist`` the ship's thrusters and tugs, in the order of ``helm.assist`` (none: a helm order
+    carrying ``assist`` orders is refused)."""
 
     max_rudder_deg: float = 35.0
     max_rpm: float = 200.0
+    assist: tuple[AssistUnit, ...] = ()
 
     def __post_init__(self) -> None:
         for name in ("max_rudder_deg", "max_rpm"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0.0 < value < 1e6:
                 raise ValueError(f"Limits.{name} must be a positive number, not {value!r}")
+        if len(self.assist) > MAX_ASSIST:
+            raise ValueError(f"Limits.assist: {len(self.assist)} units, at most {MAX_ASSIST}")
 
 
 DEFAULT_LIMITS = Limits()
@@ -111,7 +135,9 @@ class HelmCommand:
     """A full helm order (never a delta). Exactly one of ``telegraph`` and ``rpm_order`` is set.
 
     ``seq`` increases per panel; ``rudder_order_deg`` is clamped to the rudder limit (deg, + = starboard);
-    ``telegraph`` is a Telegraph step -4..4; ``rpm_order`` is in rev/min (negative astern).
+    ``telegraph`` is a Telegraph step -4..4; ``rpm_order`` is in rev/min (negative astern); ``assist`` one
+    order in [-1, 1] per thruster or tug of the ship (:class:`Limits` ``assist``; all 0 when the command
+    carries none).
     """
 
     seq: int
@@ -119,6 +145,7 @@ class HelmCommand:
     telegraph: int | None = None
     rpm_order: float | None = None
     session: str | None = None  # the sender's session (from its welcome); seq counts within it
+    assist: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -146,7 +173,9 @@ def parse_datagram(
     Rejected: more than 2048 bytes, more than 32 ``[``/``{`` in total (``too_complex``), bad UTF-8, bad JSON (including nesting too deep to parse), NaN/Infinity or
     numbers that overflow a double, anything but an object, ``v`` other than 1, an unknown ``type``, and missing
     or ill-typed fields (booleans are not numbers). Clamped: ``rate_hz`` to 1-50, ``rudder_order_deg`` and
-    ``rpm_order`` to ``limits``, ``telegraph`` to -4..4. Unknown keys are ignored (forward compatibility).
+    ``rpm_order`` to ``limits``, ``telegraph`` to -4..4. ``assist`` (thruster and tug orders) is checked, not
+    clamped: a list of exactly as many numbers in [-1, 1] as ``limits.assist`` has units. Unknown keys are
+    ignored (forward compatibility).
     """
     obj = decode_object(data, MAX_DATAGRAM_BYTES, MAX_CONTAINERS)
     version = obj.get("v")
@@ -166,6 +195,7 @@ def parse_datagram(
             telegraph=None if telegraph is None else int(clamp(telegraph, TELEGRAPH_MIN, TELEGRAPH_MAX)),
             rpm_order=None if rpm_order is None else clamp(rpm_order, -limits.max_rpm, limits.max_rpm),
             session=get_str(obj, "session", MAX_SESSION_CHARS, truncate=False),
+            assist=_assist_orders(obj, len(limits.assist)),
         )
     if kind == "hello":
         get_seq(obj, required=False)
@@ -189,6 +219,28 @@ def parse_datagram(
         get_seq(obj, required=False)
         return StatsRequest(session=get_str(obj, "session", MAX_SESSION_CHARS, truncate=False))
     raise ProtocolError("bad_type")
+
+
+def _assist_orders(obj: dict, units: int) -> tuple[float, ...]:
+    """A helm command's thruster and tug orders: ``units`` zeros when it carries none, else its ``assist``
+    list, which must hold one number in [-1, 1] per unit (a full order, never a delta)."""
+    value = obj.get("assist")
+    if value is None:
+        return (0.0,) * units
+    if not isinstance(value, list):
+        raise ProtocolError("bad_field", "assist must be a list of numbers")
+    if len(value) != units:
+        raise ProtocolError(
+            "bad_field", f"assist has {len(value)} orders; the ship has {units} thrusters/tugs"
+        )
+    out = []
+    for j, o in enumerate(value):
+        if isinstance(o, bool) or not isinstance(o, (int, float)):
+            raise ProtocolError("bad_field", f"assist[{j}] must be a number")
+        if not -1.0 <= o <= 1.0:
+            raise ProtocolError("bad_field", f"assist[{j}] = {o!r} is outside -1..1")
+        out.append(float(o))
+    return tuple(out)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -220,6 +272,48 @@ class Target:
     def __post_init__(self) -> None:
         if self.mmsi is not None and not 0 < self.mmsi < 10**9:
             raise ValueError(f"Target {self.id}: MMSI must be 1..999999999, not {self.mmsi!r}")
+
+
+@dataclass(frozen=True)
+class AssistReading:
+    """A thruster's or tug's order and what it delivers now (thrust, or pull along its line, as a fraction of
+    its maximum; both in [-1, 1], + towards starboard), for ``state.assist``."""
+
+    name: str
+    kind: str
+    order: float
+    delivered: float
+
+
+@dataclass(frozen=True)
+class StateExtras:
+    """What a task adds to the own ship's ``state``: its thrusters and tugs (``assist``) and the load of each
+    fender of its berth (``fender_load``: the larger of absorbed energy and compression, each over its rating;
+    1 = rated). Empty fields are left out of the message."""
+
+    assist: tuple[AssistReading, ...] = ()
+    fender_load: tuple[float, ...] = ()
+
+
+NO_EXTRAS = StateExtras()
+
+
+def extras_fields(extras: StateExtras) -> dict[str, object]:
+    """The ``assist`` and ``fender_load`` fields of a ``state`` message (none when empty)."""
+    out: dict[str, object] = {}
+    if extras.assist:
+        out["assist"] = [
+            {
+                "name": a.name[:MAX_NAME_CHARS],
+                "kind": a.kind,
+                "order": num(a.order, 3),
+                "delivered": num(a.delivered, 3),
+            }
+            for a in extras.assist
+        ]
+    if extras.fender_load:
+        out["fender_load"] = [num(x, 3) for x in extras.fender_load]
+    return out
 
 
 def own_state_fields(own: BridgeReading) -> dict[str, float | int | None]:
@@ -271,8 +365,10 @@ def encode_state(
     helm_ok: bool,
     targets: Sequence[Target] = (),
     max_bytes: int = MAX_STATE_DATAGRAM_BYTES,
+    extras: StateExtras = NO_EXTRAS,
 ) -> list[bytes]:
-    """Encode a ``state`` message as one or more datagrams of at most ``max_bytes`` bytes.
+    """Encode a ``state`` message as one or more datagrams of at most ``max_bytes`` bytes; ``extras`` adds the
+    thrusters, tugs and fenders of a berthing ship (:class:`StateExtras`).
 
     Usually one datagram (``"part":0,"parts":1``). With many targets the target list is split over ``parts``
     datagrams that repeat the own-ship fields and share ``seq``; a client merges the parts of one ``seq``.
@@ -280,6 +376,7 @@ def encode_state(
     head = {"v": PROTOCOL_VERSION, "type": "state", "seq": int(seq)}
     head.update(own_state_fields(own))
     head["helm_ok"] = bool(helm_ok)
+    head.update(extras_fields(extras))
     fields = [target_fields(t) for t in targets]
     whole = dumps({**head, "targets": fields, "part": 0, "parts": 1}).encode()
     if len(whole) <= max_bytes:
@@ -308,7 +405,8 @@ def encode_welcome(
     session: str | None = None,
 ) -> bytes:
     """Reply to a ``hello`` with a valid cookie: the granted rate, whether this client owns the helm, the link
-    rules, the client's ``session`` and a fresh ``cookie`` for its next hellos."""
+    rules (with the ship's thrusters and tugs, ``assist``, where it has any), the client's ``session`` and a
+    fresh ``cookie`` for its next hellos."""
     msg: dict[str, object] = {
         "v": PROTOCOL_VERSION,
         "type": "welcome",
@@ -322,6 +420,8 @@ def encode_welcome(
         "timeout_s": timeout_s,
         "failsafe": failsafe,
     }
+    if limits.assist:
+        msg["assist"] = [{"name": a.name[:MAX_NAME_CHARS], "kind": a.kind} for a in limits.assist]
     if cookie is not None:
         msg["cookie"] = cookie
     if session is not None:
@@ -397,9 +497,10 @@ def encode_helm(
     telegraph: int | None = None,
     rpm_order: float | None = None,
     session: str | None = None,
+    assist: Sequence[float] | None = None,
 ) -> bytes:
     """A full ``helm`` command; exactly one of ``telegraph`` (-4..4) and ``rpm_order`` (rev/min); ``session``
-    from the sender's welcome."""
+    from the sender's welcome; ``assist`` one order in [-1, 1] per thruster or tug the welcome named."""
     if (telegraph is None) == (rpm_order is None):
         raise ValueError("give exactly one of telegraph and rpm_order")
     msg: dict[str, object] = {
@@ -414,6 +515,8 @@ def encode_helm(
         msg["rpm_order"] = float(rpm_order)
     if session is not None:
         msg["session"] = session
+    if assist is not None:
+        msg["assist"] = [round(float(o), 4) for o in assist]
     return dumps(msg).encode()
 
 

@@ -28,7 +28,9 @@ from vessel_gym.net.wire import (
 
 PROTOCOL_V2 = 2
 V2_TYPES = ("scenario", "particulars", "event", "helm_owner")
-SCENE_KINDS = ("land", "breakwater", "quay", "depth", "start", "goal")  # "kind" of a scenario feature
+# "kind" of a scenario feature; "fender" (a berth's fender, from the quay to its face) and "route" (the own
+# ship's planned leg, start to goal) come from the task, not the scenario file
+SCENE_KINDS = ("land", "breakwater", "quay", "depth", "start", "goal", "fender", "route")
 EVENTS = ("reset", "outcome", "contact")
 HELM_OWNER_REASONS = ("takeover", "watchdog", "released")
 KNOT_M_S = 1852.0 / 3600.0  # m/s per knot (international nautical mile per hour)
@@ -130,8 +132,10 @@ def encode_scenario(
     scenario: object | None,
     environment: object | None = None,
     max_bytes: int = MAX_STATE_DATAGRAM_BYTES,
+    extra_features: Sequence[Mapping] = (),
 ) -> list[bytes]:
-    """The ``scenario`` message as ``parts`` datagrams of at most ``max_bytes`` bytes that share ``seq``.
+    """The ``scenario`` message as ``parts`` datagrams of at most ``max_bytes`` bytes that share ``seq``;
+    ``extra_features`` (the task's fenders or route) follow the scenario's own.
 
     Every part repeats the head (name, geodetic reference, bounds, open-water depth, ``sea``) and carries some
     of the ``features``; a polygon too long for one datagram is split into pieces with the same ``id`` whose
@@ -149,6 +153,10 @@ def encode_scenario(
     else:
         head["name"] = ""
         features = []
+    features = features + [
+        {"kind": f["kind"], "name": str(f.get("name", ""))[:MAX_NAME_CHARS], "points": _points(f["points"])}
+        for f in extra_features
+    ]
     head["sea"] = environment_fields(environment)
     prefix = dumps(head)[:-1] + ',"features":['
     tail_room = len('],"part":9999,"parts":9999}')

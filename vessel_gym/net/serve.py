@@ -1,4 +1,5 @@
-"""``vessel-gym serve``: a HarbourApproach scenario in real time on the UDP link.
+"""``vessel-gym serve``: a HarbourApproach scenario, or a CollisionAvoidance or Berthing task (``env``), in real
+time on the UDP link (what each task adds: :mod:`~vessel_gym.net.served`).
 
 The scenario runs paced to wall-clock time (times ``time_factor``) by a
 :class:`~vessel_gym.net.pacing.RealTimePacer` at a link tick finer than the control interval: within each
@@ -8,7 +9,8 @@ for (up to 50 Hz) while the agent still acts once per control interval. A human 
 (``vessel-gym helm``) takes the helm by sending orders; when nobody holds it, the ``agent`` policy steers (the
 PID pilot by default); each change of helm owner is one line on stderr. Viewers (``vessel-gym view``, Unity, ...) get the JSON state with the scenario's traffic
 as ``targets``, chartplotters get NMEA 0183 with the traffic as AIS. Each episode ends on success, contact,
-grounding, leaving the chart or the time limit; a one-line outcome is printed and the scenario starts again.
+grounding, leaving the chart or the time limit; a one-line outcome (and the task's debrief) is printed and the
+scenario starts again.
 Ctrl-C (or ``duration_s``) ends the run with exit code 0.
 """
 
@@ -50,27 +52,35 @@ def _addr(a: Address) -> str:
     return f"{a[0]}:{a[1]}"
 
 
-def outcome_line(episode: int, info: dict[str, Any], truncated: bool, steps_by: dict[str, int]) -> str:
-    """One line describing how an episode ended and who steered it."""
+def outcome_line(
+    episode: int, info: dict[str, Any], truncated: bool, steps_by: dict[str, int], figures: str | None = None
+) -> str:
+    """One line describing how an episode ended and who steered it; ``figures`` the task's figures (default:
+    the harbour's path, clearance and distance to the goal)."""
     outcome = "time limit" if truncated and info.get("outcome") == "running" else info.get("outcome", "?")
     total = sum(steps_by.values()) or 1
     shares = ", ".join(f"{who} {100.0 * n / total:.0f}%" for who, n in steps_by.items() if n)
+    if figures is None:
+        figures = (
+            f"path {info.get('path_m', math.nan):.0f} m, "
+            f"min clearance {info.get('min_clearance_m', math.nan):.1f} m, "
+            f"distance to goal {info.get('distance_to_goal_m', math.nan):.1f} m"
+        )
     return (
-        f"episode {episode}: {outcome} at t = {info.get('time_s', math.nan):.1f} s, "
-        f"path {info.get('path_m', math.nan):.0f} m, "
-        f"min clearance {info.get('min_clearance_m', math.nan):.1f} m, "
-        f"distance to goal {info.get('distance_to_goal_m', math.nan):.1f} m; helm: {shares or 'none'}"
+        f"episode {episode}: {outcome} at t = {info.get('time_s', math.nan):.1f} s, {figures}; "
+        f"helm: {shares or 'none'}"
     )
 
 
 def serve(
-    scenario: str = "harbour",
+    scenario: str | None = None,
     *,
+    env: str | None = None,
     nmea: Sequence[Address] = (("127.0.0.1", 10110),),
     json_bind: Address = ("127.0.0.1", 10120),
     listen_only: Sequence[Address] = (),
     time_factor: float = 1.0,
-    agent: str = "pid",
+    agent: str | None = None,
     allow_remote: bool = False,
     failsafe: str = "hold",
     duration_s: float | None = None,
@@ -81,14 +91,18 @@ def serve(
     token: str | None = None,
     err: TextIO | None = None,
 ) -> int:
-    """Run ``scenario`` (built-in name or TOML path) live on the UDP link until Ctrl-C or ``duration_s``.
+    """Run ``scenario`` (built-in name or TOML path; default ``harbour``) or the task ``env`` live on the UDP
+    link until Ctrl-C or ``duration_s``.
 
     Args:
+        env: a CollisionAvoidance or Berthing id (:func:`~vessel_gym.net.served.served_ids`) instead of a
+            harbour scenario (not both).
         nmea: NMEA 0183 / AIS destinations (empty: no NMEA).
         json_bind: address of the JSON state/helm channel (port 0: any free port).
         listen_only: viewers that get the JSON state without saying hello.
         time_factor: simulated seconds per wall-clock second.
-        agent: helm when no human holds it: ``"pid"``, ``"scripted"`` or an SB3 ``.zip``.
+        agent: helm when no human holds it: ``"pid"``, ``"scripted"`` or an SB3 ``.zip`` (None: ``pid``, or the
+            task's own pilot where it has no ``pid``: Berthing's ``scripted``).
         allow_remote: allow binding the JSON channel to a non-loopback address.
         failsafe: ``"hold"`` or ``"midships_stop"``: the orders when a helm panel falls silent, for
             ``agent_resume_s`` wall-clock seconds, after which the agent steers again.
@@ -110,9 +124,12 @@ def serve(
         raise ValueError(f"duration_s must be a positive number of seconds, not {duration_s!r}")
     if max_episode_steps is not None and max_episode_steps < 1:
         raise ValueError(f"max_episode_steps must be >= 1, not {max_episode_steps!r}")
+    if env is not None and scenario is not None:
+        raise ValueError(f"give a scenario or --env, not both ({scenario!r} and {env!r})")
     try:
         return _serve(
-            scenario=scenario,
+            scenario=scenario or "harbour",
+            env_id=env,
             nmea=nmea,
             json_bind=json_bind,
             listen_only=listen_only,
@@ -133,29 +150,15 @@ def serve(
         return 0
 
 
-#: the task serve runs: the current harbour task, on the scenario's own ship
-SERVED_ID = "vessel_gym/HarbourApproach-v2"
-
-
-def _make_served(make_kw: dict[str, Any]):
-    """The served environment: HarbourApproach-v2 on the scenario's ship (``ship=None``); the chart's depth acts
-    on a ship whose hull has the shallow-water corrections (an MMG hull), any other sails it in deep water."""
-    import gymnasium as gym
-
-    import vessel_gym.envs  # noqa: F401  (registers the ids)
-    from vessel_gym.envs.tasks.harbour import own_ship
-
-    return gym.make(SERVED_ID, **{**own_ship(make_kw["scenario"]), **make_kw})
-
-
 def _serve(
     *,
     scenario: str,
+    env_id: str | None,
     nmea: Sequence[Address],
     json_bind: Address,
     listen_only: Sequence[Address],
     time_factor: float,
-    agent: str,
+    agent: str | None,
     allow_remote: bool,
     failsafe: str,
     duration_s: float | None,
@@ -166,21 +169,24 @@ def _serve(
     token: str | None,
     err: TextIO,
 ) -> int:
+    from vessel_gym.net.served import Served
     from vessel_gym.net.wrapper import UdpLinkWrapper
     from vessel_gym.policy import load_policy
     from vessel_gym.scenarios import load_scenario
 
-    sc = load_scenario(scenario)
-    make_kw: dict[str, Any] = {"scenario": sc}
+    served = Served(env_id, load_scenario(scenario) if env_id is None else None)
+    make_kw: dict[str, Any] = {}
     if max_episode_steps is not None:
         make_kw["max_episode_steps"] = max_episode_steps
-    env = _make_served(make_kw)
+    env = served.make(make_kw)
     # The physics must move at every link tick: shorten its step if the default one is longer than a tick.
     control, dt = env.unwrapped.config.control_interval_s, env.unwrapped.task.dt
     nsub = physics_steps(control, dt, link_ticks(control, time_factor))
     if nsub != env.unwrapped.task.nsub:
         env.close()
-        env = _make_served({"dt_s": control / nsub, **make_kw})
+        env = served.make({"dt_s": control / nsub, **make_kw})
+    if agent is None:
+        agent = served.default_agent(env)
     try:
         policy = load_policy(agent, env)
         config = LinkConfig(
@@ -203,12 +209,12 @@ def _serve(
         env.close()
         raise
     try:
-        return _run(wrapped, sc, policy, agent, time_factor, duration_s, seed, out, err)
+        return _run(wrapped, served, policy, agent, time_factor, duration_s, seed, out, err)
     finally:
         wrapped.close()
 
 
-def _banner(wrapped: Any, sc: Any, agent: str, time_factor: float, out: TextIO) -> None:
+def _banner(wrapped: Any, served: Any, agent: str, time_factor: float, out: TextIO) -> None:
     link: UdpLink = wrapped.link
     cfg = link.config
     base = wrapped.unwrapped
@@ -216,7 +222,7 @@ def _banner(wrapped: Any, sc: Any, agent: str, time_factor: float, out: TextIO) 
     rate = 1.0 / base.config.control_interval_s
     p = lambda s: print(s, file=out, flush=True)  # noqa: E731
     p(
-        f"vessel-gym serve: scenario {sc.name!r} ({sc.path}), ship {ship.name}, control {rate:g} Hz, "
+        f"vessel-gym serve: {served.title(wrapped)}, ship {ship.name}, control {rate:g} Hz, "
         f"time factor {time_factor:g}"
     )
     json_at = _addr(link.json_address)
@@ -233,6 +239,9 @@ def _banner(wrapped: Any, sc: Any, agent: str, time_factor: float, out: TextIO) 
     tr = wrapped.traffic
     names = ", ".join(s.name for s in tr.specs) if tr is not None else ""
     p(f"  traffic: {tr.n} ship(s): {names}" if tr is not None else "  traffic: none")
+    units = cfg.limits.assist
+    if units:
+        p("  thrusters/tugs on the helm: " + ", ".join(f"{u.name} ({u.kind})" for u in units))
     resume = (
         "stay until a panel commands again"
         if wrapped.agent_resume_s is None
@@ -293,7 +302,7 @@ class _Ticker:
 
 def _run(
     wrapped: Any,
-    sc: Any,
+    served: Any,
     policy: Any,
     agent: str,
     time_factor: float,
@@ -323,9 +332,10 @@ def _run(
         policy(obs)
         if wrapped.traffic is not None:
             wrapped.traffic.step(1)
-        _banner(wrapped, sc, agent, time_factor, out)
+        _banner(wrapped, served, agent, time_factor, out)
         start = time.monotonic()
-        obs, _info = wrapped.reset(seed=seed)
+        obs, info = wrapped.reset(seed=seed)
+        served.started(info)
         policy.reset()
         by_start = dict(wrapped.steps_by)
         pacer.reset()
@@ -335,9 +345,17 @@ def _run(
             report()
             if terminated or truncated:
                 by = {k: v - by_start[k] for k, v in wrapped.steps_by.items()}
-                print(outcome_line(episode, info, truncated and not terminated, by), file=out, flush=True)
+                time_limit = truncated and not terminated
+                line = outcome_line(episode, info, time_limit, by, served.figures(info))
+                print(line, file=out, flush=True)
+                outcome = (
+                    "time_limit" if time_limit and info.get("outcome") == "running" else info.get("outcome")
+                )
+                for text in served.debrief(wrapped, info, str(outcome), sum(by.values())):
+                    print(text, file=out, flush=True)
                 episode += 1
-                obs, _info = wrapped.reset()
+                obs, info = wrapped.reset()
+                served.started(info)
                 policy.reset()
                 by_start = dict(wrapped.steps_by)
     except KeyboardInterrupt:

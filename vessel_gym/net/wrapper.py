@@ -23,8 +23,9 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from vessel_gym.net.batch_targets import BatchTargets
 from vessel_gym.net.link import HelmState, LinkConfig, UdpLink
-from vessel_gym.net.protocol import Limits, ShipParticulars
+from vessel_gym.net.protocol import AssistReading, AssistUnit, Limits, ShipParticulars, StateExtras
 from vessel_gym.physics.bridge import BridgeReading
 from vessel_gym.physics.units import DEG, RPM
 from vessel_gym.scenarios.traffic import Traffic
@@ -33,13 +34,38 @@ TAKEOVER_MODES = ("helm", "never")
 STEERED_BY = ("agent", "human", "failsafe")
 
 
+#: the outcome figures an ``outcome`` event carries, where the task's info has them
+OUTCOME_FIGURES = (
+    "path_m",
+    "min_clearance_m",
+    "distance_to_goal_m",
+    "min_separation_m",
+    "colreg_score",
+    "colreg_violations",
+    "contact_speed_m_s",
+    "contact_speed_limit_m_s",
+    "max_fender_energy_fraction",
+)
+
+
+def assist_units(env: gym.Env) -> tuple[AssistUnit, ...]:
+    """The thrusters and tugs an environment's helm orders after rudder and engine (the Berthing task's
+    ``assist``; none for the others), as the link names them."""
+    from vessel_gym.physics.components.tug import Tug
+
+    units = getattr(env.unwrapped.task, "assist", ())
+    return tuple(AssistUnit(c.name, "tug" if isinstance(c, Tug) else "thruster") for c in units)
+
+
 def link_limits(env: gym.Env) -> Limits:
-    """Helm-order clamping limits of an environment's ship: its rudder limit and full-ahead/astern rpm."""
+    """Helm-order limits of an environment's ship: its rudder limit, full-ahead/astern rpm, thrusters and tugs."""
     task = env.unwrapped.task
     rudder = getattr(task.helm, "rudder_limit_rad", None)
     rudder_deg = float(rudder[0]) / DEG if rudder is not None else task.delta_max / DEG
     rpm = float(np.max(np.abs(task.helm.rev_table[0]))) * 60.0
-    return Limits(max_rudder_deg=rudder_deg, max_rpm=rpm if rpm > 0.0 else Limits().max_rpm)
+    return Limits(
+        max_rudder_deg=rudder_deg, max_rpm=rpm if rpm > 0.0 else Limits().max_rpm, assist=assist_units(env)
+    )
 
 
 class UdpLinkWrapper(gym.Wrapper):
@@ -56,7 +82,8 @@ class UdpLinkWrapper(gym.Wrapper):
         agent_resume_s: after the panel loses the helm (watchdog, ``bye``), the link's failsafe orders
             (``hold`` or ``midships_stop``) apply for this long (link-clock seconds), then the agent steers
             again. None: the failsafe orders stay in force until a panel commands again.
-        traffic: ``"auto"`` (the scenario's ``[[traffic]]`` ships for HarbourApproach, else none), a
+        traffic: ``"auto"`` (the target ships simulated in the environment's own batch, as CollisionAvoidance
+            has them, else the scenario's ``[[traffic]]`` ships for HarbourApproach, else none), a
             :class:`~vessel_gym.scenarios.traffic.Traffic` with the environment's control interval, or None.
         clock: link time: ``"wall"`` (default, ``time.monotonic``), ``"sim"`` (simulation time; rates and the
             watchdog then run in simulated seconds), or a function returning seconds (tests).
@@ -69,11 +96,13 @@ class UdpLinkWrapper(gym.Wrapper):
 
     Human orders reach the physics as the panel gives them, whatever the environment's action type: the
     rudder order converted once from degrees to radians, the engine order as the shaft speed of the telegraph
-    step (or ``rpm_order`` converted to rev/s). The agent's action is still applied (and checked) at every step;
-    the panel's orders override it on the simulation while the panel (or the link's failsafe) holds the helm.
+    step (or ``rpm_order`` converted to rev/s), the thruster and tug orders (Berthing) as the fractions they
+    are. The agent's action is still applied (and checked) at every step; the panel's orders override it on
+    the simulation while the panel (or the link's failsafe) holds the helm (its thruster and tug orders take
+    the place of the action's).
     When the agent gets the helm back, its next action sets the orders; without engine control in the action
-    the panel's shaft-speed order stays, as on a ship. The wrapper works on single environments; it reads
-    vessel 0.
+    the panel's shaft-speed order stays, as on a ship. The wrapper works on single environments (one own ship;
+    target ships in the same batch are published as targets); it reads vessel 0.
     """
 
     def __init__(
@@ -92,8 +121,8 @@ class UdpLinkWrapper(gym.Wrapper):
         base = env.unwrapped
         if not hasattr(base, "sim") or not hasattr(base, "task"):
             raise ValueError(f"UdpLinkWrapper needs a vessel-gym environment, not {type(base).__name__}")
-        if getattr(base.sim, "n", 1) != 1:
-            raise ValueError("UdpLinkWrapper wraps single environments (one vessel)")
+        if getattr(base.task, "n", 1) != 1:
+            raise ValueError("UdpLinkWrapper wraps single environments (one own ship)")
         if takeover not in TAKEOVER_MODES:
             raise ValueError(f"takeover must be one of {TAKEOVER_MODES}, not {takeover!r}")
         if agent_resume_s is not None and not (math.isfinite(agent_resume_s) and agent_resume_s >= 0.0):
@@ -121,11 +150,12 @@ class UdpLinkWrapper(gym.Wrapper):
 
         if traffic == "auto":
             scenario = getattr(task, "scenario", None)
-            traffic = (
-                Traffic.from_scenario(scenario, base.task.dt, base.config.control_interval_s)
-                if scenario is not None
-                else None
-            )
+            if BatchTargets.has_targets(base):
+                traffic = BatchTargets(base)
+            elif scenario is not None:
+                traffic = Traffic.from_scenario(scenario, base.task.dt, base.config.control_interval_s)
+            else:
+                traffic = None
         elif traffic is not None and not isinstance(traffic, Traffic):
             raise ValueError(f"traffic must be 'auto', a Traffic or None, not {traffic!r}")
         if traffic is not None and abs(traffic.control_interval_s - base.config.control_interval_s) > 1e-9:
@@ -133,7 +163,10 @@ class UdpLinkWrapper(gym.Wrapper):
                 f"traffic control interval {traffic.control_interval_s:g} s differs from the environment's "
                 f"{base.config.control_interval_s:g} s"
             )
-        self.traffic: Traffic | None = traffic
+        self.traffic: Traffic | BatchTargets | None = traffic
+        self._assist = list(getattr(task, "assist", ()))  # thrusters and tugs (Berthing), in action order
+        self._assist_cols = list(getattr(task, "assist_states", ()))
+        self._held_assist: tuple[float, ...] | None = None  # the panel's orders while it holds the helm
 
         if link is not None:
             if config is not None:
@@ -151,6 +184,8 @@ class UdpLinkWrapper(gym.Wrapper):
                 config = dataclasses.replace(config, limits=link_limits(env))
             self.link = UdpLink(config)
             self._owns_link = True
+        if self._assist or hasattr(task, "fenders"):
+            self.link.state_extras = self._state_extras
 
         self._steps = 0  # control steps since the last reset (the traffic's clock)
         self._total_steps = 0
@@ -211,12 +246,43 @@ class UdpLinkWrapper(gym.Wrapper):
             telegraph = self._nearest_step(rev)
         self._sim.override_helm(0, rudder_order_rad=float(helm.rudder_order_deg) * DEG, rev_order=rev)
         self._telegraph = telegraph
+        if self._assist:
+            held = tuple(helm.assist) if len(helm.assist) == len(self._assist) else (0.0,) * len(self._assist)
+            for c, o in zip(self._assist, held):
+                c.set_order(o, 0, 1)
+            self._held_assist = held
 
     def _release(self) -> None:
         """Hand the helm back to the agent (its next action sets the orders)."""
         if self._telegraph is not None:
             self._sim.override_helm(0)
             self._telegraph = None
+        self._held_assist = None
+
+    def _with_held_assist(self, action: Any) -> Any:
+        """The action with the panel's thruster and tug orders in place of the agent's while it holds the helm
+        (they follow rudder and engine in the Berthing action)."""
+        if self._held_assist is None:
+            return action
+        a = np.array(action, dtype=np.float32).reshape(-1).copy()
+        a[2 : 2 + len(self._held_assist)] = self._held_assist
+        return a
+
+    def _state_extras(self) -> StateExtras:
+        """The thrusters' and tugs' orders and deliveries and the fenders' loads of vessel 0, for the state."""
+        assist: tuple[AssistReading, ...] = ()
+        if self._assist:
+            names = self.link.config.limits.assist
+            z = self._sim.component_states[:1]
+            assist = tuple(
+                AssistReading(u.name, u.kind, float(c.orders(1)[0]), float(c.delivered(z[:, cols])[0]))
+                for c, cols, u in zip(self._assist, self._assist_cols, names)
+            )
+        load: tuple[float, ...] = ()
+        overlay = getattr(self.env.unwrapped.task, "overlay", None)
+        if hasattr(self.env.unwrapped.task, "fenders") and overlay is not None:
+            load = tuple(float(x) for x in overlay(0)["berth"]["fender_load"])
+        return StateExtras(assist=assist, fender_load=load)
 
     def _decide(self, now: float, helm: HelmState) -> None:
         """Who steers, given the link's helm state at link time ``now``."""
@@ -272,7 +338,7 @@ class UdpLinkWrapper(gym.Wrapper):
         now = self._clock()
         if not self._last_service <= now < self._next_service:  # due (or the clock went back)
             self._service(now)
-        obs, reward, terminated, truncated, info = self.env.step(action)
+        obs, reward, terminated, truncated, info = self.env.step(self._with_held_assist(action))
         self._steps += 1
         self._total_steps += 1
         info["helm"] = self._who
@@ -288,11 +354,19 @@ class UdpLinkWrapper(gym.Wrapper):
         p = task.ship.particulars
         ships = [ShipParticulars(0, task.ship.name, p.L_m, p.B_m, p.T_m)]
         if self.traffic is not None:
-            for tid, spec, ship in zip(self.traffic.ids, self.traffic.specs, self.traffic.ships):
+            tr = self.traffic
+            # ships of the encounter only (an encounter may leave target slots of the batch empty)
+            taking_part = set(tr.active()) if isinstance(tr, BatchTargets) else set(range(len(tr.ids)))
+            for j, (tid, spec, ship) in enumerate(zip(tr.ids, tr.specs, tr.ships)):
+                if j not in taking_part:
+                    continue
                 q = ship.particulars
                 ships.append(ShipParticulars(tid, spec.name, q.L_m, q.B_m, q.T_m))
         environments = getattr(self._sim, "environments", None)
-        self.link.set_scene(getattr(task, "scenario", None), ships, environments[0] if environments else None)
+        scenario = getattr(task, "scenario", None) or getattr(task, "waters", None)
+        self.link.set_scene(
+            scenario, ships, environments[0] if environments else None, features=task_features(task)
+        )
         self.link.publish_event("reset", float(self._sim.t), self._episode)
 
     def _publish_outcome(self, info: dict[str, Any], time_limit: bool) -> None:
@@ -305,9 +379,7 @@ class UdpLinkWrapper(gym.Wrapper):
         if outcome in ("contact", "grounding"):
             own = self._own_reading()
             self.link.publish_event("contact", t, self._episode, what=outcome, x_m=own.x_m, y_m=own.y_m)
-        figures = {
-            k: float(info[k]) for k in ("path_m", "min_clearance_m", "distance_to_goal_m") if k in info
-        }
+        figures = {k: float(info[k]) for k in OUTCOME_FIGURES if k in info}
         self.link.publish_event("outcome", t, self._episode, outcome=str(outcome or "ended"), **figures)
 
     def close(self) -> None:
@@ -317,4 +389,42 @@ class UdpLinkWrapper(gym.Wrapper):
         super().close()
 
 
-__all__ = ["STEERED_BY", "TAKEOVER_MODES", "UdpLinkWrapper", "link_limits"]
+def task_features(task: Any) -> list[dict]:
+    """Scene features a task adds to its scenario's (protocol v2 ``scenario.features``): a berth's fenders
+    (``fender``, a quadrilateral from the quay to the unloaded face, in order) and the own ship's route
+    (``route``, CollisionAvoidance: start and goal)."""
+    out: list[dict] = []
+    fenders = getattr(task, "fenders", None)
+    if fenders is not None:
+        H = task.berth.fender.height_m  # m, the fender's depth from quay to face
+        base = fenders.faces - H * np.asarray(fenders.to_water)
+        half = 0.5 * H * np.asarray(task.along_dir)  # m: drawn as wide as it is deep
+        for j, (b, f) in enumerate(zip(base, fenders.faces)):
+            quad = [b - half, b + half, f + half, f - half]
+            out.append(
+                {"kind": "fender", "name": f"fender {j + 1}", "points": [list(map(float, p)) for p in quad]}
+            )
+    ts = getattr(task, "ts", None)
+    if ts is not None and hasattr(task, "world"):
+        from vessel_gym.envs.tasks.colreg_columns import S
+
+        s = ts[0]
+        out.append(
+            {
+                "kind": "route",
+                "name": "route",
+                "points": [[float(s[S.n0]), float(s[S.e0])], [float(s[S.n1]), float(s[S.e1])]],
+            }
+        )
+    return out
+
+
+__all__ = [
+    "OUTCOME_FIGURES",
+    "STEERED_BY",
+    "TAKEOVER_MODES",
+    "UdpLinkWrapper",
+    "assist_units",
+    "link_limits",
+    "task_features",
+]

@@ -14,6 +14,9 @@ w              give the helm back and watch (released at once)
 left / right   rudder order 5 deg to port / starboard
 0              rudder midships
 up / down      telegraph one step ahead / astern
+z / x          first thruster or tug a quarter more to port / starboard (a ship that has them: Berthing)
+c / v          second thruster or tug; ``,`` / ``.`` the third
+b              every thruster and tug to zero
 Esc, q         quit (sends ``bye``, releasing the helm)
 =============  ===============================================
 
@@ -34,9 +37,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vessel_gym.net.clients import Address, ServerConnection
+from vessel_gym.net.protocol import MAX_ASSIST
 from vessel_gym.physics.bridge import Telegraph
+from vessel_gym.ui.chart import fender_colour
 
 RUDDER_STEP_DEG = 5.0
+ASSIST_STEP = 0.25  # a thruster's or tug's order per key press (fraction of its range)
+#: key pairs (to port, to starboard) of the first, second and third thruster or tug
+ASSIST_KEYS = (("z", "x"), ("c", "v"), (",", "."))
 TRACK_POINTS = 4000
 _RANGES_M = (250.0, 500.0, 1000.0, 2000.0, 5000.0, 10000.0, 20000.0, 50000.0, 100000.0)
 
@@ -58,11 +66,13 @@ _WARN = (255, 120, 60)
 
 @dataclass
 class HelmPanel:
-    """Orders on the helm panel: rudder order (deg, + = starboard) and telegraph step (-4..4)."""
+    """Orders on the helm panel: rudder order (deg, + = starboard), telegraph step (-4..4) and, for a ship with
+    thrusters or tugs (the welcome's ``assist``), one order per unit in [-1, 1] (+ towards starboard)."""
 
     max_rudder_deg: float = 35.0
     rudder_order_deg: float = 0.0
     telegraph: int = 0
+    assist: list[float] = field(default_factory=list)
     ready: bool = False  # orders initialised from the ship's state (only then are they sent)
     active: bool = False  # the panel has asked for the helm (key t); a watcher sends no orders
 
@@ -85,11 +95,22 @@ class HelmPanel:
             self.rudder_order_deg = max(-self.max_rudder_deg, min(self.max_rudder_deg, float(rudder)))
         if isinstance(telegraph, int) and not isinstance(telegraph, bool):
             self.telegraph = max(-4, min(4, telegraph))
+        echoed = state.get("assist")
+        if isinstance(echoed, list) and len(echoed) == len(self.assist):
+            for j, a in enumerate(echoed):
+                o = a.get("order") if isinstance(a, Mapping) else None
+                if isinstance(o, (int, float)) and not isinstance(o, bool) and math.isfinite(o):
+                    self.assist[j] = max(-1.0, min(1.0, float(o)))
         self.ready = True
+
+    def set_units(self, n: int) -> None:
+        """The ship has ``n`` thrusters and tugs (from the welcome): their orders start at 0."""
+        if n != len(self.assist):
+            self.assist = [0.0] * n
 
     def handle_key(self, key: str) -> None:
         """Apply one key: ``t`` (take), ``w`` (watch), and while holding the helm ``left``, ``right``, ``0``,
-        ``up`` or ``down`` (others are ignored)."""
+        ``up``, ``down``, and the thruster and tug keys (:data:`ASSIST_KEYS`, ``b``) (others are ignored)."""
         if key == "t":
             self.take()
         elif key == "w":
@@ -106,6 +127,13 @@ class HelmPanel:
             self.telegraph = min(4, self.telegraph + 1)
         elif key == "down":
             self.telegraph = max(-4, self.telegraph - 1)
+        elif key == "b":
+            self.assist = [0.0] * len(self.assist)
+        else:
+            for j, pair in enumerate(ASSIST_KEYS[: len(self.assist)]):
+                if key in pair:
+                    step = ASSIST_STEP if key == pair[1] else -ASSIST_STEP
+                    self.assist[j] = max(-1.0, min(1.0, self.assist[j] + step))
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -167,9 +195,12 @@ _SHOAL = (92, 84, 52)
 _GOAL = (70, 190, 90)
 
 
-def _draw_chart(pygame, surface, scene: Mapping, to_screen: Callable, draught_m: float) -> None:
+def _draw_chart(
+    pygame, surface, scene: Mapping, to_screen: Callable, draught_m: float, fender_load: object = None
+) -> None:
     """The v2 scenario under the ships: depth areas shallower than the own draught (shoals), land,
-    breakwaters and quays filled, the goal outlined (same geometry as the simulation's chart)."""
+    breakwaters and quays filled, the goal outlined (same geometry as the simulation's chart), a berth's
+    fenders coloured by ``fender_load`` (the state's, in fender order; the chart's colours)."""
     features = [f for f in scene.get("features") or [] if isinstance(f, Mapping)]
 
     def poly(f: Mapping) -> list | None:
@@ -197,6 +228,12 @@ def _draw_chart(pygame, surface, scene: Mapping, to_screen: Callable, draught_m:
             pts = poly(f)
             if pts:
                 pygame.draw.polygon(surface, _GOAL, pts, 2)
+    loads = fender_load if isinstance(fender_load, list) else []
+    for j, f in enumerate(f for f in features if f.get("kind") == "fender"):
+        pts = poly(f)
+        load = loads[j] if j < len(loads) and isinstance(loads[j], (int, float)) else 0.0
+        if pts:
+            pygame.draw.polygon(surface, fender_colour(float(load)), pts)
 
 
 def render(
@@ -276,6 +313,12 @@ def render(
         text("PANEL ORDER", 12, y, _DIM)
         text(f"rudder {panel.rudder_order_deg:+.0f} deg", 12, y + 24, _ORDER)
         text(_telegraph_name(panel.telegraph), 12, y + 48, _ORDER)
+        echoed = [a for a in s.get("assist") or [] if isinstance(a, Mapping)]
+        for j, o in enumerate(panel.assist):
+            name = str(echoed[j].get("name", ""))[:14] if j < len(echoed) else f"unit {j + 1}"
+            now = _fmt(echoed[j].get("delivered"), "+.2f") if j < len(echoed) else "-"
+            keys = "/".join(ASSIST_KEYS[j]) if j < len(ASSIST_KEYS) else "-"
+            text(f"{name} {keys} {o:+.2f} ({now})", 12, y + 72 + 22 * j, _ORDER, small)
         keys = "w watch  <- -> rudder  0 midships  up/down engine" if panel.active else "t take the helm"
         text(f"{keys}  q quit", 12, h - 24, _DIM, small)
     helm_ok = s.get("helm_ok")
@@ -308,7 +351,7 @@ def render(
         return ccx + (y_m - oy) * scale, ccy - (x_m - ox) * scale
 
     if scene is not None:
-        _draw_chart(pygame, surface, scene, to_screen, own_draught_m)
+        _draw_chart(pygame, surface, scene, to_screen, own_draught_m, s.get("fender_load"))
     for k in (0.5, 1.0):
         pygame.draw.circle(surface, _RING, (int(ccx), int(ccy)), int(rng * k * scale), 1)
     text(f"range {rng:.0f} m", int(cx0 + 10), 10, _DIM, small)
@@ -372,7 +415,8 @@ class ClientResult:
 
 
 _KEYS = {"K_LEFT": "left", "K_RIGHT": "right", "K_UP": "up", "K_DOWN": "down", "K_0": "0", "K_KP0": "0"}
-_KEYS.update({"K_t": "t", "K_w": "w"})
+_KEYS.update({"K_t": "t", "K_w": "w", "K_b": "b", "K_COMMA": ",", "K_PERIOD": "."})
+_KEYS.update({f"K_{k}": k for k in "zxcv"})
 
 
 def _run(
@@ -428,6 +472,8 @@ def _run(
                     limit = conn.welcome.get("max_rudder_deg")
                     if isinstance(limit, (int, float)) and 0 < limit < 90:
                         panel.max_rudder_deg = float(limit)
+                    units = conn.welcome.get("assist")
+                    panel.set_units(min(len(units), MAX_ASSIST) if isinstance(units, list) else 0)
             if on_frame is not None:
                 on_frame(frame, panel, conn)
             if panel is not None:
@@ -435,7 +481,7 @@ def _run(
                 if panel.active and state is not None:
                     panel.sync(state)
             if panel is not None and panel.active and panel.ready and now >= next_helm:
-                conn.send_helm(panel.rudder_order_deg, panel.telegraph)
+                conn.send_helm(panel.rudder_order_deg, panel.telegraph, assist=panel.assist or None)
                 next_helm = max(next_helm + 1.0 / helm_rate_hz, now)
             result.owned_helm |= conn.owns_helm
             age = conn.seconds_since_data(now)

@@ -201,7 +201,7 @@ def play(
     **env_overrides: Any,
 ) -> Any:
     """Drive the scenario's ship with the keyboard; return the debrief (:class:`Debrief`, or
-    :class:`~vessel_gym.ui.play_berthing.BerthingDebrief` for a berthing task) and write its track PNG.
+    :class:`~vessel_gym.envs.debrief.BerthingDebrief` for a berthing task) and write its track PNG.
 
     Args:
         scenario: built-in scenario name or scenario file (default: "harbour", or the task preset's).

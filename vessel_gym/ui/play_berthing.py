@@ -21,119 +21,16 @@ delivers (thrust or pull as a fraction of its maximum: the thrusters and tugs fo
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from vessel_gym.envs.debrief import BerthingDebrief, berthing_debrief
 from vessel_gym.physics.components.tug import Tug
-from vessel_gym.ui.panels import RUDDER_STEP_DEG
+from vessel_gym.ui.panels import ASSIST_KEYS, ASSIST_STEP, RUDDER_STEP_DEG
 
 ENGINE_STEPS = 4  # engine orders in quarters of full ahead / astern rpm
-ASSIST_STEP = 0.25  # a thruster's or tug's order per key press
-#: key pairs (to port, to starboard) of the first, second and third thruster or tug
-ASSIST_KEYS = (("z", "x"), ("c", "v"), (",", "."))
 _KEY_NAMES = {"z": "K_z", "x": "K_x", "c": "K_c", "v": "K_v", ",": "K_COMMA", ".": "K_PERIOD"}
-
-
-@dataclass
-class BerthingDebrief:
-    """The result of one berthing run: outcome and why, the first contact's speed against PIANC's limit, the
-    energy each fender absorbed against its rating, the final pose on the berth."""
-
-    scenario: str
-    berth: str
-    outcome: str  # success, fender_overload, contact_speed, contact, grounding, ..., quit, max_steps
-    reason: str
-    time_s: float
-    steps: int
-    contact_speed_m_s: float  # 0 if it never touched
-    contact_speed_limit_m_s: float
-    fender_energy_kJ: list[float]
-    fender_rated_energy_kJ: float
-    along_error_m: float
-    off_error_m: float
-    heading_error_deg: float
-    assist_effort: float
-    start_distance_m: float
-    final_distance_m: float
-    score: float  # 0..100
-    track_png: str | None = None
-    track: list[tuple[float, float]] = field(default_factory=list, repr=False)
-
-    @property
-    def max_fender_fraction(self) -> float:
-        return max(self.fender_energy_kJ, default=0.0) / self.fender_rated_energy_kJ
-
-    def items(self) -> list[tuple[str, str]]:
-        """(label, value) rows of the debrief."""
-        if self.contact_speed_m_s > 0.0:
-            pct = 100.0 * self.contact_speed_m_s / self.contact_speed_limit_m_s
-            contact = (
-                f"{self.contact_speed_m_s:.3f} m/s, {pct:.0f} % of the PIANC limit "
-                f"{self.contact_speed_limit_m_s:.3f} m/s"
-            )
-        else:
-            contact = f"no contact (PIANC limit {self.contact_speed_limit_m_s:.3f} m/s)"
-        energies = ", ".join(
-            f"{e:.1f} ({100.0 * e / self.fender_rated_energy_kJ:.0f} %)" for e in self.fender_energy_kJ
-        )
-        rows = [
-            ("scenario", f"{self.scenario}, {self.berth}"),
-            ("outcome", f"{self.outcome}: {self.reason}"),
-            ("time", f"{self.time_s:.1f} s ({self.steps} steps)"),
-            ("contact speed", contact),
-            ("fender energy", f"kJ of {self.fender_rated_energy_kJ:.0f} kJ rated: {energies}"),
-            (
-                "on the berth",
-                f"{self.off_error_m:+.2f} m off, {self.along_error_m:+.1f} m along, "
-                f"heading {self.heading_error_deg:+.1f} deg",
-            ),
-            ("thruster/tug effort", f"{self.assist_effort:.2f} (mean order^2)"),
-            ("score", f"{self.score:.0f} / 100"),
-        ]
-        return rows + ([("track plot", self.track_png)] if self.track_png else [])
-
-    def summary(self) -> str:
-        """Human-readable debrief, one item per line."""
-        return "\n".join(f"{label:20s}{value}" for label, value in self.items())
-
-
-def berthing_score(
-    outcome: str, contact_fraction: float, fender_fraction: float, start_m: float, final_m: float
-) -> float:
-    """Debrief score 0..100. Success: 50 + 25 x (1 - contact speed / PIANC limit) + 25 x (1 - the largest fender
-    energy / its rating). Otherwise: 40 x the fraction of the distance to the berth made good, halved after a
-    failure (touching too fast, fender overload, contact, grounding)."""
-    if outcome == "success":
-        return 50.0 + 25.0 * (1.0 - min(contact_fraction, 1.0)) + 25.0 * (1.0 - min(fender_fraction, 1.0))
-    made_good = min(max(1.0 - final_m / max(start_m, 1e-9), 0.0), 1.0)
-    failed = outcome in (
-        "fender_overload",
-        "contact_speed",
-        "contact",
-        "grounding",
-        "out_of_bounds",
-        "diverged",
-    )
-    return 40.0 * made_good * (0.5 if failed else 1.0)
-
-
-def _reason(outcome: str, info: Mapping[str, Any]) -> str:
-    v, lim = float(info["contact_speed_m_s"]), float(info["contact_speed_limit_m_s"])
-    e, rated = np.asarray(info["fender_energy_kJ"], dtype=float), float(info["fender_rated_energy_kJ"])
-    return {
-        "success": "alongside within the tolerances, held",
-        "fender_overload": f"fender {int(np.argmax(e)) + 1} absorbed {e.max():.0f} kJ, over its {rated:.0f} kJ",
-        "contact_speed": f"first touch at {v:.3f} m/s, over the PIANC limit {lim:.3f} m/s",
-        "contact": "the hull touched the quay or an obstacle away from the fenders",
-        "grounding": "the hull over water shallower than its draught",
-        "out_of_bounds": "left the chart",
-        "diverged": "the hull model left its range",
-        "quit": "ended by the player",
-        "max_steps": "the step limit asked for",
-        "time_limit": "not berthed in the time allowed",
-    }.get(outcome, outcome)
 
 
 def berthing_ids() -> list[str]:
@@ -231,29 +128,6 @@ class BerthingConsole:
     def debrief(
         self, outcome: str, steps: int, contacts: int, info: Mapping[str, Any], track: list
     ) -> BerthingDebrief:
-        v, lim = float(info["contact_speed_m_s"]), float(info["contact_speed_limit_m_s"])
-        rated = float(info["fender_rated_energy_kJ"])
-        energy = [float(e) for e in np.asarray(info["fender_energy_kJ"], dtype=float).ravel()]
-        final = float(np.hypot(info["along_error_m"], info["off_error_m"]))
-        return BerthingDebrief(
-            scenario=self.name,
-            berth=self.task.berth.name,
-            outcome=outcome,
-            reason=_reason(outcome, info),
-            time_s=float(info["time_s"]),
-            steps=steps,
-            contact_speed_m_s=v,
-            contact_speed_limit_m_s=lim,
-            fender_energy_kJ=energy,
-            fender_rated_energy_kJ=rated,
-            along_error_m=float(info["along_error_m"]),
-            off_error_m=float(info["off_error_m"]),
-            heading_error_deg=float(info["heading_error_deg"]),
-            assist_effort=float(info["assist_effort"]),
-            start_distance_m=self.start_distance,
-            final_distance_m=final,
-            score=berthing_score(
-                outcome, v / lim, max(energy, default=0.0) / rated, self.start_distance, final
-            ),
-            track=track,
+        return berthing_debrief(
+            self.name, self.task.berth.name, outcome, steps, info, self.start_distance, track
         )

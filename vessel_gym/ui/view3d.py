@@ -11,7 +11,9 @@ The page opened from the ``/helm/KEY`` URL printed at start is a watcher until s
 "Take the helm" button): it then says ``hello`` as a helm panel and sends full orders at 10 Hz, starting from
 the orders in force; the page at ``/`` only watches. Keys: left/right arrows rudder
 5 deg to port/starboard, ``M`` midships, up/down arrows telegraph one step ahead/astern, ``H`` take and ``R``
-release the helm, ``C`` next camera (chase, bridge, top-down, harbour, free).
+release the helm, ``C`` next camera (chase, bridge, top-down, harbour, free). A ship with thrusters or tugs
+(Berthing) gets their controls, a berth its fenders coloured by load, a CollisionAvoidance run its route and
+target ships (:mod:`~vessel_gym.ui.view3d_tasks`).
 
 Scene frame: x east, y north, z up, m, origin at the scenario's reference point (the link's ``y_m``, ``x_m``).
 What is drawn but not in the protocol is stated where it is chosen (freeboard, superstructure, heights of
@@ -61,6 +63,7 @@ from vessel_gym.ui.view3d_scene import (
     triangulate,
     wave_number,
 )
+from vessel_gym.ui.view3d_tasks import AssistControls, TaskScene, hud_rows, outcome_figures
 
 TRACK_POINTS = 2000  # own-ship track kept, one point per TRACK_SPACING_S
 TRACK_SPACING_S = 1.0  # s of simulation time between track points
@@ -109,6 +112,8 @@ class Viewer3D:
         self._extent = (-100.0, 100.0, -100.0, 100.0)  # scene x min, x max, y min, y max
         self._depth = 10.0
         self._build_gui()
+        self.assist_controls = AssistControls(self.server.gui, link)  # built when the welcome names units
+        self.task_scene = TaskScene()
 
     def _joined(self, client: Any) -> None:
         client.scene.configure_fog(*self._fog, color=(205, 218, 232))
@@ -252,6 +257,7 @@ class Viewer3D:
                             head_radius=0.08 * self._L,
                             head_length=0.15 * self._L,
                         )
+        self.task_scene.build(sc, scene["features"], self._T, self._L)
         self._build_sea()
 
     def _build_sea(self) -> None:
@@ -308,6 +314,7 @@ class Viewer3D:
 
     def update(self, now: float) -> None:
         link = self.link
+        self.assist_controls.sync()
         if link.particulars_version != self._particulars_version and link.particulars:
             self._particulars_version = link.particulars_version
             self._build_ships()
@@ -325,6 +332,7 @@ class Viewer3D:
                     self._place(t["id"], t)
             self._track_update(st)
             self._arrows(st)
+            self.task_scene.update(st)
         if now >= self._sea_due and self._sea is not None and link.scene is not None:
             self._sea_due = now + SEA_PERIOD_S
             sea = link.scene.get("sea") or {}
@@ -430,6 +438,15 @@ class Viewer3D:
             self._arrow_handles.append(handle)
 
     def _cameras(self, st: dict) -> None:
+        # Clip planes for the scene's size: viser's 1000 m far plane hides an open-sea encounter's targets
+        # kilometres off; the near plane grows with it to keep the depth buffer's precision (1e5 : 1).
+        x0, x1, y0, y1 = self._extent
+        far = max(1000.0, 4.0 * max(x1 - x0, y1 - y0))
+        for client in self.server.get_clients().values():
+            try:
+                client.camera.far, client.camera.near = far, max(0.01, 1e-5 * far)
+            except (AssertionError, ValueError):  # camera not reported by the browser yet
+                continue
         x, y, h = st.get("y_m"), st.get("x_m"), st.get("hdg_deg")
         if self.camera == "free" or not all(isinstance(v, (int, float)) for v in (x, y, h)):
             return
@@ -486,6 +503,7 @@ class Viewer3D:
             f"| Shaft | {f('rpm', '.0f')} rpm |",
             f"| Telegraph | {TELEGRAPH_NAMES.get(tg, '–') if isinstance(tg, int) else '–'} |",
             f"| Helm | {helm} |",
+            *hud_rows(st, link),
         ]
         if sea:
             lines.append(
@@ -496,7 +514,7 @@ class Viewer3D:
         if link.events:
             e = link.events[-1]
             what = e.get("outcome") or e.get("what") or ""
-            lines.append(f"| Episode {e.get('episode')} | {e.get('event')} {what} |")
+            lines.append(f"| Episode {e.get('episode')} | {e.get('event')} {what}{outcome_figures(e)} |")
         return "\n".join(lines)
 
     def close(self) -> None:

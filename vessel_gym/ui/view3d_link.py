@@ -4,10 +4,14 @@ helm owner, and sending the page's helm orders (docs/protocol.md)."""
 from __future__ import annotations
 
 import ipaddress
+import math
 import socket
 import time
 
 from vessel_gym.net.protocol import (
+    ASSIST_KINDS,
+    MAX_ASSIST,
+    MAX_NAME_CHARS,
     ProtocolError,
     SceneAssembler,
     encode_bye,
@@ -50,6 +54,7 @@ class LinkClient:
         self.helm = False
         self.rudder_order_deg = 0.0
         self.telegraph = 0
+        self.assist: list[float] = []  # thruster and tug orders, one per unit the welcome named, in [-1, 1]
         self._assembler = SceneAssembler()
         self._parts: dict[int, list[dict]] = {}
         self._last_state_seq = -1
@@ -78,6 +83,14 @@ class LinkClient:
         if self.state is not None:
             self.rudder_order_deg = float(self.state.get("rudder_order_deg") or 0.0)
             self.telegraph = int(self.state.get("telegraph") or 0)
+        echoed = (self.state or {}).get("assist")
+        units = self.assist_units()
+        self.assist = [0.0] * len(units)
+        if isinstance(echoed, list) and len(echoed) == len(units):
+            for j, a in enumerate(echoed):
+                o = a.get("order") if isinstance(a, dict) else None
+                if isinstance(o, (int, float)) and not isinstance(o, bool):
+                    self.assist[j] = max(-1.0, min(1.0, float(o)))
         self.helm = True
         self.hello()
 
@@ -89,6 +102,25 @@ class LinkClient:
         w = self.welcome or {}
         return float(w.get("max_rudder_deg") or 35.0), 4
 
+    def assist_units(self) -> list[tuple[str, str]]:
+        """(name, kind) of each thruster and tug the welcome named (the helm orders them after the engine)."""
+        units = (self.welcome or {}).get("assist")
+        if not isinstance(units, list):
+            return []
+        out = []
+        for u in units[:MAX_ASSIST]:
+            if isinstance(u, dict) and isinstance(u.get("name"), str) and u.get("kind") in ASSIST_KINDS:
+                out.append((u["name"][:MAX_NAME_CHARS], u["kind"]))
+        return out
+
+    def set_assist(self, j: int, order: float) -> None:
+        """Order unit j (clamped to [-1, 1]); nothing without the helm or for a unit the ship lacks."""
+        units = len(self.assist_units())
+        if len(self.assist) != units:
+            self.assist = [0.0] * units
+        if self.helm and 0 <= j < units and math.isfinite(order):
+            self.assist[j] = max(-1.0, min(1.0, float(order)))
+
     def poll(self, now: float, budget: int = 512) -> None:
         """Send what is due (hello, helm orders) and read every waiting datagram (at most ``budget``)."""
         if now >= self._hello_due:
@@ -96,9 +128,16 @@ class LinkClient:
             self._hello_due = now + HELLO_PERIOD_S
         if self.helm and now >= self._helm_due:
             self._helm_seq += 1
+            units = len(self.assist_units())
+            if len(self.assist) != units:
+                self.assist = [0.0] * units
             self._send(
                 encode_helm(
-                    self._helm_seq, self.rudder_order_deg, telegraph=self.telegraph, session=self.session
+                    self._helm_seq,
+                    self.rudder_order_deg,
+                    telegraph=self.telegraph,
+                    session=self.session,
+                    assist=self.assist if units else None,
                 )
             )
             self._helm_due = now + HELM_PERIOD_S
