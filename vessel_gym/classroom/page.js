@@ -2,7 +2,7 @@
 // Everything shown comes from the server's websocket (same origin, /ws); text is set with textContent only.
 "use strict";
 
-const RUDDER_MAX = 35, RUDDER_STEP = 5, MIN_SEND_MS = 50;
+const RUDDER_MAX = 35, RUDDER_STEP = 5, MIN_SEND_MS = 50, MIN_SHIP_PX = 24;
 const TELEGRAPH = { "-4": "full astern", "-3": "half astern", "-2": "slow astern", "-1": "dead slow astern",
   "0": "stop", "1": "dead slow ahead", "2": "slow ahead", "3": "half ahead", "4": "full ahead" };
 const $ = (id) => document.getElementById(id);
@@ -34,6 +34,7 @@ function receive(m) {
     vg.role = m.role; vg.ship = m.ship; vg.session = m.session; vg.chart = m.chart;
     $("join").classList.add("hidden");
     $("app").style.display = "flex";
+    $("app").classList.add(`role-${m.role}`);
     $(m.role === "helm" ? "helm" : m.role === "instructor" ? "instr" : "watch").classList.remove("hidden");
     $("who").textContent = m.role === "helm" ? `helm of ship ${m.ship + 1}` : m.role;
     resize();
@@ -62,7 +63,8 @@ function receive(m) {
     const url = URL.createObjectURL(new Blob([m.html], { type: "text/html" }));
     const a = $("debrieflink");
     a.href = url; a.classList.remove("hidden");
-    a.textContent = m.path ? `open the debrief (also written to ${m.path})` : "open the debrief";
+    a.textContent = "open the debrief";
+    a.title = m.path ? `also written to ${m.path}` : "";
     vg.debrief = m;
   }
 }
@@ -189,8 +191,11 @@ function resize() {
   const c = $("chart"), ch = vg.chart;
   if (!ch) return;
   const [n0, n1, e0, e1] = ch.bounds;
-  const w = Math.max(280, Math.min(1600, c.clientWidth || 800));
+  // the whole harbour in view: as wide as the box, or as tall as the window leaves room for
+  const fit = (window.innerHeight - 60) * (e1 - e0) / (n1 - n0);
+  const w = Math.round(Math.max(280, Math.min(1600, $("chartbox").clientWidth || 800, fit)));
   c.width = w;
+  c.style.width = `${w}px`;
   c.height = Math.round(w * (n1 - n0) / (e1 - e0));
   if (vg.state) draw(vg.state);
 }
@@ -222,7 +227,8 @@ function draw(m) {
   const ship = (n, e, hdg, L, B, fill, label) => {
     if (n === null || e === null || hdg === null) return;
     const h = hdg * Math.PI / 180, cs = Math.cos(h), sn = Math.sin(h);
-    poly(HULL(L, B).map(([x, y]) => [n + cs * x - sn * y, e + sn * x + cs * y]), fill, "#202020");
+    const grow = Math.max(1, MIN_SHIP_PX / (L * k));  // a small chart still shows the ship, to scale in shape
+    poly(HULL(L * grow, B * grow).map(([x, y]) => [n + cs * x - sn * y, e + sn * x + cs * y]), fill, "#202020");
     g.fillStyle = "#102030"; g.font = "12px sans-serif";
     g.fillText(label, X(e) + 8, Y(n) - 6);
   };

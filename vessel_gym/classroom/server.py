@@ -191,7 +191,14 @@ class ClassroomServer:
         from websockets.datastructures import Headers
         from websockets.http11 import Response
 
-        reason = {200: "OK", 403: "Forbidden", 404: "Not Found", 421: "Misdirected Request", 503: "Busy"}
+        reason = {
+            200: "OK",
+            204: "No Content",
+            403: "Forbidden",
+            404: "Not Found",
+            421: "Misdirected Request",
+            503: "Busy",
+        }
         headers = Headers(
             [
                 ("Content-Type", ctype),
@@ -222,6 +229,8 @@ class ClassroomServer:
             return self._response(200, self._page, "text/html; charset=utf-8")
         if path == "/page.js":
             return self._response(200, self._script, "text/javascript; charset=utf-8")
+        if path == "/favicon.ico":  # browsers ask for it: no icon, and no error in the page's console
+            return self._response(204, b"", "image/x-icon")
         if path != "/ws":
             self.stats["not_found"] += 1
             return self._response(404, b"not found\n", "text/plain")
