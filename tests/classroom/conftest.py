@@ -15,7 +15,7 @@ from vessel_gym.classroom.server import ClassroomServer
 class Room:
     """A running server (``srv``) with its codes, port and a client factory."""
 
-    def __init__(self, ships: int, time_factor: float, tmp_path) -> None:
+    def __init__(self, ships: int, time_factor: float, tmp_path, tls=None) -> None:
         self.sock = socket.socket()
         self.sock.bind(("127.0.0.1", 0))
         self.sock.listen(64)
@@ -29,6 +29,7 @@ class Room:
             self.codes,
             ("127.0.0.1", self.port),
             time_factor=time_factor,
+            tls=tls,
             debrief_path=tmp_path / "debrief.html",
         )
         self.srv.start_in_thread(self.sock)
@@ -74,8 +75,8 @@ def recv_ack(ws, seq: int, timeout_s: float = 10.0) -> dict:
 def room(tmp_path):
     made: list[Room] = []
 
-    def make(ships: int = 2, time_factor: float = 1.0) -> Room:
-        made.append(Room(ships, time_factor, tmp_path))
+    def make(ships: int = 2, time_factor: float = 1.0, tls=None) -> Room:
+        made.append(Room(ships, time_factor, tmp_path, tls))
         return made[-1]
 
     yield make
