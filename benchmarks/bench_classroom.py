@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import importlib.util
 import json
 import os
 import re
@@ -31,9 +32,15 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))  # the browser driver of the tests
 
-from net.chromium import Chromium, chromium_path  # noqa: E402
+
+def _chromium_driver():
+    """The tests' headless-Chromium driver (tests/net/chromium.py), loaded from its file: a checkout's tests are
+    not part of the installed package."""
+    spec = importlib.util.spec_from_file_location("chromium_driver", ROOT / "tests" / "net" / "chromium.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def _free_port() -> int:
@@ -146,7 +153,7 @@ def run_class(ships: int, presses: int) -> dict[str, list[float]]:
             assert time.monotonic() < deadline, "the scripted students did not join"
             time.sleep(0.2)
         time.sleep(1.5)  # the join budget refilled
-        with Chromium(1100, 800) as b:
+        with _chromium_driver().Chromium(1100, 800) as b:
             b.call("Page.navigate", url=origin + "/")
             for _ in range(300):
                 b.pump(0.1)
@@ -194,7 +201,7 @@ def main() -> None:
     p.add_argument("--ships", type=int, nargs="*", default=[16, 2])
     p.add_argument("--presses", type=int, default=40)
     args = p.parse_args()
-    if chromium_path() is None:
+    if _chromium_driver().chromium_path() is None:
         sys.exit("bench_classroom: needs chromium (Debian package chromium)")
     print(
         f"key press to echo, loopback, {os.cpu_count()} CPUs (a shared machine: figures vary with its load)"

@@ -326,7 +326,10 @@ class ClassroomServer:
             return
         if not self._access.admit_unverified(client.host, time.monotonic()):
             self.stats["join_rate"] += 1
+            client.bad += 1  # a connection that keeps trying is closed like one that sends garbage
             await _send(conn, {"type": "refused", "error": "too many join attempts: wait a second"})
+            if client.bad >= MAX_BAD_MESSAGES:
+                await _close(client, "too many join attempts")
             return
         role = self.codes.role(msg.get("code"))
         if role is None:
@@ -517,6 +520,8 @@ class ClassroomServer:
             logger=_NoFrames(log, {}),
         ):
             runner = asyncio.ensure_future(self._run_harbour())
+            # a harbour that fails (a bug, not a ship's divergence: the task ends that ship's run) ends the class
+            runner.add_done_callback(lambda _t: self._stop.set())
             if ready is not None:
                 ready.set()
             try:
@@ -528,7 +533,7 @@ class ClassroomServer:
             finally:
                 runner.cancel()
                 with contextlib.suppress(asyncio.CancelledError):
-                    await runner
+                    await runner  # raises what stopped the harbour, if anything did
 
     def start_in_thread(self, sock: Any) -> None:
         """Serve from a background thread (tests, benchmarks); returns once the socket is served."""
