@@ -286,3 +286,29 @@ def test_instructor_revokes_pauses_resets_and_sets_the_weather(room, caplog):
     server_logs = [rec.getMessage() for rec in caplog.records if not rec.name.startswith("websockets.client")]
     assert not any(c in line for line in server_logs for c in every)
     assert not any(c in d["html"] for c in every)
+
+
+@pytest.mark.parametrize(
+    ("bound", "host", "ok"),
+    [
+        ("0.0.0.0", "192.168.1.20:8090", True),  # any address of this machine when bound to all
+        ("0.0.0.0", "10.0.0.5:8090", True),
+        ("0.0.0.0", "127.0.0.1:8090", True),
+        ("0.0.0.0", "classroom.school.example:8090", True),  # given with --host-name
+        ("0.0.0.0", "CLASSROOM.school.example:8090", True),
+        ("0.0.0.0", "attacker.example:8090", False),  # DNS rebinding
+        ("0.0.0.0", "192.168.1.20:8091", False),
+        ("0.0.0.0", "192.168.1.20", False),
+        ("192.168.1.20", "192.168.1.20:8090", True),
+        ("192.168.1.20", "10.0.0.5:8090", False),
+        ("192.168.1.20", "localhost:8090", False),
+        ("127.0.0.1", "localhost:8090", True),
+        ("127.0.0.1", "[::1]:8090", True),
+        ("127.0.0.1", "192.168.1.20:8090", False),
+        ("127.0.0.1", "x" * 300, False),
+    ],
+)
+def test_host_names_the_server_accepts(bound, host, ok):
+    srv = S.ClassroomServer(None, ClassCodes(1), (bound, 8090), host_names=("classroom.school.example",))
+    srv.port = 8090
+    assert srv.host_ok(host) is ok

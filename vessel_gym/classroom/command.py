@@ -102,6 +102,17 @@ def _tls(args: argparse.Namespace) -> ssl.SSLContext | None:
     return ctx
 
 
+def _lan_address() -> str:
+    """This machine's address on the network its default route leads to (a UDP socket's connect sends
+    nothing), for the address printed when bound to every interface."""
+    try:
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            s.connect(("192.0.2.1", 9))  # TEST-NET-1: never routed anywhere, only looked up in the table
+            return s.getsockname()[0]
+    except OSError:
+        return socket.gethostname()
+
+
 def run(args: argparse.Namespace) -> int:
     """Check every option, then serve the class until --duration or Ctrl-C; write the debrief at the end."""
     from vessel_gym.classroom.codes import ClassCodes
@@ -130,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
     )
     scheme = "https" if tls else "http"
     shown = (
-        host if host not in ("0.0.0.0", "::") else (args.host_name[0] if args.host_name else "THIS-MACHINE")
+        host if host not in ("0.0.0.0", "::") else (args.host_name[0] if args.host_name else _lan_address())
     )
     print(
         f"classroom: {sc.name}, {args.ships} ships: open {scheme}://{shown}:{sock.getsockname()[1]}/",
@@ -146,5 +157,5 @@ def run(args: argparse.Namespace) -> int:
         sock.close()
         _html, path = server.write_debrief()
         stats = " ".join(f"{k}={v}" for k, v in server.stats.items() if v)
-        print(f"classroom: debrief {path}; {stats}", flush=True)
+        print(f"classroom: debrief {path}" + (f"; {stats}" if stats else ""), flush=True)
     return 0

@@ -184,8 +184,12 @@ class ClassroomServer:
         try:
             ip = ipaddress.ip_address(host)
         except ValueError:
-            return False
-        return bound in ("", "0.0.0.0", "::") and ip.version == 4 or ip.is_loopback and is_loopback(bound)
+            return False  # a name not given with --host-name (a rebinding page's own domain)
+        if bound in ("", "0.0.0.0", "::"):
+            return (
+                True  # bound to every interface: any address of this machine (an IP literal is no rebinding)
+            )
+        return ip.is_loopback and is_loopback(bound)
 
     def _response(self, status: int, body: bytes, ctype: str) -> Any:
         from websockets.datastructures import Headers
