@@ -199,7 +199,9 @@ def test_floods_are_cut_and_the_connection_closed(room):
             break
         if seq % 200 == 0 and ws.protocol.close_rcvd is not None:
             break
-    assert _closed_code(ws) == 1008
+    # 1008 (policy), or 1006 when the close frame waited behind echoes this client never read, until the
+    # server gave up on a clean close and dropped the connection
+    assert _closed_code(ws) in (1008, 1006)
     took = time.monotonic() - t0
     stats = r.srv.stats
     assert stats["flood_closed"] == 1 and stats["rate"] == S.FLOOD_CLOSE_AFTER

@@ -518,6 +518,7 @@ class ClassroomServer:
             process_request=self.process_request,
             max_size=MAX_FRAME_BYTES,
             max_queue=32,
+            close_timeout=2.0,  # a page that does not answer our close within 2 s is dropped
             compression=None,  # no deflate: frames stay the size they say (no compression bombs)
             server_header=None,
             ssl=self.tls,
