@@ -102,6 +102,9 @@ def test_two_students_and_an_instructor_in_chromium(room, tmp_path):
         for b in (ann, bob):
             for key in ("c_hdg", "c_sog", "c_rot", "c_rpm", "c_ukc", "c_timer"):
                 assert js(b, f"document.getElementById('{key}').innerText") not in ("", "-")
+        # each sees the other as a target
+        assert "Bob" in js(ann, "document.getElementById('radarrows').innerText")
+        assert "Ann" in js(bob, "document.getElementById('radarrows').innerText")
         # the instructor: pause, the weather, resume, the debrief
         js(teacher, "document.getElementById('b_pause').click(); true")
         wait_for(teacher, "vg.state.paused && document.getElementById('paused').innerText === 'PAUSED'")

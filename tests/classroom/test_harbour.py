@@ -45,6 +45,16 @@ def test_two_ships_bow_to_bow_meet_and_both_runs_end_in_contact():
     start(h.task, 0, 1.0, 0.0, x_m=-100.0, y_m=0.0)  # north
     start(h.task, 1, 1.0, 180.0, x_m=-88.0, y_m=0.0)  # south, 12 m ahead of ship 1
     start(h.task, 2, 1.0, 0.0, x_m=-100.0, y_m=25.0)
+    # as targets: ship 2 dead ahead of ship 1 at 12 m, closing at 2 m/s: CPA 0 m in 6 s
+    radar = {t["name"]: t for t in h.targets_for(0)}
+    assert radar["Ship 2"]["range_m"] == pytest.approx(12.0, abs=0.05)
+    assert radar["Ship 2"]["bearing_deg"] % 360.0 == pytest.approx(0.0, abs=0.5)
+    assert radar["Ship 2"]["dcpa_m"] == pytest.approx(0.0, abs=0.3)
+    assert radar["Ship 2"]["tcpa_s"] == pytest.approx(6.0, abs=0.3)
+    assert radar["Ship 3"]["bearing_deg"] == pytest.approx(90.0, abs=0.5)  # abeam to starboard, 25 m
+    assert radar["Ship 3"]["tcpa_s"] <= 0.1  # same course and speed: not closing
+    assert {"KVLCC2 LOOP", "KVLCC2 PIER"} <= set(radar)  # the scenario's traffic too
+    assert [t["range_m"] for t in h.targets_for(0)] == sorted(t["range_m"] for t in h.targets_for(0))
     ended: list[int] = []
     while not ended and h.t_s < 10.0:
         ended = h.step()

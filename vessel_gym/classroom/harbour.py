@@ -22,6 +22,8 @@ import numpy as np
 
 from vessel_gym.classroom import MAX_SHIPS
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, reset_vessels, vessel_info
+from vessel_gym.envs.tasks.colreg_geometry import cpa, relative_bearing
+from vessel_gym.physics.units import KNOT_M_S
 from vessel_gym.scenarios.geometry import hull_outline, polygons_overlap
 from vessel_gym.ui.play import RUDDER_ORDERS_DEG, TELEGRAPH_STEPS
 
@@ -33,6 +35,8 @@ CONTROL_INTERVAL_S = 0.25
 START_SPACING_L = 1.2
 #: a ship's track is recorded once per this many seconds of simulation time
 TRACK_SPACING_S = 1.0
+#: other ships listed as a ship's targets (nearest first): what a radar plot of a small harbour shows
+MAX_TARGETS = 6
 #: a ship's run ends with these outcomes; "contact" covers quays, land, breakwaters, other own ships and traffic
 ENDED = ("success", "contact", "grounding", "out_of_bounds", "diverged", "time_limit")
 
@@ -311,6 +315,39 @@ class ClassHarbour:
             "outcome": rec.outcome,
             "contact_with": rec.contact_with,
         }
+
+    def targets_for(self, k: int, most: int = MAX_TARGETS) -> list[dict[str, Any]]:
+        """The other ships as ship ``k``'s targets, nearest first (at most ``most``): name, range m, relative
+        bearing deg (clockwise from the bow), DCPA m and TCPA s (both keeping course and speed;
+        ``envs.tasks.colreg_geometry.cpa``), midship to midship."""
+        sim = self.sim
+        vn, ve = sim.ground_velocity()
+        n0, e0, psi = float(sim.north[k]), float(sim.east[k]), float(sim.heading[k])
+        if not (math.isfinite(n0) and math.isfinite(e0) and math.isfinite(psi)):
+            return []
+        others = [(self.names[j], float(sim.north[j]), float(sim.east[j]), float(vn[j]), float(ve[j]))
+                  for j in range(self.n) if j != k]  # fmt: skip
+        if self.traffic is not None:
+            for t in self.traffic.targets():
+                r = t.reading
+                sog, cog = r.sog_kn * KNOT_M_S, math.radians(r.cog_deg)
+                others.append((t.name, r.x_m, r.y_m, sog * math.cos(cog), sog * math.sin(cog)))
+        out = []
+        for name, n, e, tvn, tve in others:
+            pn, pe = n - n0, e - e0
+            if not (math.isfinite(pn) and math.isfinite(pe) and math.isfinite(tvn) and math.isfinite(tve)):
+                continue
+            dcpa, tcpa = cpa(pn, pe, tvn - float(vn[k]), tve - float(ve[k]))
+            out.append(
+                {
+                    "name": name,
+                    "range_m": round(math.hypot(pn, pe), 1),
+                    "bearing_deg": round(math.degrees(relative_bearing(pn, pe, psi)), 1),
+                    "dcpa_m": round(dcpa, 1),
+                    "tcpa_s": round(tcpa, 1),
+                }
+            )
+        return sorted(out, key=lambda t: t["range_m"])[:most]
 
     def ships(self) -> list[dict[str, Any]]:
         """Every own ship for the chart: index, name, north and east m, heading deg, SOG m/s, outcome."""

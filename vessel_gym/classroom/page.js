@@ -146,6 +146,15 @@ function show(m) {
     $("rudderact").style.left = `${half + Math.min(0, act)}%`;
     $("rudderact").style.width = `${Math.abs(act)}%`;
     $("rudderord").style.left = `${half + o.rudder_order_deg / RUDDER_MAX * half}%`;
+    const body = $("radarrows");
+    body.replaceChildren();
+    for (const t of m.radar || []) {  // the other ships as targets, nearest first
+      const tr = document.createElement("tr");
+      cell(tr, t.name); cell(tr, `${t.range_m.toFixed(0)} m`); cell(tr, `${t.bearing_deg.toFixed(0)}°`);
+      cell(tr, t.tcpa_s > 0 ? `${t.dcpa_m.toFixed(0)} m` : "opening");
+      cell(tr, t.tcpa_s > 0 ? `${t.tcpa_s.toFixed(0)} s` : "-");
+      body.appendChild(tr);
+    }
   }
   if (m.class) {
     $("speccode").textContent = m.spectator_code;

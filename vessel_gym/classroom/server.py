@@ -437,7 +437,13 @@ class ClassroomServer:
         if role is None:
             return common
         if role.kind == "helm":
-            return {**common, "own": self.harbour.conning(role.ship), "ack": client.ack}
+            h = self.harbour
+            return {
+                **common,
+                "own": h.conning(role.ship),
+                "radar": h.targets_for(role.ship),
+                "ack": client.ack,
+            }
         if role.kind == "instructor":
             h = self.harbour
             return {
