@@ -15,14 +15,14 @@ from vessel_gym.classroom.server import ClassroomServer
 class Room:
     """A running server (``srv``) with its codes, port and a client factory."""
 
-    def __init__(self, ships: int, time_factor: float, tmp_path, tls=None) -> None:
+    def __init__(self, ships: int, time_factor: float, tmp_path, tls=None, pilots: int = 0) -> None:
         self.sock = socket.socket()
         self.sock.bind(("127.0.0.1", 0))
         self.sock.listen(64)
         self.port = self.sock.getsockname()[1]
         self.origin = f"http://127.0.0.1:{self.port}"
         self.url = f"ws://127.0.0.1:{self.port}/ws"
-        self.harbour = ClassHarbour("harbour", ships, seed=1)
+        self.harbour = ClassHarbour("harbour", ships, seed=1, pilots=pilots)
         self.codes = ClassCodes(ships)
         self.srv = ClassroomServer(
             self.harbour,
@@ -75,8 +75,8 @@ def recv_ack(ws, seq: int, timeout_s: float = 10.0) -> dict:
 def room(tmp_path):
     made: list[Room] = []
 
-    def make(ships: int = 2, time_factor: float = 1.0, tls=None) -> Room:
-        made.append(Room(ships, time_factor, tmp_path, tls))
+    def make(ships: int = 2, time_factor: float = 1.0, tls=None, pilots: int = 0) -> Room:
+        made.append(Room(ships, time_factor, tmp_path, tls, pilots))
         return made[-1]
 
     yield make

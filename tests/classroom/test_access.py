@@ -314,3 +314,11 @@ def test_host_names_the_server_accepts(bound, host, ok):
     srv = S.ClassroomServer(None, ClassCodes(1), (bound, 8090), host_names=("classroom.school.example",))
     srv.port = 8090
     assert srv.host_ok(host) is ok
+
+
+def test_a_pilot_ship_takes_no_student(room):
+    r = room(ships=2, pilots=1)
+    assert r.join(r.codes.helm[1])[1] == {"type": "refused", "error": "this ship is steered by the pilot"}
+    ws, _w = r.join(r.codes.instructor)
+    st = recv_type(ws, ("state",))
+    assert [(s["name"], s["pilot"]) for s in st["class"]] == [("Ship 1", False), ("Pilot 2", True)]

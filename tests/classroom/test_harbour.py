@@ -128,3 +128,22 @@ def test_debrief_scores_each_student_as_play_does(harbour16):
     for k in range(16):
         assert h.names[k] in page
     assert f"{d.score:.0f}</b>" in page
+
+
+def test_pilot_ships_are_steered_by_the_harbour_pilot():
+    """Two of three ships under the task's scripted pilot: it gives its own orders (the rudder moves over
+    several steps) and closes on the goal; the student's ship keeps the orders it was given."""
+    h = ClassHarbour("harbour", 3, seed=1, pilots=2)
+    assert h.names == ["Ship 1", "Pilot 2", "Pilot 3"] and h.pilot_ships.tolist() == [1, 2]
+    start = [h.conning(k)["goal_m"] for k in range(3)]
+    orders = set()
+    for _ in range(400):  # 100 s
+        h.step()
+        orders.add(h.conning(2)["rudder_order_deg"])
+    assert len(orders) >= 3
+    for k in (1, 2):
+        assert h.records[k].outcome == "running"
+        assert h.conning(k)["goal_m"] < start[k] - 40.0  # made good towards the goal
+    assert h.conning(0)["rudder_order_deg"] == 0.0  # nobody steered ship 1
+    with pytest.raises(ValueError, match="pilots"):
+        ClassHarbour("harbour", 2, pilots=3)

@@ -29,6 +29,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help=f"own ships, 1-{MAX_SHIPS} (default 4)",
     )
     cl.add_argument(
+        "--pilots",
+        type=int_in("--pilots", 0, MAX_SHIPS),
+        default=0,
+        help="of the ships, how many the scripted harbour pilot steers (the last ones; default 0)",
+    )
+    cl.add_argument(
         "--bind",
         metavar="HOST:PORT",
         default=DEFAULT_BIND,
@@ -122,12 +128,14 @@ def run(args: argparse.Namespace) -> int:
     from vessel_gym.scenarios import load_scenario
 
     sc = load_scenario(args.scenario)  # a bad name is one line here (ScenarioError is a ValueError)
+    if args.pilots > args.ships:
+        raise UsageError(f"vessel-gym classroom: --pilots {args.pilots} is more than --ships {args.ships}")
     tls = _tls(args)
     stamp = time.strftime("%Y%m%d-%H%M%S", time.gmtime())
     debrief = Path(args.out) / f"classroom_{safe_name(sc.name)}_{stamp}.html"
     check_free([debrief], False, "--out")
     sock = _bind_socket(args)
-    harbour = ClassHarbour(args.scenario, args.ships, seed=args.seed)
+    harbour = ClassHarbour(args.scenario, args.ships, seed=args.seed, pilots=args.pilots)
     codes = ClassCodes(args.ships)
     host = sock.getsockname()[0]
     server = ClassroomServer(

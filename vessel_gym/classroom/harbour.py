@@ -62,7 +62,7 @@ class ShipRecord:
 class ClassHarbour:
     """``n`` own ships in the harbour of ``scenario`` (module doc). Not thread-safe: one owner drives it."""
 
-    def __init__(self, scenario: str, n: int, seed: int | None = None) -> None:
+    def __init__(self, scenario: str, n: int, seed: int | None = None, pilots: int = 0) -> None:
         import vessel_gym
         from vessel_gym.envs.tasks.harbour import own_ship
         from vessel_gym.scenarios import load_scenario
@@ -70,6 +70,8 @@ class ClassHarbour:
 
         if not 1 <= n <= MAX_SHIPS:
             raise ValueError(f"ships: expected 1..{MAX_SHIPS}, got {n}")
+        if not 0 <= pilots <= n:
+            raise ValueError(f"pilots: expected 0..{n} (the number of ships), got {pilots}")
         sc = load_scenario(scenario)
         self.penv = vessel_gym.parallel_env(
             TASK_ID,
@@ -92,7 +94,10 @@ class ClassHarbour:
         self.B = float(task.ship.particulars.B_m)
         self.T = float(task.ship.particulars.T_m)
         self.hull = np.array(hull_outline(self.L, self.B))  # body axes (x forward, y starboard), m
-        self.names = [f"Ship {k + 1}" for k in range(n)]
+        #: the last ``pilots`` ships are steered by the task's scripted harbour pilot, not by a student
+        self.pilot_ships = np.arange(n - pilots, n)
+        self.names = [f"Ship {k + 1}" if k < n - pilots else f"Pilot {k + 1}" for k in range(n)]
+        self.pilot = self._make_pilot() if pilots else None
         self.rudder_i = np.full(n, RUDDER_ORDERS_DEG.index(0.0), dtype=np.int64)
         self.tele_i = np.full(n, TELEGRAPH_STEPS.index(0), dtype=np.int64)
         self.live = np.zeros(n, dtype=np.bool_)
@@ -128,6 +133,29 @@ class ClassHarbour:
         self._reset(np.array([k]))
         self._space_out(np.array([k]))
         self._started(k)
+
+    def _make_pilot(self) -> Any:
+        """The task's registered ``scripted`` pilot (envs.policies.HarbourPilot), reading the observations of
+        the pilot ships as one batch, its actions the discrete orders of this helm."""
+        from types import SimpleNamespace
+
+        from vessel_gym.envs.registration import declaration
+
+        task = self.task
+        base = SimpleNamespace(
+            observation_layout=task.layout,
+            config=task.config,
+            task=task,
+            action_space=self.penv.action_space(self.penv.possible_agents[0]),
+        )
+        return declaration(TASK_ID).pilots["scripted"](SimpleNamespace(unwrapped=base))
+
+    def _steer_pilots(self) -> None:
+        if self.pilot is None:
+            return
+        act = np.asarray(self.pilot(self.task.obs[self.pilot_ships]))
+        self.rudder_i[self.pilot_ships] = act[:, 0]
+        self.tele_i[self.pilot_ships] = act[:, 1]
 
     def _reset(self, idx: np.ndarray) -> None:
         reset_vessels(self.task, idx, None)
@@ -167,6 +195,8 @@ class ClassHarbour:
         )
         self.live[k] = True
         self.steps[k] = 0
+        if self.pilot is not None and k in self.pilot_ships:
+            self.pilot.reset(self.pilot_ships == k)  # its waypoints and integral start again
 
     # --- orders and weather ----------------------------------------------------------------------------------
 
@@ -207,6 +237,7 @@ class ClassHarbour:
     def step(self) -> list[int]:
         """Every ship and the traffic one control step; returns the ships whose run ended in it."""
         task, sim = self.task, self.sim
+        self._steer_pilots()
         rudder = np.where(self.live, self.rudder_i, RUDDER_ORDERS_DEG.index(0.0))
         tele = np.where(self.live, self.tele_i, TELEGRAPH_STEPS.index(0))
         task.helm.apply(np.stack([rudder, tele], axis=1))

@@ -344,6 +344,9 @@ class ClassroomServer:
                 await _close(client, "too many wrong codes")
             return
         if role.kind == "helm":
+            if role.ship in self.harbour.pilot_ships:
+                await _send(conn, {"type": "refused", "error": "this ship is steered by the pilot"})
+                return
             if role.ship in self.helms:
                 self.stats["taken"] += 1
                 await _send(conn, {"type": "refused", "error": "this ship already has a helmsman"})
@@ -454,6 +457,7 @@ class ClassroomServer:
                         "name": h.names[k],
                         "code": self.codes.helm[k],
                         "at_helm": k in self.helms,
+                        "pilot": k in h.pilot_ships,
                         **h.conning(k),
                     }
                     for k in range(h.n)
