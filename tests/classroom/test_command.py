@@ -39,6 +39,7 @@ ROOT = Path(__file__).resolve().parents[2]
         (["classroom", "harbour", "--time-factor", "nan"], "--time-factor"),
         (["classroom"], "scenario"),
         (["classroom", "harbour", "--ships", "2", "--pilots", "3"], "--pilots"),
+        (["classroom", "supply_base", "--ships", "16", "--bind", "127.0.0.1:0"], "give fewer ships"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_code_2(argv, says, capsys):

@@ -147,3 +147,12 @@ def test_pilot_ships_are_steered_by_the_harbour_pilot():
     assert h.conning(0)["rudder_order_deg"] == 0.0  # nobody steered ship 1
     with pytest.raises(ValueError, match="pilots"):
         ClassHarbour("harbour", 2, pilots=3)
+
+
+def test_a_start_region_too_small_for_the_class_is_refused():
+    """supply_base's start region is 180 m x 120 m and its supply ship 76.2 m long: 16 ships cannot start
+    1.2 ship lengths apart; 2 can (this also resets part of a batch of a ship with thrusters)."""
+    with pytest.raises(ValueError, match="give fewer ships"):
+        ClassHarbour("supply_base", 16, seed=1)
+    h = ClassHarbour("supply_base", 2, seed=1)
+    assert math.hypot(h.sim.north[0] - h.sim.north[1], h.sim.east[0] - h.sim.east[1]) >= START_SPACING_L * h.L

@@ -135,7 +135,11 @@ def run(args: argparse.Namespace) -> int:
     debrief = Path(args.out) / f"classroom_{safe_name(sc.name)}_{stamp}.html"
     check_free([debrief], False, "--out")
     sock = _bind_socket(args)
-    harbour = ClassHarbour(args.scenario, args.ships, seed=args.seed, pilots=args.pilots)
+    try:
+        harbour = ClassHarbour(args.scenario, args.ships, seed=args.seed, pilots=args.pilots)
+    except BaseException:
+        sock.close()
+        raise
     codes = ClassCodes(args.ships)
     host = sock.getsockname()[0]
     server = ClassroomServer(

@@ -107,17 +107,21 @@ class ClassHarbour:
         self.weather: dict[str, float] = {}
         self.t_s = 0.0  # class time, s of simulation
         self.seed = seed
-        self.reset_all(seed)
+        if not self.reset_all(seed):
+            raise ValueError(
+                f"ships: no start for {n} ships {START_SPACING_L:g} ship lengths apart in the start region of "
+                f"{self.scenario.name!r} (its ship is {self.L:g} m long): give fewer ships"
+            )
 
     # --- runs -------------------------------------------------------------------------------------------------
 
-    def reset_all(self, seed: int | None = None) -> None:
+    def reset_all(self, seed: int | None = None) -> bool:
         """Every ship to a fresh start (the task's start region, spaced apart), the traffic to its start, the
-        class weather from ship 0's draw of the scenario's ranges."""
+        class weather from ship 0's draw of the scenario's ranges; False if some ships could not be spaced."""
         self.penv.reset(seed=seed)
         if self.traffic is not None:
             self.traffic.reset()
-        self._space_out(np.arange(self.n))
+        spaced = self._space_out(np.arange(self.n))
         e = self.sim.environments[0]
         self.weather = {
             "wind_speed_m_s": float(e.wind_speed_m_s),
@@ -127,6 +131,7 @@ class ClassHarbour:
         }
         for k in range(self.n):
             self._started(k)
+        return spaced
 
     def reset_ship(self, k: int) -> None:
         """Ship ``k`` to a new start in the start region clear of the others; the others sail on."""
@@ -163,9 +168,10 @@ class ClassHarbour:
         phase[idx] = PHASE_RESET
         self.task.update(phase)
 
-    def _space_out(self, movable: np.ndarray) -> None:
+    def _space_out(self, movable: np.ndarray) -> bool:
         """Draw again the starts of ``movable`` ships that are within START_SPACING_L of an earlier ship (their
-        generators continue, so each draw is new); bounded, a crowded region keeps its last draw."""
+        generators continue, so each draw is new); False if 200 rounds left some too close (they keep their
+        last draw)."""
         spacing = START_SPACING_L * self.L
         for _ in range(200):
             north, east = self.sim.north, self.sim.east
@@ -177,8 +183,9 @@ class ClassHarbour:
                 if np.any(d[others] < spacing):
                     clash.append(k)
             if not clash:
-                return
+                return True
             self._reset(np.array(clash))
+        return False
 
     def _started(self, k: int) -> None:
         sim, task = self.sim, self.task
