@@ -15,6 +15,8 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from vessel_gym import cli
 
@@ -114,3 +116,75 @@ def test_with_a_certificate_it_serves_https_and_wss_only(room, tmp_path):
     with pytest.raises(Exception):  # noqa: B017 - plain http to a TLS port fails in the handshake
         urllib.request.urlopen(f"http://127.0.0.1:{r.port}/", timeout=5).read()
     time.sleep(0.1)
+
+
+_NUMBER = st.one_of(
+    st.integers(-(10**6), 10**6).map(str),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.sampled_from(["", "nan", "-inf", "1e400", "abc", "-0", "16", "17", "0"]),
+)
+_ADDRESS = st.one_of(
+    st.builds(
+        lambda h, p: f"{h}:{p}",
+        st.sampled_from(["127.0.0.1", "0.0.0.0", "localhost", "::1", "[::1]", "", "1.2.3", "a:b", "8.8.8.8"]),
+        st.one_of(_NUMBER, st.sampled_from(["0", "70000"])),
+    ),
+    st.text(max_size=12),
+)
+_PATHISH = st.sampled_from(["/dev/null", "/", ".", "nosuch.pem", "/etc/passwd", "sub/dir/", "\0"])
+_OPTIONS = {
+    "--ships": _NUMBER,
+    "--pilots": _NUMBER,
+    "--bind": _ADDRESS,
+    "--allow-lan": None,
+    "--host-name": st.text(max_size=12),
+    "--tls-cert": _PATHISH,
+    "--tls-key": _PATHISH,
+    "--time-factor": _NUMBER,
+    "--duration": _NUMBER,
+    "--seed": _NUMBER,
+    "--out": _PATHISH,
+}
+
+
+@st.composite
+def _argv(draw) -> list[str]:
+    argv = ["classroom"]
+    if draw(st.integers(0, 5)):
+        argv.append(
+            draw(st.one_of(st.sampled_from(["harbour", "nosuch", "HARBOUR"]), _PATHISH, st.text(max_size=8)))
+        )
+    for opt in draw(st.lists(st.sampled_from(sorted(_OPTIONS)), max_size=5)):
+        argv.append(opt)
+        if _OPTIONS[opt] is not None:
+            argv.append(draw(_OPTIONS[opt]))
+    return argv
+
+
+@settings(
+    max_examples=200,
+    derandomize=True,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
+@given(argv=_argv())
+def test_random_options_end_in_one_line_or_a_class(argv, monkeypatch, tmp_path, capsys):
+    """Every check runs for real; the class itself is replaced by an immediate exit once they have passed."""
+    from vessel_gym.classroom import harbour
+
+    def no_class(*args, **kwargs):
+        raise cli.UsageError("fuzz: the class replaced")
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(harbour, "ClassHarbour", no_class)
+    t = time.perf_counter()
+    try:
+        code = cli.main(argv)
+    except SystemExit as exc:  # --help
+        code = exc.code
+    out, err = capsys.readouterr()
+    assert code in (0, 2), (argv, code, err)
+    assert "Traceback" not in err and "Traceback" not in out, (argv, err)
+    if code:
+        assert err.count("\n") == 1 or "usage:" in err, (argv, err)
+    assert time.perf_counter() - t < 10.0, argv
