@@ -231,6 +231,11 @@ def test_a_connection_that_does_not_join_is_closed(room, monkeypatch):
     r = room()
     ws = r.connect()
     assert _closed_code(ws) == 1008
+    # one wrong code and then silence: the join's time counts from the connection, not the last try
+    ws = r.connect()
+    t0 = time.monotonic()
+    ws.send(json.dumps({"type": "join", "code": "wrong" * 5}))
+    assert _closed_code(ws) == 1008 and time.monotonic() - t0 < 5.0
 
 
 def test_connections_per_address_are_capped(room, monkeypatch):

@@ -257,12 +257,14 @@ class ClassroomServer:
         client = Client(conn, _peer_host(conn))
         self.clients.add(client)
         try:
-            try:
-                first = await asyncio.wait_for(conn.recv(), JOIN_TIMEOUT_S)
-            except TimeoutError:
-                await _close(client, "join within 10 s")
-                return
-            await self._message(client, first)
+            deadline = time.monotonic() + JOIN_TIMEOUT_S  # the whole join, wrong codes included
+            while client.role is None and not client.closing:
+                try:
+                    raw = await asyncio.wait_for(conn.recv(), max(deadline - time.monotonic(), 0.0))
+                except TimeoutError:
+                    await _close(client, "join within 10 s")
+                    return
+                await self._message(client, raw)
             async for raw in conn:
                 await self._message(client, raw)
         except ConnectionClosed as exc:
