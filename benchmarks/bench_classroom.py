@@ -158,7 +158,9 @@ def run_class(ships: int, presses: int) -> dict[str, list[float]]:
             for _ in range(300):
                 b.pump(0.1)
                 ready = b.call(
-                    "Runtime.evaluate", expression="!!document.getElementById('joinbtn')", returnByValue=True
+                    "Runtime.evaluate",
+                    expression="document.readyState === 'complete' && typeof window.vg === 'object'",
+                    returnByValue=True,
                 )
                 if ready.get("result", {}).get("value"):
                     break
