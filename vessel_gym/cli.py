@@ -358,6 +358,9 @@ def build_parser() -> argparse.ArgumentParser:
             help="let ship files name components in any Python module (importing one runs its code); "
             "without it only vessel-gym's own components load (also: VESSEL_GYM_ALLOW_CODE=1)",
         )
+    from vessel_gym.classroom.command import add_parser as add_classroom
+
+    add_classroom(sub)
     fm = sub.add_parser(
         "fmu",
         help="write an FMI 2.0 co-simulation FMU of the whole ship (docs/fmi.md; needs the 'fmi' extra)",
@@ -659,6 +662,10 @@ def _main(argv: Sequence[str] | None) -> int:
                 )
                 return 1
             return 0
+        if args.command == "classroom":
+            from vessel_gym.classroom.command import run as run_classroom
+
+            return run_classroom(args)
         if args.command == "view3d":
             try:
                 import viser  # noqa: F401

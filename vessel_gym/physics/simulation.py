@@ -245,6 +245,7 @@ class Simulation(Readings, Helm):
             self._reset_one(k, speed_m_s, heading_deg, x_m, y_m)
             return
         idx = np.arange(self.n) if k is None else np.atleast_1d(np.asarray(k, dtype=np.int64))
+        heading_at = self._at(heading_deg, idx, listed)  # before the spread below changes what it is
         if self.components:  # user forces take part in the equilibrium: solved for all vessels at once
             if listed:  # values per listed vessel: spread to per-vessel arrays
                 speed_m_s, heading_deg = self._spread(speed_m_s, idx), self._spread(heading_deg, idx)
@@ -252,9 +253,9 @@ class Simulation(Readings, Helm):
             hd = self._per_vessel(heading_deg)
             self._reset_with_components(idx.tolist(), sp, hd)
         else:
-            self._reset_steady(idx, self._at(speed_m_s, idx, listed), self._at(heading_deg, idx, listed))
+            self._reset_steady(idx, self._at(speed_m_s, idx, listed), heading_at)
         # every vessel's row is set above (state and inputs), position and flag here: numpy over idx, O(N)
-        self.state[idx, lo.X_PSI] = self._at(heading_deg, idx, listed) * DEG
+        self.state[idx, lo.X_PSI] = heading_at * DEG
         self.state[idx, lo.X_N] = self._at(x_m, idx, listed)
         self.state[idx, lo.X_E] = self._at(y_m, idx, listed)
         self.alive[idx] = True
