@@ -107,6 +107,12 @@ class ClassHarbour:
         self.weather: dict[str, float] = {}
         self.t_s = 0.0  # class time, s of simulation
         self.seed = seed
+        if self.reset_all(seed):
+            # one step compiles the step kernels here, before the class opens, rather than at the first
+            # student's first key press (tens of seconds on a fresh cache, with the pages waiting); then the
+            # same start again
+            self.step()
+            self.t_s = 0.0
         if not self.reset_all(seed):
             raise ValueError(
                 f"ships: no start for {n} ships {START_SPACING_L:g} ship lengths apart in the start region of "
