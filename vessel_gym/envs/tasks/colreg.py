@@ -21,6 +21,7 @@ from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform, start, task_arrays
+from vessel_gym.envs.tasks.colreg_ais import AisReceiver
 from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SENSOR_MAX, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, LANES, Encounter, generate, imazu, lanes
 from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, polygon_edges, sweep_bearings
@@ -133,6 +134,24 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
     )
     sensors: int = param(0, unit="-", lo=0, hi=SENSOR_MAX, doc="range-sensor sectors observed (0: no sweep)")
     sensor_range_L: float = param(10.0, unit="L", lo=0.5, hi=200.0, doc="the range-sensor sweep's reach")
+    targets_observed: str = param(
+        "true",
+        choices=("true", "ais"),
+        doc="the target list from the truth, or as received over AIS (colreg_ais: reporting intervals of "
+        "ITU-R M.1371-5, dropouts, noise, dead reckoning between reports)",
+    )
+    ais_class: str = param(
+        "A", choices=("A", "B"), doc="AIS: the targets' station class (M.1371-5 Annex 1 Table 1 or 2 rates)"
+    )
+    ais_dropout: float = param(0.0, unit="-", lo=0.0, hi=0.99, doc="AIS: probability a report is lost")
+    ais_position_sigma_m: float = param(10.0, unit="m", lo=0.0, hi=1000.0, doc="AIS: position error, std")
+    ais_sog_sigma_kn: float = param(0.1, unit="kn", lo=0.0, hi=10.0, doc="AIS: speed over ground error, std")
+    ais_cog_sigma_deg: float = param(
+        1.0, unit="deg", lo=0.0, hi=45.0, doc="AIS: course over ground error, std"
+    )
+    ais_turning_deg_min: float = param(
+        5.0, unit="deg/min", lo=0.0, hi=720.0, doc="AIS: a rate of turn above this is 'changing course'"
+    )
     reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")  # type: ignore[valid-type]
 
 
@@ -202,6 +221,7 @@ class World:
         # the range-sensor sweep: its rays' relative bearings (rad; empty: no sweep) and sectors
         self.sensors = 0
         self.bearings = np.zeros(0)
+        self.ais: AisReceiver | None = None  # targets as received over AIS (None: the truth)
 
     def set_waters(self, polys: list) -> None:
         """The obstacles of restricted waters: polygons of (north, east) points, m."""
@@ -357,6 +377,17 @@ class CollisionAvoidanceTask(Task):
                     f"CollisionAvoidance: waters {config.waters!r}: its start region must hold "
                     "the origin (the own ship's start)"
                 )
+        if config.targets_observed == "ais":
+            self.world.ais = AisReceiver(
+                n,
+                config.agents + config.max_targets,
+                config.ais_class,
+                config.ais_dropout,
+                config.ais_position_sigma_m,
+                config.ais_sog_sigma_kn,
+                config.ais_cog_sigma_deg,
+                config.ais_turning_deg_min,
+            )
         if config.sensors:
             self.world.sensors = config.sensors
             self.world.bearings = sweep_bearings(config.sensors)
@@ -530,6 +561,8 @@ class CollisionAvoidanceTask(Task):
                 s[S.min_sep] = math.inf
                 for row in self.pairs[j]:
                     new_record(row)
+                if world.ais is not None:
+                    world.ais.reset(j, rng)
                 self.scenario_id[j] = name_id
                 self.planned_dcpa[j] = planned
                 self.scores[j] = 0.0

@@ -145,6 +145,12 @@ def colreg_update(phase, v, t):
                 track(rec, s[S.t], psi, U, rng, tcpa, ahead, p[P.action], p[P.release])
             if sit in (HEAD_ON, GIVE_WAY) and tcpa > 0.0 and order < -p[P.port_order]:
                 port_with_give_way = True
+            if world.ais is not None:  # the target as received over AIS, dead-reckoned to now
+                _u, _v, tr = velocity_through_water(x, j)
+                an, ae, avn, ave = world.ais.observe(k, slot, s[S.t], tn, te, tvn, tve, tr)
+                pn, pe, wn, we = an - on, ae - oe, avn - ovn, ave - ove
+                rng = math.hypot(pn, pe)
+                dcpa, tcpa = cpa(pn, pe, wn, we)
             listed.append((dcpa + 0.1 * rng, rng, pn, pe, wn, we, dcpa, tcpa, sit))
         listed.sort()
         cos_p, sin_p = math.cos(psi), math.sin(psi)
