@@ -26,7 +26,7 @@ from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SE
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, LANES, Encounter, generate, imazu, lanes
 from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, polygon_edges, sweep_bearings
 from vessel_gym.envs.tasks.colreg_rules import R, new_record
-from vessel_gym.envs.tasks.colreg_situation import read_situation
+from vessel_gym.envs.tasks.colreg_situation import DNV_COUNT, dnv_situation, read_situation, within_speed
 from vessel_gym.envs.tasks.colreg_step import colreg_update
 from vessel_gym.envs.tasks.common import motion_observed
 from vessel_gym.physics.schema import SpecError, param
@@ -50,9 +50,10 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
     )
     encounters: str = param(
         "imazu",
-        choices=("imazu", "generated", "mixed", "lanes"),
-        doc="what a reset draws: an Imazu case, a generated encounter, either (half each), or traffic in a "
-        "two-lane scheme (own lane and opposite lane, colreg_encounters.lanes)",
+        choices=("imazu", "generated", "mixed", "lanes", "dnv"),
+        doc="what a reset draws: an Imazu case, a generated encounter, either (half each), traffic in a "
+        "two-lane scheme (own lane and opposite lane, colreg_encounters.lanes), or one of DNV's 55 baseline "
+        "situations (colreg_situation.dnv_situation)",
     )
     initial_heading_deg: tuple[float, ...] = param(
         (0.0, 360.0),
@@ -338,7 +339,7 @@ class CollisionAvoidanceTask(Task):
     ## Arguments
 
     ``reset(options={"scenario": "imazu:12" | "imazu" | "generated" | "generated:head_on+give_way" |
-    "file:situation.json", "heading_deg": h})`` pins the encounter (``file:``: a maritime-schema traffic
+    "dnv:7" | "file:situation.json", "heading_deg": h})`` pins the encounter (``file:``: a maritime-schema traffic
     situation, ``colreg_situation``) and the own ship's heading.
     """
 
@@ -495,8 +496,17 @@ class CollisionAvoidanceTask(Task):
             T = c.tcpa_L * self.L / self.U_T
             tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
             return lanes(types, tcpa, self.U_T, self.L, c.opposite_lane_L * self.L, rng)
+        if kind == "dnv":
+            fits = [i for i in range(1, DNV_COUNT + 1) if need <= DNV_TARGETS[i - 1] <= c.max_targets]
+            number = int(rng.choice(fits)) if not arg else _numbered("dnv", arg, DNV_COUNT)
+            enc = within_speed(dnv_situation(number), self.U_T)
+            if not need <= len(enc.targets) <= c.max_targets:
+                raise ValueError(
+                    f"{name}: {len(enc.targets)} targets; this task takes {need} to {c.max_targets}"
+                )
+            return enc
         if kind == "file" and arg:
-            enc = read_situation(arg)
+            enc = within_speed(read_situation(arg), self.U_T)
             if not need <= len(enc.targets) <= c.max_targets:
                 raise ValueError(
                     f"{name}: {len(enc.targets)} targets; this task takes {need} to {c.max_targets}"
@@ -504,7 +514,7 @@ class CollisionAvoidanceTask(Task):
             return enc
         raise ValueError(
             f"unknown scenario {name!r} (imazu, imazu:1..22, generated, generated:<type>[+<type>...], "
-            "lanes, lanes:<type>[+<type>...], file:<path>)"
+            "lanes, lanes:<type>[+<type>...], dnv, dnv:1..55, file:<path>)"
         )
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
@@ -634,6 +644,20 @@ def _case(text: str) -> int:
     if case not in IMAZU:
         raise ValueError(f"Imazu case {case} does not exist (1..22)")
     return case
+
+
+def _numbered(kind: str, text: str, count: int) -> int:
+    try:
+        number = int(text)
+    except ValueError:
+        raise ValueError(f"{kind}:{text}: the situation must be a number 1..{count}") from None
+    if not 1 <= number <= count:
+        raise ValueError(f"{kind}:{number} does not exist (1..{count})")
+    return number
+
+
+#: targets of each DNV baseline situation (1..55): 1-5 one, 6-20 two, 21-55 three (the files' order)
+DNV_TARGETS = (1,) * 5 + (2,) * 15 + (3,) * 35
 
 
 def _field_names() -> tuple[str, ...]:
