@@ -269,6 +269,12 @@ def vo_pilot(env: Any) -> Any:
     return VelocityObstaclePilot(env)
 
 
+def mpc_pilot(env: Any) -> Any:
+    from vessel_gym.envs.tasks.colreg_mpc import ScenarioMPCPilot
+
+    return ScenarioMPCPilot(env)
+
+
 def vo_nomoto_pilot(env: Any) -> Any:
     from vessel_gym.envs.tasks.colreg_pilots import VelocityObstaclePilot
     from vessel_gym.policy import nomoto_pid_kwargs
@@ -287,7 +293,7 @@ def vo_nomoto_pilot(env: Any) -> Any:
         },
     },
     max_episode_steps=400,
-    pilots={"pid": vo_pilot, "pid-nomoto": vo_nomoto_pilot, "scripted": route_pilot},
+    pilots={"pid": vo_pilot, "pid-nomoto": vo_nomoto_pilot, "scripted": route_pilot, "mpc": mpc_pilot},
     metrics=episode_metrics,
     train={"common": {"n_timesteps": 1_000_000, "n_envs": 16}},
 )
