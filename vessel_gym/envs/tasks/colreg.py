@@ -135,6 +135,24 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
     )
     sensors: int = param(0, unit="-", lo=0, hi=SENSOR_MAX, doc="range-sensor sectors observed (0: no sweep)")
     sensor_range_L: float = param(10.0, unit="L", lo=0.5, hi=200.0, doc="the range-sensor sweep's reach")
+    tss_lane_half_L: float = param(
+        0.0,
+        unit="L",
+        lo=0.0,
+        hi=100.0,
+        doc="rule 10 scored in a traffic-separation scheme: the own lane's half width about the route "
+        "(0: not scored); the separation zone lies beyond it to port, the opposite lane beyond that",
+    )
+    tss_zone_width_L: float = param(
+        2.5, unit="L", lo=0.0, hi=100.0, doc="rule 10: the separation zone's width"
+    )
+    tss_direction_deg: float = param(
+        45.0,
+        unit="deg",
+        lo=1.0,
+        hi=180.0,
+        doc="rule 10: heading off the lane's flow that counts as against it",
+    )
     targets_observed: str = param(
         "true",
         choices=("true", "ais"),
@@ -254,6 +272,10 @@ def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
     for c in CHECKS:
         n = last["colreg_applied"][c]
         out[f"{c}_ok"] = last["colreg_passed"][c] / n if n else math.nan
+    if last.get("tss_scored"):  # rule 10 in a traffic-separation scheme
+        times = [last["tss_zone_s"], last["tss_wrong_lane_s"], last["tss_against_flow_s"]]
+        out["tss_zone_s"], out["tss_wrong_lane_s"], out["tss_against_flow_s"] = times
+        out["rule10_violation"] = float(any(t > 0.0 for t in times))
     return out
 
 
@@ -290,6 +312,8 @@ def vo_nomoto_pilot(env: Any) -> Any:
             "encounters": "lanes",
             "sensors": 24,
             "initial_heading_deg": (0.0, 0.0),
+            "tss_lane_half_L": 2.5,  # colreg_tss: the northbound lane 1.6 km wide, the zone 0.8 km
+            "tss_zone_width_L": 2.5,
         },
     },
     max_episode_steps=400,
@@ -423,6 +447,9 @@ class CollisionAvoidanceTask(Task):
         p[P.stand_on_course] = c.stand_on_tolerance_deg * DEG
         p[P.stand_on_speed] = c.stand_on_speed_fraction
         p[P.sensor_range] = c.sensor_range_L * self.L
+        p[P.tss_lane] = c.tss_lane_half_L * self.L
+        p[P.tss_zone] = c.tss_zone_width_L * self.L
+        p[P.tss_direction] = c.tss_direction_deg * DEG
         self.p = p
         T = self.L / self.U_T  # s
         # the reacting targets' heading law (PIDHeadingAutopilot's default gains): Kp, Kd (s), rudder limit,

@@ -182,6 +182,13 @@ def colreg_update(phase, v, t):
             outcome = ARRIVED  # at the goal, or past its abeam line
         elif abs(cross) > p[P.max_cross]:
             outcome = STRAYED
+        if stepped and p[P.tss_lane] > 0.0:  # rule 10: where in the scheme, and which way
+            if cross < -p[P.tss_lane] - p[P.tss_zone]:
+                s[S.tss_wrong_lane] += p[P.dt]
+            elif cross < -p[P.tss_lane]:
+                s[S.tss_zone] += p[P.dt]
+            elif abs(wrap_pi(alpha - psi)) > p[P.tss_direction]:
+                s[S.tss_against] += p[P.dt]
         if stepped:
             terms[k, TERM.progress] = (s[S.prev_goal] - goal) / (p[P.U_T] * p[P.dt])
             terms[k, TERM.cross_track] = -min(abs(cross) / p[P.max_cross], 1.0)
