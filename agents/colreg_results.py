@@ -136,7 +136,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument("--set", choices=tuple(SETS), default="imazu", help="the cases: Imazu's 22 or DNV's 55")
     p.add_argument("--episodes", type=int_in("--episodes", 1), default=20, help="episodes per case and pilot")
-    p.add_argument("--agents", nargs="+", default=["scripted", "pid"], help="declared pilots (default both)")
+    p.add_argument(
+        "--agents", nargs="+", default=["scripted", "pid", "mpc"], help="declared pilots (default: the three)"
+    )
     p.add_argument("--cases", nargs="+", type=int_in("--cases", 1), default=None, help="default: all")
     p.add_argument("--write", metavar="PAGE", default=None, help="replace the results block of this page")
     p.add_argument("--json", metavar="FILE", default=None, help="also write the results as JSON")
