@@ -20,8 +20,9 @@ def test_wilson_interval_matches_the_published_formula():
 @pytest.mark.parametrize(
     "argv, needle",
     [
-        (["--agents", "mpc"], "no pilot"),
+        (["--agents", "nope"], "no pilot"),
         (["--cases", "23"], "no Imazu case"),
+        (["--set", "dnv", "--cases", "56"], "no DNV baseline case"),
         (["--write", "nope.md"], "no such"),
     ],
 )
@@ -39,3 +40,18 @@ def test_one_case_writes_the_block_of_the_page(tmp_path):
     assert "old" not in text and text.endswith(f"{colreg_results.END}\ntail\n")
     assert "| 1 | `scripted` | 0.0 [0.0, 79.3] | 100.0 [20.7, 100.0] |" in text
     assert "| 1 | `pid` | 100.0 [20.7, 100.0] | 0.0 [0.0, 79.3] |" in text
+
+
+def test_a_dnv_situation_writes_its_own_block(tmp_path):
+    page = tmp_path / "page.md"
+    dnv = colreg_results.SETS["dnv"][2]
+    page.write_text(
+        f"{colreg_results.BEGIN}\nimazu\n{colreg_results.END}\n{dnv}\nold\n{colreg_results.END}\n"
+    )
+    argv = ["--set", "dnv", "--episodes", "1", "--cases", "7", "--write", str(page)]
+    assert colreg_results.main(argv) == 0
+    text = page.read_text()
+    assert "imazu" in text and "old" not in text and "1 dnv cases" in text
+    # situation 7 (head-on and crossing give-way): the route follower collides, the velocity obstacles pass
+    assert "| 7 (HO, CR-GW) | `scripted` | 0.0 [0.0, 79.3] | 100.0 [20.7, 100.0] |" in text
+    assert "| 7 (HO, CR-GW) | `pid` | 100.0 [20.7, 100.0] | 0.0 [0.0, 79.3] |" in text

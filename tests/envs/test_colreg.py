@@ -163,7 +163,7 @@ def test_scenario_options_are_checked():
     with pytest.raises(ValueError, match="does not exist"):
         env.reset(seed=0, options={"scenario": "imazu:23"})
     with pytest.raises(ValueError, match="unknown scenario"):
-        env.reset(seed=0, options={"scenario": "dnv:1"})
+        env.reset(seed=0, options={"scenario": "nope:1"})
     with pytest.raises(ValueError, match="unknown reset option"):
         env.reset(seed=0, options={"scenari": "imazu:1"})
     with pytest.raises(ValueError, match="takes 0 to 1"):

@@ -201,3 +201,34 @@ def test_evaluate_json_reports_the_grounding_rate(capsys):
         [{"seed": 0, "grounding": 1.0}, {"seed": 1, "grounding": 0.0}, {"seed": 2, "grounding": 0.0}]
     )
     assert s["grounding_rate"] == pytest.approx(1.0 / 3.0) and "grounding_mean" not in s
+
+
+def test_rule_10_times_in_the_zone_the_opposite_lane_and_against_the_flow():
+    """Channel: a ship swinging to port leaves its lane (centre line east 0, half width 2.5 L = 800 m) with its
+    heading off the flow (counted while in the lane), crosses the separation zone (800-1600 m to port) and
+    enters the southbound lane; each is timed by where the midship point is. Open sea: not scored."""
+    from vessel_gym.envs.tasks.colreg import episode_metrics
+
+    env = gym.make(CHANNEL, observation_type="physical")
+    env.reset(seed=1, options={"scenario": "lanes:overtaking"})
+    task = env.unwrapped.task
+    seen = {"against": False, "zone": False, "wrong": False}
+    infos = []
+    for _ in range(120):
+        _obs, _r, te, tr, info = env.step(np.array([-0.15], dtype=np.float32))
+        infos.append(info)
+        east = float(task.sim.east[0])
+        if -800.0 < east and info["tss_against_flow_s"] > 0.0:
+            seen["against"] = True
+        if -1600.0 < east < -800.0:
+            seen["zone"] = True
+            assert info["tss_wrong_lane_s"] == 0.0
+        if east < -1600.0:
+            seen["wrong"] = info["tss_zone_s"] > 0.0 and info["tss_wrong_lane_s"] > 0.0
+            break
+        if te or tr:
+            break
+    assert all(seen.values()), seen
+    assert info["tss_scored"] and episode_metrics(infos, False)["rule10_violation"] == 1.0
+    _obs, info = gym.make("vessel_gym/CollisionAvoidance-v0").reset(seed=0)
+    assert not info["tss_scored"] and "rule10_violation" not in episode_metrics([info], False)

@@ -21,11 +21,12 @@ from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform, start, task_arrays
+from vessel_gym.envs.tasks.colreg_ais import AisReceiver
 from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SENSOR_MAX, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, LANES, Encounter, generate, imazu, lanes
 from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, polygon_edges, sweep_bearings
 from vessel_gym.envs.tasks.colreg_rules import R, new_record
-from vessel_gym.envs.tasks.colreg_situation import read_situation
+from vessel_gym.envs.tasks.colreg_situation import DNV_COUNT, dnv_situation, read_situation, within_speed
 from vessel_gym.envs.tasks.colreg_step import colreg_update
 from vessel_gym.envs.tasks.common import motion_observed
 from vessel_gym.physics.schema import SpecError, param
@@ -49,9 +50,10 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
     )
     encounters: str = param(
         "imazu",
-        choices=("imazu", "generated", "mixed", "lanes"),
-        doc="what a reset draws: an Imazu case, a generated encounter, either (half each), or traffic in a "
-        "two-lane scheme (own lane and opposite lane, colreg_encounters.lanes)",
+        choices=("imazu", "generated", "mixed", "lanes", "dnv"),
+        doc="what a reset draws: an Imazu case, a generated encounter, either (half each), traffic in a "
+        "two-lane scheme (own lane and opposite lane, colreg_encounters.lanes), or one of DNV's 55 baseline "
+        "situations (colreg_situation.dnv_situation)",
     )
     initial_heading_deg: tuple[float, ...] = param(
         (0.0, 360.0),
@@ -133,6 +135,42 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
     )
     sensors: int = param(0, unit="-", lo=0, hi=SENSOR_MAX, doc="range-sensor sectors observed (0: no sweep)")
     sensor_range_L: float = param(10.0, unit="L", lo=0.5, hi=200.0, doc="the range-sensor sweep's reach")
+    tss_lane_half_L: float = param(
+        0.0,
+        unit="L",
+        lo=0.0,
+        hi=100.0,
+        doc="rule 10 scored in a traffic-separation scheme: the own lane's half width about the route "
+        "(0: not scored); the separation zone lies beyond it to port, the opposite lane beyond that",
+    )
+    tss_zone_width_L: float = param(
+        2.5, unit="L", lo=0.0, hi=100.0, doc="rule 10: the separation zone's width"
+    )
+    tss_direction_deg: float = param(
+        45.0,
+        unit="deg",
+        lo=1.0,
+        hi=180.0,
+        doc="rule 10: heading off the lane's flow that counts as against it",
+    )
+    targets_observed: str = param(
+        "true",
+        choices=("true", "ais"),
+        doc="the target list from the truth, or as received over AIS (colreg_ais: reporting intervals of "
+        "ITU-R M.1371-5, dropouts, noise, dead reckoning between reports)",
+    )
+    ais_class: str = param(
+        "A", choices=("A", "B"), doc="AIS: the targets' station class (M.1371-5 Annex 1 Table 1 or 2 rates)"
+    )
+    ais_dropout: float = param(0.0, unit="-", lo=0.0, hi=0.99, doc="AIS: probability a report is lost")
+    ais_position_sigma_m: float = param(10.0, unit="m", lo=0.0, hi=1000.0, doc="AIS: position error, std")
+    ais_sog_sigma_kn: float = param(0.1, unit="kn", lo=0.0, hi=10.0, doc="AIS: speed over ground error, std")
+    ais_cog_sigma_deg: float = param(
+        1.0, unit="deg", lo=0.0, hi=45.0, doc="AIS: course over ground error, std"
+    )
+    ais_turning_deg_min: float = param(
+        5.0, unit="deg/min", lo=0.0, hi=720.0, doc="AIS: a rate of turn above this is 'changing course'"
+    )
     reward: CollisionAvoidanceReward = param(CollisionAvoidanceReward(), doc="reward weights")  # type: ignore[valid-type]
 
 
@@ -202,6 +240,7 @@ class World:
         # the range-sensor sweep: its rays' relative bearings (rad; empty: no sweep) and sectors
         self.sensors = 0
         self.bearings = np.zeros(0)
+        self.ais: AisReceiver | None = None  # targets as received over AIS (None: the truth)
 
     def set_waters(self, polys: list) -> None:
         """The obstacles of restricted waters: polygons of (north, east) points, m."""
@@ -233,6 +272,10 @@ def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
     for c in CHECKS:
         n = last["colreg_applied"][c]
         out[f"{c}_ok"] = last["colreg_passed"][c] / n if n else math.nan
+    if last.get("tss_scored"):  # rule 10 in a traffic-separation scheme
+        times = [last["tss_zone_s"], last["tss_wrong_lane_s"], last["tss_against_flow_s"]]
+        out["tss_zone_s"], out["tss_wrong_lane_s"], out["tss_against_flow_s"] = times
+        out["rule10_violation"] = float(any(t > 0.0 for t in times))
     return out
 
 
@@ -246,6 +289,12 @@ def vo_pilot(env: Any) -> Any:
     from vessel_gym.envs.tasks.colreg_pilots import VelocityObstaclePilot
 
     return VelocityObstaclePilot(env)
+
+
+def mpc_pilot(env: Any) -> Any:
+    from vessel_gym.envs.tasks.colreg_mpc import ScenarioMPCPilot
+
+    return ScenarioMPCPilot(env)
 
 
 def vo_nomoto_pilot(env: Any) -> Any:
@@ -263,10 +312,12 @@ def vo_nomoto_pilot(env: Any) -> Any:
             "encounters": "lanes",
             "sensors": 24,
             "initial_heading_deg": (0.0, 0.0),
+            "tss_lane_half_L": 2.5,  # colreg_tss: the northbound lane 1.6 km wide, the zone 0.8 km
+            "tss_zone_width_L": 2.5,
         },
     },
     max_episode_steps=400,
-    pilots={"pid": vo_pilot, "pid-nomoto": vo_nomoto_pilot, "scripted": route_pilot},
+    pilots={"pid": vo_pilot, "pid-nomoto": vo_nomoto_pilot, "scripted": route_pilot, "mpc": mpc_pilot},
     metrics=episode_metrics,
     train={"common": {"n_timesteps": 1_000_000, "n_envs": 16}},
 )
@@ -318,7 +369,7 @@ class CollisionAvoidanceTask(Task):
     ## Arguments
 
     ``reset(options={"scenario": "imazu:12" | "imazu" | "generated" | "generated:head_on+give_way" |
-    "file:situation.json", "heading_deg": h})`` pins the encounter (``file:``: a maritime-schema traffic
+    "dnv:7" | "file:situation.json", "heading_deg": h})`` pins the encounter (``file:``: a maritime-schema traffic
     situation, ``colreg_situation``) and the own ship's heading.
     """
 
@@ -357,6 +408,17 @@ class CollisionAvoidanceTask(Task):
                     f"CollisionAvoidance: waters {config.waters!r}: its start region must hold "
                     "the origin (the own ship's start)"
                 )
+        if config.targets_observed == "ais":
+            self.world.ais = AisReceiver(
+                n,
+                config.agents + config.max_targets,
+                config.ais_class,
+                config.ais_dropout,
+                config.ais_position_sigma_m,
+                config.ais_sog_sigma_kn,
+                config.ais_cog_sigma_deg,
+                config.ais_turning_deg_min,
+            )
         if config.sensors:
             self.world.sensors = config.sensors
             self.world.bearings = sweep_bearings(config.sensors)
@@ -385,6 +447,9 @@ class CollisionAvoidanceTask(Task):
         p[P.stand_on_course] = c.stand_on_tolerance_deg * DEG
         p[P.stand_on_speed] = c.stand_on_speed_fraction
         p[P.sensor_range] = c.sensor_range_L * self.L
+        p[P.tss_lane] = c.tss_lane_half_L * self.L
+        p[P.tss_zone] = c.tss_zone_width_L * self.L
+        p[P.tss_direction] = c.tss_direction_deg * DEG
         self.p = p
         T = self.L / self.U_T  # s
         # the reacting targets' heading law (PIDHeadingAutopilot's default gains): Kp, Kd (s), rudder limit,
@@ -464,8 +529,17 @@ class CollisionAvoidanceTask(Task):
             T = c.tcpa_L * self.L / self.U_T
             tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
             return lanes(types, tcpa, self.U_T, self.L, c.opposite_lane_L * self.L, rng)
+        if kind == "dnv":
+            fits = [i for i in range(1, DNV_COUNT + 1) if need <= DNV_TARGETS[i - 1] <= c.max_targets]
+            number = int(rng.choice(fits)) if not arg else _numbered("dnv", arg, DNV_COUNT)
+            enc = within_speed(dnv_situation(number), self.U_T)
+            if not need <= len(enc.targets) <= c.max_targets:
+                raise ValueError(
+                    f"{name}: {len(enc.targets)} targets; this task takes {need} to {c.max_targets}"
+                )
+            return enc
         if kind == "file" and arg:
-            enc = read_situation(arg)
+            enc = within_speed(read_situation(arg), self.U_T)
             if not need <= len(enc.targets) <= c.max_targets:
                 raise ValueError(
                     f"{name}: {len(enc.targets)} targets; this task takes {need} to {c.max_targets}"
@@ -473,7 +547,7 @@ class CollisionAvoidanceTask(Task):
             return enc
         raise ValueError(
             f"unknown scenario {name!r} (imazu, imazu:1..22, generated, generated:<type>[+<type>...], "
-            "lanes, lanes:<type>[+<type>...], file:<path>)"
+            "lanes, lanes:<type>[+<type>...], dnv, dnv:1..55, file:<path>)"
         )
 
     def reset_vessel(self, k: int, rng: np.random.Generator, options: Mapping | None) -> None:
@@ -530,6 +604,8 @@ class CollisionAvoidanceTask(Task):
                 s[S.min_sep] = math.inf
                 for row in self.pairs[j]:
                     new_record(row)
+                if world.ais is not None:
+                    world.ais.reset(j, rng)
                 self.scenario_id[j] = name_id
                 self.planned_dcpa[j] = planned
                 self.scores[j] = 0.0
@@ -601,6 +677,20 @@ def _case(text: str) -> int:
     if case not in IMAZU:
         raise ValueError(f"Imazu case {case} does not exist (1..22)")
     return case
+
+
+def _numbered(kind: str, text: str, count: int) -> int:
+    try:
+        number = int(text)
+    except ValueError:
+        raise ValueError(f"{kind}:{text}: the situation must be a number 1..{count}") from None
+    if not 1 <= number <= count:
+        raise ValueError(f"{kind}:{number} does not exist (1..{count})")
+    return number
+
+
+#: targets of each DNV baseline situation (1..55): 1-5 one, 6-20 two, 21-55 three (the files' order)
+DNV_TARGETS = (1,) * 5 + (2,) * 15 + (3,) * 35
 
 
 def _field_names() -> tuple[str, ...]:

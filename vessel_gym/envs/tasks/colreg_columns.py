@@ -73,6 +73,9 @@ S = columns(
     "prev_e",  # m
     "outcome",  # OUTCOMES index
     "straight",  # m, the route's length
+    "tss_zone",  # s in the separation zone (rule 10(b)(ii), (e))
+    "tss_wrong_lane",  # s in the opposite lane (rule 10(b)(i))
+    "tss_against",  # s in the own lane off its direction of flow (rule 10(b)(i))
     typename="CollisionAvoidanceState",
 )
 
@@ -113,6 +116,20 @@ INFO = (
     Info("colreg_passed", _checks("passed"), "per check: pairs passing it"),
     Info("colreg_applied", _checks("applied"), "per check: pairs it applies to"),
     Info("diverged", lambda v: v.ts[S.outcome] == _DIVERGED, "the simulation diverged"),
+    Info(
+        "tss_scored",
+        lambda v: v.ts[S.t] * 0.0 + (v.task.p[P.tss_lane] > 0.0) > 0.5,
+        "rule 10 is scored (tss_lane_half_L > 0)",
+    ),
+    Info("tss_zone_s", lambda v: v.ts[S.tss_zone], "time in the separation zone, s (rule 10(b)(ii), (e))"),
+    Info(
+        "tss_wrong_lane_s", lambda v: v.ts[S.tss_wrong_lane], "time in the opposite lane, s (rule 10(b)(i))"
+    ),
+    Info(
+        "tss_against_flow_s",
+        lambda v: v.ts[S.tss_against],
+        "time in the own lane heading more than tss_direction_deg off its flow, s (rule 10(b)(i))",
+    ),
 )
 
 SPEC = task_spec(
@@ -172,5 +189,8 @@ P = columns(
     "stand_on_course",  # rad
     "stand_on_speed",  # fraction
     "sensor_range",  # m, the range-sensor sweep's reach
+    "tss_lane",  # m, the own lane's half width about the route (0: rule 10 not scored)
+    "tss_zone",  # m, the separation zone's width, beyond the own lane to port
+    "tss_direction",  # rad, heading off the lane's direction of flow that counts as against it
     typename="CollisionAvoidanceParams",
 )

@@ -145,6 +145,12 @@ def colreg_update(phase, v, t):
                 track(rec, s[S.t], psi, U, rng, tcpa, ahead, p[P.action], p[P.release])
             if sit in (HEAD_ON, GIVE_WAY) and tcpa > 0.0 and order < -p[P.port_order]:
                 port_with_give_way = True
+            if world.ais is not None:  # the target as received over AIS, dead-reckoned to now
+                _u, _v, tr = velocity_through_water(x, j)
+                an, ae, avn, ave = world.ais.observe(k, slot, s[S.t], tn, te, tvn, tve, tr)
+                pn, pe, wn, we = an - on, ae - oe, avn - ovn, ave - ove
+                rng = math.hypot(pn, pe)
+                dcpa, tcpa = cpa(pn, pe, wn, we)
             listed.append((dcpa + 0.1 * rng, rng, pn, pe, wn, we, dcpa, tcpa, sit))
         listed.sort()
         cos_p, sin_p = math.cos(psi), math.sin(psi)
@@ -176,6 +182,13 @@ def colreg_update(phase, v, t):
             outcome = ARRIVED  # at the goal, or past its abeam line
         elif abs(cross) > p[P.max_cross]:
             outcome = STRAYED
+        if stepped and p[P.tss_lane] > 0.0:  # rule 10: where in the scheme, and which way
+            if cross < -p[P.tss_lane] - p[P.tss_zone]:
+                s[S.tss_wrong_lane] += p[P.dt]
+            elif cross < -p[P.tss_lane]:
+                s[S.tss_zone] += p[P.dt]
+            elif abs(wrap_pi(alpha - psi)) > p[P.tss_direction]:
+                s[S.tss_against] += p[P.dt]
         if stepped:
             terms[k, TERM.progress] = (s[S.prev_goal] - goal) / (p[P.U_T] * p[P.dt])
             terms[k, TERM.cross_track] = -min(abs(cross) / p[P.max_cross], 1.0)
