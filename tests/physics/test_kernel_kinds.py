@@ -10,6 +10,7 @@ import pytest
 from vessel_gym.physics import layout as lo
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.integrate import RK4, derivatives_for, drivers, run_serial
+from vessel_gym.physics.linear import stable_step
 from vessel_gym.physics.shipfile import load_ship
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
@@ -90,3 +91,30 @@ def test_right_hand_side_of_the_narrowest_kind_is_the_general_one_to_the_bit(shi
         derivatives_for(P, e)(P, x, u, e, np.zeros(3), narrow)
         derivatives(P, x, u, e, np.zeros(3), general)
         assert np.array_equal(narrow, general) and np.any(narrow != 0.0)
+
+
+def test_shallow_water_simulation_compiles_one_kind_and_gives_the_deep_water_bits():
+    # a simulation told it will meet shallow water (HarbourApproach with the chart's depth) takes the shallow
+    # kind from the start, in deep water too: its steady start, its steps and its linearisation are those of
+    # the deep-water kind to the bit, and the first shallow row needs no other kernel
+    told = Simulation("kvlcc2", n=4, dt=0.2, environment=Environment(**WEATHER), shallow_water=True)
+    told.reset()
+    assert told._kernels is drivers(True, False, False, False)
+    fresh = Simulation("kvlcc2", n=4, dt=0.2, environment=Environment(**WEATHER))
+    fresh.reset()
+    assert fresh._kernels is drivers(False, False, False, False)
+    assert np.array_equal(told.state, fresh.state) and np.array_equal(told.inputs, fresh.inputs)
+    for s in (told, fresh):
+        s.set_helm(rudder_order_rad=np.linspace(-35.0, 35.0, 4) * DEG)
+        s.step(200)
+    assert np.array_equal(told.state, fresh.state) and told._kernels is drivers(True, False, False, False)
+    told.env[:, lo.E_T_OVER_H] = 1.0 / 1.5  # the chart's depth arrives: the same kernel goes on
+    told.step(10)
+    assert told._kernels is drivers(True, False, False, False)
+    assert stable_step("kvlcc2_l7", shallow_water=True) == stable_step("kvlcc2_l7")
+    P, e = told.Ps[0], np.zeros(lo.NE)
+    assert derivatives_for(P, e, shallow=True) is not derivatives_for(P, e)
+    a, b = np.zeros(lo.NX), np.zeros(lo.NX)
+    derivatives_for(P, e, shallow=True)(P, fresh.state[1], fresh.inputs[1], e, np.zeros(3), a)
+    derivatives_for(P, e)(P, fresh.state[1], fresh.inputs[1], e, np.zeros(3), b)
+    assert np.array_equal(a, b) and np.any(a != 0.0)

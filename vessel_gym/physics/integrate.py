@@ -323,11 +323,12 @@ def drivers(shallow: bool = True, roll: bool = True, ext: bool = True, abk: bool
     return _DRIVERS[key]
 
 
-def drivers_for(Ps: np.ndarray, E: np.ndarray):
+def drivers_for(Ps: np.ndarray, E: np.ndarray, shallow: bool = False):
     """:func:`drivers` of the narrowest kind that holds a batch with parameter rows ``Ps`` and environment rows
-    ``E`` (numpy, O(N): call it when these change, not every step)."""
+    ``E`` (numpy, O(N): call it when these change, not every step); ``shallow`` True takes the shallow-water
+    kind in deep water too (a batch that will meet shallow water later: one kind compiled, the same bits)."""
     return drivers(
-        shallow=bool((E[:, lo.E_T_OVER_H] != 0.0).any()),
+        shallow=bool(shallow or (E[:, lo.E_T_OVER_H] != 0.0).any()),
         roll=bool((Ps[:, ROLL.on] != 0.0).any()),
         ext=bool((Ps[:, ENGINE.by_component] != 0.0).any() or (Ps[:, STEERING_GEAR.by_component] != 0.0).any()),
         abk=abkowitz_family(Ps),
@@ -353,13 +354,14 @@ def _make_rhs(shallow: bool, roll: bool, ext: bool, abk: bool):
 _RHS: dict[tuple[bool, bool, bool, bool], object] = {}
 
 
-def derivatives_for(P: np.ndarray, env: np.ndarray):
+def derivatives_for(P: np.ndarray, env: np.ndarray, shallow: bool = False):
     """The right-hand side ``rhs(P, x, inp, env, F, xdot)`` (vessel.derivatives) compiled for the narrowest kind
     that holds one vessel with parameter row ``P`` in environment row ``env``, as :func:`drivers_for` chooses
     the drivers: the same specialisation of the equations as the drivers, so that a caller outside them (the
-    linearisation in linear.py) compiles nothing more, with the general form's results to the bit."""
+    linearisation in linear.py) compiles nothing more, with the general form's results to the bit; ``shallow``
+    as in :func:`drivers_for`."""
     key = (
-        bool(env[lo.E_T_OVER_H] != 0.0),
+        bool(shallow or env[lo.E_T_OVER_H] != 0.0),
         bool(P[ROLL.on] != 0.0),
         bool(P[ENGINE.by_component] != 0.0 or P[STEERING_GEAR.by_component] != 0.0),
         abkowitz_family(P),

@@ -39,11 +39,12 @@ class SimulationError(RuntimeError):
 # its drivers and its steady approach alike; the results are the same for every kind.
 
 
-def _kind(P: np.ndarray, env: np.ndarray) -> tuple[bool, bool, bool, bool]:
+def _kind(P: np.ndarray, env: np.ndarray, shallow: bool = False) -> tuple[bool, bool, bool, bool]:
     """(shallow, roll, ext, abk) of one vessel with parameter row ``P`` in environment row ``env``
-    (integrate.drivers)."""
+    (integrate.drivers); ``shallow`` True chooses the shallow-water kind in deep water too (Simulation's
+    ``shallow_water``: the same results, one kind compiled)."""
     return (
-        bool(env[lo.E_T_OVER_H] != 0.0),
+        bool(shallow or env[lo.E_T_OVER_H] != 0.0),
         bool(P[ROLL.on] != 0.0),
         bool(P[ENGINE.by_component] != 0.0),
         abkowitz_family(P),
@@ -151,21 +152,26 @@ def _solvers(shallow: bool, roll: bool, ext: bool, abk: bool):
 
 
 def steady_rows(
-    ship: Ship, P: np.ndarray, speed: np.ndarray, heading_rad: np.ndarray, env: np.ndarray
+    ship: Ship,
+    P: np.ndarray,
+    speed: np.ndarray,
+    heading_rad: np.ndarray,
+    env: np.ndarray,
+    shallow: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(state rows, input rows) of many steady approaches of one ship (no user forces), each row that of
     :func:`steady_state` (speed m/s, heading rad and environment row j), solved in compiled loops (one per kind
-    of environment: deep or shallow water). Raises SimulationError as :func:`steady_state` does for the first
-    approach the ship cannot make."""
+    of environment: deep or shallow water; ``shallow`` True: the shallow kind for every row, :func:`_kind`).
+    Raises SimulationError as :func:`steady_state` does for the first approach the ship cannot make."""
     m = len(speed)
     out_x, out_u = np.zeros((m, lo.NX)), np.zeros((m, lo.NU))
     if ship.propeller is None:  # nothing to solve: the approach as given
         out_x[:, lo.X_U], out_x[:, lo.X_PSI] = speed, heading_rad
         return out_x, out_u
     n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
-    shallow = env[:, lo.E_T_OVER_H] != 0.0
+    shallow_rows = (env[:, lo.E_T_OVER_H] != 0.0) | shallow
     for kind in (False, True):
-        rows = np.flatnonzero(shallow == kind)
+        rows = np.flatnonzero(shallow_rows == kind)
         if not len(rows):
             continue
         solvers = _solvers(kind, *_kind(P, env[rows[0]])[1:])
@@ -178,7 +184,7 @@ def steady_rows(
             bad = solvers[3](*solve_args)
         if bad >= 0:  # the scalar solver raises its error for it
             j = rows[bad]
-            steady_state(ship, P, float(speed[j]), env=env[j], heading_rad=float(heading_rad[j]))
+            steady_state(ship, P, float(speed[j]), env=env[j], heading_rad=float(heading_rad[j]), shallow=shallow)
             raise SimulationError(f"{ship.name}: no steady approach at {speed[j] / KNOT_M_S:.2f} kn")
         out_x[rows], out_u[rows] = x, u
     return out_x, out_u
@@ -265,9 +271,11 @@ class _SteadyApproach:
     state :attr:`x`, :meth:`balance` with the forces at the last solution until they no longer change, then
     :meth:`finish`."""
 
-    def __init__(self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float):
+    def __init__(
+        self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float, shallow: bool = False
+    ):
         self.ship, self.P, self.speed, self.env = ship, P, speed_m_s, env
-        self._solve = _solvers(*_kind(P, env))
+        self._solve = _solvers(*_kind(P, env, shallow))
         self.x = np.zeros(lo.NX)
         self.inp = np.zeros(lo.NU)
         self.x[lo.X_U] = speed_m_s
@@ -328,6 +336,7 @@ def steady_state(
     extra=None,
     env: np.ndarray | None = None,
     heading_rad: float = 0.0,
+    shallow: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(state row, input row) of a steady straight run at ``speed_m_s`` through the water on ``heading_rad``
     at the origin, in the environment row ``env`` (default: calm water, still ISA air, whose drag on the
@@ -336,10 +345,11 @@ def steady_state(
 
     ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance; they are evaluated at the
     solved shaft speed and the balance is solved again until they no longer change (at once for forces
-    that do not depend on the shaft speed)."""
+    that do not depend on the shaft speed). ``shallow`` True solves with the shallow-water kind of the
+    equations in deep water too (:func:`_kind`; the same result)."""
     if env is None:
         env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
-    s = _SteadyApproach(ship, P, speed_m_s, env, heading_rad)
+    s = _SteadyApproach(ship, P, speed_m_s, env, heading_rad, shallow)
 
     def extra_forces() -> np.ndarray:
         return np.zeros(3) if extra is None else np.asarray(extra(s.x.copy()), dtype=float)
