@@ -44,7 +44,7 @@ CROSS_FLOW_MMG = ("kvlcc2", "kvlcc2_full", "kvlcc2_l7_harbour")
 
 def _beam_on_Y(P_row, H, v=1.0):
     """Hull sway force (N) of a ship moving sideways at v (m/s), no headway, no yaw, at T/h = H."""
-    return hull_forces_at_depth(P_row, 0.0, v, 0.0, 0.0, H, True)[1]
+    return hull_forces_at_depth(P_row, 0.0, v, 0.0, 0.0, H, True, True)[1]
 
 
 @pytest.mark.parametrize("h_over_T", (3.0, 1.5, 1.2))
@@ -67,8 +67,8 @@ def test_yaw_moment_of_the_cross_flow_drag_takes_the_same_factor():
     r = 0.01
     for hT in (3.0, 1.5, 1.2):
         H = 1.0 / hT
-        N_deep = hull_forces_at_depth(P, 0.0, 0.0, r, 0.0, 0.0, True)[2]
-        N_shallow = hull_forces_at_depth(P, 0.0, 0.0, r, 0.0, H, True)[2]
+        N_deep = hull_forces_at_depth(P, 0.0, 0.0, r, 0.0, 0.0, True, True)[2]
+        N_shallow = hull_forces_at_depth(P, 0.0, 0.0, r, 0.0, H, True, True)[2]
         assert N_deep < 0.0  # the turn is resisted
         assert N_shallow / N_deep == pytest.approx(cross_flow_drag_factor(P, H), rel=1e-12)
 
@@ -104,7 +104,7 @@ def test_deep_water_is_unchanged(name):
         U, chi = rng.uniform(0.0, 3.0), rng.uniform(-math.pi, math.pi)
         u, v, r = U * math.cos(chi), U * math.sin(chi), rng.normal() * 2.0 * max(U, 0.1) / L
         assert yoshimura_forces_at_depth(Pr, u, v, r, 0.0) == yoshimura_forces(Pr, u, v, r)
-        assert hull_forces_at_depth(Pr, u, v, r, 0.1, 0.0, True) == hull_forces(Pr, u, v, r, 0.1)
+        assert hull_forces_at_depth(Pr, u, v, r, 0.1, 0.0, True, True) == hull_forces(Pr, u, v, r, 0.1)
     p = ship.particulars
     q = 0.5 * p.rho_kg_m3 * p.L_m * p.T_m
     assert _beam_on_Y(Pr, 0.0) / q == pytest.approx(-ship.large_drift.C_D, rel=1e-12)
@@ -203,7 +203,7 @@ def test_lateral_force_ratio_over_the_drift_angle_against_ocimf(h_over_T, name):
         published = ref.C_YC_BY_DEPTH[h_over_T][i] / ref.C_YC_DEEP[i]
         c = math.radians(chi)
         u, v = math.cos(c), math.sin(c)
-        model = hull_forces_at_depth(P, u, v, 0.0, 0.0, H, True)[1] / hull_forces_at_depth(P, u, v, 0.0, 0.0, 0.0, True)[1]
+        model = hull_forces_at_depth(P, u, v, 0.0, 0.0, H, True, True)[1] / hull_forces_at_depth(P, u, v, 0.0, 0.0, 0.0, True, True)[1]
         gap = abs(model / published - 1.0)
         worst = max(worst, (gap, chi, model, published))
     gap, chi, model, published = worst

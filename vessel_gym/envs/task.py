@@ -43,13 +43,13 @@ STEP_MARGIN = 0.7
 STEP_TRAVEL_L = 0.05  # ship lengths travelled per default step, at most
 
 
-def physics_step(config: ShipEnvConfig, ship: Ship) -> float:
+def physics_step(config: ShipEnvConfig, ship: Ship, shallow_water: bool = False) -> float:
     """``config.dt_s``, or the default: the longest control_interval_s / k within STEP_MARGIN x the stable step
     and STEP_TRAVEL_L ship lengths of travel at the test speed.
 
     An explicit ``dt_s`` beyond the stable step raises SpecError (the integration would diverge).
     """
-    limit = stable_step(ship, config.method)
+    limit = stable_step(ship, config.method, shallow_water=shallow_water)
     if config.dt_s is None:
         longest = min(STEP_MARGIN * limit, STEP_TRAVEL_L * ship.particulars.L_m / ship.test_speed_m_s)
         return config.control_interval_s / math.ceil(config.control_interval_s / longest - 1e-9)
@@ -326,12 +326,13 @@ class Task(abc.ABC):
         n: int,
         ship: str | Ship | None = None,
         reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
+        shallow_water: bool = False,
     ) -> None:
         self.config = config
         self.n = n
         self.preset: str | None = None  # the registered preset it was made with (from_config)
         ship = load_ship(ship if ship is not None else config.ship)
-        self.dt = physics_step(config, ship)
+        self.dt = physics_step(config, ship, shallow_water)
         try:
             self.nsub = steps_for(config.control_interval_s, self.dt)
         except ValueError:
@@ -345,6 +346,7 @@ class Task(abc.ABC):
             dt=self.dt,
             method=config.method,
             reference_latlon_deg=reference_latlon_deg,
+            shallow_water=shallow_water,
         )
         self.ship: Ship = self.sim.ship(0)
         self.helm = make_helm(config, self.sim)

@@ -447,7 +447,7 @@ def load_torque(sim: Any, x: np.ndarray) -> np.ndarray:
     for k in range(x.shape[0]):
         P = sim.Ps[sim.ship_index[k]]
         xk = np.ascontiguousarray(x[k], dtype=float)
-        f = force_terms(P, xk, sim.env[k], sim.env[k, lo.E_T_OVER_H], True)
+        f = force_terms(P, xk, sim.env[k], sim.env[k, lo.E_T_OVER_H], True, True)
         out[k] = f.Q_prop + shaft_friction_torque(P, xk[lo.X_REV])
     return out
 

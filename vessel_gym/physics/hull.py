@@ -186,13 +186,15 @@ def mmg_hull_forces(P, u, v, r, H):
 
 
 @njit(cache=True)
-def hull_forces_at_depth(P, u, v, r, delta, H, abk):
+def hull_forces_at_depth(P, u, v, r, delta, H, abk, far):
     """Dispatch on the ship's hull model, at draught-to-depth ratio H = T/h (0: deep water; only the MMG
     hull has shallow-water corrections, see :mod:`~vessel_gym.physics.shallow_water`).
 
     ``abk``: True where the hull may be an Abkowitz polynomial, None where it is not. The kernels pass None for
     batches without one (integrate.drivers): numba prunes the branch on ``abk is not None`` before typing, so
     the Abkowitz model and its cross-flow blend are not compiled (a quarter of the hull chain's compile time).
+    ``far`` likewise: True where the MMG hull may have the cross-flow model at large drift (``[large_drift]``),
+    None where no ship of the kernel has it (vessel.far_models); the blend is then not compiled.
     Returns (X, Y, N) in N, N, N m."""
     kind = int(P[HULL.kind])
     if abk is not None:
@@ -200,9 +202,10 @@ def hull_forces_at_depth(P, u, v, r, delta, H, abk):
             return abkowitz_forces(P, u, v, r, delta)
     if kind == lo.HULL_MMG:
         X, Y, N = mmg_hull_forces(P, u, v, r, H)
-        if P[LARGE_DRIFT.on] > 0.0 and not inside_polynomial_range(P, u, v, r):
-            # outside the polynomial's fitted range: cross-flow model (crossflow.py)
-            return blend(P, u, v, r, X, Y, N, H)
+        if far is not None:
+            if P[LARGE_DRIFT.on] > 0.0 and not inside_polynomial_range(P, u, v, r):
+                # outside the polynomial's fitted range: cross-flow model (crossflow.py)
+                return blend(P, u, v, r, X, Y, N, H)
         return X, Y, N
     return 0.0, 0.0, 0.0
 
@@ -216,7 +219,7 @@ def hull_forces(P, u, v, r, delta):
     for the same results (every shallow-water function returns its deep-water value for H None, as at H = 0,
     and compiles nothing else)."""
     H = None
-    return hull_forces_at_depth(P, u, v, r, delta, H, True)
+    return hull_forces_at_depth(P, u, v, r, delta, H, True, True)
 
 
 @njit(cache=True)
@@ -224,4 +227,12 @@ def hull_forces_not_abkowitz(P, u, v, r, delta):
     """:func:`hull_forces` of a ship whose hull is not an Abkowitz polynomial (MMG or a user's), compiled
     without the Abkowitz model: the specialisation the drivers of such a ship use (same results)."""
     H = None
-    return hull_forces_at_depth(P, u, v, r, delta, H, None)
+    return hull_forces_at_depth(P, u, v, r, delta, H, None, True)
+
+
+@njit(cache=True)
+def hull_forces_near(P, u, v, r, delta):
+    """:func:`hull_forces` of a ship with neither an Abkowitz hull nor the cross-flow model at large drift
+    (vessel.far_models), compiled without either: the specialisation such a ship's drivers use."""
+    H = None
+    return hull_forces_at_depth(P, u, v, r, delta, H, None, None)

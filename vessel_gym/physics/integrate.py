@@ -11,7 +11,8 @@ A vessel whose state would become non-finite stops integrating, keeps its last f
 (divergence detection): a diverged vessel never shows a NaN.
 
 Kernels per kind of batch (:func:`drivers`): the batch drivers are compiled for what a batch can hold -- deep
-or shallow water, with or without roll, with or without a user's engine -- from the one source of the
+or shallow water, with or without roll, with or without a user's engine, the Abkowitz family's models, the
+models for far from the design point -- from the one source of the
 equations (:func:`~vessel_gym.physics.vessel.derivatives_of`), the choice reaching numba as compile-time
 constants, so a deep-water 3-DOF ship runs no shallow-water or roll instructions. A simulation chooses the
 narrowest kind that holds its vessels (:func:`drivers_for`); each kind compiles on its first use and gives the
@@ -35,9 +36,9 @@ import numpy as np
 from numba import njit, prange
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.params import ENGINE, HULL, PROPELLER, ROLL, RUDDER, STEERING_GEAR
+from vessel_gym.physics.params import ENGINE, HULL, LARGE_DRIFT, PROPELLER, ROLL, RUDDER, STEERING_GEAR
 from vessel_gym.physics.steering import steering_gear_angle
-from vessel_gym.physics.vessel import NO_REFCOUNT, abkowitz_family, derivatives_of, forces
+from vessel_gym.physics.vessel import NO_REFCOUNT, abkowitz_family, derivatives_of, far_models, forces
 
 # The threaded driver's worker threads sleep between calls rather than spin (GNU OpenMP spins for up to
 # ~300000 polls after a parallel region by default). Spinning buys a few microseconds per call on an idle
@@ -121,7 +122,7 @@ def finish_step(x, K, dt, method, delta_end, xt, nx):
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, abk, nx):
+def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, abk, far, nx):
     """Stage ``stage`` (0..3 for RK4, 0 for Euler) of one step of one vessel: the right-hand side at the stage
     state ``xs`` (``x`` itself at stage 0) into ``K[stage]``, then either the state the next stage evaluates at,
     formed in ``xt`` (:func:`stage_state`), or after the last stage the step's result committed to ``x``
@@ -131,14 +132,14 @@ def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, abk,
     vessel, the driver with Python components (:func:`run_with_components`) stage by stage over the batch,
     calling the components in between; the same calls in the same order, so both give the same bits.
 
-    ``H``, ``roll``, ``ext`` and ``abk`` choose the kernel (:func:`~vessel_gym.physics.vessel.derivatives_of`). The rudder
+    ``H``, ``roll``, ``ext``, ``abk`` and ``far`` choose the kernel (:func:`~vessel_gym.physics.vessel.derivatives_of`). The rudder
     angle of each stage is the steering gear's exact solution at that stage's time, solved from the step's
     start; where a user's steering gear gives the rudder rate (``STEERING_GEAR.by_component``, with ``F`` carrying it as
     ``F_DELTA_RATE``) the angle is a state like any other, x + h k.
     """
     D = lo.X_DELTA
     k = K[stage]
-    derivatives_of(P, xs, inp, env, F, k, H, roll, ext, abk)
+    derivatives_of(P, xs, inp, env, F, k, H, roll, ext, abk, far)
     user_gear = ext and F.shape[0] > lo.F_DELTA_RATE and P[STEERING_GEAR.by_component] > 0.0
     if user_gear:
         k[D] = F[lo.F_DELTA_RATE]
@@ -162,7 +163,7 @@ def rk_stage(P, x, inp, env, F, K, stage, xs, xt, dt, method, H, roll, ext, abk,
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt, H, roll, ext, abk, nx):
+def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt, H, roll, ext, abk, far, nx):
     """Advance one vessel ``nsteps`` fixed steps of ``dt`` seconds in place, with the forces ``F_ext`` held: the
     stages of :func:`rk_stage` in turn. ``K`` (4, NX) and ``xt`` (NX) are scratch; ``nx`` is how many states
     the kernel integrates (layout.NX, or NX_3DOF without roll: the roll states of a 3-DOF vessel have zero
@@ -171,13 +172,15 @@ def step_vessel(P, x, inp, env, F_ext, dt, nsteps, method, K, xt, H, roll, ext, 
     for _ in range(nsteps):
         for stage in range(ns):
             xs = x if stage == 0 else xt
-            if not rk_stage(P, x, inp, env, F_ext, K, stage, xs, xt, dt, method, H, roll, ext, abk, nx):
+            if not rk_stage(P, x, inp, env, F_ext, K, stage, xs, xt, dt, method, H, roll, ext, abk, far, nx):
                 return False
     return True
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S, shallow_env, roll, ext, abk, nx):
+def _run_range(
+    Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, stop, S, shallow_env, roll, ext, abk, far, nx
+):
     """Integrate the alive vessels first..stop-1 with the scratch rows S (5, NX). Returns how many are alive.
 
     ``shallow_env`` is ``E`` in a kernel for shallow water (each vessel's draught-to-depth ratio read from its
@@ -205,6 +208,7 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
                 roll,
                 ext,
                 abk,
+                far,
                 nx,
             )
             alive[b] = ok
@@ -213,11 +217,12 @@ def _run_range(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, first, sto
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def kernel_fits(Ps, E, shallow_env, roll, ext, abk):
-    """Whether the kernel chosen by ``shallow_env``, ``roll``, ``ext`` and ``abk`` (:func:`drivers`) holds every
-    vessel of the batch: deep water (E_T_OVER_H exactly 0) where ``shallow_env`` is None, no ship with roll where
-    ``roll`` is None, no user engine or steering gear where ``ext`` is False, no model of the Abkowitz family
-    (vessel.abkowitz_family) where ``abk`` is None."""
+def kernel_fits(Ps, E, shallow_env, roll, ext, abk, far):
+    """Whether the kernel chosen by ``shallow_env``, ``roll``, ``ext``, ``abk`` and ``far`` (:func:`drivers`)
+    holds every vessel of the batch: deep water (E_T_OVER_H exactly 0) where ``shallow_env`` is None, no ship
+    with roll where ``roll`` is None, no user engine or steering gear where ``ext`` is False, no model of the
+    Abkowitz family (vessel.abkowitz_family) where ``abk`` is None, no cross-flow hull or four-quadrant
+    propeller (vessel.far_models) where ``far`` is None."""
     if shallow_env is None:
         for b in range(E.shape[0]):
             if E[b, lo.E_T_OVER_H] != 0.0:
@@ -233,12 +238,14 @@ def kernel_fits(Ps, E, shallow_env, roll, ext, abk):
             or Ps[j, PROPELLER.wake_kind] == lo.WAKE_SON_NOMOTO
         ):
             return False
+        if far is None and (Ps[j, LARGE_DRIFT.on] != 0.0 or Ps[j, PROPELLER.four_quadrant] != 0.0):
+            return False
     return True
 
 
 @njit(cache=True, parallel=True)
-def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env, roll, ext, abk, nx):
-    if not kernel_fits(Ps, E, shallow_env, roll, ext, abk):
+def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env, roll, ext, abk, far, nx):
+    if not kernel_fits(Ps, E, shallow_env, roll, ext, abk, far):
         return -1
     nb = X.shape[0]
     nchunks = min(nb, MAX_CHUNKS)
@@ -263,42 +270,45 @@ def _parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, shallow_env
             roll,
             ext,
             abk,
+            far,
             nx,
         )
     return count
 
 
-def _make_drivers(shallow: bool, roll: bool, ext: bool, abk: bool):
+def _make_drivers(shallow: bool, roll: bool, ext: bool, abk: bool, far: bool):
     # the flags reach the compiled code as closure constants: numba types them as literals, passes them on as
     # such, and compiles (and caches) one kernel per combination, keyed by their values
-    # roll and abk as True or None: numba compiles a part guarded by `flag is not None` only where it is True
-    SHALLOW, ROLL, EXT, ABK = shallow, (True if roll else None), ext, (True if abk else None)
+    # roll, abk and far as True or None: numba compiles a part guarded by `flag is not None` only where it is True
+    SHALLOW, ROLL, EXT = shallow, (True if roll else None), ext
+    ABK, FAR = (True if abk else None), (True if far else None)
     NXK = lo.NX if roll else lo.NX_3DOF
 
     # the serial driver in one level: every call level counts references of its array arguments (~150 ns a call)
     @njit(cache=True)
     def run_serial(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
         shallow_env = E if SHALLOW else None
-        if not kernel_fits(Ps, E, shallow_env, ROLL, EXT, ABK):
+        if not kernel_fits(Ps, E, shallow_env, ROLL, EXT, ABK, FAR):
             return -1
         S = np.empty((5, lo.NX))
+        n = X.shape[0]
         return _run_range(
-            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, X.shape[0], S, shallow_env, ROLL, EXT, ABK, NXK
+            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, 0, n, S, shallow_env, ROLL, EXT, ABK, FAR, NXK
         )
 
     @njit(cache=True)
     def run_parallel(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive):
         return _parallel(
-            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, E if SHALLOW else None, ROLL, EXT, ABK, NXK
+            Ps, ship_index, X, U, E, F, dt, nsteps, method, alive, E if SHALLOW else None, ROLL, EXT, ABK, FAR, NXK
         )
 
     return run_serial, run_parallel
 
 
-_DRIVERS: dict[tuple[bool, bool, bool, bool], tuple] = {}
+_DRIVERS: dict[tuple[bool, bool, bool, bool, bool], tuple] = {}
 
 
-def drivers(shallow: bool = True, roll: bool = True, ext: bool = True, abk: bool = True):
+def drivers(shallow: bool = True, roll: bool = True, ext: bool = True, abk: bool = True, far: bool = True):
     """The batch drivers (serial, threaded) compiled for one kind of batch, each
     ``driver(Ps, ship_index, X, U, E, F, dt, nsteps, method, alive)``:
 
@@ -310,33 +320,38 @@ def drivers(shallow: bool = True, roll: bool = True, ext: bool = True, abk: bool
       STEERING_GEAR.by_component);
     * ``abk``: a ship may use a model of the Abkowitz family (vessel.abkowitz_family: an Abkowitz hull, the Son
       & Nomoto rudder or wake); False leaves those models out of the compilation: a batch of MMG ships compiles
-      only the models it uses.
+      only the models it uses;
+    * ``far``: a ship may use the cross-flow hull at large drift or the four-quadrant propeller curves
+      (vessel.far_models); False leaves them out (about a fifth of a cold start of such a ship).
 
     All True is the general kernel (:data:`run_serial`, :data:`run_parallel`). Every combination gives the
     general kernel's results to the bit; a narrower one is only faster. A driver first checks that its kind
     holds every vessel of the batch (:func:`kernel_fits`) and returns -1 without integrating if not, so a
     wrong choice is never silent. Each combination compiles on its first use.
     """
-    key = (bool(shallow), bool(roll), bool(ext), bool(abk))
+    key = (bool(shallow), bool(roll), bool(ext), bool(abk), bool(far))
     if key not in _DRIVERS:
         _DRIVERS[key] = _make_drivers(*key)
     return _DRIVERS[key]
 
 
-def drivers_for(Ps: np.ndarray, E: np.ndarray):
+def drivers_for(Ps: np.ndarray, E: np.ndarray, shallow: bool = False):
     """:func:`drivers` of the narrowest kind that holds a batch with parameter rows ``Ps`` and environment rows
-    ``E`` (numpy, O(N): call it when these change, not every step)."""
+    ``E`` (numpy, O(N): call it when these change, not every step); ``shallow`` True takes the shallow-water
+    kind in deep water too (a batch that will meet shallow water later: one kind compiled, the same bits)."""
     return drivers(
-        shallow=bool((E[:, lo.E_T_OVER_H] != 0.0).any()),
+        shallow=bool(shallow or (E[:, lo.E_T_OVER_H] != 0.0).any()),
         roll=bool((Ps[:, ROLL.on] != 0.0).any()),
         ext=bool((Ps[:, ENGINE.by_component] != 0.0).any() or (Ps[:, STEERING_GEAR.by_component] != 0.0).any()),
         abk=abkowitz_family(Ps),
+        far=far_models(Ps),
     )
 
 
-def _make_rhs(shallow: bool, roll: bool, ext: bool, abk: bool):
+def _make_rhs(shallow: bool, roll: bool, ext: bool, abk: bool, far: bool):
     # closure constants, as in _make_drivers
-    SHALLOW, ROLL, EXT, ABK = shallow, (True if roll else None), ext, (True if abk else None)
+    SHALLOW, ROLL, EXT = shallow, (True if roll else None), ext
+    ABK, FAR = (True if abk else None), (True if far else None)
 
     @njit(cache=True)
     def rhs(P, x, inp, env, F, xdot):
@@ -345,24 +360,26 @@ def _make_rhs(shallow: bool, roll: bool, ext: bool, abk: bool):
             H = None
         else:
             H = shallow_env[lo.E_T_OVER_H]
-        derivatives_of(P, x, inp, env, F, xdot, H, ROLL, EXT, ABK)
+        derivatives_of(P, x, inp, env, F, xdot, H, ROLL, EXT, ABK, FAR)
 
     return rhs
 
 
-_RHS: dict[tuple[bool, bool, bool, bool], object] = {}
+_RHS: dict[tuple[bool, bool, bool, bool, bool], object] = {}
 
 
-def derivatives_for(P: np.ndarray, env: np.ndarray):
+def derivatives_for(P: np.ndarray, env: np.ndarray, shallow: bool = False):
     """The right-hand side ``rhs(P, x, inp, env, F, xdot)`` (vessel.derivatives) compiled for the narrowest kind
     that holds one vessel with parameter row ``P`` in environment row ``env``, as :func:`drivers_for` chooses
     the drivers: the same specialisation of the equations as the drivers, so that a caller outside them (the
-    linearisation in linear.py) compiles nothing more, with the general form's results to the bit."""
+    linearisation in linear.py) compiles nothing more, with the general form's results to the bit; ``shallow``
+    as in :func:`drivers_for`."""
     key = (
-        bool(env[lo.E_T_OVER_H] != 0.0),
+        bool(shallow or env[lo.E_T_OVER_H] != 0.0),
         bool(P[ROLL.on] != 0.0),
         bool(P[ENGINE.by_component] != 0.0 or P[STEERING_GEAR.by_component] != 0.0),
         abkowitz_family(P),
+        far_models(P),
     )
     if key not in _RHS:
         _RHS[key] = _make_rhs(*key)
@@ -371,7 +388,7 @@ def derivatives_for(P: np.ndarray, env: np.ndarray):
 
 #: the general batch drivers: integrate every alive vessel of the batch, serially or with contiguous chunks of
 #: vessels spread over threads (large batches); mark diverged vessels dead; return the number alive
-run_serial, run_parallel = drivers(True, True, True, True)
+run_serial, run_parallel = drivers(True, True, True, True, True)
 
 
 @njit(cache=True)
@@ -388,7 +405,7 @@ def stage_batch(Ps, ship_index, X, U, E, F, K, stage, dt, method, alive, Xt):
         xs = X[b] if stage == 0 else Xt[b]
         H = E[b, lo.E_T_OVER_H]
         P = Ps[ship_index[b]]
-        ok = rk_stage(P, X[b], U[b], E[b], F[b], K[b], stage, xs, Xt[b], dt, method, H, True, True, True, lo.NX)
+        ok = rk_stage(P, X[b], U[b], E[b], F[b], K[b], stage, xs, Xt[b], dt, method, H, True, True, True, True, lo.NX)
         if last:
             alive[b] = ok
             count += ok

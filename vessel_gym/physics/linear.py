@@ -80,20 +80,22 @@ def nomoto(ship: str | Ship, speed_m_s: float | None = None) -> Nomoto:
     return Nomoto(K=num0 / det, T1=(S + disc) / 2.0, T2=(S - disc) / 2.0, T3=b[1] / num0)
 
 
-def fastest_rate(ship: str | Ship, speed_m_s: float | None = None) -> float:
+def fastest_rate(ship: str | Ship, speed_m_s: float | None = None, shallow_water: bool = False) -> float:
     """Largest |eigenvalue| (1/s) of the full model's Jacobian at a steady straight run (default: test speed).
 
     The states the integrators step are perturbed (central differences), so the shaft and governor take part:
     on small models they, not the hull, are the fastest modes (kvlcc2_l7: 7.1 1/s). The rudder angle is left
     out: the integrators solve the steering gear's equation exactly (integrate.step_vessel), so its lag
-    (0.1 s on kvlcc2_l7) does not bound their step.
+    (0.1 s on kvlcc2_l7) does not bound their step. In deep water; ``shallow_water`` evaluates it with the
+    shallow-water kind of the equations (Simulation's ``shallow_water``: the same numbers, the kind a
+    simulation that will meet shallow water compiles anyway).
     """
     from vessel_gym.physics.simulation import Simulation  # the steady approach lives there
 
-    sim = Simulation(load_ship(ship), dt=1.0)
+    sim = Simulation(load_ship(ship), dt=1.0, shallow_water=shallow_water)
     sim.reset(speed_m_s=speed_m_s)
     P, x0, inp, env = sim.Ps[0], sim.state[0].copy(), sim.inputs[0], sim.env[0]
-    rhs = derivatives_for(P, env)
+    rhs = derivatives_for(P, env, shallow_water)
 
     def f(x: np.ndarray) -> np.ndarray:
         xd = np.zeros(lo.NX)
@@ -112,7 +114,10 @@ def fastest_rate(ship: str | Ship, speed_m_s: float | None = None) -> float:
     return float(np.max(np.abs(np.linalg.eigvals(J[np.ix_(stepped, stepped)]))))
 
 
-def stable_step(ship: str | Ship, method: str = "rk4", speed_m_s: float | None = None) -> float:
-    """The longest fixed step (s) at which ``method`` ("rk4" or "euler") integrates the fastest mode stably."""
+def stable_step(
+    ship: str | Ship, method: str = "rk4", speed_m_s: float | None = None, shallow_water: bool = False
+) -> float:
+    """The longest fixed step (s) at which ``method`` ("rk4" or "euler") integrates the fastest mode stably
+    (in deep water; ``shallow_water`` as in :func:`fastest_rate`)."""
     limit = STABILITY_LIMIT[RK4 if method == "rk4" else EULER]
-    return limit / max(fastest_rate(ship, speed_m_s), 1e-9)
+    return limit / max(fastest_rate(ship, speed_m_s, shallow_water), 1e-9)

@@ -31,12 +31,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.hull import hull_forces, hull_forces_not_abkowitz
+from vessel_gym.physics.hull import hull_forces, hull_forces_near, hull_forces_not_abkowitz
 from vessel_gym.physics.kinematics import coriolis_forces
 from vessel_gym.physics.params import HULL
 from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, load_ship
 from vessel_gym.physics.units import DEG
-from vessel_gym.physics.vessel import mass_matrix, pack
+from vessel_gym.physics.vessel import far_models, mass_matrix, pack
 
 #: finding statuses, from harmless to refused
 OK, INFO, UNUSUAL, IMPOSSIBLE = "ok", "info", "unusual", "impossible"
@@ -109,8 +109,11 @@ def sign_findings(ship: Ship) -> list[Finding]:
 
 def _hull_forces_for(P: np.ndarray):
     """The deep-water hull forces compiled as the drivers of this ship compile them (no Abkowitz model for an
-    MMG hull), so that a check before the first step compiles nothing the run does not."""
-    return hull_forces if P[HULL.kind] == lo.HULL_ABKOWITZ else hull_forces_not_abkowitz
+    MMG hull, no cross-flow model without ``[large_drift]``), so that a check before the first step compiles
+    nothing the run does not."""
+    if P[HULL.kind] == lo.HULL_ABKOWITZ:
+        return hull_forces
+    return hull_forces_not_abkowitz if far_models(P) else hull_forces_near
 
 
 def hull_power(ship: Ship) -> tuple[float, float, float]:

@@ -29,6 +29,12 @@ from vessel_gym.physics.shallow_water import wake_fraction
 
 @njit(cache=True)
 def propeller_thrust_torque(P, u_a, n):
+    """:func:`thrust_torque` with every model compiled in (the general form; see there)."""
+    return thrust_torque(P, u_a, n, True)
+
+
+@njit(cache=True)
+def thrust_torque(P, u_a, n, far):
     """Propeller thrust T (N, positive ahead) and absorbed torque Q (N m, same sign convention as n).
 
     Quadrant 1 (n >= 0, u_a >= 0): the open-water quadratics K_T = k_0 + k_1 J + k_2 J^2 (and K_Q), written
@@ -40,9 +46,13 @@ def propeller_thrust_torque(P, u_a, n):
     magnitude growing linearly with ahead inflow in quadrant 4 (crash stop) at ``astern_inflow_slope``.
     With ``[propeller] four_quadrant`` set, quadrants 2-4 are instead the published Wageningen B-series
     curves joined to quadrant 1 by :func:`four_quadrant_thrust_torque`.
+
+    ``far`` (True or None) chooses whether the four-quadrant curves are compiled in (vessel.far_models): a
+    kernel for ships without them passes None and numba prunes the branch before typing.
     """
-    if P[PROPELLER.four_quadrant] > 0.0 and not (n >= 0.0 and u_a >= 0.0):
-        return four_quadrant_thrust_torque(P, u_a, n)
+    if far is not None:
+        if P[PROPELLER.four_quadrant] > 0.0 and not (n >= 0.0 and u_a >= 0.0):
+            return four_quadrant_thrust_torque(P, u_a, n)
     D = P[PROPELLER.D_P]
     rho = P[BODY.rho]
     k0 = P[PROPELLER.k_0]

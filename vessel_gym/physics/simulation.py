@@ -100,6 +100,11 @@ class Simulation(Readings, Helm):
             gives the rudder rate). A component in a slot a built-in fills without ``replace``, or two in one
             slot, raise ValueError (docs/components.md).
         reference_latlon_deg: geodetic reference point of local x/y (north/east) for bridge readings.
+        shallow_water: the vessels will meet shallow water after the start (a depth written into their
+            environment rows later, e.g. a chart's under each ship): the shallow-water kind of the compiled
+            equations serves the drivers and the steady approaches from the start, in deep water too, so that
+            only that kind is compiled. The results are those of the deep-water kind to the bit (each
+            shallow-water factor is its deep-water value at T/h = 0); only compile time differs.
     """
 
     _kernels_checked = False  # whether the drivers' kind was checked against the rows since it was chosen
@@ -115,7 +120,9 @@ class Simulation(Readings, Helm):
         components: Sequence[ForceComponent] = (),
         replace: Sequence[str] = (),
         reference_latlon_deg: tuple[float, float] = (0.0, 0.0),
+        shallow_water: bool = False,
     ) -> None:
+        self.shallow_water = bool(shallow_water)
         seq = [ships] if isinstance(ships, (str, Ship)) or not isinstance(ships, Sequence) else list(ships)
         self.ships: list[Ship] = [load_ship(s) for s in seq]
         if n is None:
@@ -190,7 +197,7 @@ class Simulation(Readings, Helm):
             rows = np.stack([environment.row(s.particulars.L_m, s.particulars.T_m) for s in self.ships])
             self.env[:] = rows[self.ship_index]
             self.environments[:] = [environment] * self.n
-            self._kernels = drivers_for(self.Ps, self.env)
+            self._kernels = drivers_for(self.Ps, self.env, self.shallow_water)
             self._kernels_checked = False
             return
         # one vessel: the drivers check the batch's kind themselves and :meth:`step` chooses again when needed
@@ -349,7 +356,9 @@ class Simulation(Readings, Helm):
         for s in np.unique(ship_of).tolist():
             sel = mq[ship_of == s]
             f = first[sel]
-            rows_x[sel], rows_u[sel] = steady_rows(self.ships[s], self.Ps[s], speed[f], hkey[f] * DEG, env[f])
+            rows_x[sel], rows_u[sel] = steady_rows(
+                self.ships[s], self.Ps[s], speed[f], hkey[f] * DEG, env[f], self.shallow_water
+            )
         for q in mq[-STEADY_CACHE_SIZE:].tolist():
             f = int(first[q])
             if len(cache) >= STEADY_CACHE_SIZE:
@@ -371,7 +380,9 @@ class Simulation(Readings, Helm):
         key = (self._params_key(si), speed, hkey, env.tobytes())
         hit = cache.get(key)
         if hit is None:
-            hit = steady_state(self.ships[si], self.Ps[si], speed, env=env, heading_rad=hkey * DEG)
+            hit = steady_state(
+                self.ships[si], self.Ps[si], speed, env=env, heading_rad=hkey * DEG, shallow=self.shallow_water
+            )
             if len(cache) >= STEADY_CACHE_SIZE:  # random headings or speeds: keep it bounded
                 cache.clear()
             cache[key] = hit
@@ -398,7 +409,9 @@ class Simulation(Readings, Helm):
         for j in idx:
             si = int(self.ship_index[j])
             speed = self.ships[si].test_speed_m_s if math.isnan(sp[j]) else float(sp[j])
-            solvers[j] = _SteadyApproach(self.ships[si], self.Ps[si], speed, self.env[j], hd[j] * DEG)
+            solvers[j] = _SteadyApproach(
+                self.ships[si], self.Ps[si], speed, self.env[j], hd[j] * DEG, self.shallow_water
+            )
         X = self.state.copy()
         for j, s in solvers.items():
             X[j] = s.x
@@ -460,12 +473,12 @@ class Simulation(Readings, Helm):
             if not self._kernels_checked:
                 # the first step since the drivers were chosen: rows written since (a chart's depth under the
                 # ship) are seen here, in one pass of numpy, rather than by a driver compiled only to refuse
-                self._kernels = drivers_for(self.Ps, self.env)
+                self._kernels = drivers_for(self.Ps, self.env, self.shallow_water)
                 self._kernels_checked = True
             if self._kernels[which](*args) < 0:
                 # the batch is no longer of the kind its drivers were compiled for (Ps or env written
                 # directly): nothing was integrated; choose the drivers again
-                self._kernels = drivers_for(self.Ps, self.env)
+                self._kernels = drivers_for(self.Ps, self.env, self.shallow_water)
                 self._kernels[which](*args)
         self.t += nsteps * self.dt
         return int(flag_runaway(self.state, self.ship_index, self._runaway_limits, self.alive, self.why_dead))

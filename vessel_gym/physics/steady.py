@@ -15,7 +15,7 @@ from vessel_gym.physics.params import ENGINE, ROLL, TRANSMISSION
 from vessel_gym.physics.propulsion import engine_torque, engine_torque_to_hold, shaft_torque_to_hold
 from vessel_gym.physics.shipfile import Ship
 from vessel_gym.physics.units import KNOT_M_S
-from vessel_gym.physics.vessel import NO_REFCOUNT, abkowitz_family, derivatives_of, force_terms
+from vessel_gym.physics.vessel import NO_REFCOUNT, abkowitz_family, derivatives_of, far_models, force_terms
 
 # surge balances solved again at most this many times while user component forces still change with the rpm
 STEADY_MAX_ITERATIONS = 20
@@ -34,59 +34,61 @@ class SimulationError(RuntimeError):
 
 # The solvers below are compiled for the kind of vessel they solve, as the batch drivers are (integrate.drivers):
 # in deep water the draught-to-depth ratio is None (``shallow_env`` None: numba drops the branch on it), and
-# without roll, a user's engine or a model of the Abkowitz family those parts of the equations are left out
-# (``roll``, ``ext``, ``abk`` from the closures of :func:`_solvers`). A deep-water 3-DOF simulation then compiles the right-hand side once, for
+# without roll, a user's engine, a model of the Abkowitz family or one for far from the design point those parts
+# of the equations are left out (``roll``, ``ext``, ``abk``, ``far`` from the closures of :func:`_solvers`). A deep-water 3-DOF simulation then compiles the right-hand side once, for
 # its drivers and its steady approach alike; the results are the same for every kind.
 
 
-def _kind(P: np.ndarray, env: np.ndarray) -> tuple[bool, bool, bool, bool]:
-    """(shallow, roll, ext, abk) of one vessel with parameter row ``P`` in environment row ``env``
-    (integrate.drivers)."""
+def _kind(P: np.ndarray, env: np.ndarray, shallow: bool = False) -> tuple[bool, bool, bool, bool, bool]:
+    """(shallow, roll, ext, abk, far) of one vessel with parameter row ``P`` in environment row ``env``
+    (integrate.drivers); ``shallow`` True chooses the shallow-water kind in deep water too (Simulation's
+    ``shallow_water``: the same results, one kind compiled)."""
     return (
-        bool(env[lo.E_T_OVER_H] != 0.0),
+        bool(shallow or env[lo.E_T_OVER_H] != 0.0),
         bool(P[ROLL.on] != 0.0),
         bool(P[ENGINE.by_component] != 0.0),
         abkowitz_family(P),
+        far_models(P),
     )
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, abk, xd):
+def _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, abk, far, xd):
     """du/dt (m/s^2) at state ``x`` (vessel.derivatives_of, with ``xd`` a scratch row of length NX)."""
     if shallow_env is None:
         H = None
     else:
         H = shallow_env[lo.E_T_OVER_H]
-    derivatives_of(P, x, inp, env, F, xd, H, roll, ext, abk)
+    derivatives_of(P, x, inp, env, F, xd, H, roll, ext, abk, far)
     return xd[lo.X_U]
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _propeller_torque(P, x, env, shallow_env, abk):
+def _propeller_torque(P, x, env, shallow_env, abk, far):
     """The propeller's absorbed torque Q_P (N m) at state ``x`` (vessel.forces' "Q_prop")."""
     if shallow_env is None:
         H = None
     else:
         H = shallow_env[lo.E_T_OVER_H]
-    return force_terms(P, x, env, H, abk).Q_prop
+    return force_terms(P, x, env, H, abk, far).Q_prop
 
 
 @njit(cache=True)
-def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, ext, abk):
+def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, ext, abk, far):
     """:class:`_SteadyApproach` (start, balance, finish; no user forces) of one approach at ``speed`` (m/s),
     ``heading`` (rad) in environment row ``e``, into the rows ``x``, ``inp``: the same calls in the same order.
     False where the propeller or the engine cannot hold it (the caller raises for it). ``shallow_env`` (``e`` or
-    None), ``roll``, ``ext``, ``abk``: the kind of vessel, as compile-time constants (:func:`_solvers`)."""
+    None), ``roll``, ``ext``, ``abk``, ``far``: the kind of vessel, as compile-time constants (:func:`_solvers`)."""
     x[:] = 0.0
     inp[:] = 0.0
     x[lo.X_U] = speed
     x[lo.X_PSI] = heading
     x[lo.X_REV] = inp[lo.U_REV_C] = n_max
     x[lo.X_CAM] = 1.0
-    if _surge_acceleration(P, x, inp, e, F, shallow_env, roll, ext, abk, xd) < 0.0:
+    if _surge_acceleration(P, x, inp, e, F, shallow_env, roll, ext, abk, far, xd) < 0.0:
         return False
-    nrev = _surge_balance_rev(P, x, inp, e, F, n_max, shallow_env, roll, ext, abk)
-    Q_prop = _propeller_torque(P, x, e, shallow_env, abk)
+    nrev = _surge_balance_rev(P, x, inp, e, F, n_max, shallow_env, roll, ext, abk, far)
+    Q_prop = _propeller_torque(P, x, e, shallow_env, abk, far)
     if P[ENGINE.by_component] > 0.0:
         x[lo.X_GOV] = x[lo.X_CAM] = 0.0
         return True
@@ -99,22 +101,23 @@ def _steady_row(P, speed, heading, e, n_max, x, inp, F, xd, shallow_env, roll, e
 
 
 @functools.cache
-def _solvers(shallow: bool, roll: bool, ext: bool, abk: bool):
+def _solvers(shallow: bool, roll: bool, ext: bool, abk: bool, far: bool):
     """(surge_acceleration(P, x, inp, env, F), surge_balance_rev(P, x, inp, env, F, hi_n), propeller_torque(P,
     x, env), steady_rows(...), steady_rows_threaded(...)) compiled for one kind of vessel (:func:`_kind`)."""
-    SHALLOW, ROLL, EXT, ABK = shallow, (True if roll else None), ext, (True if abk else None)  # as integrate.drivers
+    SHALLOW, ROLL, EXT = shallow, (True if roll else None), ext  # as integrate.drivers
+    ABK, FAR = (True if abk else None), (True if far else None)
 
     @njit(cache=True)
     def surge_acceleration(P, x, inp, env, F):
-        return _surge_acceleration(P, x, inp, env, F, env if SHALLOW else None, ROLL, EXT, ABK, np.zeros(lo.NX))
+        return _surge_acceleration(P, x, inp, env, F, env if SHALLOW else None, ROLL, EXT, ABK, FAR, np.zeros(lo.NX))
 
     @njit(cache=True)
     def surge_balance_rev(P, x, inp, env, F, hi_n):
-        return _surge_balance_rev(P, x, inp, env, F, hi_n, env if SHALLOW else None, ROLL, EXT, ABK)
+        return _surge_balance_rev(P, x, inp, env, F, hi_n, env if SHALLOW else None, ROLL, EXT, ABK, FAR)
 
     @njit(cache=True)
     def propeller_torque(P, x, env):
-        return _propeller_torque(P, x, env, env if SHALLOW else None, ABK)
+        return _propeller_torque(P, x, env, env if SHALLOW else None, ABK, FAR)
 
     @njit(cache=True)
     def steady_rows(P, speed, heading, env, n_max, out_x, out_u):
@@ -126,7 +129,7 @@ def _solvers(shallow: bool, roll: bool, ext: bool, abk: bool):
             e = env[j]
             shallow_env = e if SHALLOW else None
             x, inp = out_x[j], out_u[j]
-            if not _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT, ABK):
+            if not _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT, ABK, FAR):
                 return j
         return -1
 
@@ -141,7 +144,7 @@ def _solvers(shallow: bool, roll: bool, ext: bool, abk: bool):
             e = env[j]
             shallow_env = e if SHALLOW else None
             x, inp, xd = out_x[j], out_u[j], np.zeros(lo.NX)
-            ok[j] = _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT, ABK)
+            ok[j] = _steady_row(P, speed[j], heading[j], e, n_max, x, inp, F, xd, shallow_env, ROLL, EXT, ABK, FAR)
         for j in range(m):
             if not ok[j]:
                 return j
@@ -151,21 +154,26 @@ def _solvers(shallow: bool, roll: bool, ext: bool, abk: bool):
 
 
 def steady_rows(
-    ship: Ship, P: np.ndarray, speed: np.ndarray, heading_rad: np.ndarray, env: np.ndarray
+    ship: Ship,
+    P: np.ndarray,
+    speed: np.ndarray,
+    heading_rad: np.ndarray,
+    env: np.ndarray,
+    shallow: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(state rows, input rows) of many steady approaches of one ship (no user forces), each row that of
     :func:`steady_state` (speed m/s, heading rad and environment row j), solved in compiled loops (one per kind
-    of environment: deep or shallow water). Raises SimulationError as :func:`steady_state` does for the first
-    approach the ship cannot make."""
+    of environment: deep or shallow water; ``shallow`` True: the shallow kind for every row, :func:`_kind`).
+    Raises SimulationError as :func:`steady_state` does for the first approach the ship cannot make."""
     m = len(speed)
     out_x, out_u = np.zeros((m, lo.NX)), np.zeros((m, lo.NU))
     if ship.propeller is None:  # nothing to solve: the approach as given
         out_x[:, lo.X_U], out_x[:, lo.X_PSI] = speed, heading_rad
         return out_x, out_u
     n_max = 3.0 * ship.engine.rated_rpm / 60.0 / ship.transmission.gear_ratio
-    shallow = env[:, lo.E_T_OVER_H] != 0.0
+    shallow_rows = (env[:, lo.E_T_OVER_H] != 0.0) | shallow
     for kind in (False, True):
-        rows = np.flatnonzero(shallow == kind)
+        rows = np.flatnonzero(shallow_rows == kind)
         if not len(rows):
             continue
         solvers = _solvers(kind, *_kind(P, env[rows[0]])[1:])
@@ -178,7 +186,7 @@ def steady_rows(
             bad = solvers[3](*solve_args)
         if bad >= 0:  # the scalar solver raises its error for it
             j = rows[bad]
-            steady_state(ship, P, float(speed[j]), env=env[j], heading_rad=float(heading_rad[j]))
+            steady_state(ship, P, float(speed[j]), env=env[j], heading_rad=float(heading_rad[j]), shallow=shallow)
             raise SimulationError(f"{ship.name}: no steady approach at {speed[j] / KNOT_M_S:.2f} kn")
         out_x[rows], out_u[rows] = x, u
     return out_x, out_u
@@ -210,7 +218,7 @@ def distinct_rows(keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 @njit(cache=True)
-def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext, abk):
+def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext, abk, far):
     """Shaft speed in [0, hi_n] of zero surge acceleration at state ``x`` (its X_REV and the order set to it).
 
     Bisection (thrust grows with rev), at most 80 halvings. Compiled: a vector environment
@@ -221,7 +229,7 @@ def _surge_balance_rev(P, x, inp, env, F, hi_n, shallow_env, roll, ext, abk):
     def surge_accel(nrev):
         x[lo.X_REV] = nrev
         inp[lo.U_REV_C] = nrev
-        return _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, abk, xd)
+        return _surge_acceleration(P, x, inp, env, F, shallow_env, roll, ext, abk, far, xd)
 
     lo_n = 0.0
     if surge_accel(0.0) > 0.0:
@@ -265,9 +273,11 @@ class _SteadyApproach:
     state :attr:`x`, :meth:`balance` with the forces at the last solution until they no longer change, then
     :meth:`finish`."""
 
-    def __init__(self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float):
+    def __init__(
+        self, ship: Ship, P: np.ndarray, speed_m_s: float, env: np.ndarray, heading_rad: float, shallow: bool = False
+    ):
         self.ship, self.P, self.speed, self.env = ship, P, speed_m_s, env
-        self._solve = _solvers(*_kind(P, env))
+        self._solve = _solvers(*_kind(P, env, shallow))
         self.x = np.zeros(lo.NX)
         self.inp = np.zeros(lo.NU)
         self.x[lo.X_U] = speed_m_s
@@ -328,6 +338,7 @@ def steady_state(
     extra=None,
     env: np.ndarray | None = None,
     heading_rad: float = 0.0,
+    shallow: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(state row, input row) of a steady straight run at ``speed_m_s`` through the water on ``heading_rad``
     at the origin, in the environment row ``env`` (default: calm water, still ISA air, whose drag on the
@@ -336,10 +347,11 @@ def steady_state(
 
     ``extra(x_row) -> (X, Y, N)`` adds user component forces to the balance; they are evaluated at the
     solved shaft speed and the balance is solved again until they no longer change (at once for forces
-    that do not depend on the shaft speed)."""
+    that do not depend on the shaft speed). ``shallow`` True solves with the shallow-water kind of the
+    equations in deep water too (:func:`_kind`; the same result)."""
     if env is None:
         env = CALM.row(ship.particulars.L_m, ship.particulars.T_m)
-    s = _SteadyApproach(ship, P, speed_m_s, env, heading_rad)
+    s = _SteadyApproach(ship, P, speed_m_s, env, heading_rad, shallow)
 
     def extra_forces() -> np.ndarray:
         return np.zeros(3) if extra is None else np.asarray(extra(s.x.copy()), dtype=float)

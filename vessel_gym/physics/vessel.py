@@ -41,6 +41,7 @@ from vessel_gym.physics.params import (
     ENGINE,
     GOVERNOR,
     HULL,
+    LARGE_DRIFT,
     MMG,
     NP,
     PROPELLER,
@@ -55,9 +56,9 @@ from vessel_gym.physics.params import (
 from vessel_gym.physics.propeller4q import table_code
 from vessel_gym.physics.propulsion import (
     effective_wake,
-    propeller_thrust_torque,
     shaft_acceleration,
     shaft_rate,
+    thrust_torque,
 )
 from vessel_gym.physics.roll import pack_roll, roll_forces
 from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
@@ -279,6 +280,15 @@ def abkowitz_family(Ps: np.ndarray) -> bool:
     )
 
 
+def far_models(Ps: np.ndarray) -> bool:
+    """Whether a parameter row (or any row of a batch) uses a model for far from the design point: the
+    cross-flow hull at large drift (``[large_drift]``, crossflow.py) or the four-quadrant propeller curves
+    (``[propeller] four_quadrant``, propeller4q.py). A kernel for vessels without them is compiled without them
+    (``far`` None: :func:`derivatives_of`), about a fifth less to compile for such a ship (docs/performance.md)."""
+    P = np.atleast_2d(Ps)
+    return bool((P[:, LARGE_DRIFT.on] != 0.0).any() or (P[:, PROPELLER.four_quadrant] != 0.0).any())
+
+
 # The hot call chain (the integrators' per-vessel loop -> step -> derivatives -> force_terms -> components)
 # is compiled without reference counting (numba's `_nrt=False`): these functions allocate nothing and only
 # read and write arrays their caller owns, so counting references is pure overhead -- an atomic increment
@@ -319,7 +329,7 @@ VesselForces = namedtuple("VesselForces", (*FORCE_NAMES, "cos_psi", "sin_psi"))
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def force_terms(P, x, env, H, abk):
+def force_terms(P, x, env, H, abk, far):
     """All component forces for one vessel at state ``x``, a :data:`VesselForces` record: the N_OUT values of
     :func:`forces` by their names, then cos(psi) and sin(psi) for the kinematics in :func:`derivatives`.
 
@@ -327,7 +337,8 @@ def force_terms(P, x, env, H, abk):
     deep-water kernel passes None (integrate.drivers): numba prunes every branch on ``H is None`` before typing,
     so this function and the hull, wake, rudder and thrust-deduction functions it calls are compiled without
     their shallow-water code (each returns its deep-water value for None, as at H = 0: the same results).
-    ``abk`` (True or None) likewise leaves out the models of the Abkowitz family (:func:`abkowitz_family`).
+    ``abk`` (True or None) likewise leaves out the models of the Abkowitz family (:func:`abkowitz_family`),
+    ``far`` (True or None) the cross-flow hull at large drift and the four-quadrant propeller (:func:`far_models`).
 
     A tuple, not an output array: a store into an array that the compiler cannot prove distinct from ``P``
     and ``x`` would make it load them again (see :func:`derivatives`).
@@ -338,7 +349,7 @@ def force_terms(P, x, env, H, abk):
     psi = x[lo.X_PSI]
     delta = x[lo.X_DELTA]
     n = x[lo.X_REV]
-    XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H, abk)
+    XH, YH, NH = hull_forces_at_depth(P, u, v, r, delta, H, abk, far)
     has_prop = P[PROPELLER.on] > 0.0
     mmg_rudder = P[RUDDER.kind] == lo.RUDDER_MMG
     # one speed and drift angle for wake and rudder; the atan2 only where a model reads beta
@@ -355,7 +366,7 @@ def force_terms(P, x, env, H, abk):
                 sn_wake = True
         if not sn_wake:
             wP = effective_wake(P, U, beta, r, H)
-        T, Qp = propeller_thrust_torque(P, u * (1.0 - wP), n)
+        T, Qp = thrust_torque(P, u * (1.0 - wP), n, far)
     XR = YR = NR = 0.0
     if mmg_rudder:
         XR, YR, NR = mmg_rudder_forces_beta(P, u, U, beta, r, delta, wP, T, H)
@@ -383,7 +394,7 @@ def forces(P, x, inp, env, out):
     out = [X_H, Y_H, N_H, X_P, X_R, Y_R, N_R, X_W, Y_W, N_W, X_D, Y_D, N_D, thrust, Q_prop, w_P,
            V_rw, gamma_rw, cur_n, cur_e]
     """
-    f = force_terms(P, x, env, env[lo.E_T_OVER_H], True)
+    f = force_terms(P, x, env, env[lo.E_T_OVER_H], True, True)
     for i in range(N_OUT):
         out[i] = f[i]
     return out
@@ -397,15 +408,15 @@ def derivatives(P, x, inp, env, F_ext, xdot):
 
     The general form of :func:`derivatives_of`: every part of the model tested at run time.
     """
-    derivatives_of(P, x, inp, env, F_ext, xdot, env[lo.E_T_OVER_H], True, True, True)
+    derivatives_of(P, x, inp, env, F_ext, xdot, env[lo.E_T_OVER_H], True, True, True, True)
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext, abk):
+def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext, abk, far):
     """State derivative of one vessel, :func:`derivatives` compiled for one kind of vessel: fills ``xdot``
     (length NX; on a 3-DOF kernel the roll columns are not written).
 
-    The four last arguments choose what is compiled in; the integrators' drivers pass compile-time
+    The five last arguments choose what is compiled in; the integrators' drivers pass compile-time
     constants (integrate.drivers), so numba builds one kernel per combination and LLVM drops the parts a
     combination rules out:
 
@@ -417,7 +428,9 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext, abk):
       for the built-in engine only;
     * ``abk``: True where a vessel may use a model of the Abkowitz family (:func:`abkowitz_family`: an Abkowitz
       hull, the Son & Nomoto rudder or wake; tested at run time), None for vessels without (those models are not
-      compiled in: :func:`~vessel_gym.physics.hull.hull_forces_at_depth`, :func:`force_terms`).
+      compiled in: :func:`~vessel_gym.physics.hull.hull_forces_at_depth`, :func:`force_terms`);
+    * ``far``: True where a vessel may use the cross-flow hull at large drift or the four-quadrant propeller
+      (:func:`far_models`; tested at run time), None for vessels without (not compiled in).
 
     A False or None flag is only passed for vessels it describes, so every combination gives the results of the
     general form to the bit.
@@ -428,7 +441,7 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext, abk):
     travel from :func:`force_terms` as a named record (:data:`VesselForces`), not through a scratch row. Every result is computed before the first store into ``xdot``: the compiler cannot rule
     out that ``xdot`` shares memory with ``P`` or ``x``, so a store would make it load them again.
     """
-    f = force_terms(P, x, env, H, abk)
+    f = force_terms(P, x, env, H, abk, far)
     u = x[lo.X_U]
     v = x[lo.X_V]
     r = x[lo.X_R]

@@ -283,6 +283,7 @@ class HarbourApproachTask(Task):
             n,
             ship=ship_named,
             reference_latlon_deg=(sc.reference_latlon_deg[0], sc.reference_latlon_deg[1]),
+            shallow_water=bool(config.chart_depth),  # one kind of kernel for the chart's depths (Simulation)
         )
         T = self.ship.particulars.T_m
         polys = [(1, pts) for _kind, _name, pts in sc.hard_obstacles()] + [

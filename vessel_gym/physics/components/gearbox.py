@@ -194,7 +194,7 @@ def gearbox_batch(Ps, ship_index, x, inp, env, Z, C, out):
     for k in range(x.shape[0]):
         P = Ps[ship_index[k]]
         n = x[k, lo.X_REV]
-        f = force_terms(P, x[k], env[k], env[k, lo.E_T_OVER_H], True)
+        f = force_terms(P, x[k], env[k], env[k, lo.E_T_OVER_H], True, True)
         Q_load = f.Q_prop + shaft_friction_torque(P, n)
         q, dn_E, dgov, dc, fuel, Q_E, Q_c, slip, phase = gearbox_drive(
             P, C, n, Z[k, 0], Z[k, 1], Z[k, 2], inp[k, lo.U_REV_C], Q_load
