@@ -80,6 +80,29 @@ S = columns(
 )
 
 
+#: the parameter row
+P = columns(
+    "dt",
+    "U_T",
+    "rudder_limit",
+    "max_cross",
+    "goal_radius",
+    "risk",
+    "detection",
+    "action",
+    "release",
+    "port_order",
+    "early_fraction",  # rule checks (colreg_rules.pair_checks): early_tcpa_fraction
+    "substantial",  # rad
+    "stand_on_course",  # rad
+    "stand_on_speed",  # fraction
+    "sensor_range",  # m, the range-sensor sweep's reach
+    "tss_lane",  # m, the own lane's half width about the route (0: rule 10 not scored)
+    "tss_zone",  # m, the separation zone's width, beyond the own lane to port
+    "tss_direction",  # rad, heading off the lane's direction of flow that counts as against it
+    typename="CollisionAvoidanceParams",
+)
+
 #: the info entries (their values read the task state ``ts``, the ``scores``, ``scenario_id`` and
 #: ``planned_dcpa``: the columns S below, read when an info is made)
 INFO = (
@@ -171,26 +194,3 @@ SPEC = task_spec(
     info=INFO,
 )
 TERM, FEAT = SPEC.TERM, SPEC.FEAT
-
-#: the parameter row
-P = columns(
-    "dt",
-    "U_T",
-    "rudder_limit",
-    "max_cross",
-    "goal_radius",
-    "risk",
-    "detection",
-    "action",
-    "release",
-    "port_order",
-    "early_fraction",  # rule checks (colreg_rules.pair_checks): early_tcpa_fraction
-    "substantial",  # rad
-    "stand_on_course",  # rad
-    "stand_on_speed",  # fraction
-    "sensor_range",  # m, the range-sensor sweep's reach
-    "tss_lane",  # m, the own lane's half width about the route (0: rule 10 not scored)
-    "tss_zone",  # m, the separation zone's width, beyond the own lane to port
-    "tss_direction",  # rad, heading off the lane's direction of flow that counts as against it
-    typename="CollisionAvoidanceParams",
-)

@@ -37,7 +37,7 @@ class ColregShield(gym.Wrapper):
 
     def __init__(self, env: gym.Env) -> None:
         super().__init__(env)
-        base = env.unwrapped
+        base: Any = env.unwrapped  # a CollisionAvoidance ShipEnv (its config, layout and task)
         if base.config.action_type != "continuous":
             raise ValueError("ColregShield: takes continuous actions (action_type='continuous')")
         self.layout = base.observation_layout

@@ -43,7 +43,8 @@ def _initial(ship: Any, where: str) -> tuple[float, float, float, float]:
     if not isinstance(init, dict):
         raise ValueError(f"{where}.initial: missing")
     pos, at = init.get("position"), f"{where}.initial.position"
-    sog_node, sog_at = init, f"{where}.initial"
+    sog_node: Any = init
+    sog_at = f"{where}.initial"
     if pos is None or "sog" not in init:
         waypoints = ship.get("waypoints")
         first = waypoints[0] if isinstance(waypoints, list) and waypoints else None
