@@ -151,3 +151,26 @@ def test_study_command_needs_two_or_three_gradings(capsys, gradings):
 
     assert main(["study", "--gradings", gradings, "--hull", "wigley"]) == 2
     assert "gradings: two or three different whole gradings" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("study", ["wigley_grid", "dtc_grid"])
+def test_the_committed_grid_studies_follow_the_procedure(study):
+    """Each committed study's GCI recomputed from its own values and cell counts, and its ship-file table."""
+    from pathlib import Path
+
+    from cfd.gridstudy import relative_uncertainty
+    from cfd.shipfile import tomllib
+
+    folder = Path(__file__).resolve().parents[2] / "cfd" / "studies" / study
+    rep = json.loads((folder / "grid_study.json").read_text())
+    table = tomllib.loads((folder / "grid_uncertainty.toml").read_text())["source"]["provenance"]
+    table = table["grid_uncertainty"]
+    h = tuple(grid_size(n) for n in rep["cells"])
+    estimate = grid_convergence if len(h) == 3 else grid_convergence_two
+    assert table["gradings"] == rep["gradings"] and table["cells"] == rep["cells"]
+    for k, q in rep["quantities"].items():
+        g = estimate(tuple(q["phi"]), h)
+        assert g.condition == q["condition"], k
+        if g.gci_fine is not None:
+            assert g.gci_fine == pytest.approx(q["gci_fine"], rel=1e-9), k
+        assert table[k]["relative"] == pytest.approx(relative_uncertainty(q), rel=1e-9), k
