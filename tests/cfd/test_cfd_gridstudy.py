@@ -153,7 +153,7 @@ def test_study_command_needs_two_or_three_gradings(capsys, gradings):
     assert "gradings: two or three different whole gradings" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("study", ["wigley_grid", "dtc_grid"])
+@pytest.mark.parametrize("study", ["wigley_grid", "wigley_pmm_grid", "dtc_grid"])
 def test_the_committed_grid_studies_follow_the_procedure(study):
     """Each committed study's GCI recomputed from its own values and cell counts, and its ship-file table."""
     from pathlib import Path
