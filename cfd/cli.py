@@ -116,9 +116,11 @@ def _parser() -> OneLineParser:
     run.add_argument("--quiet", action="store_true", help="no progress lines")
     run.add_argument("--ray", metavar="ADDRESS", help="run the cases as tasks on a Ray cluster (or 'local')")
     grid = sub.add_parser(
-        "study", help="grid study: the study at three gradings, Richardson extrapolation and GCI"
+        "study", help="grid study: the study at three (or two) gradings, Richardson extrapolation and GCI"
     )
-    grid.add_argument("--gradings", required=True, help="three gradings 1-5, e.g. 1,2,3")
+    grid.add_argument(
+        "--gradings", required=True, help="three gradings 1-5, e.g. 1,2,3 (or two, e.g. 1,2: two-grid GCI)"
+    )
     grid.add_argument("--study", help="study TOML file (keys as the options of run, with underscores)")
     for opt, text in RUN_OPTIONS:
         if opt != "grading":
@@ -157,8 +159,8 @@ def _grid(args: argparse.Namespace) -> int:
     from .runner import Progress  # noqa: PLC0415
 
     values = parse_list("gradings", args.gradings, 0, 5)
-    if len(set(values)) != 3 or any(g != int(g) or g < 1 for g in values):
-        raise InputError("gradings", f"three different whole gradings in [1, 5] (got {args.gradings})")
+    if len(values) not in (2, 3) or any(g != int(g) or g < 1 for g in values):  # values: sorted, unique
+        raise InputError("gradings", f"two or three different whole gradings in [1, 5] (got {args.gradings})")
     gradings = [int(g) for g in values]
     args.grading = None
     study = _study(args)

@@ -1,5 +1,5 @@
-"""Grid study: one quantity on three systematically refined grids -> Richardson extrapolation and the
-numerical uncertainty. The numerics are plain Python; :func:`run_grid_study` runs the three studies.
+"""Grid study: one quantity on three (or two) systematically refined grids -> Richardson extrapolation and
+the numerical uncertainty. The numerics are plain Python; :func:`run_grid_study` runs the studies.
 
 Procedure of Celik, Ghia, Roache, Freitas, Coleman & Raad (2008), "Procedure for estimation and reporting
 of uncertainty due to discretization in CFD applications", ASME J. Fluids Eng. 130, 078001, which is
@@ -16,6 +16,12 @@ condition as in ITTC Recommended Procedure 7.5-03-01-01 (Uncertainty analysis in
   GCI_fine = F_s e_a / (r21^p* − 1) (a fraction of φ1) with p* = min(p, 2), the formal order (Roache);
 - oscillatory convergence: U = ½ (max φ − min φ) over the three grids (ITTC 7.5-03-01-01); divergence: no
   uncertainty can be given.
+
+Two grids (:func:`grid_convergence_two`) cannot show the order or the convergence condition, so the order is
+assumed, the formal one (p = 2), and the safety factor is Roache's for that case, F_s = 3 (Roache 1998,
+Verification and Validation in Computational Science and Engineering, ch. 5; Roache 1994, ASME J. Fluids
+Eng. 116:405): GCI_fine = 3 e_a / (r21² − 1), φ_ext = (r21² φ1 − φ2)/(r21² − 1). It is the cheaper,
+more conservative variant, for hulls whose third grid costs too much.
 """
 
 from __future__ import annotations
@@ -24,6 +30,8 @@ import math
 from dataclasses import dataclass
 
 SAFETY_FACTOR = 1.25  # F_s of Roache's GCI for a three-grid study (Celik et al. 2008)
+SAFETY_FACTOR_TWO_GRIDS = 3.0  # F_s for two grids, where the order is assumed, not observed (Roache 1998)
+TWO_GRIDS = "two grids, order assumed"  # the condition of a two-grid result: none can be judged
 # Formal order of the discretisation (second-order convection and gradients). An apparent order above it means
 # the grids are not in the asymptotic range (the error terms of different orders still compete), and GCI
 # with that order would shrink to nothing: the GCI uses min(p, P_FORMAL), the conservative choice of Roache
@@ -34,13 +42,16 @@ P_FORMAL = 2.0
 
 @dataclass(frozen=True)
 class GridConvergence:
-    """Result for one quantity; ``phi`` finest first. Fractions (not %) for e_a, e_ext and GCI."""
+    """Result for one quantity; ``phi`` finest first (three grids, or two). Fractions (not %) for e_a, e_ext
+    and GCI."""
 
-    phi: tuple[float, float, float]
+    phi: tuple[float, ...]
     r21: float
-    r32: float
-    R: float | None  # convergence ratio ε21/ε32 (None when ε32 = 0)
-    condition: str  # "monotonic", "oscillatory", "divergent", "converged" (no change between grids)
+    r32: float | None  # None with two grids
+    R: float | None  # convergence ratio ε21/ε32 (None when ε32 = 0, or with two grids)
+    # "monotonic", "oscillatory", "divergent", "converged" (no change between grids); with two grids
+    # "two grids, order assumed" (no condition can be judged)
+    condition: str
     p: float | None = None  # apparent order
     p_gci: float | None = None  # order used in the GCI: min(p, P_FORMAL)
     phi_ext: float | None = None
@@ -96,6 +107,27 @@ def grid_convergence(
     )
 
 
+def grid_convergence_two(
+    phi: tuple[float, float], h: tuple[float, float], safety: float = SAFETY_FACTOR_TWO_GRIDS
+) -> GridConvergence:
+    """Roache's two-grid GCI of ``phi`` on grids of size ``h`` (finest first): the formal order assumed, F_s = 3."""
+    phi1, phi2 = (float(x) for x in phi)
+    h1, h2 = (float(x) for x in h)
+    if not 0 < h1 < h2:
+        raise ValueError(f"grid sizes must grow from the finest grid: h = {h}")
+    if phi1 == 0.0:
+        raise ValueError("the finest-grid value is 0, so no relative error can be formed")
+    r21 = h2 / h1
+    rp = r21**P_FORMAL
+    e_a = abs((phi1 - phi2) / phi1)
+    phi_ext = (rp * phi1 - phi2) / (rp - 1.0)
+    e_ext = abs((phi_ext - phi1) / phi_ext) if phi_ext != 0.0 else None
+    gci = safety * e_a / (rp - 1.0)
+    return GridConvergence(
+        (phi1, phi2), r21, None, None, TWO_GRIDS, None, P_FORMAL, phi_ext, e_a, e_ext, gci, gci * abs(phi1)
+    )
+
+
 def grid_size(cells: int, dimensions: int = 3) -> float:
     """Representative cell size of a grid of ``cells`` cells on a fixed domain, up to a constant: N^(-1/d)."""
     if cells <= 0:
@@ -104,7 +136,7 @@ def grid_size(cells: int, dimensions: int = 3) -> float:
 
 
 def run_grid_study(study, gradings, progress=None, plots: bool = True) -> dict[str, object]:
-    """Run ``study`` at three gradings (each in ``<out>/grading_<g>/``, resumable as any study), then
+    """Run ``study`` at three (or two) gradings (each in ``<out>/grading_<g>/``, resumable as any study), then
     write ``<out>/grid_study.json``, ``grid_study.md`` and ``grid_convergence.png`` for R_T and every
     derivative the CFD gave. Returns the JSON content."""
     import dataclasses  # noqa: PLC0415
@@ -135,12 +167,13 @@ def run_grid_study(study, gradings, progress=None, plots: bool = True) -> dict[s
             }
         )
     h = tuple(grid_size(r["cells"]) for r in runs)
+    estimate = grid_convergence if len(runs) == 3 else grid_convergence_two
     results = {}
     for k in runs[0]["values"]:
         if all(k in r["values"] for r in runs):
             phi = tuple(r["values"][k] for r in runs)
             try:
-                results[k] = grid_convergence(phi, h).as_dict()
+                results[k] = estimate(phi, h).as_dict()
             except ValueError as exc:
                 results[k] = {"phi": phi, "condition": f"not estimated: {exc}"}
     report = {
@@ -148,7 +181,8 @@ def run_grid_study(study, gradings, progress=None, plots: bool = True) -> dict[s
         "cells": [r["cells"] for r in runs],
         "h_relative": [x / h[0] for x in h],
         "verdicts": [r["verdict"] for r in runs],
-        "safety_factor": SAFETY_FACTOR,
+        "safety_factor": SAFETY_FACTOR if len(runs) == 3 else SAFETY_FACTOR_TWO_GRIDS,
+        "method": method(len(runs)),
         "quantities": results,
     }
     out.mkdir(parents=True, exist_ok=True)
@@ -159,6 +193,16 @@ def run_grid_study(study, gradings, progress=None, plots: bool = True) -> dict[s
     if plots:
         _plot(report, out / "grid_convergence.png")
     return report
+
+
+def method(grids: int) -> str:
+    """The GCI variant of a study on ``grids`` grids, in one phrase for reports and the ship file."""
+    if grids == 3:
+        return (
+            "grid convergence index, three grids, Celik et al. (2008), F_s = 1.25, order min(p, 2) (Roache); "
+            "oscillatory: half the range (ITTC)"
+        )
+    return "grid convergence index, two grids, Roache (1998): order assumed 2 (formal), F_s = 3"
 
 
 def relative_uncertainty(q: dict) -> float | None:
@@ -183,8 +227,7 @@ def write_ship_with_uncertainty(src, dst, report: dict):
     ship = tomllib.loads(text)
     header = "\n".join(line[1:].strip() for line in text.splitlines() if line.startswith("#"))
     table: dict[str, object] = {
-        "method": "grid convergence index, Celik et al. (2008), F_s = 1.25, order min(p, 2) (Roache); "
-        "oscillatory: half the range (ITTC)",
+        "method": report["method"],
         "gradings": report["gradings"],
         "cells": report["cells"],
     }
@@ -232,11 +275,19 @@ def _markdown(rep: dict, study) -> str:
         f"Gradings {rep['gradings']} (finest first), cells {rep['cells']}, h/h1 "
         + ", ".join(f"{x:.3f}" for x in rep["h_relative"])
         + f" (h ∝ N^(-1/3)). Verification of each grading: {', '.join(rep['verdicts'])}.",
-        "Method: Celik et al. (2008) ASME J. Fluids Eng. 130 078001 (Roache's GCI, F_s = "
-        f"{rep['safety_factor']}); convergence condition and oscillatory uncertainty as ITTC 7.5-03-01-01. "
-        "R_T in N at the reference speed, derivatives in the study's prime system at model scale.",
+        (
+            "Method: Celik et al. (2008) ASME J. Fluids Eng. 130 078001 (Roache's GCI, F_s = "
+            f"{rep['safety_factor']}); convergence condition and oscillatory uncertainty as ITTC 7.5-03-01-01. "
+            if len(rep["gradings"]) == 3
+            else "Method: Roache's two-grid GCI (Roache 1998, Verification and Validation in Computational "
+            f"Science and Engineering): the order assumed to be the formal 2, F_s = {rep['safety_factor']}; two "
+            "grids cannot show the convergence condition or the observed order. "
+        )
+        + "R_T in N at the reference speed, derivatives in the study's prime system at model scale.",
         "",
-        "| quantity | fine, medium, coarse | R | condition | p | p in GCI | extrapolated | e_a | GCI_fine | U |",
+        "| quantity | "
+        + ("fine, medium, coarse" if len(rep["gradings"]) == 3 else "fine, coarse")
+        + " | R | condition | p | p in GCI | extrapolated | e_a | GCI_fine | U |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
 

@@ -10,7 +10,7 @@ import pytest
 from cfd_fake_foam import C_R, TRUE_PRIME, FakeFoam, fake_environment
 from test_cfd_pipeline import DATA
 
-from cfd.gridstudy import grid_convergence, grid_size
+from cfd.gridstudy import TWO_GRIDS, grid_convergence, grid_convergence_two, grid_size
 
 # Celik et al. (2008), ASME J. Fluids Eng. 130 078001, Table 1, first column (2-D grids, h = N^-1/2):
 # N = 18000, 8000, 4500; phi = 6.063, 5.972, 5.863 -> r21 = 1.5, r32 = 1.333, p = 1.53, phi_ext = 6.1685,
@@ -58,6 +58,25 @@ def test_oscillatory_and_divergent_data():
         grid_convergence((1.0, 2.0, 3.0), (2.0, 1.0, 4.0))
 
 
+def test_two_grids_assume_the_formal_order_with_roaches_safety_factor_3():
+    # phi = 1 + 0.3 h^2 on h = 1, 2: with p = 2 assumed the extrapolation is exact (phi_ext = 1), and
+    # GCI = 3 e_a / (2^2 - 1) with e_a = 0.9 / 1.3 (Roache 1998: F_s = 3 when the order is not observed)
+    g = grid_convergence_two((1.3, 2.2), (1.0, 2.0))
+    assert g.condition == TWO_GRIDS and g.R is None and g.r32 is None and g.p is None and g.p_gci == 2.0
+    assert g.phi_ext == pytest.approx(1.0)
+    assert g.gci_fine == pytest.approx(3.0 * (0.9 / 1.3) / 3.0) and g.uncertainty == pytest.approx(0.9)
+    # against three grids on the same data the two-grid GCI is the more conservative: F_s 3 / 1.25
+    three = grid_convergence((1.3, 2.2, 5.8), (1.0, 2.0, 4.0))
+    assert g.gci_fine == pytest.approx(three.gci_fine * 3.0 / 1.25)
+    # Celik et al.'s finest two grids: r = 1.5, e_a = 0.091 / 6.063, GCI = 3 e_a / 1.25
+    c = grid_convergence_two((6.063, 5.972), CELIK_H[:2])
+    assert c.gci_fine == pytest.approx(3.0 * (0.091 / 6.063) / 1.25)
+    with pytest.raises(ValueError, match="grid sizes"):
+        grid_convergence_two((1.0, 2.0), (2.0, 1.0))
+    with pytest.raises(ValueError, match="finest-grid value is 0"):
+        grid_convergence_two((0.0, 2.0), (1.0, 2.0))
+
+
 def test_study_command_recovers_the_fake_hull_by_richardson_extrapolation(tmp_path, monkeypatch, capsys):
     from cfd.cli import main
 
@@ -99,8 +118,59 @@ def test_study_command_recovers_the_fake_hull_by_richardson_extrapolation(tmp_pa
     assert cfd_uncertainty_line(load_ship(out / "grading_3" / "ship.toml")) == ""
 
 
-def test_study_command_needs_three_gradings(capsys):
+def test_study_command_on_two_gradings_writes_the_two_grid_gci(tmp_path, monkeypatch, capsys):
+    from cfd.cli import main
+    from vessel_gym.manoeuvres.imo import cfd_uncertainty_line
+    from vessel_gym.physics.shipfile import load_ship
+
+    fake_environment(monkeypatch, FakeFoam(grid_error=5.0))
+    out = tmp_path / "grid2"
+    args = ["study", "--gradings", "2,1", "--hull", "wigley", "--lpp", "1", "--bwl", "0.1", "--tm", "0.0625"]
+    args += ["--tests", "tow,drift", "--speeds", "1.0", "--pmm-speed", "1.0", "--drift-deg", "3,6,9"]
+    args += ["--rho", "1000", "--nu", "1e-6", "--out", str(out), "--template", str(DATA / "small_ship.toml")]
+    args += ["--scale-to", "cfd", "--quiet"]
+    assert main(args) == 0
+    assert f"R_T_N: {TWO_GRIDS}, GCI" in capsys.readouterr().out
+    rep = json.loads((out / "grid_study.json").read_text())
+    assert rep["gradings"] == [2, 1] and rep["safety_factor"] == 3.0 and "two grids" in rep["method"]
+    # the fake's grid error is exactly second order, so the assumed order extrapolates it exactly
+    assert rep["quantities"]["R_T_N"]["phi_ext"] == pytest.approx(C_R * 1.0**2)
+    for k in ("Y_v", "N_v"):
+        assert rep["quantities"][k]["phi_ext"] == pytest.approx(TRUE_PRIME[k], rel=1e-6), k
+    assert "two-grid GCI" in (out / "grid_study.md").read_text()
+    ship = load_ship(out / "ship.toml")
+    table = ship.source.provenance["grid_uncertainty"]
+    assert "two grids" in table["method"] and table["Y_v"]["condition"] == TWO_GRIDS
+    worst = max(table[k]["relative"] for k in ("Y_v", "N_v"))
+    assert cfd_uncertainty_line(ship).startswith(f"Derived from CFD, ±{100 * worst:.1f} %")
+
+
+@pytest.mark.parametrize("gradings", ["1", "2,2", "1,2,3,4", "1,2.5"])
+def test_study_command_needs_two_or_three_gradings(capsys, gradings):
     from cfd.cli import main
 
-    assert main(["study", "--gradings", "1,2", "--hull", "wigley"]) == 2
-    assert "gradings: three different whole gradings" in capsys.readouterr().err
+    assert main(["study", "--gradings", gradings, "--hull", "wigley"]) == 2
+    assert "gradings: two or three different whole gradings" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("study", ["wigley_grid", "wigley_pmm_grid", "dtc_grid"])
+def test_the_committed_grid_studies_follow_the_procedure(study):
+    """Each committed study's GCI recomputed from its own values and cell counts, and its ship-file table."""
+    from pathlib import Path
+
+    from cfd.gridstudy import relative_uncertainty
+    from cfd.shipfile import tomllib
+
+    folder = Path(__file__).resolve().parents[2] / "cfd" / "studies" / study
+    rep = json.loads((folder / "grid_study.json").read_text())
+    table = tomllib.loads((folder / "grid_uncertainty.toml").read_text())["source"]["provenance"]
+    table = table["grid_uncertainty"]
+    h = tuple(grid_size(n) for n in rep["cells"])
+    estimate = grid_convergence if len(h) == 3 else grid_convergence_two
+    assert table["gradings"] == rep["gradings"] and table["cells"] == rep["cells"]
+    for k, q in rep["quantities"].items():
+        g = estimate(tuple(q["phi"]), h)
+        assert g.condition == q["condition"], k
+        if g.gci_fine is not None:
+            assert g.gci_fine == pytest.approx(q["gci_fine"], rel=1e-9), k
+        assert table[k]["relative"] == pytest.approx(relative_uncertainty(q), rel=1e-9), k
