@@ -134,12 +134,13 @@ def serve(
 
 
 #: the task serve runs: the current harbour task, on the scenario's own ship
-SERVED_ID = "vessel_gym/HarbourApproach-v2"
+SERVED_ID = "vessel_gym/HarbourApproach-v3"
 
 
 def _make_served(make_kw: dict[str, Any]):
-    """The served environment: HarbourApproach-v2 on the scenario's ship (``ship=None``); the chart's depth acts
-    on a ship whose hull has the shallow-water corrections (an MMG hull), any other sails it in deep water."""
+    """The served environment: HarbourApproach-v3 (v2's physics, the rate-commanded rudder) on the scenario's
+    ship (``ship=None``); the chart's depth acts on a ship whose hull has the shallow-water corrections (an MMG
+    hull), any other sails it in deep water."""
     import gymnasium as gym
 
     import vessel_gym.envs  # noqa: F401  (registers the ids)
