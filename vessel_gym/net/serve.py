@@ -138,7 +138,7 @@ SERVED_ID = "vessel_gym/HarbourApproach-v3"
 
 
 def _make_served(make_kw: dict[str, Any]):
-    """The served environment: HarbourApproach-v3 (v2's physics, the rate-commanded rudder) on the scenario's
+    """The served environment: HarbourApproach-v3 (v2's physics, the smooth helm) on the scenario's
     ship (``ship=None``); the chart's depth acts on a ship whose hull has the shallow-water corrections (an MMG
     hull), any other sails it in deep water."""
     import gymnasium as gym

@@ -3,8 +3,9 @@
 Its versions are presets of one configuration, registered by :func:`~vessel_gym.envs.registration.register_task`:
 ``HarbourApproach-v1`` (the L7 model with windage, calm-depth physics), ``HarbourApproach-v2`` (v1 plus the
 harbour physics: the cross-flow hull at large drift, default ship ``kvlcc2_l7_harbour``, and the water depth
-under each ship read from the scenario's chart, ``chart_depth``) and ``HarbourApproach-v3`` (v2 with a
-rate-commanded rudder, :mod:`.harbour_helm`, and rudder changes charged 10x: the smooth-helm task). This module is the task: its declaration (ids
+under each ship read from the scenario's chart, ``chart_depth``) and ``HarbourApproach-v3`` (v2 with the
+rudder order lagging the action at a capped rate, :mod:`.harbour_helm`, and rudder changes charged 10x: the
+smooth-helm task). This module is the task: its declaration (ids
 as presets, configuration, reward weights, pilots, metrics, training defaults), the start of an episode and its
 ``info``. Its other jobs have their own modules: the columns of its reward terms, features, state and parameters
 (:mod:`.harbour_columns`), the compiled step (:mod:`.harbour_kernel`), the chart's geometry and depth
@@ -35,7 +36,7 @@ from vessel_gym.envs.tasks.chart import (
     poses_clear,
 )
 from vessel_gym.envs.tasks.harbour_columns import SPEC, HarbourArrays, P, S
-from vessel_gym.envs.tasks.harbour_helm import RateHelm, RatePilot, rate_of
+from vessel_gym.envs.tasks.harbour_helm import LagHelm, cap_rate, lag_gain
 from vessel_gym.envs.tasks.harbour_kernel import PARALLEL_MIN_SHIPS, harbour_update, harbour_update_parallel
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.shallow_water import check_hull
@@ -137,16 +138,19 @@ class HarbourApproachConfig(ShipEnvConfig):
     layout_index: int = param(0, unit="-", lo=0, hi=99_999, doc="procedural: which layout of the split")
     rudder_action: str = param(
         "order",
-        choices=("order", "rate"),
-        doc="continuous helm: action[0] sets the rudder order (order) or moves it (rate: x rudder_rate_fraction "
-        "x the steering gear's max rate, integrated over the control interval)",
+        choices=("order", "lag"),
+        doc="continuous helm: action[0] is the rudder order (order), or the rudder asked for, which the order "
+        "follows as a first-order lag (rudder_lag_time_scales) capped at rudder_rate_fraction of the gear's rate",
+    )
+    rudder_lag_time_scales: float = param(
+        1.0, unit="L/U_T", lo=0.01, hi=100.0, doc="lag: time constant of the order's lag behind the action"
     )
     rudder_rate_fraction: float = param(
         1.0,
         unit="-",
         lo=0.01,
         hi=1.0,
-        doc="rate: |action[0]| = 1 moves the rudder order at this fraction of the steering gear's max rate",
+        doc="lag: the order changes at most at this fraction of the steering gear's max rate",
     )
     reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
 
@@ -184,14 +188,6 @@ def own_ship(scenario: Scenario) -> dict[str, Any]:
 
 
 # --- capabilities: the classical pilots and the episode metrics ------------------------------------------------
-def steering(env: Any, pilot: Any) -> Any:
-    """``pilot`` (which gives rudder orders) as it steers this environment: through :class:`RatePilot` where
-    the rudder action is a rate (``rudder_action="rate"``), else as it is."""
-    if env.unwrapped.task.config.rudder_action == "rate":
-        return RatePilot(env, pilot)
-    return pilot
-
-
 def nomoto_pilot(env: Any, omega_n_UL: float = 0.6, zeta: float = 0.9, **pilot: float) -> Any:
     """The harbour pilot (:class:`~vessel_gym.envs.policies.HarbourPilot`) with heading gains from the ship's
     Nomoto model at ``omega_n_UL`` U/L and ``zeta``, and its other arguments ``pilot`` (the defaults: the
@@ -199,7 +195,7 @@ def nomoto_pilot(env: Any, omega_n_UL: float = 0.6, zeta: float = 0.9, **pilot: 
     from vessel_gym.envs.policies import HarbourPilot
     from vessel_gym.policy import nomoto_pid_kwargs
 
-    return steering(env, HarbourPilot(env, **nomoto_pid_kwargs(env, omega_n_UL, zeta), **pilot))
+    return HarbourPilot(env, **nomoto_pid_kwargs(env, omega_n_UL, zeta), **pilot)
 
 
 def pid_pilot(env: Any) -> Any:
@@ -213,7 +209,7 @@ def rule_pilot(env: Any) -> Any:
     """The harbour pilot with its default gains."""
     from vessel_gym.envs.policies import HarbourPilot
 
-    return steering(env, HarbourPilot(env))
+    return HarbourPilot(env)
 
 
 def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[str, Any]:
@@ -232,10 +228,12 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     presets={
         "HarbourApproach-v1": {"ship": "kvlcc2_l7_windage", "chart_depth": False},
         "HarbourApproach-v2": {},
-        # the smooth-helm task: the action moves the rudder order at up to a quarter of the gear's rate (3.9
-        # deg/s on kvlcc2_l7, 0.58 deg/s at full scale) and a change of order costs 10x v2's (docs/tasks.md)
+        # the smooth-helm task: the rudder order follows the action with a lag of one ship time scale, at most
+        # a quarter of the gear's rate (3.9 deg/s on kvlcc2_l7), and a change of order costs 10x v2's
+        # (docs/agents.md, "HarbourApproach-v3: the smooth helm")
         "HarbourApproach-v3": {
-            "rudder_action": "rate",
+            "rudder_action": "lag",
+            "rudder_lag_time_scales": 1.0,
             "rudder_rate_fraction": 0.25,
             "reward": {"rudder_activity": 0.5},
         },
@@ -304,9 +302,9 @@ class HarbourApproachTask(Task):
             else _round2(TIME_LIMIT_TIME_SCALES * time_scale)
         )
         config = dataclasses.replace(config, control_interval_s=ci, time_limit_s=tl)
-        if config.rudder_action == "rate" and config.action_type != "continuous":
+        if config.rudder_action == "lag" and config.action_type != "continuous":
             raise SpecError(
-                'HarbourApproach config rudder_action: "rate" moves the order of a continuous helm; '
+                'HarbourApproach config rudder_action: "lag" smooths the order of a continuous helm; '
                 'action_type="discrete" orders fixed helm angles (choose rudder_action="order")'
             )
         self.scenario = sc
@@ -324,8 +322,9 @@ class HarbourApproachTask(Task):
             (2, pts) for _n, pts in sc.shoals(T)
         ]
         self.edges, self.polys, self.pbox = chart_tables(polys)
-        if config.rudder_action == "rate":
-            self.helm = RateHelm(config, self.sim, rate_of(config.rudder_rate_fraction, self.sim), ci)
+        if config.rudder_action == "lag":
+            gain = lag_gain(ci, config.rudder_lag_time_scales * time_scale)
+            self.helm = LagHelm(config, self.sim, gain, cap_rate(config.rudder_rate_fraction, self.sim), ci)
         self.hull = np.array(hull_outline(self.L, self.ship.particulars.B_m), dtype=np.float64)
         self.goal_verts = np.array([(p[0], p[1]) for p in sc.goal.points], dtype=np.float64)
         self.ts = np.zeros((n, len(S)))
