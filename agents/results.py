@@ -82,6 +82,7 @@ from vessel_gym.envs.registration import declaration
 PLAN: dict[str, tuple[str, ...]] = {
     "vessel_gym/ZigZagRandom-v1": ("ppo", "sac"),
     "vessel_gym/HarbourApproach-v1": ("ppo",),
+    "vessel_gym/HarbourApproach-v3": ("ppo",),
     "vessel_gym/TurningCircle-v0": ("ppo",),
 }
 #: environments with a row of the method that starts from the classical pilot: behaviour cloning by DAgger
@@ -91,6 +92,13 @@ DEFAULT_ENVS = tuple(env_short_name(i) for i in PLAN)
 #: further evaluations of the same agents: env id -> [(label, env kwargs)]
 EXTRA_EVALS: dict[str, list[tuple[str, dict[str, Any]]]] = {
     "vessel_gym/ZigZagRandom-v1": [("IMO 10/10 schedule (ZigZag-v1's)", {"schedule": "imo"})],
+    # the harbour agents train on the built-in `harbour` only: the other built-in harbours for the L7 model and
+    # a generated harbour of the held-out split are layouts they never saw
+    "vessel_gym/HarbourApproach-v3": [
+        ("layout never trained on", {"scenario": "harbour_east"}),
+        ("layout never trained on", {"scenario": "harbour_channel"}),
+        ("layout never trained on", {"layout": "procedural", "layout_split": "eval", "layout_index": 0}),
+    ],
 }
 
 

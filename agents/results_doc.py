@@ -10,7 +10,17 @@ from pathlib import Path
 from typing import Any
 
 #: HarbourApproach goal: median success rate over the training seeds at least this (docs/results.md)
-HARBOUR_GOAL = 0.9
+HARBOUR_GOAL = 0.95
+#: ... and a better helmsman than the tuned pilot: shorter mean time, rudder rate at most this factor times the
+#: pilot's, minimum clearance no smaller (docs/results.md)
+HARBOUR_RATE_FACTOR = 2.0
+#: (summary key, label, format) of the harbour goal's figures
+HARBOUR_GOAL_KEYS = (
+    ("success_rate", "success", ".2f"),
+    ("time_s", "time", ".0f"),
+    ("rudder_rate_deg_s", "rudder rate", ".2f"),
+    ("min_clearance_m", "min clearance", ".2f"),
+)
 #: the goal's training budget per seed on this 2-core machine (docs/results.md)
 TRAIN_LIMIT_MIN = 20.0
 BEGIN, END = "<!-- results:begin -->", "<!-- results:end -->"
@@ -84,6 +94,73 @@ def zigzag_seed_table(row: dict[str, Any], P: dict[str, Any]) -> str:
         cells += [f"{S['overshoot_deg_mean']:.2f}", f"{S['rudder_rate_deg_s_mean']:.2f}"]
         cells += [_num(100.0 * S["success_rate"], ".0f") if "success_rate" in S else "—"]
         cells += ["met" if not missed else "misses " + ", ".join(missed)]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _harbour_figures(S: dict[str, Any]) -> dict[str, float]:
+    """The harbour goal's figures of one summary (success rate, then means)."""
+    return {k: float(S[k] if k == "success_rate" else S[f"{k}_mean"]) for k, *_ in HARBOUR_GOAL_KEYS}
+
+
+def harbour_checks(fig: dict[str, float], pid: dict[str, float]) -> dict[str, bool]:
+    """The harbour goal's four tests of one set of figures (:func:`_harbour_figures`) against the pilot's."""
+    return {
+        "success_rate": fig["success_rate"] >= HARBOUR_GOAL,
+        "time_s": fig["time_s"] < pid["time_s"],
+        "rudder_rate_deg_s": fig["rudder_rate_deg_s"] <= HARBOUR_RATE_FACTOR * pid["rudder_rate_deg_s"],
+        "min_clearance_m": fig["min_clearance_m"] >= pid["min_clearance_m"],
+    }
+
+
+def _harbour_helmsman(row: dict[str, Any], P: dict[str, Any]) -> str:
+    """The harbour goal on the median over the row's seeds of each figure against the tuned pilot's: the gap
+    of every failed test and how many seeds meet all four on their own ("" without per-seed detail)."""
+    per = [_harbour_figures(x["summary"]) for x in row.get("per_seed") or []]
+    if not per:
+        return ""
+    pid = _harbour_figures(P)
+    fig = {k: float(_median([x[k] for x in per])) for k, *_ in HARBOUR_GOAL_KEYS}
+    checks = harbour_checks(fig, pid)
+    limits = {
+        "success_rate": HARBOUR_GOAL,
+        "time_s": pid["time_s"],
+        "rudder_rate_deg_s": HARBOUR_RATE_FACTOR * pid["rudder_rate_deg_s"],
+        "min_clearance_m": pid["min_clearance_m"],
+    }
+    cells = []
+    for key, label, fmt in HARBOUR_GOAL_KEYS:
+        v, lim = fig[key], limits[key]
+        cells.append(f"{label} {v:{fmt}} vs {lim:{fmt}} ({'ok' if checks[key] else f'misses by {abs(v - lim):{fmt}}'})")
+    alone = sum(all(harbour_checks(x, pid).values()) for x in per)
+    return (
+        f"Harbour goal, `{row['agent']}` (median over the seeds; success ≥ {HARBOUR_GOAL:.2f}, shorter mean time "
+        f"than the tuned pid, rudder rate ≤ {HARBOUR_RATE_FACTOR:g}x its, minimum clearance no smaller): "
+        + ", ".join(cells)
+        + (" — **met**" if all(checks.values()) else " — **not met**")
+        + f"; {alone} of {len(per)} seeds meet all four on their own."
+    )
+
+
+def harbour_seed_table(row: dict[str, Any], P: dict[str, Any]) -> str:
+    """Markdown table of one method's seeds on the harbour goal's figures (empty without per-seed detail)."""
+    per = row.get("per_seed") or []
+    if not per:
+        return ""
+    pid = _harbour_figures(P)
+    head = ["seed", "tested model", "success %", "mean time s", "rudder rate deg/s (x pid)", "min clearance m"]
+    head += ["return", "goal"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for x in per:
+        S, sel = x["summary"], x.get("selected_at_timesteps")
+        fig = _harbour_figures(S)
+        checks = harbour_checks(fig, pid)
+        missed = [label for key, label, _ in HARBOUR_GOAL_KEYS if not checks[key]]
+        ratio = fig["rudder_rate_deg_s"] / pid["rudder_rate_deg_s"] if pid["rudder_rate_deg_s"] > 0 else math.inf
+        cells = [str(x.get("seed")), f"best at {sel / 1000:.0f}k" if sel is not None else "final"]
+        cells += [f"{100 * fig['success_rate']:.0f}", f"{fig['time_s']:.0f}"]
+        cells += [f"{fig['rudder_rate_deg_s']:.2f} ({ratio:.1f}x)", f"{fig['min_clearance_m']:.2f}"]
+        cells += [f"{S['return_mean']:.1f}", "met" if not missed else "misses " + ", ".join(missed)]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -212,9 +289,13 @@ def verdict(kind: str, rows: list[dict[str, Any]]) -> str:
         )
         goals = [_harbour_goal(r) for r in rl if r["summary"].get("success_rate_median") is not None]
         if goals:
-            text += " Goal (median success over the seeds ≥ 90 %, each seed trained in ≤ 20 min): " + "; ".join(
-                goals
-            ) + "."
+            text += (
+                f" Goal (median success over the seeds ≥ {100 * HARBOUR_GOAL:.0f} %, each seed trained in ≤ 20 "
+                "min): " + "; ".join(goals) + "."
+            )
+        helm = [h for h in (_harbour_helmsman(r, P) for r in rl) if h]
+        if helm:
+            text += " " + " ".join(helm)
         return text
     if kind == "turning":
         best = min(rl, key=lambda r: r["summary"].get("rate_error_pct_mean") or math.inf)
@@ -304,6 +385,8 @@ def _env_block(results: dict[str, Any], env_id: str) -> str:
         for row in sec["rows"] if sec.get("main") else []:
             if sec["kind"] == "zigzag" and pid is not None and row.get("per_seed"):
                 out += [f"Per seed, `{row['agent']}` (test episodes):", "", zigzag_seed_table(row, pid["summary"]), ""]
+            if sec["kind"] == "harbour" and pid is not None and row.get("per_seed"):
+                out += [f"Per seed, `{row['agent']}` (test episodes):", "", harbour_seed_table(row, pid["summary"]), ""]
             curve = results.get("curves", {}).get(f"{sec['env_id']}:{row.get('algo')}") or {}
             pid_ret = (curve.get("pid_validation") or {}).get("return")
             t = time_to_solve_table(row, pid_ret)

@@ -68,6 +68,12 @@ SEARCHES: dict[str, dict[str, Any]] = {
         }
         for env_id in ("vessel_gym/HarbourApproach-v2", "vessel_gym/HarbourApproach-v1")
     },
+    # v3 (the rudder order lags the action, rudder changes charged 10x): v2's grid about its winner (0.6 U/L,
+    # zeta 0.5, approach 0.9), the faster approaches only, on fewer episodes
+    "vessel_gym/HarbourApproach-v3": {
+        "grid": {"omega_n_UL": [0.6, 0.9, 1.2], "zeta": [0.5, 0.7, 0.9], "approach": [0.8, 0.9, 1.0]},
+        "episodes": 30,
+    },
 }
 #: the pilot a search tunes and the untuned one whose arguments it varies
 TUNED, UNTUNED = "pid", "pid-nomoto"

@@ -111,10 +111,36 @@ def test_harbour_verdict_and_table() -> None:
     short = _row("bc (5 seeds)", True, success_rate=0.7, success_rate_median=0.75, seeds=5, **extra)
     short["summary"]["outcomes"] = {"success": 70, "timeout": 30}
     v = results.verdict("harbour", [pid, seeds5, short])
-    assert "`bc (5 seeds)` median 75 % over 5 seeds" in v and "**not met**, 15 points short" in v
+    assert "`bc (5 seeds)` median 75 % over 5 seeds" in v and "**not met**, 20 points short" in v
     seeds5["training"]["train_time_s"] = 1500.0  # 25 min: over the goal's 20-minute limit
     assert "per seed: not met: too slow to train" in results.verdict("harbour", [pid, seeds5])
     assert "contact 15, success 5" in results.table("harbour", [pid, rl])
+
+
+def test_harbour_helmsman_goal_per_seed() -> None:
+    """The harbour goal beyond success: median over the seeds of time (shorter than the pid's), rudder rate (at
+    most 2x its) and minimum clearance (no smaller), with the gap of every failed test."""
+    pid = _row("pid", success_rate=1.0, time_s_mean=300.0, rudder_rate_deg_s_mean=0.5, min_clearance_m_mean=5.0)
+
+    def seed(k, success, time, rate, clear):
+        return {"seed": k, "selected_at_timesteps": 500_000, "summary": {
+            "success_rate": success, "time_s_mean": time, "rudder_rate_deg_s_mean": rate,
+            "min_clearance_m_mean": clear, "return_mean": 40.0}}  # fmt: skip
+
+    per = [seed(0, 1.0, 250.0, 0.8, 6.0), seed(1, 0.95, 260.0, 1.2, 4.0), seed(2, 0.9, 270.0, 0.9, 5.5)]
+    row = _row("ppo (3 seeds)", True, success_rate=0.95, success_rate_median=0.95, seeds=3)
+    row["per_seed"] = per
+    text = results_doc._harbour_helmsman(row, pid["summary"])
+    # medians: success 0.95, time 260, rate 0.9 (limit 1.0), clearance 5.5 (pid 5.0)
+    assert "success 0.95 vs 0.95 (ok)" in text and "time 260 vs 300 (ok)" in text
+    assert "rudder rate 0.90 vs 1.00 (ok)" in text and "min clearance 5.50 vs 5.00 (ok)" in text
+    assert "**met**" in text and "1 of 3 seeds meet all four" in text
+    per[2]["summary"]["rudder_rate_deg_s_mean"] = 1.5  # median rate 1.2: misses by 0.2
+    text = results_doc._harbour_helmsman(row, pid["summary"])
+    assert "rudder rate 1.20 vs 1.00 (misses by 0.20)" in text and "**not met**" in text
+    table = results_doc.harbour_seed_table(row, pid["summary"])
+    assert "| 0 | best at 500k | 100 | 250 | 0.80 (1.6x) | 6.00 | 40.0 | met |" in table
+    assert "| 1 | best at 500k | 95 | 260 | 1.20 (2.4x) | 4.00 | 40.0 | misses rudder rate, min clearance |" in table
 
 
 def test_write_doc_replaces_only_the_blocks_of_the_run(tmp_path: Path) -> None:

@@ -13,10 +13,10 @@ sb3 = pytest.importorskip("stable_baselines3")
 def test_serve_runs_a_trained_agent(tmp_path, capsys):
     from vessel_gym.net.serve import serve
 
-    env = gym.make("vessel_gym/HarbourApproach-v2")
+    env = gym.make("vessel_gym/HarbourApproach-v3")
     model = sb3.PPO("MlpPolicy", env, n_steps=64, batch_size=64, n_epochs=1, seed=0, device="cpu")
     model.learn(64)
-    path = tmp_path / "ppo_HarbourApproach-v2_s0.zip"
+    path = tmp_path / "ppo_HarbourApproach-v3_s0.zip"
     model.save(path)
     code = serve(
         "harbour",

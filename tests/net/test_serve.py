@@ -106,7 +106,7 @@ def test_episode_end_prints_one_line_outcome_and_restarts():
     assert srv.join() == 0
     lines = [ln for ln in srv.out.getvalue().splitlines() if ln.startswith("episode ")]
     assert len(lines) >= 2
-    # HarbourApproach-v2: 20 control steps of L / U_T / 6 = 0.99 s (kvlcc2_l7)
+    # HarbourApproach-v3: 20 control steps of L / U_T / 6 = 0.99 s (kvlcc2_l7)
     assert re.match(r"episode 1: time limit at t = 19\.8 s, path \d+ m, .*; helm: agent 100%$", lines[0])
     assert lines[1].startswith("episode 2: ")
 
@@ -375,7 +375,7 @@ def test_serve_runs_the_ship_files_component(peers, tmp_path, monkeypatch):
 
 
 def test_serve_makes_its_env_without_an_upgrade_warning():
-    """serve chooses HarbourApproach-v2 itself: the user is not told to upgrade an id they never named."""
+    """serve chooses HarbourApproach-v3 itself: the user is not told to upgrade an id they never named."""
     import warnings
 
     from vessel_gym.net.served import Served

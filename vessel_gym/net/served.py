@@ -17,8 +17,9 @@ from typing import Any
 
 #: the task classes ``--env`` serves (their registered ids' entry points end with these)
 SERVED_TASKS = {"colreg:CollisionAvoidanceEnv": "colreg", "berthing:BerthingEnv": "berthing"}
-#: the harbour task serve runs without ``--env``, on the scenario's own ship
-HARBOUR_ID = "vessel_gym/HarbourApproach-v2"
+#: the harbour task serve runs without ``--env``, on the scenario's own ship: the current one (v2's physics,
+#: the smooth helm), so that an agent on the served helm steers the helm it was trained on
+HARBOUR_ID = "vessel_gym/HarbourApproach-v3"
 
 
 def served_ids() -> list[str]:

@@ -1,9 +1,11 @@
 """HarbourApproach: from outside a harbour, through the entrance, to a stop in the goal area.
 
 Its versions are presets of one configuration, registered by :func:`~vessel_gym.envs.registration.register_task`:
-``HarbourApproach-v1`` (the L7 model with windage, calm-depth physics) and ``HarbourApproach-v2`` (v1 plus the
+``HarbourApproach-v1`` (the L7 model with windage, calm-depth physics), ``HarbourApproach-v2`` (v1 plus the
 harbour physics: the cross-flow hull at large drift, default ship ``kvlcc2_l7_harbour``, and the water depth
-under each ship read from the scenario's chart, ``chart_depth``). This module is the task: its declaration (ids
+under each ship read from the scenario's chart, ``chart_depth``) and ``HarbourApproach-v3`` (v2 with the
+rudder order lagging the action at a capped rate, :mod:`.harbour_helm`, and rudder changes charged 10x: the
+smooth-helm task). This module is the task: its declaration (ids
 as presets, configuration, reward weights, pilots, metrics, training defaults), the start of an episode and its
 ``info``. Its other jobs have their own modules: the columns of its reward terms, features, state and parameters
 (:mod:`.harbour_columns`), the compiled step (:mod:`.harbour_kernel`), the chart's geometry and depth
@@ -34,6 +36,7 @@ from vessel_gym.envs.tasks.chart import (
     poses_clear,
 )
 from vessel_gym.envs.tasks.harbour_columns import SPEC, HarbourArrays, P, S
+from vessel_gym.envs.tasks.harbour_helm import LagHelm, cap_rate, lag_gain
 from vessel_gym.envs.tasks.harbour_kernel import PARALLEL_MIN_SHIPS, harbour_update, harbour_update_parallel
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.shallow_water import check_hull
@@ -133,6 +136,22 @@ class HarbourApproachConfig(ShipEnvConfig):
         "train", choices=("train", "eval"), doc="procedural: seed range of the layout (eval: held out)"
     )
     layout_index: int = param(0, unit="-", lo=0, hi=99_999, doc="procedural: which layout of the split")
+    rudder_action: str = param(
+        "order",
+        choices=("order", "lag"),
+        doc="continuous helm: action[0] is the rudder order (order), or the rudder asked for, which the order "
+        "follows as a first-order lag (rudder_lag_time_scales) capped at rudder_rate_fraction of the gear's rate",
+    )
+    rudder_lag_time_scales: float = param(
+        1.0, unit="L/U_T", lo=0.01, hi=100.0, doc="lag: time constant of the order's lag behind the action"
+    )
+    rudder_rate_fraction: float = param(
+        1.0,
+        unit="-",
+        lo=0.01,
+        hi=1.0,
+        doc="lag: the order changes at most at this fraction of the steering gear's max rate",
+    )
     reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
 
 
@@ -209,6 +228,15 @@ def episode_metrics(infos: list[Mapping[str, Any]], terminated: bool) -> dict[st
     presets={
         "HarbourApproach-v1": {"ship": "kvlcc2_l7_windage", "chart_depth": False},
         "HarbourApproach-v2": {},
+        # the smooth-helm task: the rudder order follows the action with a lag of one ship time scale, at most
+        # a quarter of the gear's rate (3.9 deg/s on kvlcc2_l7), and a change of order costs 10x v2's
+        # (docs/agents.md, "HarbourApproach-v3: the smooth helm")
+        "HarbourApproach-v3": {
+            "rudder_action": "lag",
+            "rudder_lag_time_scales": 1.0,
+            "rudder_rate_fraction": 0.25,
+            "reward": {"rudder_activity": 0.5},
+        },
     },
     max_episode_steps=None,
     env="vessel_gym.envs.tasks.harbour_env:HarbourApproachEnv",
@@ -274,6 +302,11 @@ class HarbourApproachTask(Task):
             else _round2(TIME_LIMIT_TIME_SCALES * time_scale)
         )
         config = dataclasses.replace(config, control_interval_s=ci, time_limit_s=tl)
+        if config.rudder_action == "lag" and config.action_type != "continuous":
+            raise SpecError(
+                'HarbourApproach config rudder_action: "lag" smooths the order of a continuous helm; '
+                'action_type="discrete" orders fixed helm angles (choose rudder_action="order")'
+            )
         self.scenario = sc
         ship_named = config.ship if config.ship is not None else sc.load_ship()
         angles = np.arange(config.n_beams) * (2.0 * math.pi / max(config.n_beams, 1))
@@ -290,6 +323,9 @@ class HarbourApproachTask(Task):
             (2, pts) for _n, pts in sc.shoals(T)
         ]
         self.edges, self.polys, self.pbox = chart_tables(polys)
+        if config.rudder_action == "lag":
+            gain = lag_gain(ci, config.rudder_lag_time_scales * time_scale)
+            self.helm = LagHelm(config, self.sim, gain, cap_rate(config.rudder_rate_fraction, self.sim), ci)
         self.hull = np.array(hull_outline(self.L, self.ship.particulars.B_m), dtype=np.float64)
         self.goal_verts = np.array([(p[0], p[1]) for p in sc.goal.points], dtype=np.float64)
         self.ts = np.zeros((n, len(S)))

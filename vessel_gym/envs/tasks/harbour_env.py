@@ -165,8 +165,27 @@ class HarbourApproachEnv(ShipEnv):
 
     ``gymnasium.make_vec("vessel_gym/HarbourApproach-v2", num_envs=N)``: :class:`HarbourApproachVectorEnv`.
 
+    ## HarbourApproach-v3
+
+    The v2 task (ship, physics, observations, start, episode end, ``info``) with a smooth helm by construction
+    (config ``rudder_action="lag"``, ``rudder_lag_time_scales=1``, ``rudder_rate_fraction=0.25``, reward
+    ``rudder_activity`` 0.5):
+
+    * action 0 is the rudder asked for (x rudder limit, as v2); the rudder order in force follows it as a
+      first-order lag of one ship time scale L / U_T (5.9 s on ``kvlcc2_l7``: 15.4 % of the gap closed per
+      0.99 s control step), its change capped at 0.25 x the steering gear's max rate (3.9 deg/s on
+      ``kvlcc2_l7``; 0.58 deg/s at full scale). The order in force is observed (``rudder_order``), so the
+      state stays Markov. Action 1 (engine) as v2;
+    * ``rudder_activity`` weighs 0.5 (v2: 0.05): hard over and back (70 deg of order changes) costs 0.5, a
+      hundredth of the success bonus.
+
+    The pilots (``pid``, ``pid-nomoto``, ``scripted``) give their orders through the same lag. Why a lag with a
+    rate cap: docs/agents.md, "HarbourApproach-v3: the smooth helm".
+
     ## Version History
 
+    * v3: the rudder order lags the action (one time scale, capped at a quarter of the gear's rate) and rudder
+      changes are charged 10x; v2 unchanged.
     * v2: the cross-flow hull at large drift (default ship ``kvlcc2_l7_harbour``) and the depth from the chart
       with the shallow-water corrections; v1 unchanged.
     * v1: control interval and time limit from the ship's time scale, time charged per ship time scale,
