@@ -3,6 +3,13 @@ one command.
 
     python -m agents.colreg_results --episodes 20 --write docs/colreg.md
     python -m agents.colreg_results --episodes 100 --agents scripted pid --json results.json
+    python -m agents.colreg_results --episodes 20 --agents pid agents/trained/ppo_CollisionAvoidance-v0_seed*.zip
+
+``--agents`` takes the declared pilots and saved models (``.zip`` of ``agents/train.py``, a shipped agent with
+its sidecar): a model is evaluated with the environment arguments it is evaluated with elsewhere
+(``eval_env_kwargs`` of its run record or sidecar, ``agents/evaluation.py``), which must be the registered
+Imazu draw. Models of several seeds of one algorithm add a row pooling their episodes
+(``<algo> (N seeds)``), the rate of the policy over training seeds.
 
 Every pilot meets the same episodes: case c, episode i starts from ``reset(seed=TEST_START + i,
 options={"scenario": "imazu:c"})`` (the test seeds, ``agents/seeds.py``; the seed draws the targets'
@@ -83,6 +90,36 @@ def summary(eps: list[dict[str, Any]]) -> dict[str, Any]:
     }
 
 
+def _check_model(path: str) -> None:
+    """A model must be one of this env's and be evaluated on the registered (Imazu) draw."""
+    from agents.evaluation import run_record
+
+    rec = run_record(path)
+    if rec.get("env_id") not in (None, ENV_ID):
+        raise UsageError(f"--agents: {path} was trained on {rec['env_id']}, not {ENV_ID}")
+    kwargs = rec.get("eval_env_kwargs", rec.get("env_kwargs")) or {}
+    if kwargs:
+        raise UsageError(f"--agents: {path} is evaluated with env arguments {kwargs}, not the Imazu cases")
+    if rec.get("action_filter"):
+        raise UsageError(
+            f"--agents: {path} needs the action filter {rec['action_filter']} (not applied here)"
+        )
+
+
+def _load_model(path: str, env: Any) -> Any:
+    from agents.evaluation import load_agent
+
+    return load_agent(path, env)
+
+
+def _by_algo(models: list[str]) -> dict[str, list[str]]:
+    """Models grouped by their algorithm (the stem's part before the first underscore)."""
+    out: dict[str, list[str]] = {}
+    for a in models:
+        out.setdefault(Path(a).stem.split("_")[0], []).append(a)
+    return out
+
+
 def _rate(s: dict[str, Any], key: str) -> str:
     lo, hi = s[f"{key}_ci"]
     return f"{100 * s[key]:.1f} [{100 * lo:.1f}, {100 * hi:.1f}]"
@@ -117,7 +154,12 @@ def write_block(path: Path, text: str) -> None:
 def main(argv: list[str] | None = None) -> int:
     p = OneLineParser(prog="colreg_results", description="CollisionAvoidance baselines on the Imazu cases.")
     p.add_argument("--episodes", type=int_in("--episodes", 1), default=20, help="episodes per case and pilot")
-    p.add_argument("--agents", nargs="+", default=["scripted", "pid"], help="declared pilots (default both)")
+    p.add_argument(
+        "--agents",
+        nargs="+",
+        default=["scripted", "pid"],
+        help="declared pilots and model .zip files (default: scripted pid)",
+    )
     p.add_argument("--cases", nargs="+", type=int_in("--cases", 1), default=list(range(1, 23)))
     p.add_argument("--write", metavar="PAGE", default=None, help="replace the results block of this page")
     p.add_argument("--json", metavar="FILE", default=None, help="also write the results as JSON")
@@ -129,8 +171,12 @@ def main(argv: list[str] | None = None) -> int:
 
         pilots = declaration(ENV_ID).pilots
         for a in args.agents:
+            if a not in pilots and not (a.endswith(".zip") and Path(a).is_file()):
+                raise UsageError(
+                    f"--agents: {a!r} is no pilot of {ENV_ID} (have: {', '.join(pilots)}) and no model .zip"
+                )
             if a not in pilots:
-                raise UsageError(f"--agents: {a!r} is no pilot of {ENV_ID} (have: {', '.join(pilots)})")
+                _check_model(a)
         for c in args.cases:
             if not 1 <= c <= 22:
                 raise UsageError(f"--cases: {c} is no Imazu case (1..22)")
@@ -141,16 +187,22 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     env = gym.make(ENV_ID)
     t0 = time.perf_counter()
+    names = {a: a if a in pilots else Path(a).stem for a in args.agents}
+    policies = {a: pilots[a](env) if a in pilots else _load_model(a, env) for a in args.agents}
     results: dict[str, dict[str, dict[str, Any]]] = {}
     episodes: dict[str, list] = {a: [] for a in args.agents}
     for case in args.cases:
         results[str(case)] = {}
         for a in args.agents:
-            eps = run_case(env, pilots[a](env), case, args.episodes)
+            eps = run_case(env, policies[a], case, args.episodes)
             episodes[a] += eps
-            results[str(case)][a] = summary(eps)
+            results[str(case)][names[a]] = summary(eps)
         print(f"case {case} done ({time.perf_counter() - t0:.0f} s)", file=sys.stderr, flush=True)
-    results["all"] = {a: summary(episodes[a]) for a in args.agents}
+    results["all"] = {names[a]: summary(episodes[a]) for a in args.agents}
+    for algo, models in _by_algo([a for a in args.agents if a not in pilots]).items():
+        if len(models) > 1:
+            pooled = [e for a in models for e in episodes[a]]
+            results["all"][f"{algo} ({len(models)} seeds)"] = summary(pooled)
     text = (
         f"{ENV_ID}, {args.episodes} episodes per case and pilot (test seeds {TEST_START}..), "
         f"{len(args.cases)} cases; {time.perf_counter() - t0:.0f} s on a shared, loaded machine.\n\n"
