@@ -71,3 +71,14 @@ def test_models_of_several_seeds_get_a_pooled_row(tmp_path, monkeypatch, capsys)
     out = capsys.readouterr().out
     assert "| 1 | `ppo_CollisionAvoidance-v0_s0` | 100.0 [20.7, 100.0] |" in out
     assert "| all | `ppo (2 seeds)` | 100.0 [34.2, 100.0] | 0.0 [0.0, 65.8] |" in out
+    # a named block of the page, totals only; the baselines' block is left as it was
+    begin, end = colreg_results.markers("ppo")
+    page = tmp_path / "page.md"
+    page.write_text(f"{colreg_results.BEGIN}\nbase\n{colreg_results.END}\n{begin}\nold\n{end}\n")
+    argv = ["--episodes", "1", "--cases", "1", "--agents", *models, "--block", "ppo", "--totals"]
+    assert colreg_results.main([*argv, "--write", str(page)]) == 0
+    text = page.read_text()
+    assert "base" in text and "old" not in text and "| 1 |" not in text
+    assert "| all | `ppo_CollisionAvoidance-v0_s1` | 100.0 [20.7, 100.0] |" in text
+    assert colreg_results.main(["--agents", *models, "--block", "nope", "--write", str(page)]) == 2
+    assert "no results block" in capsys.readouterr().err
