@@ -55,3 +55,46 @@ def test_a_dnv_situation_writes_its_own_block(tmp_path):
     # situation 7 (head-on and crossing give-way): the route follower collides, the velocity obstacles pass
     assert "| 7 (HO, CR-GW) | `scripted` | 0.0 [0.0, 79.3] | 100.0 [20.7, 100.0] |" in text
     assert "| 7 (HO, CR-GW) | `pid` | 100.0 [20.7, 100.0] | 0.0 [0.0, 79.3] |" in text
+
+
+def _fake_model(tmp_path, stem, record):
+    path = tmp_path / f"{stem}.zip"
+    path.write_bytes(b"")
+    (tmp_path / f"{stem}.yml").write_text(record)
+    return str(path)
+
+
+def test_a_model_evaluated_on_other_encounters_is_refused(tmp_path, capsys):
+    model = _fake_model(
+        tmp_path,
+        "ppo_CollisionAvoidance-v0_s0",
+        "env_id: vessel_gym/CollisionAvoidance-v0\neval_env_kwargs: {encounters: generated}\n",
+    )
+    assert colreg_results.main(["--agents", model]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "not the Imazu cases" in err[0]
+
+
+def test_models_of_several_seeds_get_a_pooled_row(tmp_path, monkeypatch, capsys):
+    # the models' policies stand in as the VO pilot: the table's rows and the pooling are what is tested
+    from vessel_gym.envs.registration import declaration
+
+    vo = declaration(colreg_results.ENV_ID).pilots["pid"]
+    monkeypatch.setattr(colreg_results, "_load_model", lambda path, env: vo(env))
+    record = "env_id: vessel_gym/CollisionAvoidance-v0\neval_env_kwargs: {}\n"
+    models = [_fake_model(tmp_path, f"ppo_CollisionAvoidance-v0_s{s}", record) for s in (0, 1)]
+    assert colreg_results.main(["--episodes", "1", "--cases", "1", "--agents", *models]) == 0
+    out = capsys.readouterr().out
+    assert "| 1 | `ppo_CollisionAvoidance-v0_s0` | 100.0 [20.7, 100.0] |" in out
+    assert "| all | `ppo (2 seeds)` | 100.0 [34.2, 100.0] | 0.0 [0.0, 65.8] |" in out
+    # a named block of the page, totals only; the baselines' block is left as it was
+    begin, end = colreg_results.markers("ppo")
+    page = tmp_path / "page.md"
+    page.write_text(f"{colreg_results.BEGIN}\nbase\n{colreg_results.END}\n{begin}\nold\n{end}\n")
+    argv = ["--episodes", "1", "--cases", "1", "--agents", *models, "--block", "ppo", "--totals"]
+    assert colreg_results.main([*argv, "--write", str(page)]) == 0
+    text = page.read_text()
+    assert "base" in text and "old" not in text and "| 1 |" not in text
+    assert "| all | `ppo_CollisionAvoidance-v0_s1` | 100.0 [20.7, 100.0] |" in text
+    assert colreg_results.main(["--agents", *models, "--block", "nope", "--write", str(page)]) == 2
+    assert "no results block" in capsys.readouterr().err
