@@ -54,8 +54,8 @@ def test_everything_positional_comes_from_the_declaration(env_id):
     assert task.weights.shape == (len(names),)
     for j, t in enumerate(spec.terms):
         assert getattr(type(reward)(), t.name) == t.weight  # default weight declared once
-        v1_time = env_id.endswith(("HarbourApproach-v1", "HarbourApproach-v2")) and t.name == "time"
-        if not v1_time:  # v1 and v2 charge time per L / U_T
+        harbour_time = "HarbourApproach-v" in env_id and t.name == "time"
+        if not harbour_time:  # the harbour task (v1 on) charges time per L / U_T
             assert task.weights[j] == getattr(reward, t.name)
     # info keys, single and vector
     _obs, info = env.reset(seed=0)
