@@ -3,7 +3,8 @@ simulated in the same batch, the COLREG rules scored per encounter (docs/colreg.
 
 Beside this file: the declaration and its columns (``colreg_columns.py``), the step (``colreg_step.py``),
 the encounter geometry (``colreg_geometry.py``), the Imazu cases and the generator (``colreg_encounters.py``),
-the rule checks (``colreg_rules.py``) and the baselines (``colreg_pilots.py``).
+the rule checks (``colreg_rules.py``), the encounters' bookkeeping (``colreg_world.py``) and the baselines
+(``colreg_pilots.py``, ``colreg_mpc.py``).
 """
 
 from __future__ import annotations
@@ -24,15 +25,16 @@ from vessel_gym.envs.task import Task, _uniform, start, task_arrays
 from vessel_gym.envs.tasks.colreg_ais import AisReceiver
 from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SENSOR_MAX, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, LANES, Encounter, generate, imazu, lanes
-from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, polygon_edges, sweep_bearings
+from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, sweep_bearings
 from vessel_gym.envs.tasks.colreg_rules import R, new_record
 from vessel_gym.envs.tasks.colreg_situation import DNV_COUNT, dnv_situation, read_situation, within_speed
 from vessel_gym.envs.tasks.colreg_step import colreg_update
+from vessel_gym.envs.tasks.colreg_world import OwnShips, World
 from vessel_gym.envs.tasks.common import motion_observed
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.physics.units import DEG
-from vessel_gym.scenarios.geometry import hull_outline, point_in_polygon
+from vessel_gym.scenarios.geometry import point_in_polygon
 from vessel_gym.scenarios.scenario import load_scenario
 
 CollisionAvoidanceReward = SPEC.weights_class(
@@ -183,72 +185,6 @@ CollisionAvoidanceArrays = task_arrays(
     vessel=("ts", "scores", "scenario_id", "planned_dcpa"),
     shared=("pairs", "p", "world"),
 )
-
-
-class OwnShips:
-    """The own ships of a simulation (its first ``n`` vessels) as the helm sees them: actions reach them only,
-    and the targets keep the orders they started with (constant-velocity targets)."""
-
-    def __init__(self, sim: Simulation, n: int) -> None:
-        self.sim_ = sim
-        self.n = n
-        self.ships = sim.ships
-        self.ship_index = sim.ship_index[:n]
-
-    def ship(self, k: int = 0) -> Any:
-        return self.sim_.ship(k)
-
-    def telegraph_rev(self, telegraph: Any, k: int | None = None) -> np.ndarray:
-        return (
-            self.sim_.telegraph_rev(telegraph)[: self.n]
-            if k is None
-            else self.sim_.telegraph_rev(telegraph, k)
-        )
-
-    def set_helm(self, rudder_order_rad: Any = None, rev_order: Any = None, k: Any = None) -> None:
-        self.sim_.set_helm(rudder_order_rad, rev_order, k=slice(0, self.n) if k is None else k)
-
-
-class World:
-    """Which vessels of the simulation share an encounter and which are in it now.
-
-    Own ship k (vessel k) is in encounter ``world_of[k]`` at slot ``slot_of[k]``; encounter w's vessels by slot
-    are ``members[w]``: its ``agents`` own ships, then its ``max_targets`` target slots (vessels after the own
-    ships). ``active[j]``: vessel j takes part (a target slot an encounter leaves empty, or a ship whose episode
-    ended, does not)."""
-
-    def __init__(self, n: int, agents: int, targets: int, L: float, B: float, observed: int) -> None:
-        worlds = n // agents
-        self.agents = agents
-        self.targets = targets
-        self.members = [
-            [w * agents + s for s in range(agents)] + [n + w * targets + j for j in range(targets)]
-            for w in range(worlds)
-        ]
-        self.world_of = [k // agents for k in range(n)]
-        self.slot_of = [k % agents for k in range(n)]
-        self.active = np.zeros(n + worlds * targets, dtype=np.bool_)
-        self.outline = hull_outline(L, B)
-        self.length = L
-        self.reach = math.hypot(L, B)  # m: centres farther apart than this cannot touch
-        self.slots_observed = observed
-        self.course = np.zeros(n + worlds * targets)  # rad, each ship's course at the start
-        # restricted waters (set by the task): the polygons a hull must not reach (land, and depth areas
-        # shallower than the draught plus the under-keel margin) with their boxes, and all their edges
-        self.obstacles: list[tuple[list, tuple[float, float, float, float]]] = []
-        self.edges = np.zeros((0, 4))
-        # the range-sensor sweep: its rays' relative bearings (rad; empty: no sweep) and sectors
-        self.sensors = 0
-        self.bearings = np.zeros(0)
-        self.ais: AisReceiver | None = None  # targets as received over AIS (None: the truth)
-
-    def set_waters(self, polys: list) -> None:
-        """The obstacles of restricted waters: polygons of (north, east) points, m."""
-        self.obstacles = [
-            (p, (min(q[0] for q in p), max(q[0] for q in p), min(q[1] for q in p), max(q[1] for q in p)))
-            for p in polys
-        ]
-        self.edges = polygon_edges(polys)
 
 
 def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:

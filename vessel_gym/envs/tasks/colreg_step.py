@@ -79,7 +79,7 @@ def colreg_update(phase, v, t):
     ``v``: the framework's record of the vessels; ``t``: the task's (``CollisionAvoidanceArrays``): the task
     state ``ts``, the COLREG ``scores``, ``pairs[k, s]`` own ship k's record of the ship in slot s of its
     encounter (:data:`~vessel_gym.envs.tasks.colreg_rules.R`), the parameter row ``p`` and the ``world``
-    (:class:`~vessel_gym.envs.tasks.colreg.World`: which vessels share an encounter, which are in it, their
+    (:class:`~vessel_gym.envs.tasks.colreg_world.World`: which vessels share an encounter, which are in it, their
     outline).
     """
     x, env, alive, feat, terms = v.x, v.env, v.alive, v.feat, v.terms
