@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from vessel_gym.envs.tasks.berthing import OUTCOMES
 from vessel_gym.envs.tasks.colreg_columns import P
 from vessel_gym.envs.tasks.colreg_geometry import SAFE, SITUATIONS
 from vessel_gym.envs.tasks.colreg_rules import R, pair_checks, reaction_delay
@@ -95,14 +96,8 @@ def berthing_score(
     if outcome == "success":
         return 50.0 + 25.0 * (1.0 - min(contact_fraction, 1.0)) + 25.0 * (1.0 - min(fender_fraction, 1.0))
     made_good = min(max(1.0 - final_m / max(start_m, 1e-9), 0.0), 1.0)
-    failed = outcome in (
-        "fender_overload",
-        "contact_speed",
-        "contact",
-        "grounding",
-        "out_of_bounds",
-        "diverged",
-    )
+    # the task's failure outcomes (a time limit is none of them)
+    failed = outcome in OUTCOMES and outcome not in ("running", "success")
     return 40.0 * made_good * (0.5 if failed else 1.0)
 
 

@@ -437,6 +437,22 @@ class CollisionAvoidanceTask(Task):
         return motion_observed(rev=self.config.engine_control) + own + slots + sensors
 
     # --- the start of an encounter -------------------------------------------------------------------------
+    def _target_types(
+        self, name: str | None, arg: str, pool: Any, need: int, rng: np.random.Generator
+    ) -> tuple[str, ...]:
+        """The targets' types of a generated or lane encounter: as ``arg`` names them ("a+b"), or a count
+        drawn from ``generated_targets`` (at least ``need``) of types drawn from ``pool``."""
+        c = self.config
+        if arg:
+            types = tuple(arg.split("+"))
+        else:
+            lo, hi = max(c.generated_targets[0], need, 1), min(c.generated_targets[-1], c.max_targets)
+            count = int(rng.integers(lo, max(lo, hi) + 1))
+            types = tuple(str(rng.choice(list(pool))) for _ in range(count))
+        if not need <= len(types) <= c.max_targets:
+            raise ValueError(f"{name}: {len(types)} targets; this task takes {need} to {c.max_targets}")
+        return types
+
     def draw(self, name: str | None, rng: np.random.Generator) -> Encounter:
         """The encounter ``name`` (a reset option; None: as ``encounters`` says), drawn with ``rng``."""
         c = self.config
@@ -457,27 +473,13 @@ class CollisionAvoidanceTask(Task):
             jitter = (c.imazu_heading_jitter_deg, c.imazu_speed_jitter)
             return imazu(case, self.L, self.U_T, c.tcpa_L, rng, jitter)
         if kind == "generated":
-            if arg:
-                types = tuple(arg.split("+"))
-            else:
-                lo, hi = max(c.generated_targets[0], need, 1), min(c.generated_targets[-1], c.max_targets)
-                count = int(rng.integers(lo, max(lo, hi) + 1))
-                types = tuple(str(rng.choice(list(GENERATED))) for _ in range(count))
-            if not need <= len(types) <= c.max_targets:
-                raise ValueError(f"{name}: {len(types)} targets; this task takes {need} to {c.max_targets}")
+            types = self._target_types(name, arg, GENERATED, need, rng)
             T = c.tcpa_L * self.L / self.U_T
             dcpa = tuple(rng.uniform(*c.generated_dcpa_L) * self.L for _ in types)
             tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
             return generate(types, dcpa, tcpa, self.U_T, rng)
         if kind == "lanes":
-            if arg:
-                types = tuple(arg.split("+"))
-            else:
-                lo, hi = max(c.generated_targets[0], need, 1), min(c.generated_targets[-1], c.max_targets)
-                count = int(rng.integers(lo, max(lo, hi) + 1))
-                types = tuple(str(rng.choice(list(LANES))) for _ in range(count))
-            if not need <= len(types) <= c.max_targets:
-                raise ValueError(f"{name}: {len(types)} targets; this task takes {need} to {c.max_targets}")
+            types = self._target_types(name, arg, LANES, need, rng)
             T = c.tcpa_L * self.L / self.U_T
             tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
             return lanes(types, tcpa, self.U_T, self.L, c.opposite_lane_L * self.L, rng)
