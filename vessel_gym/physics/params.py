@@ -5,7 +5,8 @@ transmission, engine, rudder, steering gear, windage, wave drift, roll) has a re
 read, each with its unit and meaning. A record is derived from its ship-file table, the dataclass of
 :mod:`vessel_gym.physics.sections`: every number key of the table (a ``float`` field; not a string, a table, a
 dict or a key that may be left out) is a field of the record under the key's own name, with the unit and doc of
-its ``param(...)``, and :func:`put_keys` copies them all from a loaded table by name. The table is the one home
+its ``param(...)``, and :func:`put_keys` copies them all from a loaded table by name, as written (a key in deg,
+rpm or kW too: the equations read such a value in SI through a derived field). The table is the one home
 of such a parameter: its unit and meaning are not written a second time here. What the table does not hold as it
 stands is declared below, where its record is: a code chosen by a string key (``PROPELLER.wake_kind``), a flag
 (``on``), a value in the equations' SI unit converted from the file's (``STEERING_GEAR.delta_max`` in rad from
