@@ -1,8 +1,10 @@
 """Ship files: one TOML file per ship, loaded strictly into frozen parameter dataclasses.
 
-Format reference: docs/ship-file.md. The tables of the built-in components are the dataclasses of
-:mod:`vessel_gym.physics.sections`; this module holds the ship as a whole and its loading. A ship is named either by a built-in name (``mariner``, ``kvlcc2``,
+Format reference: docs/ship-file.md. A ship is named either by a built-in name (``mariner``, ``kvlcc2``,
 ``kvlcc2_l7``, ``dtc``, ``coaster``; see :func:`builtin_ships`) or by a path to a ``.toml`` file.
+
+The tables of the built-in components are the dataclasses of :mod:`vessel_gym.physics.sections` (the compiled
+model's parameter records are derived from them); this module holds the ship as a whole and its loading.
 """
 
 from __future__ import annotations
