@@ -43,10 +43,10 @@ _TABLE = re.compile(r"^\[(\w+)\]")
 
 def _annotations() -> dict[str, dict[str, str]]:
     """table -> key -> "unit, range: meaning" from the loader's dataclasses."""
-    from vessel_gym.physics import shipfile
+    from vessel_gym.physics import sections, shipfile
     from vessel_gym.physics.schema import describe
 
-    tables = {**shipfile._SECTIONS, "hull": shipfile.MMGHull}
+    tables = {**shipfile._SECTIONS, "hull": sections.MMGHull}
     out: dict[str, dict[str, str]] = {}
     for table, cls in tables.items():
         rows = {}

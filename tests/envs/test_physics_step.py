@@ -43,7 +43,7 @@ def test_fastest_stepped_mode_of_the_model_ship_is_its_shaft():
         derivatives(P, xm, inp, env, np.zeros(3), fm)
         J[:, c] = (fp[list(block)] - fm[list(block)]) / (2.0 * h)
     shaft = np.max(np.abs(np.linalg.eigvals(J)))
-    assert 1.0 < shaft < 1.0 / P[STEERING_GEAR.time_constant]  # faster than the hull, slower than the gear's lag
+    assert 1.0 < shaft < 1.0 / P[STEERING_GEAR.time_constant_s]  # faster than the hull, slower than the gear's lag
     assert fastest_rate("kvlcc2_l7") == pytest.approx(shaft, rel=0.02)
     assert stable_step("kvlcc2_l7") == pytest.approx(2.785 / fastest_rate("kvlcc2_l7"))
     assert stable_step("kvlcc2_l7", "euler") == pytest.approx(2.0 / fastest_rate("kvlcc2_l7"))

@@ -32,7 +32,7 @@ def test_first_quadrant_is_the_open_water_curve(P_kvlcc2):
     """Quadrant 1 is the published open-water model, T = rho n^2 D^4 K_T(J), Q = rho n^2 D^5 K_Q(J),
     J = u_a/(nD) (Yasukawa & Yoshimura 2015 eq. 13-14), to rounding (1e-12 relative)."""
     P = P_kvlcc2
-    D, rho = P[PROPELLER.D_P], P[BODY.rho]
+    D, rho = P[PROPELLER.D_m], P[BODY.rho_kg_m3]
     n = 1.75
     for J in (0.0, 0.1, 0.3, 0.5):
         T, Q = propeller_thrust_torque(P, J * n * D, n)
@@ -58,7 +58,7 @@ def test_propeller_signs_in_four_quadrants(ship, n_sign, ua_sign, quadrant):
     astern (a crash stop brakes the ship: quadrant 4 gives T < 0)."""
     P = pack(load_ship(ship))
     n = 2.0 * n_sign
-    u_a = ua_sign * 0.3 * abs(n) * P[PROPELLER.D_P]
+    u_a = ua_sign * 0.3 * abs(n) * P[PROPELLER.D_m]
     T, Q = propeller_thrust_torque(P, u_a, n)
     assert np.sign(T) == n_sign, quadrant
     assert np.sign(Q) == n_sign, quadrant
@@ -209,7 +209,7 @@ def test_wave_drift_directions(P_kvlcc2):
         F = 1e-9 * math.hypot(Xs, Ys)
         assert Xp == pytest.approx(Xs, abs=F)
         assert Yp == pytest.approx(-Ys, abs=F)
-        assert Np == pytest.approx(-Ns, abs=F * P[BODY.L])
+        assert Np == pytest.approx(-Ns, abs=F * P[BODY.L_m])
     # heading and wave direction enter only through their difference
     assert wave_drift_forces(P, 1.0, 120.0 * DEG, 30.0 * DEG) == pytest.approx(
         wave_drift_forces(P, 1.0, 90.0 * DEG, 0.0)
@@ -261,7 +261,7 @@ def test_vessel_forces_equal_the_component_functions(ship):
             wind_from_deg=rng.uniform(0.0, 360.0),
             current_speed_m_s=rng.uniform(0.0, 2.0),
             current_to_deg=rng.uniform(0.0, 360.0),
-        ).row(P[BODY.L], P[BODY.T])
+        ).row(P[BODY.L_m], P[BODY.T_m])
         f = forces(P, x, np.zeros(lo.NU), e, np.zeros(N_OUT))
         u, v, r, psi, delta = x[[lo.X_U, lo.X_V, lo.X_R, lo.X_PSI, lo.X_DELTA]]
         np.testing.assert_allclose(f[0:3], hull_forces(P, u, v, r, delta), rtol=1e-12, atol=1e-9)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from vessel_gym.physics import components
+from vessel_gym.physics import components, sections
 from vessel_gym.physics import shipfile as sf
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "ship-file.md"
@@ -19,18 +19,18 @@ def test_every_ship_file_key_is_documented():
     text = DOC.read_text()
     for cls in (
         sf.Source,
-        sf.Particulars,
-        sf.AbkowitzHull,
-        sf.MMGHull,
-        sf.Propeller,
-        sf.Rudder,
-        sf.SteeringGear,
-        sf.Engine,
-        sf.Transmission,
-        sf.Windage,
-        sf.WaveDrift,
-        sf.LargeDrift,
-        sf.Roll,
+        sections.Particulars,
+        sections.AbkowitzHull,
+        sections.MMGHull,
+        sections.Propeller,
+        sections.Rudder,
+        sections.SteeringGear,
+        sections.Engine,
+        sections.Transmission,
+        sections.Windage,
+        sections.WaveDrift,
+        sections.LargeDrift,
+        sections.Roll,
     ):
         for f in dataclasses.fields(cls):
             assert f"`{f.name}" in text, f"{cls.__name__}.{f.name} missing from docs/ship-file.md"

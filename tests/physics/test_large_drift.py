@@ -15,10 +15,11 @@ import numpy as np
 import pytest
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.crossflow import LargeDrift, mmg_weight
+from vessel_gym.physics.crossflow import mmg_weight
 from vessel_gym.physics.environment import Environment
 from vessel_gym.physics.hull import hull_forces
 from vessel_gym.physics.schema import read_toml
+from vessel_gym.physics.sections import LargeDrift
 from vessel_gym.physics.shipchecks import ShipFileError
 from vessel_gym.physics.shipfile import load_ship, parse_ship, resolve_ship_path
 from vessel_gym.physics.simulation import Simulation

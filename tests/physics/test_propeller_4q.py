@@ -148,7 +148,7 @@ def test_first_quadrant_keeps_the_ships_own_curves_and_the_option_is_off_by_defa
     T_astern = propeller_thrust_torque(P4, 0.0, -n)[0]
     ct0, _ = ct_cq_star(1, 0.0)
     ct180, _ = ct_cq_star(1, math.pi)
-    assert T_ahead == pytest.approx(P4[BODY.rho] * n * n * P4[PROPELLER.D_P] ** 4 * P4[PROPELLER.k_0], rel=1e-12)
+    assert T_ahead == pytest.approx(P4[BODY.rho_kg_m3] * n * n * P4[PROPELLER.D_m] ** 4 * P4[PROPELLER.k_0], rel=1e-12)
     assert T_astern / T_ahead == pytest.approx(ct180 / ct0, rel=1e-9)
     assert BOLLARD_FACTOR == pytest.approx(math.pi / 8.0 * (0.7 * math.pi) ** 2, rel=1e-15)
 

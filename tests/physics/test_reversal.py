@@ -81,7 +81,7 @@ def test_clutch_plant_unchanged():
         f_ref, di_ref, s, ne_ref = governor(P, n, g, order)
         q_ref = 0.0
         if s != 0.0:
-            q_ref = s * P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio] * engine_torque(P, ne_ref, f_ref)
+            q_ref = s * P[TRANSMISSION.efficiency] * P[TRANSMISSION.gear_ratio] * engine_torque(P, ne_ref, f_ref)
             q_ref *= P[ENGINE.astern_torque_ratio] if s < 0.0 else 1.0
         assert (q, dcam, di, fuel, n_e) == (q_ref, 0.0, di_ref, f_ref, ne_ref)
 

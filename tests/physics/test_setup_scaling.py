@@ -189,7 +189,7 @@ def test_cache_entries_share_one_copy_of_the_parameters():
     sim.reset(heading_deg=np.arange(64.0))
     sim.reset(heading_deg=100.0 + np.arange(64.0))
     assert len({id(key[0]) for key in sim._steady_cache}) == 1
-    sim.Ps[0, BODY.rho] *= 1.01  # changed parameters are a new key, not a stale hit
+    sim.Ps[0, BODY.rho_kg_m3] *= 1.01  # changed parameters are a new key, not a stale hit
     sim.reset(heading_deg=0.0, k=0)
     assert len({key[0] for key in sim._steady_cache}) == 2
 

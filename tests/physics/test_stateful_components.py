@@ -49,14 +49,14 @@ class BuiltinEngineInPython(Engine):
         P, Q = self.P, np.zeros(x.shape[0])
         for b, (fuel, _di, sgn, n_e) in self._each(sim, x, s):
             if sgn != 0.0:
-                Q[b] = sgn * P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio] * engine_torque(P, n_e, fuel)
+                Q[b] = sgn * P[TRANSMISSION.efficiency] * P[TRANSMISSION.gear_ratio] * engine_torque(P, n_e, fuel)
                 if sgn < 0.0:
                     Q[b] *= P[ENGINE.astern_torque_ratio]
         return Q
 
     def steady_states(self, sim, x, Q_hold):
         P = self.P  # the fuel index whose engine torque holds the shaft, as the built-in reset solves it
-        Q_e = Q_hold / (P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio])
+        Q_e = Q_hold / (P[TRANSMISSION.efficiency] * P[TRANSMISSION.gear_ratio])
         return np.array([[fuel_index_for(P, P[TRANSMISSION.gear_ratio] * x[b, lo.X_REV], Q_e[b])] for b in range(len(x))])
 
 

@@ -66,7 +66,7 @@ class VesselGymEngine(Fmi2Slave):
         if self.hold_torque > 0.0 and d != 0.0:
             # the steady approach's rule (physics.steady): fuel whose engine torque holds the shaft
             n_e = abs(P[TRANSMISSION.gear_ratio] * self.shaft_speed)
-            self.gov = fuel_index_for(P, n_e, self.hold_torque / (P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio]))
+            self.gov = fuel_index_for(P, n_e, self.hold_torque / (P[TRANSMISSION.efficiency] * P[TRANSMISSION.gear_ratio]))
 
     def _drive(self, gov=None, cam=None):
         """(drive torque N m, fuel index, d gov/dt, d cam/dt) at the inputs and the states (or ``gov``, ``cam``)."""

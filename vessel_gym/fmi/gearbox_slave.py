@@ -71,7 +71,7 @@ class VesselGymGearbox(Fmi2Slave):
         self.C[C_DT] = self.max_step
         P = self.P
         d = clutch_direction(P, self.rev_order)
-        i_g, eta = P[TRANSMISSION.gear_ratio], P[TRANSMISSION.eta_gear]
+        i_g, eta = P[TRANSMISSION.gear_ratio], P[TRANSMISSION.efficiency]
         if d == 0.0 or self.hold_torque == 0.0:
             n_E, Q_E, d = self.C[C_IDLE_REV], 0.0, 0.0  # declutched, idling unloaded
         else:

@@ -65,9 +65,9 @@ def blendermann_wind_loads(P, V_rw, gamma, cos_gamma, sin_gamma, rho_air):
     """
     if P[WINDAGE.on] == 0.0 or V_rw <= 0.0:
         return 0.0, 0.0, 0.0
-    AF = P[WINDAGE.A_FW]
-    AL = P[WINDAGE.A_LW]
-    L = P[BODY.L]
+    AF = P[WINDAGE.A_F_m2]
+    AL = P[WINDAGE.A_L_m2]
+    L = P[BODY.L_m]
     CDt = P[WINDAGE.CD_t]
     g = abs(gamma)
     cos_g = cos_gamma
@@ -78,7 +78,7 @@ def blendermann_wind_loads(P, V_rw, gamma, cos_gamma, sin_gamma, rho_air):
     den = 1.0 - 0.5 * P[WINDAGE.delta] * (1.0 - CDl / CDt) * s2 * s2
     CX = -CDl * (AL / AF) * cos_g / den
     CY = CDt * sin_g / den
-    CN = (P[WINDAGE.s_L] / L - 0.18 * (g - 0.5 * math.pi)) * CY
+    CN = (P[WINDAGE.s_L_m] / L - 0.18 * (g - 0.5 * math.pi)) * CY
     q = 0.5 * rho_air * V_rw * V_rw
     sgn = -1.0 if gamma >= 0.0 else 1.0  # wind from starboard pushes to port
     return q * CX * AF, sgn * q * CY * AL, sgn * q * CN * AL * L

@@ -37,42 +37,15 @@ where shallow_water.py clips it): the linear terms take the factors of the same 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.params import ABKOWITZ, BODY, HULL, LARGE_DRIFT, MMG
-from vessel_gym.physics.schema import SpecError, param
+from vessel_gym.physics.params import ABKOWITZ, BODY, HULL, LARGE_DRIFT, MMG, put, put_keys
+from vessel_gym.physics.schema import SpecError
+from vessel_gym.physics.sections import LargeDrift
 from vessel_gym.physics.shallow_water import cross_flow_drag_factor, hull_factors
-
-
-@dataclass(frozen=True, kw_only=True)
-class LargeDrift:
-    """Ship-file table ``[large_drift]``: the cross-flow model for an MMG or Abkowitz hull (docs/ship-file.md)."""
-
-    model: str = param("yoshimura_2009", choices=("yoshimura_2009",), doc="Yoshimura, Nakao & Ishibashi (2009)")
-    C_D: float = param(unit="-", lo=0.1, hi=2.0, doc="hull cross-flow drag coefficient at 90 deg drift, on 1/2 rho L d")
-    C_rY: float = param(unit="-", lo=0.0, hi=5.0, doc="yaw-rate factor of the cross flow in the sway force")
-    C_rN: float = param(unit="-", lo=0.0, hi=5.0, doc="yaw-rate factor of the cross flow in the yaw moment")
-    R_0_astern: float = param(unit="-", lo=0.0, hi=0.2, doc="resistance coefficient straight astern, like R_0")
-    mmg_drift_max_deg: float = param(
-        22.0, unit="deg", lo=0.0, hi=60.0, doc="flow angle up to which the MMG polynomial is used unchanged"
-    )
-    cross_flow_drift_min_deg: float = param(
-        35.0, unit="deg", lo=1.0, hi=90.0, doc="flow angle from which the cross-flow model is used alone"
-    )
-    mmg_r_prime_max: float = param(1.2, unit="-", lo=0.0, hi=5.0, doc="|r'| up to which the MMG polynomial is used")
-    cross_flow_r_prime_min: float = param(
-        2.4, unit="-", lo=0.1, hi=10.0, doc="|r'| from which the cross-flow model is used alone"
-    )
-    polynomial_u_prime_max: float = param(
-        0.8, unit="-", lo=0.0, hi=1.0, doc="Abkowitz hull with U_ref: |u'| up to which the polynomial is used"
-    )
-    cross_flow_u_prime_min: float = param(
-        1.0, unit="-", lo=0.05, hi=1.0, doc="Abkowitz hull with U_ref: |u'| from which the cross-flow model is used"
-    )
 
 
 def check(ld: LargeDrift, hull_model: str, where: str, resistance_N: float = 0.0) -> None:
@@ -122,15 +95,15 @@ def _abkowitz_linear_terms(P: np.ndarray) -> None:
     X'_vr, Y'_r are the set's total derivatives. The yaw u r term is split off: N'_r r L |u| is damping (the
     hydrodynamic part), -x_G m u r is kinematics and reverses with u (LARGE_DRIFT.C_N_ur); likewise x_G m r^2 (LARGE_DRIFT.C_X_rr).
     """
-    L, d = P[BODY.L], P[BODY.T]
+    L, d = P[BODY.L_m], P[BODY.T_m]
     # an Abkowitz coefficient on FNORM L^2 U^2 (L^3 for N) -> on 1/2 rho L d U^2 (L for N); rho is in FNORM
-    to_mmg = P[ABKOWITZ.force_norm] * L / (0.5 * P[BODY.rho] * d)
+    to_mmg = P[ABKOWITZ.force_norm] * L / (0.5 * P[BODY.rho_kg_m3] * d)
     _, Y_v, N_v = _abkowitz_monomial(P, (0, 1, 0, 0))
     _, Y_r, N_r = _abkowitz_monomial(P, (0, 0, 1, 0))
     X_vr = _abkowitz_monomial(P, (0, 1, 1, 0))[0]
-    mxG = P[BODY.m] * P[BODY.x_G]
-    q3 = 0.5 * P[BODY.rho] * L**3 * d  # turns a yaw coefficient in kg m into one on 1/2 rho L^2 d U^2, times L/U
-    P[LARGE_DRIFT.R_0] = P[ABKOWITZ.R_res] / (0.5 * P[BODY.rho] * L * d)
+    mxG = P[BODY.m] * P[BODY.x_G_m]
+    q3 = 0.5 * P[BODY.rho_kg_m3] * L**3 * d  # turns a yaw coefficient in kg m into one on 1/2 rho L^2 d U^2, times L/U
+    P[LARGE_DRIFT.R_0] = P[ABKOWITZ.R_res] / (0.5 * P[BODY.rho_kg_m3] * L * d)
     P[LARGE_DRIFT.X_vr] = X_vr * to_mmg
     P[LARGE_DRIFT.Y_v] = Y_v * to_mmg
     P[LARGE_DRIFT.Y_r] = Y_r * to_mmg
@@ -142,26 +115,28 @@ def _abkowitz_linear_terms(P: np.ndarray) -> None:
 
 
 def pack(P: np.ndarray, ld: LargeDrift | None) -> None:
-    """Fill the ``[large_drift]`` fields of a parameter row (off when ``ld`` is None). Called after the hull
-    fields are packed: the linear terms are the MMG set's, or converted from the Abkowitz set."""
+    """Fill the record params.LARGE_DRIFT of a parameter row (off when ``ld`` is None): the table's keys and
+    the fields derived from them. Called after the hull fields are packed: the linear terms are the MMG set's,
+    or converted from the Abkowitz set."""
     if ld is None:
-        P[LARGE_DRIFT.on] = 0.0
+        put(P, LARGE_DRIFT, on=0.0)
         return
-    P[LARGE_DRIFT.on] = 1.0
-    P[LARGE_DRIFT.C_D], P[LARGE_DRIFT.C_rY], P[LARGE_DRIFT.C_rN], P[LARGE_DRIFT.R_0_astern] = ld.C_D, ld.C_rY, ld.C_rN, ld.R_0_astern
-    P[LARGE_DRIFT.mmg_drift_max] = math.radians(ld.mmg_drift_max_deg)
-    P[LARGE_DRIFT.tan_mmg_drift_max] = math.tan(P[LARGE_DRIFT.mmg_drift_max]) * (1.0 - DRIFT_TEST_MARGIN)
-    P[LARGE_DRIFT.cross_flow_drift_min] = math.radians(ld.cross_flow_drift_min_deg)
-    P[LARGE_DRIFT.mmg_r_prime_max], P[LARGE_DRIFT.cross_flow_r_prime_min] = ld.mmg_r_prime_max, ld.cross_flow_r_prime_min
-    P[LARGE_DRIFT.mmg_r_prime_max_squared] = (ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
-    P[LARGE_DRIFT.polynomial_u_prime_max_squared] = (ld.polynomial_u_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2
-    P[LARGE_DRIFT.polynomial_u_prime_max], P[LARGE_DRIFT.cross_flow_u_prime_min] = ld.polynomial_u_prime_max, ld.cross_flow_u_prime_min
+    put_keys(P, LARGE_DRIFT, ld)
+    drift_max = math.radians(ld.mmg_drift_max_deg)
+    put(
+        P,
+        LARGE_DRIFT,
+        on=1.0,
+        mmg_drift_max=drift_max,
+        tan_mmg_drift_max=math.tan(drift_max) * (1.0 - DRIFT_TEST_MARGIN),
+        cross_flow_drift_min=math.radians(ld.cross_flow_drift_min_deg),
+        mmg_r_prime_max_squared=(ld.mmg_r_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2,
+        polynomial_u_prime_max_squared=(ld.polynomial_u_prime_max * (1.0 - DRIFT_TEST_MARGIN)) ** 2,
+    )
     if int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
         _abkowitz_linear_terms(P)
         return
-    P[LARGE_DRIFT.R_0], P[LARGE_DRIFT.X_vr] = P[MMG.R_0], P[MMG.X_vr]
-    P[LARGE_DRIFT.Y_v], P[LARGE_DRIFT.Y_r] = P[MMG.Y_v], P[MMG.Y_r]
-    P[LARGE_DRIFT.N_v], P[LARGE_DRIFT.N_r] = P[MMG.N_v], P[MMG.N_r]
+    put(P, LARGE_DRIFT, **{name: P[getattr(MMG, name)] for name in ("R_0", "X_vr", "Y_v", "Y_r", "N_v", "N_r")})
 
 
 #: strips of the cross-flow integral (midpoint rule): the integrand |s| s is C1, so the error is O(1/N^2),
@@ -197,7 +172,7 @@ def yoshimura_forces_at_depth(P, u, v, r, H):
     (shallow_water.cross_flow_drag_factor: UFC 4-159-03 eq. 11), in the sway force and the yaw moment alike.
     The surge resistance X'_0 is not corrected, as R'_0 is not in the polynomial. At H = 0 nothing is evaluated.
     Returns (X, Y, N) in N, N, N m."""
-    L = P[BODY.L]
+    L = P[BODY.L_m]
     U = math.sqrt(u * u + v * v)
     chi = math.atan2(abs(v), u) if U > 0.0 else 0.0
     R0 = P[LARGE_DRIFT.R_0]
@@ -211,7 +186,7 @@ def yoshimura_forces_at_depth(P, u, v, r, H):
             f = hull_factors(P, H)  # the order of hull_factors: X_vr 2, Y_v 5, Y_r 6, N_v 11, N_r 12
             X_vr, Y_v, Y_r, N_v, N_r = X_vr * f[2], Y_v * f[5], Y_r * f[6], N_v * f[11], N_r * f[12]
             CD = CD * cross_flow_drag_factor(P, H)
-    q = 0.5 * P[BODY.rho] * L * P[BODY.T]
+    q = 0.5 * P[BODY.rho_kg_m3] * L * P[BODY.T_m]
     X = q * (X0 * u * U + X_vr * v * rL) + P[LARGE_DRIFT.C_X_rr] * r * r
     Y = q * (Y_v * v * abs(u) + Y_r * rL * u - CD * IY)
     N = q * L * (N_v * v * u + N_r * rL * abs(u) - CD * IN) + P[LARGE_DRIFT.C_N_ur] * u * r
@@ -249,17 +224,17 @@ def mmg_weight(P, u, v, r):
     """Weight of the hull polynomial (MMG or Abkowitz) in the blend (module docstring): 1 inside its fitted
     range."""
     U = math.sqrt(u * u + v * v)
-    rL = abs(r) * P[BODY.L]
+    rL = abs(r) * P[BODY.L_m]
     if U <= 0.0:
         return 1.0 if rL == 0.0 else 0.0  # at rest both models give 0; turning on the spot: cross flow
     w_beta = _fade(math.atan2(abs(v), u), P[LARGE_DRIFT.mmg_drift_max], P[LARGE_DRIFT.cross_flow_drift_min])
     if w_beta == 0.0:
         return 0.0
     w = w_beta * _fade(rL / U, P[LARGE_DRIFT.mmg_r_prime_max], P[LARGE_DRIFT.cross_flow_r_prime_min])
-    if P[ABKOWITZ.U_ref] > 0.0 and int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
+    if P[ABKOWITZ.U_ref_m_s] > 0.0 and int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
         # an Abkowitz set in the surge perturbation u' = (u - U_ref)/U is fitted near U_ref (hull.abkowitz_forces)
         Ue = max(U, P[HULL.U_min])
-        w *= _fade(abs(u - P[ABKOWITZ.U_ref]) / Ue, P[LARGE_DRIFT.polynomial_u_prime_max], P[LARGE_DRIFT.cross_flow_u_prime_min])
+        w *= _fade(abs(u - P[ABKOWITZ.U_ref_m_s]) / Ue, P[LARGE_DRIFT.polynomial_u_prime_max], P[LARGE_DRIFT.cross_flow_u_prime_min])
     return w
 
 
@@ -273,12 +248,12 @@ def inside_polynomial_range(P, u, v, r):
     mmg_weight decides (a NaN gives False)."""
     if not abs(v) < u * P[LARGE_DRIFT.tan_mmg_drift_max]:
         return False
-    rL = r * P[BODY.L]
+    rL = r * P[BODY.L_m]
     U2 = u * u + v * v
     if not rL * rL < U2 * P[LARGE_DRIFT.mmg_r_prime_max_squared]:
         return False
-    if P[ABKOWITZ.U_ref] > 0.0 and int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
-        du = u - P[ABKOWITZ.U_ref]
+    if P[ABKOWITZ.U_ref_m_s] > 0.0 and int(P[HULL.kind]) == lo.HULL_ABKOWITZ:
+        du = u - P[ABKOWITZ.U_ref_m_s]
         Umin = P[HULL.U_min]
         return du * du < max(U2, Umin * Umin) * P[LARGE_DRIFT.polynomial_u_prime_max_squared]
     return True
@@ -308,7 +283,7 @@ def blend_abkowitz(P, u, v, r, w, X_p, Y_p, N_p, X_d, Y_d, N_d):
     of the polynomial side and the model's C_D integral, the same cross-flow drag, are never added.
     Returns (X, Y, N) in N, N, N m."""
     Xc, Yc, Nc = yoshimura_forces(P, u, v, r)
-    L = P[BODY.L]
+    L = P[BODY.L_m]
     qd = P[ABKOWITZ.force_norm] * L * L * u * abs(u)
     Xc += qd * X_d
     Yc += qd * Y_d

@@ -53,14 +53,14 @@ def abkowitz_forces(P, u, v, r, delta):
     The seed's linear eq. 11 is the special case with only first-order terms.
     Returns (X, Y, N) in N, N, N m.
     """
-    L = P[BODY.L]
+    L = P[BODY.L_m]
     U = math.sqrt(u * u + v * v)
     Ue = max(U, P[HULL.U_min])
     # the surge perturbation u' = (u - U_ref)/U is a small quantity in the fitted range (PMM tests near the
     # approach speed); unbounded it grows as U_ref/U_min at rest, where it turned the bias terms Y_0uu, N_0uu
     # into a finite force and drove a stopped Mariner to 100 kn astern. |u'| <= 1 (the speed halved or doubled)
     # keeps every term O(U^2), so the hull forces vanish at rest; inside that range the model is as published.
-    up = _clip((u - P[ABKOWITZ.U_ref]) / Ue, -1.0, 1.0)
+    up = _clip((u - P[ABKOWITZ.U_ref_m_s]) / Ue, -1.0, 1.0)
     vp = v / Ue
     rp = _clip(r * L / Ue, -P[HULL.r_prime_max], P[HULL.r_prime_max])
     pu = (1.0, up, up * up, up * up * up, up * up * up * up)
@@ -123,9 +123,9 @@ def cross_flow_drag(P, v, r):
     over -L/2..L/2 (midpoint rule, 12 strips). It supplies the nonlinear sway-yaw damping of a hull whose
     published model is linear, and the damping of a ship turning on the spot. Returns (Y, N) in N, N m.
     """
-    L = P[BODY.L]
+    L = P[BODY.L_m]
     h = L / CROSS_FLOW_STRIPS
-    c = 0.5 * P[BODY.rho] * P[BODY.T] * P[ABKOWITZ.cross_flow_Cd] * h
+    c = 0.5 * P[BODY.rho_kg_m3] * P[BODY.T_m] * P[ABKOWITZ.cross_flow_Cd] * h
     Y = 0.0
     N = 0.0
     for i in range(CROSS_FLOW_STRIPS):
@@ -149,8 +149,8 @@ def mmg_hull_forces(P, u, v, r, H):
     where the result is bitwise the deep-water one).
     Returns (X, Y, N) in N, N, N m.
     """
-    L = P[BODY.L]
-    d = P[BODY.T]
+    L = P[BODY.L_m]
+    d = P[BODY.T_m]
     U = math.sqrt(u * u + v * v)
     Umin = P[HULL.U_min]
     Ue = max(U, Umin)
@@ -181,7 +181,7 @@ def mmg_hull_forces(P, u, v, r, H):
         + P[MMG.N_vrr] * f[15] * vp * rp * rp
         + P[MMG.N_rrr] * f[16] * rp * rp * rp
     )
-    q = 0.5 * P[BODY.rho] * L * d * Ue * Ue
+    q = 0.5 * P[BODY.rho_kg_m3] * L * d * Ue * Ue
     return q * Xp, q * Yp, q * L * Np
 
 

@@ -124,7 +124,7 @@ def rigid_body_coriolis_forces(P, u, v, r):
     """-C_RB(nu_r) nu_r of the rigid body alone, (X, Y, N) in N, N, N m at the origin: m (v r + x_G r^2),
     -m u r, -m x_G u r (Fossen 2011 eq. 3.57 in 3 DOF, origin at midship)."""
     m = P[BODY.m]
-    mxG = m * P[BODY.x_G]
+    mxG = m * P[BODY.x_G_m]
     return m * v * r + mxG * r * r, -m * u * r, -mxG * u * r
 
 

@@ -1,11 +1,24 @@
 """The compiled model's parameters, as one named record per component kind.
 
 Each component kind (the rigid body, the hull and its Abkowitz, MMG and large-drift models, the propeller,
-transmission, engine, governor, rudder, steering gear, windage, wave drift, roll) declares here the fields its
-equations read, each with its unit and meaning. The records are built from the ship file's sections by
-:func:`vessel_gym.physics.vessel.pack` (and, for the large-drift and roll records, by ``crossflow.pack`` and
-``roll.pack_roll``), which writes every value by field name (:func:`put`: a name the record does not
+transmission, engine, rudder, steering gear, windage, wave drift, roll) has a record: the fields its equations
+read, each with its unit and meaning. A record is derived from its ship-file table, the dataclass of
+:mod:`vessel_gym.physics.sections`: every number key of the table (a ``float`` field; not a string, a table, a
+dict or a key that may be left out) is a field of the record under the key's own name, with the unit and doc of
+its ``param(...)``, and :func:`put_keys` copies them all from a loaded table by name, as written (a key in deg,
+rpm or kW too: the equations read such a value in SI through a derived field). The table is the one home
+of such a parameter: its unit and meaning are not written a second time here. What the table does not hold as it
+stands is declared below, where its record is: a code chosen by a string key (``PROPELLER.wake_kind``), a flag
+(``on``), a value in the equations' SI unit converted from the file's (``STEERING_GEAR.delta_max`` in rad from
+``max_angle_deg``), a value computed from several tables (the mass matrix), a table of fixed size. These
+derived fields are written by :func:`vessel_gym.physics.vessel.pack` (and, for the large-drift and roll
+records, by ``crossflow.pack`` and ``roll.pack_roll``) by field name (:func:`put`: a name the record does not
 declare, or a table of the wrong length, is an error).
+
+Adding a parameter to a built-in component therefore touches its key in the table's dataclass
+(``sections.py``) and the equation that reads ``P[RECORD.key]``; a derived parameter touches its field here, the
+line of its builder that computes it, and the equation. A component written in Python declares its parameters
+as the frozen dataclass ``Params`` of its own file (docs/components.md).
 
 A vessel's records lie side by side in one float64 row, so that a batch of vessels of different ships is one
 (N, NP) array and one compiled signature; a record is the offsets of its fields in that row, a named tuple of
@@ -16,58 +29,79 @@ value. Codes that select a model (``layout.HULL_MMG``, ...) are stored as floats
 All records live in this one module, not in the modules of their equations, because the equations read one
 another's parameters (the wake fraction of the propeller is read by the shallow-water, MMG-rudder and
 Son & Nomoto equations; the hull's low-speed limit by the rudder and roll equations) and those modules import
-one another: a record here is importable by every equation without a cycle. Adding a parameter to a built-in
-component touches its record here (field, unit, doc), the line of its builder that fills it from the ship
-file, its schema entry (the section's dataclass in ``shipfile.py``) and the equation that reads it; a
-component written in Python declares its parameters as the frozen dataclass ``Params`` of its own file
-(docs/components.md).
+one another: a record here is importable by every equation without a cycle.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import typing
 from collections import namedtuple
 from dataclasses import dataclass
 
 import numpy as np
 
 from vessel_gym.physics import layout as lo
+from vessel_gym.physics import sections as sc
 
 
 @dataclass(frozen=True)
 class Field:
-    """One field of a record: its name, unit, meaning and size (1, or the length of a table)."""
+    """One field of a record: its name, unit, meaning and size (1, or the length of a table); ``key`` when it
+    is a number key of the record's ship-file table, copied as written (:func:`put_keys`)."""
 
     name: str
     unit: str
     doc: str
     size: int = 1
+    key: bool = False
 
 
 @dataclass(frozen=True)
 class Record:
-    """A record type: the component kind it belongs to and its fields, with their offsets in the row."""
+    """A record type: the component kind it belongs to, its fields with their offsets in the row, and the
+    ship-file table its key fields are copied from (None: every field derived)."""
 
     kind: str
     doc: str
     fields: tuple[Field, ...]
     at: tuple  # the named tuple of offsets the kernels read
+    section: type | None = None
 
 
 RECORDS: dict[str, Record] = {}
 _row: list[str] = []  # the name of every float of the row, "kind.field" or "kind.field[i]"
 
 
-def record(kind: str, doc: str, *fields: Field):
-    """Declare the record of one component kind; returns the named tuple of its fields' offsets in the row."""
+def table_keys(section: type) -> tuple[Field, ...]:
+    """The fields a record takes from its ship-file table ``section`` (a dataclass of ``schema.param``
+    fields): every key typed ``float``, under its own name, with the unit and doc of its ``param``. A key
+    that may be left out (``float | None``) has no value to copy: what stands in its place is derived."""
+    hints = typing.get_type_hints(section)
+    return tuple(
+        Field(f.name, f.metadata.get("unit", "-"), f.metadata.get("doc", ""), key=True)
+        for f in dataclasses.fields(section)
+        if hints[f.name] is float
+    )
+
+
+def record(kind: str, doc: str, *derived: Field, section: type | None = None):
+    """Declare the record of one component kind: the number keys of its ship-file table ``section`` (if any),
+    then the ``derived`` fields; returns the named tuple of its fields' offsets in the row."""
     if kind in RECORDS:
         raise ValueError(f"record {kind!r} declared twice")
+    fields = (*(table_keys(section) if section is not None else ()), *derived)
+    names = [f.name for f in fields]
+    twice = [n for n in names if names.count(n) > 1]
+    if twice:  # a derived field named like a key of the table: one name, one home
+        raise ValueError(f"record {kind!r}: field {twice[0]!r} declared twice")
     offsets = []
     for f in fields:
         offsets.append(len(_row))
         _row.extend([f"{kind}.{f.name}"] if f.size == 1 else [f"{kind}.{f.name}[{i}]" for i in range(f.size)])
     cls = namedtuple("".join(w.capitalize() for w in kind.split("_")) + "Record", [f.name for f in fields])
     at = cls(*offsets)
-    RECORDS[kind] = Record(kind, doc, tuple(fields), at)
+    RECORDS[kind] = Record(kind, doc, tuple(fields), at, section)
     return at
 
 
@@ -76,6 +110,18 @@ def _record_of(at) -> Record:
         if rec.at is at:
             return rec
     raise ValueError(f"{at!r} is not a parameter record")
+
+
+def put_keys(P: np.ndarray, at, table: object) -> None:
+    """Copy every number key of the ship-file table ``table`` (an instance of the record's section) into the
+    record ``at`` of the parameter row ``P``, by name."""
+    rec = _record_of(at)
+    if rec.section is None or not isinstance(table, rec.section):
+        source = rec.section.__name__ if rec.section is not None else "no ship-file table"
+        raise TypeError(f"record {rec.kind!r} is built from {source}, not {type(table).__name__}")
+    for f in rec.fields:
+        if f.key:
+            P[getattr(at, f.name)] = getattr(table, f.name)
 
 
 def put(P: np.ndarray, at, **values) -> None:
@@ -109,15 +155,10 @@ F = Field
 
 BODY = record(
     "body",
-    "particulars, rigid body and mass matrix (rigid body + added mass, inverted once at pack time), "
-    "M = [[m11, 0, 0], [0, m22, m23], [0, m32, m33]]; Coriolis coefficients on the right-hand side: "
+    "particulars ([particulars] keys), rigid body and mass matrix (rigid body + added mass, inverted once at "
+    "pack time), M = [[m11, 0, 0], [0, m22, m23], [0, m32, m33]]; Coriolis coefficients on the right-hand side: "
     "X += CX_vr v r + CX_rr r^2, Y -= CY_ur u r, N -= CN_ur u r",
-    F("L", "m", "length between perpendiculars"),
-    F("B", "m", "beam"),
-    F("T", "m", "mean draught"),
-    F("rho", "kg/m^3", "water density"),
-    F("m", "kg", "mass"),
-    F("x_G", "m", "centre of gravity forward of the origin (midship)"),
+    F("m", "kg", "mass (mass_kg, or rho_kg_m3 times displacement_m3)"),
     F("m11", "kg", "surge mass, rigid body + added"),
     F("Minv22", "1/kg", "inverse sway-yaw mass matrix, (v, v)"),
     F("Minv23", "1/(kg m)", "inverse sway-yaw mass matrix, (v, r)"),
@@ -127,11 +168,13 @@ BODY = record(
     F("CX_rr", "kg m", "surge Coriolis coefficient of r^2"),
     F("CY_ur", "kg", "sway Coriolis coefficient of u r"),
     F("CN_ur", "kg m", "yaw Coriolis coefficient of u r"),
+    section=sc.Particulars,
 )
 
 HULL = record(
     "hull",
-    "the hull model in use and its low-speed limits (hull.py)",
+    "the hull model in use and the low-speed limits both hull tables give (hull.py), from whichever hull "
+    "table the ship has",
     F("kind", "-", "layout.HULL_NONE (a user's hull), HULL_ABKOWITZ or HULL_MMG"),
     F("r_prime_max", "-", "clip of r' in nonlinear terms at low speed"),
     F("U_min", "m/s", "speed below which nondimensional hull terms are faded out"),
@@ -139,29 +182,22 @@ HULL = record(
 
 ABKOWITZ = record(
     "abkowitz",
-    "Abkowitz (1964) polynomial hull (hull.abkowitz_forces); terms merged by monomial u'^e_u v'^e_v r'^e_r "
-    "delta^e_d: n_monomials rows of (e_u, e_v, e_r, e_d, c_X, c_Y, c_N), so that a monomial shared by X, Y "
-    "and N (e.g. Y_vvr, N_vvr) is evaluated once; a coefficient is 0 where the equation has no such term",
+    "Abkowitz (1964) polynomial hull (hull.abkowitz_forces), [hull] model = 'abkowitz'; terms merged by "
+    "monomial u'^e_u v'^e_v r'^e_r delta^e_d: n_monomials rows of (e_u, e_v, e_r, e_d, c_X, c_Y, c_N), so that a "
+    "monomial shared by X, Y and N (e.g. Y_vvr, N_vvr) is evaluated once; a coefficient is 0 where the equation "
+    "has no such term",
     F("force_norm", "kg/m^3", "1/2 (SNAME prime) or 1 (seed eq. 5-6), times rho"),
-    F("U_ref", "m/s", "reference speed of the u-perturbation terms (0: u' = u/U)"),
     F("R_res", "N s^2/m^2", "added resistance coefficient R/(u|u|)"),
-    F("cross_flow_Cd", "-", "2-D cross-flow drag coefficient of the hull sections"),
     F("n_monomials", "-", "number of distinct monomials"),
     F("monomials", "-", "monomial rows, layout.ABK_STRIDE values each", lo.ABK_STRIDE * lo.MAX_MONOMIALS),
+    section=sc.AbkowitzHull,
 )
 
 MMG = record(
     "mmg_hull",
-    "MMG hull (Yasukawa & Yoshimura 2015, eq. 8-10), nondimensional on 1/2 rho L d U^2 (1/2 rho L^2 d U^2 "
-    "for N)",
-    *(
-        F(name, "-", "")
-        for name in (
-            "R_0", "X_vv", "X_vr", "X_rr", "X_vvvv",
-            "Y_v", "Y_r", "Y_vvv", "Y_vvr", "Y_vrr", "Y_rrr",
-            "N_v", "N_r", "N_vvv", "N_vvr", "N_vrr", "N_rrr",
-        )  # fmt: skip
-    ),
+    "MMG hull (Yasukawa & Yoshimura 2015, eq. 8-10), [hull] model = 'mmg', nondimensional on 1/2 rho L d U^2 "
+    "(1/2 rho L^2 d U^2 for N)",
+    section=sc.MMGHull,
 )
 
 LARGE_DRIFT = record(
@@ -169,14 +205,8 @@ LARGE_DRIFT = record(
     "hull at any drift angle (crossflow.py, ship-file table [large_drift]): Yoshimura, Nakao & Ishibashi "
     "(2009) cross-flow model, blended with the polynomial hull outside its fitted range",
     F("on", "-", "1 with a [large_drift] table, 0 off"),
-    F("C_D", "-", "cross-flow drag coefficient of the hull at 90 deg drift, on 1/2 rho L d"),
-    F("C_rY", "-", "yaw-rate factor of the cross flow in the sway force"),
-    F("C_rN", "-", "yaw-rate factor of the cross flow in the yaw moment"),
-    F("R_0_astern", "-", "straight-astern resistance coefficient, on 1/2 rho L d u^2"),
     F("mmg_drift_max", "rad", "flow angle up to which the polynomial is used alone"),
     F("cross_flow_drift_min", "rad", "flow angle from which the cross-flow model is used alone"),
-    F("mmg_r_prime_max", "-", "|r'| up to which the polynomial is used alone"),
-    F("cross_flow_r_prime_min", "-", "|r'| from which the cross-flow model is used alone"),
     # the model's linear terms on 1/2 rho L d U^2 (L for N): the MMG set's, or converted from an Abkowitz set
     F("R_0", "-", "straight-ahead resistance coefficient"),
     F("X_vr", "-", "linear term"),
@@ -186,13 +216,12 @@ LARGE_DRIFT = record(
     F("N_r", "-", "linear term"),
     F("C_X_rr", "kg m", "x_G m r^2 surge term an Abkowitz hull's equations of motion leave out"),
     F("C_N_ur", "kg m", "-x_G m u r yaw term an Abkowitz hull's equations of motion leave out"),
-    F("polynomial_u_prime_max", "-", "|u'| up to which an Abkowitz polynomial is used alone"),
-    F("cross_flow_u_prime_min", "-", "|u'| from which the cross-flow model is used alone"),
     # bounds of the polynomial's range for the test without square root, atan2 or division
     # (crossflow.inside_polynomial_range), each shortened by the factor 1 - 1e-9
     F("tan_mmg_drift_max", "-", "tan(mmg_drift_max)"),
     F("mmg_r_prime_max_squared", "-", "mmg_r_prime_max^2"),
     F("polynomial_u_prime_max_squared", "-", "polynomial_u_prime_max^2"),
+    section=sc.LargeDrift,
 )
 
 PROPELLER = record(
@@ -201,64 +230,37 @@ PROPELLER = record(
     "manoeuvres, astern and four-quadrant behaviour (propulsion.py), the Son & Nomoto (1982) inflow "
     "1 - w = 1 - w_P0 + tau_P ((v' + x'_P r')^2 + c_pv v' + c_pr r') (sonnomoto.py)",
     F("on", "-", "1 on a ship with a propeller"),
-    F("D_P", "m", "diameter"),
-    F("k_0", "-", "K_T = k_0 + k_1 J + k_2 J^2"),
-    F("k_1", "-", ""),
-    F("k_2", "-", ""),
-    F("q_0", "-", "K_Q = q_0 + q_1 J + q_2 J^2"),
-    F("q_1", "-", ""),
-    F("q_2", "-", ""),
-    F("w_P0", "-", "wake fraction in straight running"),
-    F("t_P", "-", "thrust deduction factor"),
-    F("x_P_prime", "-", "propeller position / L"),
-    F("C_1", "-", "MMG wake change in manoeuvres"),
-    F("C_2_plus", "-", ""),
-    F("C_2_minus", "-", ""),
-    F("astern_kt_ratio", "-", "astern bollard K_T / ahead bollard K_T"),
-    F("astern_kq_ratio", "-", "astern bollard K_Q / ahead bollard K_Q"),
-    F("astern_inflow_slope", "-", "d(C_T*)/d(u_a/|n|D) in quadrant 4 relative to k_0"),
     F("four_quadrant", "-", "four-quadrant table code, propeller4q.TABLE_NAMES index + 1 (0: none)"),
     F("wake_kind", "-", "layout.WAKE_MMG or WAKE_SON_NOMOTO"),
-    F("tau_P", "-", "Son & Nomoto wake: factor of the squared transverse inflow"),
-    F("c_pv", "-", "Son & Nomoto wake: per v'"),
-    F("c_pr", "-", "Son & Nomoto wake: per r'"),
+    section=sc.Propeller,
 )
 
 TRANSMISSION = record(
     "transmission",
     "transmission and shaft (propulsion.py)",
-    F("gear_ratio", "-", "engine rev / propeller rev"),
-    F("eta_gear", "-", "transmission efficiency"),
     F("I_shaft", "kg m^2", "propeller + entrained water + shafting + i^2 engine inertia"),
     F("Q_friction", "N m", "shaft friction torque at rated speed (scaled linearly with speed)"),
     F("clutch_min_rev", "rev/s", "|order| (propeller) below which the clutch is out"),
+    section=sc.Transmission,
 )
 
 ENGINE = record(
     "engine",
-    "engine torque map and reversing (propulsion.py): a clutch/gearbox (or ideal) drive, or a "
+    "engine torque map, PI speed governor and reversing (propulsion.py): a clutch/gearbox (or ideal) drive, or a "
     "direct-reversing two-stroke diesel started and braked on starting air",
     F("n_e_rated", "rev/s", "rated speed"),
     F("Q_e_rated", "N m", "rated (MCR) torque"),
     F("map_speed", "-", "torque map speed breakpoints, engine speed / rated", lo.MAP_NS),
     F("map_fuel", "-", "torque map fuel-index breakpoints", lo.MAP_NF),
     F("map_torque", "-", "torque / rated torque, row-major [speed, fuel]", lo.MAP_NS * lo.MAP_NF),
-    F("astern_torque_ratio", "-", "astern torque / ahead torque"),
     F("reversing", "-", "layout.REVERSING_CLUTCH or REVERSING_DIRECT_AIR"),
-    F("reversal_time", "s", "time to shift the reversing gear from one direction to the other"),
     F("air_brake_rev", "rev/s", "engine speed below which starting air may be applied"),
     F("firing_rev", "rev/s", "engine speed in the ordered direction at which fuel is admitted"),
     F("Q_air", "N m", "engine torque of the starting air"),
     # the slot taken over by a user's component written in Python (components.compose): the built-in's
     # equations stay in the kernel and read this flag
     F("by_component", "-", "1: a user's engine gives the shaft's drive torque (F_ext[3]); governor held"),
-)
-
-GOVERNOR = record(
-    "governor",
-    "PI speed governor (propulsion.py)",
-    F("Kp", "-", "fuel index per unit relative speed error"),
-    F("Ki", "1/s", "fuel index per (unit relative speed error * s)"),
+    section=sc.Engine,
 )
 
 RUDDER = record(
@@ -267,24 +269,8 @@ RUDDER = record(
     "at the rudder from a polynomial in v', r', the propeller race from momentum theory; A_R, a_H, x'_H, "
     "x'_R, epsilon, kappa and f_alpha shared with the MMG rudder) or in the hull's delta terms",
     F("kind", "-", "layout.RUDDER_DERIVATIVES, RUDDER_MMG or RUDDER_SON_NOMOTO"),
-    F("A_R", "m^2", "rudder area"),
-    F("H_R", "m", "rudder span"),
-    F("t_R", "-", "steering resistance deduction"),
-    F("a_H", "-", "rudder force increase factor"),
-    F("x_H_prime", "-", "position of the additional lateral force / L"),
-    F("x_R_prime", "-", "rudder position / L"),
-    F("gamma_R_minus", "-", "flow straightening, beta_R < 0"),
-    F("gamma_R_plus", "-", "flow straightening, beta_R > 0"),
-    F("l_R_prime", "-", "effective longitudinal rudder position / L"),
-    F("epsilon", "-", "wake ratio at rudder and propeller"),
-    F("kappa", "-", "propeller race factor"),
-    F("f_alpha", "1/rad", "rudder lift gradient"),
     F("eta", "-", "D_P / H_R (at most 1)"),
-    F("gamma_R", "-", "Son & Nomoto: flow-straightening factor of the sway velocity at the rudder"),
-    F("c_Rr", "-", "Son & Nomoto: v'_R per r'"),
-    F("c_Rrrr", "-", "Son & Nomoto: v'_R per r'^3"),
-    F("c_Rrrv", "-", "Son & Nomoto: v'_R per r'^2 v'"),
-    F("c_RX", "-", "Son & Nomoto: rudder drag X_R = c_RX F_N sin(delta)"),
+    section=sc.Rudder,
 )
 
 STEERING_GEAR = record(
@@ -292,22 +278,15 @@ STEERING_GEAR = record(
     "rate-limited first-order steering gear (steering.py)",
     F("delta_max", "rad", "rudder angle limit"),
     F("delta_rate_max", "rad/s", "rudder rate limit"),
-    F("time_constant", "s", "first-order lag"),
     F("by_component", "-", "1: a user's steering gear gives the rudder rate"),
+    section=sc.SteeringGear,
 )
 
 WINDAGE = record(
     "windage",
     "wind loads of Blendermann (1994) (atmosphere.py)",
     F("on", "-", "1 with a [windage] table"),
-    F("A_FW", "m^2", "frontal projected area"),
-    F("A_LW", "m^2", "lateral projected area"),
-    F("s_L", "m", "centre of lateral area forward of the origin"),
-    F("CD_t", "-", "transverse drag coefficient"),
-    F("CD_l_AF_0", "-", "longitudinal drag coefficient, wind from ahead"),
-    F("CD_l_AF_pi", "-", "longitudinal drag coefficient, wind from astern"),
-    F("delta", "-", "cross-force parameter"),
-    F("kappa", "-", "rolling-moment factor"),
+    section=sc.Windage,
 )
 
 WAVE_DRIFT = record(
@@ -317,6 +296,7 @@ WAVE_DRIFT = record(
     F("on", "-", "1 with a [wave_drift] table"),
     F("table", "-", "zero-speed coefficients, 3 x layout.WAVE_NA", 3 * lo.WAVE_NA),
     F("speed_table", "-", "forward-speed term per unit 2 omega_0 U / g, 3 x layout.WAVE_NA", 3 * lo.WAVE_NA),
+    section=sc.WaveDrift,
 )
 
 ROLL = record(
@@ -331,12 +311,10 @@ ROLL = record(
     F("GZ_points", "-", "number of points of the righting-lever curve (0: GM sin phi)"),
     F("GZ_heel", "rad", "heel breakpoints, from 0, increasing", lo.MAX_GZ_POINTS),
     F("GZ", "m", "righting lever at the breakpoints", lo.MAX_GZ_POINTS),
-    F("K_p_linear", "N m s/rad", "linear roll damping"),
-    F("K_p_quadratic", "N m s^2/rad^2", "quadratic roll damping"),
-    F("z_R", "m", "rudder's centre of effort below the roll axis (through G)"),
     F("torque_sign", "-", "shaft torque reaction K = sign Q_P: -1 right-handed, +1 left-handed, 0 off"),
     F("n_monomials", "-", "number of distinct monomials"),
     F("monomials", "-", "monomial rows, layout.ROLL_STRIDE values each", lo.ROLL_STRIDE * lo.MAX_ROLL_MONOMIALS),
+    section=sc.Roll,
 )
 
 NP = len(_row)  # floats in a parameter row

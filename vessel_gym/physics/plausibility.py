@@ -34,7 +34,8 @@ from vessel_gym.physics import layout as lo
 from vessel_gym.physics.hull import hull_forces, hull_forces_near, hull_forces_not_abkowitz
 from vessel_gym.physics.kinematics import coriolis_forces
 from vessel_gym.physics.params import HULL
-from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, load_ship
+from vessel_gym.physics.sections import AbkowitzHull, MMGHull
+from vessel_gym.physics.shipfile import Ship, load_ship
 from vessel_gym.physics.units import DEG
 from vessel_gym.physics.vessel import far_models, mass_matrix, pack
 

@@ -22,7 +22,7 @@ import math
 from numba import njit
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.params import BODY, ENGINE, GOVERNOR, PROPELLER, TRANSMISSION
+from vessel_gym.physics.params import BODY, ENGINE, PROPELLER, TRANSMISSION
 from vessel_gym.physics.propeller4q import BOLLARD_FACTOR, blended_coefficients
 from vessel_gym.physics.shallow_water import wake_fraction
 
@@ -53,8 +53,8 @@ def thrust_torque(P, u_a, n, far):
     if far is not None:
         if P[PROPELLER.four_quadrant] > 0.0 and not (n >= 0.0 and u_a >= 0.0):
             return four_quadrant_thrust_torque(P, u_a, n)
-    D = P[PROPELLER.D_P]
-    rho = P[BODY.rho]
+    D = P[PROPELLER.D_m]
+    rho = P[BODY.rho_kg_m3]
     k0 = P[PROPELLER.k_0]
     k1 = P[PROPELLER.k_1]
     k2 = P[PROPELLER.k_2]
@@ -98,8 +98,8 @@ def four_quadrant_thrust_torque(P, u_a, n):
     C_T* = 8 k_2 / pi (torque likewise); :func:`propeller4q.blended_coefficients` joins the published curves
     to them.
     """
-    D = P[PROPELLER.D_P]
-    rho = P[BODY.rho]
+    D = P[PROPELLER.D_m]
+    rho = P[BODY.rho_kg_m3]
     vt = 0.7 * math.pi * n * D
     beta = math.atan2(u_a, vt)
     ct, cq = blended_coefficients(
@@ -130,7 +130,7 @@ def effective_wake(P, U, beta, r, H):
         return w0
     if U < 1e-6:
         return w0
-    betaP = beta - P[PROPELLER.x_P_prime] * r * P[BODY.L] / U
+    betaP = beta - P[PROPELLER.x_P_prime] * r * P[BODY.L_m] / U
     C2 = P[PROPELLER.C_2_plus] if betaP > 0.0 else P[PROPELLER.C_2_minus]
     one_minus_w = (1.0 - w0) * (1.0 + (1.0 - math.exp(-C1 * abs(betaP))) * (C2 - 1.0))
     return 1.0 - one_minus_w
@@ -192,9 +192,9 @@ def governor(P, n, gov_i, n_order):
         return 0.0, -gov_i * 0.2, 0.0, 0.0  # clutch out: integrator bleeds off (5 s), engine idles
     n_e = s * i_g * n
     e = (i_g * abs(n_order) - n_e) / P[ENGINE.n_e_rated]
-    f_raw = P[GOVERNOR.Kp] * e + gov_i
+    f_raw = P[ENGINE.governor_Kp] * e + gov_i
     f = min(max(f_raw, 0.0), 1.0)
-    di = P[GOVERNOR.Ki] * e
+    di = P[ENGINE.governor_Ki] * e
     if (f_raw >= 1.0 and e > 0.0) or (f_raw <= 0.0 and e < 0.0):
         di = 0.0
     return f, di, s, n_e
@@ -244,7 +244,7 @@ def direct_reversing_drive(P, n, cam, gov_i, n_order):
     speed rev/s signed, engine torque N m, phase).
     """
     d = clutch_direction(P, n_order)
-    T_rev = P[ENGINE.reversal_time]
+    T_rev = P[ENGINE.reversal_time_s]
     dcam = 0.0
     if d != 0.0:
         rate = 2.0 / T_rev
@@ -259,15 +259,15 @@ def direct_reversing_drive(P, n, cam, gov_i, n_order):
     w = d * n_e  # engine speed in the ordered direction, rev/s
     if w >= P[ENGINE.firing_rev]:
         e = (i_g * abs(n_order) - w) / P[ENGINE.n_e_rated]
-        f_raw = P[GOVERNOR.Kp] * e + gov_i
+        f_raw = P[ENGINE.governor_Kp] * e + gov_i
         f = min(max(f_raw, 0.0), 1.0)
-        di = P[GOVERNOR.Ki] * e
+        di = P[ENGINE.governor_Ki] * e
         if (f_raw >= 1.0 and e > 0.0) or (f_raw <= 0.0 and e < 0.0):
             di = 0.0
         Q_e = d * engine_torque(P, w, f)
         if d < 0.0:
             Q_e *= P[ENGINE.astern_torque_ratio]
-        return P[TRANSMISSION.eta_gear] * i_g * Q_e, dcam, di, f, n_e, Q_e, PHASE_RUNNING
+        return P[TRANSMISSION.efficiency] * i_g * Q_e, dcam, di, f, n_e, Q_e, PHASE_RUNNING
     if w > -P[ENGINE.air_brake_rev]:
         Q_e = d * P[ENGINE.Q_air]
         return i_g * Q_e, dcam, bleed, 0.0, n_e, Q_e, PHASE_AIR
@@ -288,7 +288,7 @@ def engine_drive(P, n, cam, gov_i, n_order):
     if s == 0.0:
         return 0.0, 0.0, di, fuel, n_e, 0.0, PHASE_FUEL_OFF
     Q_e = engine_torque(P, n_e, fuel)
-    Q_drive = s * P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio] * Q_e
+    Q_drive = s * P[TRANSMISSION.efficiency] * P[TRANSMISSION.gear_ratio] * Q_e
     if s < 0.0:
         Q_drive *= P[ENGINE.astern_torque_ratio]
     return Q_drive, 0.0, di, fuel, n_e, Q_e, PHASE_RUNNING
@@ -324,7 +324,7 @@ def shaft_friction_torque(P, n):
 def engine_torque_to_hold(P, n, Q_prop):
     """Engine torque (N m) that holds the shaft at n rev/s ahead against the propeller torque Q_prop (N m):
     the shaft equation with dn/dt = 0 and the clutch ahead, Q_E = (Q_P + Q_f(n)) / (eta_G i)."""
-    return shaft_torque_to_hold(P, n, Q_prop) / (P[TRANSMISSION.eta_gear] * P[TRANSMISSION.gear_ratio])
+    return shaft_torque_to_hold(P, n, Q_prop) / (P[TRANSMISSION.efficiency] * P[TRANSMISSION.gear_ratio])
 
 
 @njit(cache=True)

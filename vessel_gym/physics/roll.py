@@ -1,4 +1,5 @@
-"""Roll, the optional fourth degree of freedom: its ship-file table, its parameters and its forces.
+"""Roll, the optional fourth degree of freedom: its parameters and its forces (its ship-file table is
+``sections.Roll``).
 
 A ship file with a ``[roll]`` table adds roll angle phi (rad, starboard down) and roll rate p (rad/s) to the
 states (layout.X_PHI, X_P). The roll equation is written about the longitudinal axis through the centre of
@@ -24,14 +25,14 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
 from vessel_gym.physics import layout as lo
-from vessel_gym.physics.params import BODY, HULL, ROLL
-from vessel_gym.physics.schema import SpecError, as_float, param
+from vessel_gym.physics.params import BODY, HULL, ROLL, put, put_keys
+from vessel_gym.physics.schema import SpecError, as_float
+from vessel_gym.physics.sections import Roll
 
 #: acceleration due to gravity, m/s^2 (standard gravity)
 G_M_S2 = 9.80665
@@ -44,35 +45,6 @@ _TOKEN = re.compile(r"phi|[uvrp]")
 _TERM = re.compile(r"^([XYKN])_((?:phi|[uvrp])+)$")
 #: added-mass derivatives of roll read from [roll.derivatives] (SNAME prime, 1/2 rho L^4 or L^5)
 ROLL_ACCEL = ("Y_pdot", "K_vdot", "K_pdot", "K_rdot", "N_pdot")
-
-
-@dataclass(frozen=True, kw_only=True)
-class Roll:
-    """The ``[roll]`` table of a 4-DOF ship."""
-
-    GM_m: float = param(unit="m", lo=0.01, hi=20.0, doc="transverse metacentric height (upright)")
-    I_xG_kgm2: float = param(unit="kg m^2", lo=1e-6, hi=1e14, doc="roll moment of inertia about G")
-    z_R_m: float = param(
-        0.0, unit="m", lo=-30.0, hi=30.0, doc="rudder's centre of effort below G (roll moment -z_R Y_R)"
-    )
-    GZ_heel_deg: tuple[float, ...] = param(
-        (), unit="deg", lo=0.0, hi=90.0, doc="heel breakpoints of a righting-lever curve (0 first, to >= 40)"
-    )
-    GZ_m: tuple[float, ...] = param((), unit="m", lo=-20.0, hi=20.0, doc="righting lever GZ at GZ_heel_deg")
-    propeller_torque_reaction: str = param(
-        "none",
-        choices=("none", "right_handed", "left_handed"),
-        doc="roll moment of the shaft torque on the hull, -Q_P for a right-handed propeller ('none': not modelled)",
-    )
-    damping_linear_Nms: float = param(
-        0.0, unit="N m s/rad", lo=0.0, hi=1e12, doc="linear roll damping besides the hull's K_p"
-    )
-    damping_quadratic_Nms2: float = param(
-        0.0, unit="N m s^2/rad^2", lo=0.0, hi=1e14, doc="quadratic roll damping K_pp p|p|"
-    )
-    derivatives: dict = param(
-        {}, doc="hull roll terms (prime system): K_v, K_vvphi, Y_phi, N_rrphi, K_pdot, ... (docs/ship-file.md)"
-    )
 
 
 def roll_term(name: str) -> tuple[str, int, int, int, int, int] | None:
@@ -142,19 +114,21 @@ def roll_mass_matrix(M3: np.ndarray, roll: Roll, L: float, rho: float) -> np.nda
 
 
 def pack_roll(P: np.ndarray, M3: np.ndarray, roll: Roll, mass: float, L: float, rho: float) -> None:
-    """Fill the roll fields of the parameter row ``P`` (the record params.ROLL)."""
-    P[ROLL.on] = 1.0
-    P[ROLL.Minv : ROLL.Minv + 9] = np.linalg.inv(roll_mass_matrix(M3, roll, L, rho)).ravel()
-    P[ROLL.rho_g_nabla_GM] = mass * G_M_S2 * roll.GM_m  # rho g nabla GM with rho nabla = m
-    P[ROLL.rho_g_nabla] = mass * G_M_S2
-    k = len(roll.GZ_heel_deg)
-    P[ROLL.GZ_points] = k
-    P[ROLL.GZ_heel : ROLL.GZ_heel + k] = np.radians(roll.GZ_heel_deg)
-    P[ROLL.GZ : ROLL.GZ + k] = roll.GZ_m
-    P[ROLL.K_p_linear] = roll.damping_linear_Nms
-    P[ROLL.K_p_quadratic] = roll.damping_quadratic_Nms2
-    P[ROLL.z_R] = roll.z_R_m
-    P[ROLL.torque_sign] = {"none": 0.0, "right_handed": -1.0, "left_handed": 1.0}[roll.propeller_torque_reaction]
+    """Fill the record params.ROLL of the parameter row ``P``: the [roll] table's keys and the fields derived
+    from them."""
+    put_keys(P, ROLL, roll)
+    put(
+        P,
+        ROLL,
+        on=1.0,
+        Minv=np.linalg.inv(roll_mass_matrix(M3, roll, L, rho)).ravel(),
+        rho_g_nabla_GM=mass * G_M_S2 * roll.GM_m,  # rho g nabla GM with rho nabla = m
+        rho_g_nabla=mass * G_M_S2,
+        GZ_points=len(roll.GZ_heel_deg),
+        GZ_heel=np.radians(roll.GZ_heel_deg),
+        GZ=roll.GZ_m,
+        torque_sign={"none": 0.0, "right_handed": -1.0, "left_handed": 1.0}[roll.propeller_torque_reaction],
+    )
     column = {"X": 5, "Y": 6, "K": 7, "N": 8}
     monomials: dict[tuple[int, ...], list[float]] = {}
     for name, value in roll.derivatives.items():
@@ -210,7 +184,7 @@ def roll_forces(P, u, v, r, p, phi):
     r_prime_max), p' = pL/U, with U held at U_min at low speed. Returns (X, Y, K, N) in N, N, N m, N m;
     the rudder's roll moment is added by the caller (it needs Y_R).
     """
-    L = P[BODY.L]
+    L = P[BODY.L_m]
     U = math.sqrt(u * u + v * v)
     Ue = max(U, P[HULL.U_min])
     rmax = P[HULL.r_prime_max]
@@ -232,6 +206,6 @@ def roll_forces(P, u, v, r, p, phi):
         Ys += P[j + 6] * m
         Ks += P[j + 7] * m
         Ns += P[j + 8] * m
-    q = 0.5 * P[BODY.rho] * L * L * Ue * Ue
-    K = q * L * Ks + restoring_moment(P, phi) - P[ROLL.K_p_linear] * p - P[ROLL.K_p_quadratic] * p * abs(p)
+    q = 0.5 * P[BODY.rho_kg_m3] * L * L * Ue * Ue
+    K = q * L * Ks + restoring_moment(P, phi) - P[ROLL.damping_linear_Nms] * p - P[ROLL.damping_quadratic_Nms2] * p * abs(p)
     return q * Xs, q * Ys, K, q * L * Ns

@@ -183,14 +183,14 @@ def wave_drift_forces_at_speed(P, zeta2, omega_zeta2, wave_from, psi, u):
     cx = (1 - t) * P[b + j] + t * P[b + j + 1]
     cy = (1 - t) * P[b + na + j] + t * P[b + na + j + 1]
     cn = (1 - t) * P[b + 2 * na + j] + t * P[b + 2 * na + j + 1]
-    q = 0.5 * P[BODY.rho] * G_M_S2 * zeta2
-    L = P[BODY.L]
+    q = 0.5 * P[BODY.rho_kg_m3] * G_M_S2 * zeta2
+    L = P[BODY.L_m]
     X = q * L * cx
     Y = q * L * cy
     N = q * L * L * cn
     if u > 0.0 and omega_zeta2 > 0.0:
         bu = WAVE_DRIFT.speed_table
-        qu = 0.5 * P[BODY.rho] * G_M_S2 * (2.0 * u * omega_zeta2 / G_M_S2)
+        qu = 0.5 * P[BODY.rho_kg_m3] * G_M_S2 * (2.0 * u * omega_zeta2 / G_M_S2)
         X += qu * L * ((1 - t) * P[bu + j] + t * P[bu + j + 1])
         Y += qu * L * ((1 - t) * P[bu + na + j] + t * P[bu + na + j + 1])
         N += qu * L * L * ((1 - t) * P[bu + 2 * na + j] + t * P[bu + 2 * na + j + 1])

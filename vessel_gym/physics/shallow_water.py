@@ -48,10 +48,10 @@ H_MAX = 1.0 / H_OVER_T_MIN
 @njit(cache=True)
 def hull_proportions(P):
     """(C_b, B/T, L/T, L/B) of row ``P``: block coefficient from the mass, m / (rho L B T), and the ratios."""
-    L = P[BODY.L]
-    B = P[BODY.B]
-    T = P[BODY.T]
-    Cb = P[BODY.m] / (P[BODY.rho] * L * B * T)
+    L = P[BODY.L_m]
+    B = P[BODY.B_m]
+    T = P[BODY.T_m]
+    Cb = P[BODY.m] / (P[BODY.rho_kg_m3] * L * B * T)
     return Cb, B / T, L / T, L / B
 
 

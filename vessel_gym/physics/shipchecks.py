@@ -77,7 +77,7 @@ def check_abkowitz(derivatives: Mapping[str, Any], where: str) -> None:
 
 
 def check_engine(eng: Any, where: str) -> None:
-    """An [engine] table (``shipfile.Engine``): the torque map's axes, shape and monotony, the telegraph and
+    """An [engine] table (``sections.Engine``): the torque map's axes, shape and monotony, the telegraph and
     the air-start fractions."""
     from vessel_gym.physics import layout as lo
 

@@ -33,7 +33,7 @@ def son_nomoto_wake(P, u, v, r):
     if U < 1e-6:
         return P[PROPELLER.w_P0]
     vp = v / U
-    rp = r * P[BODY.L] / U
+    rp = r * P[BODY.L_m] / U
     a = vp + P[PROPELLER.x_P_prime] * rp
     return P[PROPELLER.w_P0] - P[PROPELLER.tau_P] * (a * a + P[PROPELLER.c_pv] * vp + P[PROPELLER.c_pr] * rp)
 
@@ -49,7 +49,7 @@ def son_nomoto_rudder_forces(P, u, v, r, delta, u_a, thrust):
     """
     U = math.sqrt(u * u + v * v)
     Ue = max(U, P[HULL.U_min])
-    L = P[BODY.L]
+    L = P[BODY.L_m]
     vp = v / Ue
     rp = r * L / Ue
     vR = Ue * (
@@ -58,11 +58,11 @@ def son_nomoto_rudder_forces(P, u, v, r, delta, u_a, thrust):
         + P[RUDDER.c_Rrrr] * rp * rp * rp
         + P[RUDDER.c_Rrrv] * rp * rp * vp
     )
-    D = P[PROPELLER.D_P]
-    race = u_a * u_a + 8.0 * P[RUDDER.kappa] * thrust / (math.pi * P[BODY.rho] * D * D)
+    D = P[PROPELLER.D_m]
+    race = u_a * u_a + 8.0 * P[RUDDER.kappa] * thrust / (math.pi * P[BODY.rho_kg_m3] * D * D)
     uR = P[RUDDER.epsilon] * math.sqrt(max(race, 0.0))
     alphaR = delta + math.atan2(vR, uR) if uR > 0.0 else delta
-    FN = -0.5 * P[BODY.rho] * P[RUDDER.A_R] * P[RUDDER.f_alpha] * (uR * uR + vR * vR) * math.sin(alphaR)
+    FN = -0.5 * P[BODY.rho_kg_m3] * P[RUDDER.A_R_m2] * P[RUDDER.f_alpha] * (uR * uR + vR * vR) * math.sin(alphaR)
     c = math.cos(delta)
     XR = P[RUDDER.c_RX] * FN * math.sin(delta)
     YR = (1.0 + P[RUDDER.a_H]) * FN * c

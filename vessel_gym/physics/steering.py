@@ -21,7 +21,7 @@ def steering_gear_rate(P, delta, delta_c):
     """
     dmax = P[STEERING_GEAR.delta_max]
     dc = min(max(delta_c, -dmax), dmax)
-    rate = (dc - delta) / P[STEERING_GEAR.time_constant]
+    rate = (dc - delta) / P[STEERING_GEAR.time_constant_s]
     rmax = P[STEERING_GEAR.delta_rate_max]
     return min(max(rate, -rmax), rmax)
 
@@ -38,7 +38,7 @@ def steering_gear_angle(P, delta0, delta_c, t):
     """
     dmax = P[STEERING_GEAR.delta_max]
     dc = min(max(delta_c, -dmax), dmax)
-    tau = P[STEERING_GEAR.time_constant]
+    tau = P[STEERING_GEAR.time_constant_s]
     rmax = P[STEERING_GEAR.delta_rate_max]
     e = dc - delta0
     e_lin = rmax * tau  # |e| below which the gear leaves its rate limit
@@ -90,10 +90,10 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust, H):
     its jet at bollard strength, eps sqrt(eta) kappa sqrt(8 T / (rho pi D^2)), continuous with the ahead
     form at u = 0; an astern-turning one adds nothing (its race goes forward, away from the rudder).
     """
-    L = P[BODY.L]
-    rho = P[BODY.rho]
+    L = P[BODY.L_m]
+    rho = P[BODY.rho_kg_m3]
     u_P = u * (1.0 - w_P)
-    D = P[PROPELLER.D_P]
+    D = P[PROPELLER.D_m]
     eta = P[RUDDER.eta]
     eps = P[RUDDER.epsilon]
     s_a = 0.0
@@ -124,7 +124,7 @@ def mmg_rudder_forces_beta(P, u, U, beta, r, delta, w_P, thrust, H):
     U_R = math.sqrt(u_R * u_R + v_R * v_R)
     sd = math.sin(delta)
     cd = math.cos(delta)
-    F_N = 0.5 * rho * P[RUDDER.A_R] * P[RUDDER.f_alpha] * U_R * (u_R * sd - v_R * cd)
+    F_N = 0.5 * rho * P[RUDDER.A_R_m2] * P[RUDDER.f_alpha] * U_R * (u_R * sd - v_R * cd)
     ahead = 1.0 - s_a
     a_H = ahead * P[RUDDER.a_H]
     X_R = -(1.0 - ahead * P[RUDDER.t_R]) * F_N * sd

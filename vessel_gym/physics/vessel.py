@@ -39,7 +39,6 @@ from vessel_gym.physics.params import (
     ABKOWITZ,
     BODY,
     ENGINE,
-    GOVERNOR,
     HULL,
     LARGE_DRIFT,
     MMG,
@@ -52,6 +51,7 @@ from vessel_gym.physics.params import (
     WAVE_DRIFT,
     WINDAGE,
     put,
+    put_keys,
 )
 from vessel_gym.physics.propeller4q import table_code
 from vessel_gym.physics.propulsion import (
@@ -62,9 +62,10 @@ from vessel_gym.physics.propulsion import (
 )
 from vessel_gym.physics.roll import pack_roll, roll_forces
 from vessel_gym.physics.seastate import drift_coefficient_table, drift_speed_table, wave_drift_forces_at_speed
+from vessel_gym.physics.sections import AbkowitzHull, MMGHull
 from vessel_gym.physics.shallow_water import thrust_deduction
 from vessel_gym.physics.shipchecks import abkowitz_term
-from vessel_gym.physics.shipfile import AbkowitzHull, MMGHull, Ship, UserHull
+from vessel_gym.physics.shipfile import Ship, UserHull
 from vessel_gym.physics.sonnomoto import son_nomoto_rudder_forces, son_nomoto_wake
 from vessel_gym.physics.steering import mmg_rudder_forces_beta, steering_gear_rate
 from vessel_gym.physics.units import DEG, RPM
@@ -119,7 +120,8 @@ def _pack_terms(P: np.ndarray, derivs: dict) -> None:
 
 
 def _pack_body(P: np.ndarray, ship: Ship, M: np.ndarray) -> None:
-    """params.BODY: particulars, the mass matrix and the Coriolis coefficients of the hull model's equations."""
+    """params.BODY: the [particulars] keys, the mass, the mass matrix and the Coriolis coefficients of the hull
+    model's equations."""
     pt = ship.particulars
     m, xG = ship.mass_kg, pt.x_G_m
     Minv = np.linalg.inv(M[1:, 1:])
@@ -136,8 +138,8 @@ def _pack_body(P: np.ndarray, ship: Ship, M: np.ndarray) -> None:
         coriolis = (m, m * xG, m, m * xG)
     else:
         coriolis = (0.0, 0.0, 0.0, 0.0)  # in the Abkowitz derivatives
-    put(P, BODY, L=pt.L_m, B=pt.B_m, T=pt.T_m, rho=pt.rho_kg_m3, m=m, x_G=xG, m11=M[0, 0])
-    put(P, BODY, Minv22=Minv[0, 0], Minv23=Minv[0, 1], Minv32=Minv[1, 0], Minv33=Minv[1, 1])
+    put_keys(P, BODY, pt)
+    put(P, BODY, m=m, m11=M[0, 0], Minv22=Minv[0, 0], Minv23=Minv[0, 1], Minv32=Minv[1, 0], Minv33=Minv[1, 1])
     put(P, BODY, **dict(zip(("CX_vr", "CX_rr", "CY_ur", "CN_ur"), coriolis)))
 
 
@@ -147,50 +149,45 @@ def _pack_hull(P: np.ndarray, ship: Ship) -> None:
     put(P, HULL, r_prime_max=h.r_prime_max, U_min=h.U_min_m_s)
     if isinstance(h, MMGHull):
         put(P, HULL, kind=lo.HULL_MMG)
-        put(P, MMG, **{name: getattr(h, name) for name in MMG._fields})
+        put_keys(P, MMG, h)
     elif isinstance(h, UserHull):
         put(P, HULL, kind=lo.HULL_NONE)  # no built-in hull (components.compose)
     else:
         assert isinstance(h, AbkowitzHull)
         put(P, HULL, kind=lo.HULL_ABKOWITZ)
+        put_keys(P, ABKOWITZ, h)
         put(
             P,
             ABKOWITZ,
             force_norm=(0.5 if h.normalisation == "half_rho_L2_U2" else 1.0) * rho,
-            U_ref=h.U_ref_m_s,
             R_res=h.resistance_N / h.resistance_speed_m_s**2,
-            cross_flow_Cd=h.cross_flow_Cd,
         )
         _pack_terms(P, h.derivatives)
 
 
 def _pack_propulsion(P: np.ndarray, ship: Ship) -> None:
-    """params.PROPELLER, TRANSMISSION, ENGINE and GOVERNOR from the [propeller], [transmission] and [engine]
-    tables; without a propeller a neutral drive (unit ratios, a monotone map) that is never read."""
+    """params.PROPELLER, TRANSMISSION and ENGINE from the [propeller], [transmission] and [engine] tables;
+    without a propeller a neutral drive (unit ratios, a monotone map) that is never read."""
     pr = ship.propeller
     if pr is None:
-        put(P, TRANSMISSION, gear_ratio=1.0, eta_gear=1.0, I_shaft=1.0)
+        put(P, TRANSMISSION, gear_ratio=1.0, efficiency=1.0, I_shaft=1.0)
         put(P, ENGINE, n_e_rated=1.0, map_speed=np.arange(lo.MAP_NS), map_fuel=np.arange(lo.MAP_NF))
         return
-    put(P, PROPELLER, on=1.0, D_P=pr.D_m, four_quadrant=table_code(pr.four_quadrant))
-    names = ("k_0", "k_1", "k_2", "q_0", "q_1", "q_2", "w_P0", "t_P", "x_P_prime", "C_1", "C_2_plus", "C_2_minus")
-    put(P, PROPELLER, **{name: getattr(pr, name) for name in names})
-    names = ("astern_kt_ratio", "astern_kq_ratio", "astern_inflow_slope")
-    put(P, PROPELLER, **{name: getattr(pr, name) for name in names})
-    if pr.wake_model == "son_nomoto":
-        put(P, PROPELLER, wake_kind=lo.WAKE_SON_NOMOTO, tau_P=pr.tau_P, c_pv=pr.c_pv, c_pr=pr.c_pr)
+    put_keys(P, PROPELLER, pr)
+    wake = lo.WAKE_SON_NOMOTO if pr.wake_model == "son_nomoto" else lo.WAKE_MMG
+    put(P, PROPELLER, on=1.0, four_quadrant=table_code(pr.four_quadrant), wake_kind=wake)
     eng, tr = ship.engine, ship.transmission
     n_e = eng.rated_rpm * RPM
     Q_rated = eng.rated_power_kW * 1e3 / (2.0 * math.pi * n_e)
+    put_keys(P, TRANSMISSION, tr)
     put(
         P,
         TRANSMISSION,
-        gear_ratio=tr.gear_ratio,
-        eta_gear=tr.efficiency,
         I_shaft=tr.shaft_inertia_kgm2 + tr.gear_ratio**2 * eng.inertia_kgm2,
         Q_friction=tr.friction_torque_fraction * Q_rated * tr.gear_ratio,
         clutch_min_rev=tr.clutch_min_rpm * RPM,
     )
+    put_keys(P, ENGINE, eng)
     put(
         P,
         ENGINE,
@@ -199,49 +196,38 @@ def _pack_propulsion(P: np.ndarray, ship: Ship) -> None:
         map_speed=eng.torque_map_speed,
         map_fuel=eng.torque_map_fuel,
         map_torque=eng.torque_map,
-        astern_torque_ratio=eng.astern_torque_ratio,
         reversing=lo.REVERSING_DIRECT_AIR if eng.reversing == "direct_air_start" else lo.REVERSING_CLUTCH,
-        reversal_time=eng.reversal_time_s,
         air_brake_rev=eng.air_brake_rpm_fraction * n_e,
         firing_rev=eng.firing_rpm_fraction * n_e,
         Q_air=eng.starting_air_torque_fraction * Q_rated,
     )
-    put(P, GOVERNOR, Kp=eng.governor_Kp, Ki=eng.governor_Ki)
 
 
 def _pack_rudder(P: np.ndarray, ship: Ship) -> None:
     """params.RUDDER from the [rudder] table and params.STEERING_GEAR from [steering_gear]."""
     rd = ship.rudder
-    shared = dict(A_R=rd.A_R_m2, a_H=rd.a_H, x_H_prime=rd.x_H_prime, x_R_prime=rd.x_R_prime) if rd.model != "derivatives" else {}
+    put_keys(P, RUDDER, rd)  # each model's equations read the keys of their own model
     if rd.model == "mmg":
-        put(P, RUDDER, kind=lo.RUDDER_MMG, H_R=rd.H_R_m, t_R=rd.t_R, l_R_prime=rd.l_R_prime, **shared)
-        put(P, RUDDER, gamma_R_minus=rd.gamma_R_minus, gamma_R_plus=rd.gamma_R_plus)
-        put(P, RUDDER, epsilon=rd.epsilon, kappa=rd.kappa, f_alpha=rd.f_alpha)
-        put(P, RUDDER, eta=min(ship.propeller.D_m / rd.H_R_m, 1.0))  # eta = D_P / H_R
+        put(P, RUDDER, kind=lo.RUDDER_MMG, eta=min(ship.propeller.D_m / rd.H_R_m, 1.0))  # eta = D_P / H_R
     elif rd.model == "son_nomoto":
-        put(P, RUDDER, kind=lo.RUDDER_SON_NOMOTO, epsilon=rd.epsilon, kappa=rd.kappa, f_alpha=rd.f_alpha, **shared)
-        put(P, RUDDER, gamma_R=rd.gamma_R, c_Rr=rd.c_Rr, c_RX=rd.c_RX, c_Rrrr=rd.c_Rrrr, c_Rrrv=rd.c_Rrrv)
+        put(P, RUDDER, kind=lo.RUDDER_SON_NOMOTO)
     else:
         put(P, RUDDER, kind=lo.RUDDER_DERIVATIVES)
     sg = ship.steering_gear
-    put(
-        P,
-        STEERING_GEAR,
-        delta_max=sg.max_angle_deg * DEG,
-        delta_rate_max=sg.max_rate_deg_s * DEG,
-        time_constant=sg.time_constant_s,
-    )
+    put_keys(P, STEERING_GEAR, sg)
+    put(P, STEERING_GEAR, delta_max=sg.max_angle_deg * DEG, delta_rate_max=sg.max_rate_deg_s * DEG)
 
 
 def _pack_loads(P: np.ndarray, ship: Ship) -> None:
     """params.WINDAGE from the [windage] table, params.WAVE_DRIFT from [wave_drift] (off without them)."""
     w = ship.windage
     if w is not None:
-        put(P, WINDAGE, on=1.0, A_FW=w.A_F_m2, A_LW=w.A_L_m2, s_L=w.s_L_m, CD_t=w.CD_t)
-        put(P, WINDAGE, CD_l_AF_0=w.CD_l_AF_0, CD_l_AF_pi=w.CD_l_AF_pi, delta=w.delta, kappa=w.kappa)
+        put_keys(P, WINDAGE, w)
+        put(P, WINDAGE, on=1.0)
     wd = ship.wave_drift
     if wd is not None:
         pt = ship.particulars
+        put_keys(P, WAVE_DRIFT, wd)
         put(
             P,
             WAVE_DRIFT,
@@ -487,7 +473,7 @@ def derivatives_of(P, x, inp, env, F_ext, xdot, H, roll, ext, abk, far):
             X += Xr
             Y += Yr
             N += Nr
-            K = Kr - P[ROLL.z_R] * f.Y_R + P[ROLL.torque_sign] * f.Q_prop  # rudder; shaft torque reaction
+            K = Kr - P[ROLL.z_R_m] * f.Y_R + P[ROLL.torque_sign] * f.Q_prop  # rudder; shaft torque reaction
             j = ROLL.Minv
             udot = X / P[BODY.m11]
             vdot = P[j] * Y + P[j + 1] * N + P[j + 2] * K

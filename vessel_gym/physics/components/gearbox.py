@@ -147,7 +147,7 @@ def gearbox_drive(P, C, n, n_E, gov, c, n_order, Q_load):
     engine torque Q_E N m, clutch torque Q_c N m (engine side), slip rev/s (engine side), phase).
     """
     i_g = P[TRANSMISSION.gear_ratio]
-    eta = P[TRANSMISSION.eta_gear]
+    eta = P[TRANSMISSION.efficiency]
     d = clutch_direction(P, n_order)
     # applied (beyond the last few per cent, which a fixed step may overshoot through 0) in the ordered direction
     along = c * d >= CLUTCH_SET
@@ -274,7 +274,7 @@ class ReversingGearbox(Engine):
         for k in range(x.shape[0]):
             P = sim.Ps[sim.ship_index[k]]
             d = clutch_direction(P, sim.inputs[k, lo.U_REV_C])
-            i_g, eta = P[TRANSMISSION.gear_ratio], P[TRANSMISSION.eta_gear]
+            i_g, eta = P[TRANSMISSION.gear_ratio], P[TRANSMISSION.efficiency]
             if d == 0.0:
                 n_E, Q_E = self.constants[C_IDLE_REV], 0.0
             else:
