@@ -207,7 +207,7 @@ def test_rule_10_times_in_the_zone_the_opposite_lane_and_against_the_flow():
     """Channel: a ship swinging to port leaves its lane (centre line east 0, half width 2.5 L = 800 m) with its
     heading off the flow (counted while in the lane), crosses the separation zone (800-1600 m to port) and
     enters the southbound lane; each is timed by where the midship point is. Open sea: not scored."""
-    from vessel_gym.envs.tasks.colreg import episode_metrics
+    from vessel_gym.envs.tasks.colreg_rules import episode_metrics
 
     env = gym.make(CHANNEL, observation_type="physical")
     env.reset(seed=1, options={"scenario": "lanes:overtaking"})
