@@ -108,3 +108,18 @@ def test_narrow_lane_traffic_is_inside_the_channel():
         for j in members[1:]:
             if task.world.active[j]:
                 assert -1200.0 + 60.0 < float(task.sim.east[j]) < 400.0 - 60.0
+
+
+def test_the_open_sea_agent_runs_in_the_narrow_channel_only_without_the_sweep():
+    """An agent may run on another preset of its task where its observation fits: the shipped open-sea PPO
+    (no sweep) in the narrow channel with sensors=0; with the preset's 24 sectors, one clear error."""
+    from agents.config import UsageError
+    from agents.evaluation import evaluate
+
+    model = "agents/trained/ppo_CollisionAvoidance-v0_seed0.zip"
+    out = evaluate(NARROW, model, episodes=1, seed=3, env_kwargs={"sensors": 0})
+    assert out["summary"]["episodes"] == 1 and "grounding_rate" in out["summary"]
+    with pytest.raises(UsageError, match=r"observation shape \(49,\) does not match the environment's \(73,\)"):
+        evaluate(NARROW, model, episodes=1, env_kwargs={})
+    with pytest.raises(UsageError, match="nor another preset of its task"):
+        evaluate("vessel_gym/ZigZag-v1", model, episodes=1)
