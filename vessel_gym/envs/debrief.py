@@ -201,11 +201,13 @@ def encounter_scores(task: Any, k: int = 0) -> list[EncounterScore]:
     p = task.p
     out = []
     for slot, j in enumerate(members):
-        if j == k or not world.active[j]:
+        if j == k or not (slot < world.agents or world.active[j]):  # own ships take part even once they left
             continue
         row = task.pairs[k, slot]
         sit = int(row[R.situation])
-        name = f"target {slot - world.agents + 1}" if slot >= world.agents else f"own ship {slot + 1}"
+        # own ship 0 (the served ship) calls every other ship a target, by slot, as the link does
+        name = f"target {slot}" if k == 0 else f"target {slot - world.agents + 1}"
+        name = name if k == 0 or slot >= world.agents else f"own ship {slot + 1}"
         if sit == SAFE:
             out.append(EncounterScore(name, "safe"))
             continue
