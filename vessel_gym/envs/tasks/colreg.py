@@ -247,6 +247,9 @@ def vo_nomoto_pilot(env: Any) -> Any:
             "channel_offset_L": 1.25,
             "opposite_lane_L": 2.5,
             "lane_spread": 0.3,
+            # ships passing in the channel's two halves (about 2.5 L apart) meet without risk of collision:
+            # rule 9, not rule 14, is what applies to them
+            "risk_dcpa_L": 1.5,
         },
     },
     max_episode_steps=400,
