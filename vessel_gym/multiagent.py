@@ -69,13 +69,7 @@ class ShipParallelEnv(ParallelEnv):
     ) -> None:
         if agents < 1:
             raise ValueError(f"agents must be >= 1, got {agents}")
-        names = [f"ship_{k}" for k in range(agents)]
-        driven = dict(driven or {})
-        unknown = sorted(set(driven) - set(names))
-        if unknown:
-            raise ValueError(f"driven: no own ship {', '.join(unknown)} (have {', '.join(names)})")
-        if len(driven) == agents:
-            raise ValueError("driven: every own ship is driven; at least one must be an agent")
+
         decl = declaration(task_id)
         cls = task_class(task_id)
         preset = task_id.split("/", 1)[-1]
@@ -85,12 +79,11 @@ class ShipParallelEnv(ParallelEnv):
         self.task = cls.from_config(config, over, agents)
         self.task_id = decl.ids[list(decl.presets).index(preset)]
         self.n = agents
-        self.possible_agents = [a for a in names if a not in driven]
         self.agents: list[str] = []
         self.max_cycles = decl.max_episode_steps or 0
         self.render_mode = None
-        self._index = {a: k for k, a in enumerate(names)}
-        self.driven = {self._index[a]: policy for a, policy in driven.items()}  # own ship k: its policy
+        self._index = {f"ship_{k}": k for k in range(agents)}
+        self.drive(driven or {})
         self._pacing: tuple[int, Any] = (1, None)
         self._observation_space = self.task.layout.space()
         self._action_space = self.task.helm.space
@@ -100,6 +93,17 @@ class ShipParallelEnv(ParallelEnv):
         self._live = np.zeros(agents, dtype=np.bool_)
         self._steps = 0
         self._rngs: VesselGenerators | None = None
+
+    def drive(self, driven: Mapping[str, Any]) -> None:
+        """Steer the own ships named in ``driven`` by their policies (module doc); the others are the agents."""
+        names = list(self._index)
+        unknown = sorted(set(driven) - set(names))
+        if unknown:
+            raise ValueError(f"driven: no own ship {', '.join(unknown)} (have {', '.join(names)})")
+        if len(driven) == len(names):
+            raise ValueError("driven: every own ship is driven; at least one must be an agent")
+        self.driven = {self._index[a]: policy for a, policy in driven.items()}  # own ship k: its policy
+        self.possible_agents = [a for a in names if a not in driven]
 
     @functools.cache  # noqa: B019 (one space per agent for the env's life, as the API asks)
     def observation_space(self, agent: str) -> spaces.Space:
@@ -286,7 +290,7 @@ class OwnShipAmongAgents(gym.Env):
         self.render_mode = None
         if max_episode_steps is not None:
             self.penv.max_cycles = int(max_episode_steps)
-        self.penv.driven = {k: make_policy(self) for k in range(1, 1 + targets)}
+        self.penv.drive({f"ship_{k}": make_policy(self) for k in range(1, 1 + targets)})
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)

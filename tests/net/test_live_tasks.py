@@ -402,6 +402,7 @@ def test_targets_are_own_ships_steered_by_the_agent_from_their_own_observation()
     _obs, info = env.reset(seed=0, options={"scenario": "imazu:13", "heading_deg": 0.0})
     task = env.task
     assert task.n == 4 and len(env.penv.driven) == 3 and info["scenario"] == "imazu:13"
+    assert env.penv.possible_agents == ["ship_0"]
     for _ in range(3):
         env.step(np.zeros(1, dtype=np.float32))
     sim = task.sim
@@ -434,7 +435,7 @@ def test_serve_with_target_agents_lets_a_person_helm_against_them(peers):
         max_episode_steps=8,
     )
     server = srv.address(timeout_s=300.0)
-    panel = peers()
+    panel, viewer = peers(), peers()
     panel.join(server, lambda: time.sleep(0.05), "helm", 20.0)
     states, particulars = [], []
     seq = 0
@@ -442,12 +443,12 @@ def test_serve_with_target_agents_lets_a_person_helm_against_them(peers):
     while srv.thread.is_alive() and time.monotonic() - t0 < 20.0:
         seq += 1
         panel.send(server, P.encode_helm(seq, 7.0, telegraph=3, session=panel.session))
+        viewer.send(
+            server, P.encode_hello("viewer", 20.0, "v", cookie=viewer.cookie, session=viewer.session, proto=2)
+        )
         time.sleep(0.05)
-        for m in panel.messages():
-            if m["type"] == "state":
-                states.append(m)
-            elif m["type"] == "particulars":
-                particulars.append(m)
+        states += [m for m in panel.messages() if m["type"] == "state"]
+        particulars += [m for m in viewer.messages() if m["type"] == "particulars"]
     assert srv.join() == 0
     out = srv.out.getvalue()
     assert f"open sea, targets steered by '{PPO0}'" in out and "helm takeovers 1" in out
@@ -455,6 +456,7 @@ def test_serve_with_target_agents_lets_a_person_helm_against_them(peers):
     assert mine and mine[-1]["rudder_order_deg"] == pytest.approx(7.0)
     names = {t["name"] for s in states for t in s["targets"]}
     assert names == {"target 1", "target 2", "target 3"}
+    assert {p["name"] for p in particulars if not p["own"]} >= names  # drawn by the 3D viewer as ships
     assert "!AIVDM" in b"".join(nmea_sink.raw()).decode()
     lines = out.splitlines()
     ends = [i for i, line in enumerate(lines) if line.startswith("episode ")]

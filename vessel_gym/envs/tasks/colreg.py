@@ -3,8 +3,8 @@ simulated in the same batch, the COLREG rules scored per encounter (docs/colreg.
 
 Beside this file: the declaration and its columns (``colreg_columns.py``), the step (``colreg_step.py``),
 the encounter geometry (``colreg_geometry.py``), the Imazu cases and the generator (``colreg_encounters.py``),
-the rule checks (``colreg_rules.py``), the encounters' bookkeeping (``colreg_world.py``) and the baselines
-(``colreg_pilots.py``, ``colreg_mpc.py``).
+the rule checks and the episode metrics (``colreg_rules.py``), the encounters' bookkeeping and the
+rule-following targets (``colreg_world.py``) and the baselines (``colreg_pilots.py``, ``colreg_mpc.py``).
 """
 
 from __future__ import annotations
