@@ -85,6 +85,10 @@ def test_the_narrow_channel_times_rule_9_and_its_banks_ground():
     assert info["outcome"] == "grounding" and info["rule9_port_side_s"] > 0.0
     m = episode_metrics(infos, True)
     assert m["rule9_violation"] == 1.0 and m["rule9_port_side_s"] == info["rule9_port_side_s"]
+    from vessel_gym.envs.debrief import colreg_debrief
+
+    last = colreg_debrief(task, info, "grounding")[-1]
+    assert last.startswith(f"  rule 9: {info['rule9_port_side_s']:.0f} s on the channel's port half (9(a)), 0 s")
     from vessel_gym.policy import load_policy
 
     pilot = load_policy("scripted", env)
