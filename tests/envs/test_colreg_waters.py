@@ -230,5 +230,12 @@ def test_rule_10_times_in_the_zone_the_opposite_lane_and_against_the_flow():
             break
     assert all(seen.values()), seen
     assert info["tss_scored"] and episode_metrics(infos, False)["rule10_violation"] == 1.0
+    from vessel_gym.envs.debrief import colreg_debrief
+
+    last = colreg_debrief(task, info, "running")[-1]
+    assert last == (
+        f"  rule 10: {info['tss_zone_s']:.0f} s in the separation zone, {info['tss_wrong_lane_s']:.0f} s in the "
+        f"opposite lane, {info['tss_against_flow_s']:.0f} s against the flow"
+    )
     _obs, info = gym.make("vessel_gym/CollisionAvoidance-v0").reset(seed=0)
     assert not info["tss_scored"] and "rule10_violation" not in episode_metrics([info], False)
