@@ -20,7 +20,8 @@ driven by one policy (``vessel-gym serve --target-agent``).
 
 An agent whose episode ends (arrival, collision, straying) leaves ``agents`` and its ship leaves the encounter;
 all are truncated after ``max_cycles`` steps (default: the task's ``max_episode_steps``). ``state()`` is the
-observation of every possible agent in turn (zeros for one that has left), ``state_space`` its box.
+observation of every own ship in turn, agents and driven ships (zeros for one that has left), ``state_space``
+its box.
 ``reset(seed=s)`` seeds own ship k with ``s + k`` as the vector environments do; a reset without a seed
 continues the ships' streams. ``options``: the task's reset
 options (CollisionAvoidance: ``scenario``, ``heading_deg``); other keys are left to wrappers and not read.
@@ -69,7 +70,6 @@ class ShipParallelEnv(ParallelEnv):
     ) -> None:
         if agents < 1:
             raise ValueError(f"agents must be >= 1, got {agents}")
-
         decl = declaration(task_id)
         cls = task_class(task_id)
         preset = task_id.split("/", 1)[-1]
