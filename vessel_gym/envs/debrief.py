@@ -205,9 +205,12 @@ def encounter_scores(task: Any, k: int = 0) -> list[EncounterScore]:
             continue
         row = task.pairs[k, slot]
         sit = int(row[R.situation])
-        # own ship 0 (the served ship) calls every other ship a target, by slot, as the link does
-        name = f"target {slot}" if k == 0 else f"target {slot - world.agents + 1}"
-        name = name if k == 0 or slot >= world.agents else f"own ship {slot + 1}"
+        if k == 0:  # the served ship: every other ship is a target, named by its slot as the link names it
+            name = f"target {slot}"
+        elif slot >= world.agents:
+            name = f"target {slot - world.agents + 1}"
+        else:
+            name = f"own ship {slot + 1}"
         if sit == SAFE:
             out.append(EncounterScore(name, "safe"))
             continue
@@ -243,7 +246,7 @@ def colreg_debrief(task: Any, info: Mapping[str, Any], outcome: str) -> list[str
     if info.get("channel_scored"):
         lines.append(
             f"  rule 9: {g('rule9_port_side_s'):.0f} s on the channel's port half (9(a)), "
-            f"{g('rule9_crossing_s'):.0f} s crossing ahead of a ship in it (9(d)), "
+            f"{g('rule9_crossing_s'):.0f} s crossing in the way of a ship in it (9(d)), "
             f"{g('rule9_close_overtake_s'):.0f} s overtaking too close (9(e))"
         )
     return lines

@@ -69,8 +69,10 @@ class Served:
             kw = {"scenario": self.scenario, **extra}
             return gym.make(self.env_id, **{**own_ship(self.scenario), **kw})
         if self.target_agent is not None:
-            from vessel_gym.multiagent import OwnShipAmongAgents
-
+            try:
+                from vessel_gym.multiagent import OwnShipAmongAgents
+            except ImportError as exc:  # the marl extra (pettingzoo) missing
+                raise ValueError(f"--target-agent: {exc}") from None
             spec = self.target_agent
             return OwnShipAmongAgents(self.env_id, lambda env: _target_policy(spec, env), **extra)
         return gym.make(self.env_id, **extra)
