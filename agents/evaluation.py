@@ -61,6 +61,17 @@ class _NormalizedObs:
         return self.policy(self.stats.normalize_obs(np.asarray(obs, dtype=np.float32)))
 
 
+def same_task(a: str, b: str) -> bool:
+    """Whether two registered ids are presets of one task (an agent may run on another preset of its task,
+    e.g. CollisionAvoidance-v0's in the Channel, where its observation fits: :func:`load_agent` checks)."""
+    from vessel_gym.envs.registration import declaration
+
+    try:
+        return declaration(a) is declaration(b)
+    except KeyError:
+        return False
+
+
 def load_agent(agent: str | Path, env: Any) -> Any:
     """Policy ``action = policy(obs)`` with ``reset()`` for ``env``: a baseline name or a model path.
 
@@ -183,8 +194,10 @@ def evaluate(
     if spec not in PILOTS and not Path(spec).is_file() and not Path(spec + ".zip").is_file():
         raise UsageError(f"agent {spec!r}: not a baseline ({', '.join(PILOTS)}) and no such file")
     rec = run_record(spec)
-    if rec.get("env_id") not in (None, env_id):
-        raise UsageError(f"agent {spec!r} was trained on {rec['env_id']}, not {env_id}")
+    if rec.get("env_id") not in (None, env_id) and not same_task(rec["env_id"], env_id):
+        raise UsageError(
+            f"agent {spec!r} was trained on {rec['env_id']}, not {env_id} (nor another preset of its task)"
+        )
     recorded = rec.get("eval_env_kwargs", rec.get("env_kwargs"))
     kwargs = dict(recorded or {}) if env_kwargs is None else dict(env_kwargs)
     if action_filter is RECORDED:

@@ -78,6 +78,13 @@ def add_live_parsers(sub) -> dict[str, argparse.ArgumentParser]:
         "--agent",
         help="helm when no human holds it: pid, pid-nomoto, scripted or SB3 .zip (default pid; Berthing: scripted)",
     )
+    sv.add_argument(
+        "--target-agent",
+        metavar="AGENT",
+        default=None,
+        help="CollisionAvoidance: the target ships steered by this agent (pid, scripted or SB3 .zip), each from "
+        "its own observation, while the own ship is on the helm (default: none, scripted targets)",
+    )
     sv.add_argument("--allow-remote", action="store_true", help="allow binding to a non-loopback address")
     sv.add_argument(
         "--failsafe",
@@ -173,6 +180,7 @@ def run_live(args: argparse.Namespace) -> int:
             listen_only=[host_port(t, "--view") for t in args.view],
             time_factor=args.time_factor,
             agent=args.agent,
+            target_agent=args.target_agent,
             allow_remote=args.allow_remote,
             failsafe=args.failsafe,
             duration_s=args.duration,

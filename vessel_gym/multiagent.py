@@ -7,9 +7,21 @@ configuration has an ``agents`` key (CollisionAvoidance) the N own ships share o
 other as targets; the encounter's remaining targets stay scripted, keeping course and speed); for any other
 task they are N independent ships of one batch.
 
+**A mix of ships.** ``driven={"ship_2": policy, ...}`` makes those own ships steered by a fixed policy
+(``action = policy(observation)``, with ``reset()``, as :func:`vessel_gym.policy.load_policy` returns) from
+their own observation, every control step: they take part as own ships (routes, COLREG records, leaving the
+encounter when their episode ends) but are not agents of the environment (not in ``possible_agents``). The
+encounter's remaining targets are scripted by the task's config: course and speed kept, or with
+``targets_react=True`` the rules kept (a give-way target turns to starboard); with ``targets_observed="ais"``
+every agent sees the others, agents and scripted ships alike, only as received over AIS. So one batch can hold
+learning agents, policy-driven ships, rule-following scripted targets and AIS contacts, on the same task code.
+:class:`OwnShipAmongAgents` is own ship 0 of such an environment as a Gymnasium environment, every other ship
+driven by one policy (``vessel-gym serve --target-agent``).
+
 An agent whose episode ends (arrival, collision, straying) leaves ``agents`` and its ship leaves the encounter;
 all are truncated after ``max_cycles`` steps (default: the task's ``max_episode_steps``). ``state()`` is the
-observation of every possible agent in turn (zeros for one that has left), ``state_space`` its box.
+observation of every own ship in turn, agents and driven ships (zeros for one that has left), ``state_space``
+its box.
 ``reset(seed=s)`` seeds own ship k with ``s + k`` as the vector environments do; a reset without a seed
 continues the ships' streams. ``options``: the task's reset
 options (CollisionAvoidance: ``scenario``, ``heading_deg``); other keys are left to wrappers and not read.
@@ -37,9 +49,10 @@ except ImportError as exc:  # pragma: no cover - the extra is installed in CI
         "vessel_gym.parallel_env needs the 'marl' extra (pettingzoo): pip install 'vessel-gym[marl]'"
     ) from exc
 
+from vessel_gym.envs.env import advance
 from vessel_gym.envs.generators import SeedRange, VesselGenerators
 from vessel_gym.envs.registration import declaration, task_class
-from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, reset_vessels, vessel_info
+from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, reset_vessels, task_config, vessel_info
 
 
 class ShipParallelEnv(ParallelEnv):
@@ -47,7 +60,14 @@ class ShipParallelEnv(ParallelEnv):
 
     metadata = {"name": "vessel_gym_parallel_v0", "render_modes": [], "is_parallelizable": True}
 
-    def __init__(self, task_id: str, agents: int = 2, config: Any = None, **overrides: Any) -> None:
+    def __init__(
+        self,
+        task_id: str,
+        agents: int = 2,
+        config: Any = None,
+        driven: Mapping[str, Any] | None = None,
+        **overrides: Any,
+    ) -> None:
         if agents < 1:
             raise ValueError(f"agents must be >= 1, got {agents}")
         decl = declaration(task_id)
@@ -59,11 +79,12 @@ class ShipParallelEnv(ParallelEnv):
         self.task = cls.from_config(config, over, agents)
         self.task_id = decl.ids[list(decl.presets).index(preset)]
         self.n = agents
-        self.possible_agents = [f"ship_{k}" for k in range(agents)]
         self.agents: list[str] = []
         self.max_cycles = decl.max_episode_steps or 0
         self.render_mode = None
-        self._index = {a: k for k, a in enumerate(self.possible_agents)}
+        self._index = {f"ship_{k}": k for k in range(agents)}
+        self.drive(driven or {})
+        self._pacing: tuple[int, Any] = (1, None)
         self._observation_space = self.task.layout.space()
         self._action_space = self.task.helm.space
         low = np.tile(self._observation_space.low, agents)
@@ -72,6 +93,17 @@ class ShipParallelEnv(ParallelEnv):
         self._live = np.zeros(agents, dtype=np.bool_)
         self._steps = 0
         self._rngs: VesselGenerators | None = None
+
+    def drive(self, driven: Mapping[str, Any]) -> None:
+        """Steer the own ships named in ``driven`` by their policies (module doc); the others are the agents."""
+        names = list(self._index)
+        unknown = sorted(set(driven) - set(names))
+        if unknown:
+            raise ValueError(f"driven: no own ship {', '.join(unknown)} (have {', '.join(names)})")
+        if len(driven) == len(names):
+            raise ValueError("driven: every own ship is driven; at least one must be an agent")
+        self.driven = {self._index[a]: policy for a, policy in driven.items()}  # own ship k: its policy
+        self.possible_agents = [a for a in names if a not in driven]
 
     @functools.cache  # noqa: B019 (one space per agent for the env's life, as the API asks)
     def observation_space(self, agent: str) -> spaces.Space:
@@ -97,10 +129,19 @@ class ShipParallelEnv(ParallelEnv):
         self.agents = list(self.possible_agents)
         self._live[:] = True
         self._steps = 0
+        for policy in self.driven.values():
+            policy.reset()
         obs = task.obs.copy()
-        return {a: obs[k] for k, a in enumerate(self.possible_agents)}, {
-            a: vessel_info(task, k) for k, a in enumerate(self.possible_agents)
+        return {a: obs[self._index[a]] for a in self.agents}, {
+            a: vessel_info(task, self._index[a]) for a in self.agents
         }
+
+    def pace(self, ticks: int = 1, on_tick: Any = None) -> None:
+        """Run each step's physics in ``ticks`` slices, ``on_tick(i)`` after slice i (as
+        :meth:`ShipEnv.pace <vessel_gym.envs.env.ShipEnv.pace>`: ``vessel-gym serve`` paces a step this way)."""
+        if ticks < 1:
+            raise ValueError(f"ticks must be >= 1, got {ticks}")
+        self._pacing = (int(ticks), on_tick)
 
     def step(self, actions: Mapping[str, Any]):
         task = self.task
@@ -108,10 +149,13 @@ class ShipParallelEnv(ParallelEnv):
         batch = np.zeros((self.n, *np.shape(self._action_space.sample())), dtype=np.float64)
         for a, act in actions.items():
             k = self._index[a]
-            if self._live[k]:
+            if self._live[k] and a in self.possible_agents:
                 batch[k] = helm.single(act)[0]
+        for k, policy in self.driven.items():  # the driven ships act on their own observation
+            if self._live[k]:
+                batch[k] = helm.single(policy(task.obs[k].copy()))[0]
         helm.apply(helm.batch(batch, self.n))
-        task.sim.step(task.nsub)  # every vessel one control step
+        advance(task.sim, task.nsub, *self._pacing)  # every vessel one control step
         phase = np.where(self._live, PHASE_STEP, 0).astype(np.int8)
         task.update(phase)
         self._steps += 1
@@ -127,6 +171,9 @@ class ShipParallelEnv(ParallelEnv):
             truncs[a] = timeout and not terms[a]
             infos[a] = vessel_info(task, k)
             if terms[a] or truncs[a]:
+                self._live[k] = False
+        for k in self.driven:  # a driven ship leaves as an agent does
+            if self._live[k] and (task.terminated[k] or timeout):
                 self._live[k] = False
         self.agents = [a for a in live if self._live[self._index[a]]]
         return obs, rewards, terms, truncs, infos
@@ -159,7 +206,8 @@ class SharedPolicyVectorEnv(gym.vector.VectorEnv):
 
     def __init__(self, penv: ShipParallelEnv) -> None:
         self.penv = penv
-        self.num_envs = penv.n
+        self.num_envs = len(penv.possible_agents)  # the agents (ships driven by a fixed policy are not)
+        self._pos = {a: i for i, a in enumerate(penv.possible_agents)}
         first = penv.possible_agents[0]
         self.single_observation_space = penv.observation_space(first)
         self.single_action_space = penv.action_space(first)
@@ -171,7 +219,7 @@ class SharedPolicyVectorEnv(gym.vector.VectorEnv):
     def _stack(self, obs: Mapping[str, np.ndarray]) -> np.ndarray:
         out = np.zeros((self.num_envs, *self.single_observation_space.shape), dtype=np.float32)
         for a, o in obs.items():
-            out[self.penv._index[a]] = o
+            out[self._pos[a]] = o
         return out
 
     def reset(self, *, seed: Any = None, options: dict | None = None):
@@ -182,7 +230,7 @@ class SharedPolicyVectorEnv(gym.vector.VectorEnv):
 
     def step(self, actions: Any):
         penv = self.penv
-        acts = {a: actions[penv._index[a]] for a in penv.agents}
+        acts = {a: actions[self._pos[a]] for a in penv.agents}
         obs, rew, term, trunc, infos = penv.step(acts)
         n = self.num_envs
         o = self._stack(obs)
@@ -191,7 +239,7 @@ class SharedPolicyVectorEnv(gym.vector.VectorEnv):
         tr = np.zeros(n, dtype=np.bool_)
         final_info = np.full(n, None, dtype=object)
         for a in obs:
-            k = penv._index[a]
+            k = self._pos[a]
             r[k], te[k], tr[k], final_info[k] = rew[a], term[a], trunc[a], infos[a]
         done = te | tr
         info: dict[str, Any] = {}
@@ -207,7 +255,60 @@ class SharedPolicyVectorEnv(gym.vector.VectorEnv):
         return o, r, te, tr, info
 
 
-def parallel_env(task_id: str, agents: int = 2, config: Any = None, **overrides: Any) -> ShipParallelEnv:
-    """A PettingZoo ``ParallelEnv`` of ``agents`` own ships of the registered task ``task_id`` (module doc);
-    ``config`` and ``overrides`` as for ``gymnasium.make``."""
-    return ShipParallelEnv(task_id, agents, config, **overrides)
+class OwnShipAmongAgents(gym.Env):
+    """Own ship 0 of a task's encounter as a Gymnasium environment, every other ship of the encounter an own
+    ship steered by a policy from its own observation: ``make_policy(env)`` is called once per driven ship
+    (this environment given, whose spaces are one own ship's) and returns ``action = policy(obs)`` with
+    ``reset()``. The encounter has ``1 + max_targets`` own ships (the task's config), so it draws only
+    encounters of exactly ``max_targets`` targets. The task must put several own ships in one encounter (a
+    config key ``agents``: CollisionAvoidance). ``max_episode_steps``: the time limit in control steps
+    (default: the registered one). What ``vessel-gym serve --target-agent`` runs: a person (or the served
+    agent) helms own ship 0 against the agents."""
+
+    metadata = {"render_modes": []}
+
+    def __init__(
+        self,
+        task_id: str,
+        make_policy: Any,
+        config: Any = None,
+        max_episode_steps: int | None = None,
+        **overrides: Any,
+    ) -> None:
+        cls = task_class(task_id)
+        if "agents" not in {f.name for f in dataclasses.fields(cls.Config)}:
+            raise ValueError(f"{task_id}: its ships do not share encounters (no agents key); no target agents")
+        preset = task_id.split("/", 1)[-1]
+        targets = task_config(cls, config, dict(overrides), preset).max_targets
+        self.penv = ShipParallelEnv(task_id, 1 + targets, config, **overrides)
+        self.task = self.penv.task
+        self.config = self.task.config
+        self.sim = self.task.sim
+        self.observation_layout = self.task.layout
+        self.observation_space = self.penv.observation_space("ship_0")
+        self.action_space = self.penv.action_space("ship_0")
+        self.render_mode = None
+        if max_episode_steps is not None:
+            self.penv.max_cycles = int(max_episode_steps)
+        self.penv.drive({f"ship_{k}": make_policy(self) for k in range(1, 1 + targets)})
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        obs, infos = self.penv.reset(seed=seed, options=options)
+        return obs["ship_0"], infos["ship_0"]
+
+    def step(self, action: Any):
+        obs, rewards, terms, truncs, infos = self.penv.step({"ship_0": action})
+        return obs["ship_0"], rewards["ship_0"], terms["ship_0"], truncs["ship_0"], infos["ship_0"]
+
+    def pace(self, ticks: int = 1, on_tick: Any = None) -> None:
+        self.penv.pace(ticks, on_tick)
+
+
+def parallel_env(
+    task_id: str, agents: int = 2, config: Any = None, driven: Mapping[str, Any] | None = None, **overrides: Any
+) -> ShipParallelEnv:
+    """A PettingZoo ``ParallelEnv`` of ``agents`` own ships of the registered task ``task_id`` (module doc), those
+    named in ``driven`` steered by their policies rather than being agents; ``config`` and ``overrides`` as for
+    ``gymnasium.make``."""
+    return ShipParallelEnv(task_id, agents, config, driven, **overrides)

@@ -24,6 +24,7 @@ def test_wilson_interval_matches_the_published_formula():
         (["--cases", "23"], "no Imazu case"),
         (["--set", "dnv", "--cases", "56"], "no DNV baseline case"),
         (["--write", "nope.md"], "no such"),
+        (["--set", "narrow", "--cases", "4"], "no lane-traffic case (1..3)"),
     ],
 )
 def test_bad_arguments_exit_2_with_one_line(argv, needle, capsys):
@@ -98,3 +99,17 @@ def test_models_of_several_seeds_get_a_pooled_row(tmp_path, monkeypatch, capsys)
     assert "| all | `ppo_CollisionAvoidance-v0_s1` | 100.0 [20.7, 100.0] |" in text
     assert colreg_results.main(["--agents", *models, "--block", "nope", "--write", str(page)]) == 2
     assert "no results block" in capsys.readouterr().err
+
+
+def test_restricted_waters_run_the_open_sea_model_without_the_sweep_and_report_grounding(tmp_path):
+    """--set narrow: the lane-traffic cases in CollisionAvoidanceNarrow-v0 with a grounding column; the shipped
+    open-sea model (49 features) runs there with sensors=0, the pilots with the sweep."""
+    page = tmp_path / "page.md"
+    begin, end = colreg_results.markers(None, "narrow")
+    page.write_text(f"{begin}\nold\n{end}\n")
+    model = "agents/trained/ppo_CollisionAvoidance-v0_seed0.zip"
+    argv = ["--set", "narrow", "--episodes", "1", "--cases", "2", "--agents", "scripted", model, "--write", str(page)]
+    assert colreg_results.main(argv) == 0
+    text = page.read_text()
+    assert "vessel_gym/CollisionAvoidanceNarrow-v0" in text and "grounding % [95 % CI]" in text
+    assert "2 (opposing)" in text and "without the range-sensor sweep (sensors=0): ppo_CollisionAvoidance-v0_seed0" in text

@@ -98,3 +98,61 @@ def test_one_shared_policy_trains_with_sb3_on_every_ship():
     model = PPO("MlpPolicy", venv, n_steps=32, batch_size=32, n_epochs=1, seed=0, device="cpu")
     model.learn(64)
     assert model.num_timesteps == 64
+
+
+# --- a mix: learning agents, policy-driven ships, rule-following scripted targets, AIS contacts ---------------
+
+MIX = {"targets_react": True, "targets_observed": "ais", "ais_dropout": 0.2}
+
+
+def _mixed(**kw):
+    """Three own ships in one encounter: ship_0 and ship_1 agents, ship_2 steered by its velocity-obstacle
+    pilot; the encounter's other targets scripted keeping the rules; every ship seen over AIS."""
+    import gymnasium as gym
+
+    from vessel_gym.envs.tasks.colreg_pilots import VelocityObstaclePilot
+
+    pilot = VelocityObstaclePilot(gym.make(ID, **MIX, **kw))
+    return vessel_gym.parallel_env(ID, agents=3, driven={"ship_2": pilot}, **MIX, **kw)
+
+
+def test_a_mix_of_agents_driven_ships_and_scripted_targets_passes_the_api_and_seed_tests():
+    parallel_api_test(_mixed(), num_cycles=400)
+    parallel_seed_test(_mixed, num_cycles=100)
+
+
+def test_in_the_mix_the_driven_ship_acts_on_its_own_and_only_agents_are_reported():
+    """Imazu case 13 (three targets): ship_2 (the first case target's role after ship_1) is steered by its pilot
+    and is no agent; the third target is scripted and keeps the rules; the agents see everything over AIS."""
+    env = _mixed(observation_type="physical")
+    assert env.possible_agents == ["ship_0", "ship_1"]
+    obs, infos = env.reset(seed=2, options={"scenario": "imazu:13"})
+    assert set(obs) == set(infos) == {"ship_0", "ship_1"}
+    task = env.task
+    assert task.sim.n == 3 + 3 and task.world.active[:3].all() and task.world.active[3]  # + 1 scripted
+    lay = task.layout
+    assert all(sum(lay.value(obs[a], f"t{j}_valid") for j in range(3)) == 3.0 for a in obs)  # 3 others each
+    turned = False
+    for _ in range(150):
+        obs, rewards, terms, truncs, infos = env.step({a: np.zeros(1, dtype=np.float32) for a in env.agents})
+        assert set(rewards) <= {"ship_0", "ship_1"}
+        turned = turned or abs(float(task.sim.rudder_order[2])) > 0.01  # its pilot's orders, not ours
+        if not env.agents:
+            break
+    assert turned and all(float(task.sim.rudder_order[k]) == 0.0 for k in (0, 1) if task.world.active[k])
+    with pytest.raises(ValueError, match="no own ship ship_7"):
+        vessel_gym.parallel_env(ID, agents=2, driven={"ship_7": None})
+    with pytest.raises(ValueError, match="at least one must be an agent"):
+        vessel_gym.parallel_env(ID, agents=1, driven={"ship_0": None})
+
+
+def test_one_shared_policy_trains_beside_a_driven_ship():
+    pytest.importorskip("stable_baselines3")
+    from vessel_gym.multiagent import SharedPolicyVectorEnv
+
+    venv = SharedPolicyVectorEnv(_mixed())
+    obs, _ = venv.reset(seed=0)
+    assert venv.num_envs == 2 and obs.shape == (2, venv.single_observation_space.shape[0])
+    for _ in range(5):
+        obs, r, te, tr, _info = venv.step(np.zeros((2, 1), dtype=np.float32))
+    assert r.shape == (2,)

@@ -207,7 +207,7 @@ def test_rule_10_times_in_the_zone_the_opposite_lane_and_against_the_flow():
     """Channel: a ship swinging to port leaves its lane (centre line east 0, half width 2.5 L = 800 m) with its
     heading off the flow (counted while in the lane), crosses the separation zone (800-1600 m to port) and
     enters the southbound lane; each is timed by where the midship point is. Open sea: not scored."""
-    from vessel_gym.envs.tasks.colreg import episode_metrics
+    from vessel_gym.envs.tasks.colreg_rules import episode_metrics
 
     env = gym.make(CHANNEL, observation_type="physical")
     env.reset(seed=1, options={"scenario": "lanes:overtaking"})
@@ -230,5 +230,12 @@ def test_rule_10_times_in_the_zone_the_opposite_lane_and_against_the_flow():
             break
     assert all(seen.values()), seen
     assert info["tss_scored"] and episode_metrics(infos, False)["rule10_violation"] == 1.0
+    from vessel_gym.envs.debrief import colreg_debrief
+
+    last = colreg_debrief(task, info, "running")[-1]
+    assert last == (
+        f"  rule 10: {info['tss_zone_s']:.0f} s in the separation zone, {info['tss_wrong_lane_s']:.0f} s in the "
+        f"opposite lane, {info['tss_against_flow_s']:.0f} s against the flow"
+    )
     _obs, info = gym.make("vessel_gym/CollisionAvoidance-v0").reset(seed=0)
     assert not info["tss_scored"] and "rule10_violation" not in episode_metrics([info], False)

@@ -372,3 +372,111 @@ def test_pygame_panel_chart_draws_the_fenders_by_load():
     frame = panels.render_frame_array(state, scene=scene)
     colours = {tuple(c) for c in frame.reshape(-1, 3)}
     assert fender_colour(0.3) in colours and fender_colour(1.2) in colours
+
+
+# --- serve --target-agent: the targets steered by agents, the own ship on the helm ------------------------------
+
+PPO0 = "agents/trained/ppo_CollisionAvoidance-v0_seed0.zip"
+
+
+def test_targets_are_own_ships_steered_by_the_agent_from_their_own_observation():
+    """OwnShipAmongAgents: every target of the encounter is an own ship whose policy gets its own observation
+    (its own route and goal ahead, the served ship in its target list) and whose order reaches its rudder; the
+    served ship's orders are the caller's alone."""
+    from vessel_gym.multiagent import OwnShipAmongAgents
+
+    seen = []
+
+    class HardStarboard:
+        def reset(self):
+            pass
+
+        def __call__(self, obs):
+            seen.append(obs)
+            return np.array([1.0], dtype=np.float32)
+
+    env = OwnShipAmongAgents(
+        "vessel_gym/CollisionAvoidance-v0", lambda e: HardStarboard(), observation_type="physical"
+    )
+    lay = env.observation_layout
+    _obs, info = env.reset(seed=0, options={"scenario": "imazu:13", "heading_deg": 0.0})
+    task = env.task
+    assert task.n == 4 and len(env.penv.driven) == 3 and info["scenario"] == "imazu:13"
+    assert env.penv.possible_agents == ["ship_0"]
+    for _ in range(3):
+        env.step(np.zeros(1, dtype=np.float32))
+    sim = task.sim
+    assert sim.rudder_order[0] == 0.0 and all(sim.rudder_order[k] > 0.0 for k in (1, 2, 3))
+    assert all(sim.r[k] > 0.0 for k in (1, 2, 3))  # swinging to starboard, ship 0 not yet
+    assert len(seen) == 9 and all(lay.value(o, "goal_cos") > 0.99 for o in seen[:3])  # their goals ahead
+    assert all(lay.value(o, "t0_valid") == 1.0 for o in seen)  # each sees the others
+    from vessel_gym.net.batch_targets import BatchTargets
+
+    assert BatchTargets.has_targets(env) and [t.name for t in BatchTargets(env).targets()] == [
+        "target 1",
+        "target 2",
+        "target 3",
+    ]
+
+
+def test_serve_with_target_agents_lets_a_person_helm_against_them(peers):
+    """serve --env CollisionAvoidance-v0 --target-agent <the shipped PPO>: the banner says so; a helm panel takes
+    the own ship (its rudder order in the state); the three agent-steered targets go out as state targets, 3D
+    viewer ships and AIS; the episode ends with the COLREG debrief."""
+    nmea_sink = peers()
+    srv = _Server(
+        None,
+        env="vessel_gym/CollisionAvoidance-v0",
+        target_agent=PPO0,
+        nmea=[nmea_sink.address],
+        time_factor=100.0,
+        duration_s=4.0,
+        seed=3,
+        max_episode_steps=8,
+    )
+    server = srv.address(timeout_s=300.0)
+    panel, viewer = peers(), peers()
+    panel.join(server, lambda: time.sleep(0.05), "helm", 20.0)
+    states, particulars = [], []
+    seq = 0
+    t0 = time.monotonic()
+    while srv.thread.is_alive() and time.monotonic() - t0 < 20.0:
+        seq += 1
+        panel.send(server, P.encode_helm(seq, 7.0, telegraph=3, session=panel.session))
+        viewer.send(
+            server, P.encode_hello("viewer", 20.0, "v", cookie=viewer.cookie, session=viewer.session, proto=2)
+        )
+        time.sleep(0.05)
+        states += [m for m in panel.messages() if m["type"] == "state"]
+        particulars += [m for m in viewer.messages() if m["type"] == "particulars"]
+    assert srv.join() == 0
+    out = srv.out.getvalue()
+    assert f"open sea, targets steered by '{PPO0}'" in out and "helm takeovers 1" in out
+    mine = [s for s in states if s["helm_ok"]]
+    assert mine and mine[-1]["rudder_order_deg"] == pytest.approx(7.0)
+    names = {t["name"] for s in states for t in s["targets"]}
+    assert names == {"target 1", "target 2", "target 3"}
+    assert {p["name"] for p in particulars if not p["own"]} >= names  # drawn by the 3D viewer as ships
+    assert "!AIVDM" in b"".join(nmea_sink.raw()).decode()
+    lines = out.splitlines()
+    ends = [i for i, line in enumerate(lines) if line.startswith("episode ")]
+    assert ends and lines[ends[0] + 1].startswith("COLREG debrief: ")
+    assert any(line.strip().startswith("target 3:") for line in lines[ends[0] + 2 : ends[0] + 6])
+
+
+def test_serve_target_agent_errors_are_one_line(capsys):
+    from vessel_gym.cli import main
+
+    base = ["serve", "--nmea", "off", "--duration", "1", "--json", "127.0.0.1:0"]
+    cases = [
+        (["--env", "vessel_gym/CollisionAvoidance-v0", "--target-agent", "nope.zip"], "no such file"),
+        (
+            ["--env", "vessel_gym/CollisionAvoidance-v0", "--target-agent", "agents/trained/ppo_ZigZagRandom-v1_seed0.zip"],
+            "does not match the environment's (49,)",
+        ),
+        (["--env", "vessel_gym/Berthing-v0", "--target-agent", PPO0], "only the CollisionAvoidance tasks"),
+    ]
+    for extra, needle in cases:
+        assert main(base + extra) == 2, extra
+        err = capsys.readouterr().err.strip()
+        assert err.count("\n") == 0 and "--target-agent" in err and needle in err, err

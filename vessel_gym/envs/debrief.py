@@ -201,11 +201,16 @@ def encounter_scores(task: Any, k: int = 0) -> list[EncounterScore]:
     p = task.p
     out = []
     for slot, j in enumerate(members):
-        if j == k or not world.active[j]:
+        if j == k or not (slot < world.agents or world.active[j]):  # own ships take part even once they left
             continue
         row = task.pairs[k, slot]
         sit = int(row[R.situation])
-        name = f"target {slot - world.agents + 1}" if slot >= world.agents else f"own ship {slot + 1}"
+        if k == 0:  # the served ship: every other ship is a target, named by its slot as the link names it
+            name = f"target {slot}"
+        elif slot >= world.agents:
+            name = f"target {slot - world.agents + 1}"
+        else:
+            name = f"own ship {slot + 1}"
         if sit == SAFE:
             out.append(EncounterScore(name, "safe"))
             continue
@@ -220,7 +225,8 @@ def encounter_scores(task: Any, k: int = 0) -> list[EncounterScore]:
 
 def colreg_debrief(task: Any, info: Mapping[str, Any], outcome: str) -> list[str]:
     """The debrief lines of own ship 0's run that ended with ``outcome``: the encounter, each target's scores,
-    then the episode's COLREG score, minimum separation and path ratio."""
+    then the episode's COLREG score, minimum separation and path ratio, and in restricted waters the times in
+    breach of rule 10 (a traffic-separation scheme) or rule 9 (a narrow channel)."""
     L = task.L
     lines = [f"COLREG debrief: {info.get('scenario', '')}, {outcome}"]
     lines += ["  " + e.line(L) for e in encounter_scores(task, 0)]
@@ -231,4 +237,16 @@ def colreg_debrief(task: Any, info: Mapping[str, Any], outcome: str) -> list[str
         f"{float(info.get('min_separation_m', math.nan)):.0f} m ({float(info.get('min_separation_L', math.nan)):.1f} L); "
         f"path ratio {float(info.get('path_ratio', math.nan)):.2f}"
     )
+    g = lambda k: float(info.get(k, 0.0))  # noqa: E731
+    if info.get("tss_scored"):  # restricted waters: the times in breach of rules 10 and 9
+        lines.append(
+            f"  rule 10: {g('tss_zone_s'):.0f} s in the separation zone, {g('tss_wrong_lane_s'):.0f} s in the "
+            f"opposite lane, {g('tss_against_flow_s'):.0f} s against the flow"
+        )
+    if info.get("channel_scored"):
+        lines.append(
+            f"  rule 9: {g('rule9_port_side_s'):.0f} s on the channel's port half (9(a)), "
+            f"{g('rule9_crossing_s'):.0f} s crossing in the way of a ship in it (9(d)), "
+            f"{g('rule9_close_overtake_s'):.0f} s overtaking too close (9(e))"
+        )
     return lines

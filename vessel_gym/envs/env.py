@@ -42,6 +42,23 @@ class _Renders:
         return state
 
 
+def advance(sim: Any, nsub: int, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
+    """Advance ``sim`` one control step of ``nsub`` physics steps.
+
+    With ``on_tick``, in ``ticks`` slices: after slice i (1..ticks) the physics has made ``i * nsub // ticks``
+    of its steps and ``on_tick(i)`` is called (the same steps as one call, so the same states)."""
+    if on_tick is None:
+        sim.step(nsub)
+        return
+    done = 0
+    for i in range(1, ticks + 1):
+        due = i * nsub // ticks
+        if due > done:
+            sim.step(due - done)
+            done = due
+        on_tick(i)
+
+
 class ShipEnv(_Renders, gym.Env):
     """Base of the single environments (see each subclass's docstring for its spec sheet)."""
 
@@ -106,21 +123,8 @@ class ShipEnv(_Renders, gym.Env):
         return task.obs[0].copy(), task.reward.item(), terminated, truncated, vessel_info(task, 0)
 
     def _advance(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
-        """Advance the ship one control step (the task's ``nsub`` physics steps).
-
-        With ``on_tick``, in ``ticks`` slices: after slice i (1..ticks) the physics has made ``i * nsub // ticks``
-        of its steps and ``on_tick(i)`` is called (the same steps as one call, so the same states)."""
-        nsub, sim = self.task.nsub, self.sim
-        if on_tick is None:
-            sim.step(nsub)
-            return
-        done = 0
-        for i in range(1, ticks + 1):
-            due = i * nsub // ticks
-            if due > done:
-                sim.step(due - done)
-                done = due
-            on_tick(i)
+        """Advance the ship one control step (:func:`advance`)."""
+        advance(self.sim, self.task.nsub, ticks, on_tick)
 
     def pace(self, ticks: int = 1, on_tick: Callable[[int], None] | None = None) -> None:
         """Run each step's physics in ``ticks`` slices and call ``on_tick(i)`` after slice i (1..ticks)

@@ -1,6 +1,6 @@
-"""The target ships a task simulates in its own batch (CollisionAvoidance: the own ship is vessel 0, its
-encounter's targets the vessels after the own ships), as link targets: ``state.targets``, AIS and the 3D
-viewer's ships.
+"""The target ships a task simulates in its own batch (CollisionAvoidance: the served own ship is vessel 0;
+the other ships of its encounter - its other own ships, steered by agents, then the scripted targets - are
+the targets), as link targets: ``state.targets``, AIS and the 3D viewer's ships.
 
 The link's traffic source for such a task, in the shape :class:`~vessel_gym.net.wrapper.UdpLinkWrapper` reads
 of a :class:`~vessel_gym.scenarios.traffic.Traffic` (``ids``, ``specs``, ``ships``, ``n``, ``reset``, ``step``,
@@ -32,7 +32,7 @@ class TargetSpec:
 
 
 class BatchTargets:
-    """The target slots of own ship 0's encounter in the task's simulation, read as link targets."""
+    """The slots of own ship 0's encounter after its own, in the task's simulation, read as link targets."""
 
     @staticmethod
     def has_targets(env: Any) -> bool:
@@ -47,8 +47,8 @@ class BatchTargets:
         self.world = task.world
         self.control_interval_s = float(env.config.control_interval_s)
         members = self.world.members[0]
-        self.vessels = list(members[self.world.agents :])  # the simulation's vessel index of each slot
-        self.ids = [self.world.agents + j for j in range(len(self.vessels))]  # link ids (0: the own ship)
+        self.vessels = list(members[1:])  # the simulation's vessel index of each slot after the served ship
+        self.ids = [1 + j for j in range(len(self.vessels))]  # link ids (0: the own ship): the slot
         self.specs = [TargetSpec(f"target {j + 1}", BASE_MMSI + j + 1) for j in range(len(self.vessels))]
         self.ships = [self.sim.ships[self.sim.ship_index[k]] for k in self.vessels]
         self.steps = 0

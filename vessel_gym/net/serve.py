@@ -81,6 +81,7 @@ def serve(
     listen_only: Sequence[Address] = (),
     time_factor: float = 1.0,
     agent: str | None = None,
+    target_agent: str | None = None,
     allow_remote: bool = False,
     failsafe: str = "hold",
     duration_s: float | None = None,
@@ -103,6 +104,9 @@ def serve(
         time_factor: simulated seconds per wall-clock second.
         agent: helm when no human holds it: ``"pid"``, ``"scripted"`` or an SB3 ``.zip`` (None: ``pid``, or the
             task's own pilot where it has no ``pid``: Berthing's ``scripted``).
+        target_agent: CollisionAvoidance: the targets are own ships of the encounter steered by this agent
+            (a declared pilot or an SB3 ``.zip``) from their own observations, the person (or ``agent``) at
+            the own ship's helm.
         allow_remote: allow binding the JSON channel to a non-loopback address.
         failsafe: ``"hold"`` or ``"midships_stop"``: the orders when a helm panel falls silent, for
             ``agent_resume_s`` wall-clock seconds, after which the agent steers again.
@@ -135,6 +139,7 @@ def serve(
             listen_only=listen_only,
             time_factor=time_factor,
             agent=agent,
+            target_agent=target_agent,
             allow_remote=allow_remote,
             failsafe=failsafe,
             duration_s=duration_s,
@@ -159,6 +164,7 @@ def _serve(
     listen_only: Sequence[Address],
     time_factor: float,
     agent: str | None,
+    target_agent: str | None,
     allow_remote: bool,
     failsafe: str,
     duration_s: float | None,
@@ -174,7 +180,7 @@ def _serve(
     from vessel_gym.policy import load_policy
     from vessel_gym.scenarios import load_scenario
 
-    served = Served(env_id, load_scenario(scenario) if env_id is None else None)
+    served = Served(env_id, load_scenario(scenario) if env_id is None else None, target_agent)
     make_kw: dict[str, Any] = {}
     if max_episode_steps is not None:
         make_kw["max_episode_steps"] = max_episode_steps

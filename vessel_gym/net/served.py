@@ -4,7 +4,9 @@ its default helm, the figures of its outcome line and its debrief.
 
 - CollisionAvoidance: the own ship is the served ship; the encounter's target ships (simulated in the same
   batch) go out as ``state.targets``, AIS and the 3D viewer's ships (:mod:`~vessel_gym.net.batch_targets`); the
-  debrief scores each encounter by the COLREGs (:mod:`~vessel_gym.envs.debrief`).
+  debrief scores each encounter by the COLREGs (:mod:`~vessel_gym.envs.debrief`). With ``target_agent`` every
+  target is an own ship of the encounter steered by that agent from its own observation
+  (:class:`~vessel_gym.multiagent.OwnShipAmongAgents`): a person takes the helm against the agents.
 - Berthing: helm orders carry the thrusters and tugs (``helm.assist``); the state echoes their orders and what
   they deliver and the fenders' loads; the scene has the quay and the fenders; the debrief is ``play``'s
   (:func:`~vessel_gym.envs.debrief.berthing_debrief`).
@@ -39,7 +41,7 @@ class Served:
     """One served task: ``make(extra)`` builds its environment (``extra``: dt_s, max_episode_steps), ``kind``
     is ``"harbour"``, ``"colreg"`` or ``"berthing"``."""
 
-    def __init__(self, env_id: str | None, scenario: Any = None) -> None:
+    def __init__(self, env_id: str | None, scenario: Any = None, target_agent: str | None = None) -> None:
         import gymnasium as gym
 
         import vessel_gym.envs  # noqa: F401  (registers the ids)
@@ -50,6 +52,12 @@ class Served:
             if env_id not in gym.registry or not _kind_of(str(gym.spec(env_id).entry_point)):
                 raise ValueError(f"--env {env_id!r}: serve runs one of {', '.join(served_ids())}")
             self.env_id, self.kind, self.scenario = env_id, _kind_of(str(gym.spec(env_id).entry_point)), None
+        if target_agent is not None and self.kind != "colreg":
+            raise ValueError(
+                f"--target-agent {target_agent!r}: only the CollisionAvoidance tasks have targets to steer "
+                f"(not {self.env_id})"
+            )
+        self.target_agent = target_agent
         self._start_distance = math.nan
 
     def make(self, extra: dict[str, Any]) -> Any:
@@ -60,6 +68,13 @@ class Served:
 
             kw = {"scenario": self.scenario, **extra}
             return gym.make(self.env_id, **{**own_ship(self.scenario), **kw})
+        if self.target_agent is not None:
+            try:
+                from vessel_gym.multiagent import OwnShipAmongAgents
+            except ImportError as exc:  # the marl extra (pettingzoo) missing
+                raise ValueError(f"--target-agent: {exc}") from None
+            spec = self.target_agent
+            return OwnShipAmongAgents(self.env_id, lambda env: _target_policy(spec, env), **extra)
         return gym.make(self.env_id, **extra)
 
     def default_agent(self, env: Any) -> str:
@@ -75,7 +90,8 @@ class Served:
         if self.kind == "berthing":
             return f"{self.env_id}: {task.scenario.name}, berth {task.berth.name!r}"
         waters = getattr(task, "waters", None)
-        return f"{self.env_id}: " + (f"waters {waters.name!r}" if waters is not None else "open sea")
+        agents = f", targets steered by {self.target_agent!r}" if self.target_agent is not None else ""
+        return f"{self.env_id}: " + (f"waters {waters.name!r}" if waters is not None else "open sea") + agents
 
     def started(self, info: dict) -> None:
         """An episode started with ``info``: remember what the debrief compares with."""
@@ -115,3 +131,14 @@ class Served:
             )
             return ["berthing debrief:"] + [f"  {label:20s}{value}" for label, value in d.items()]
         return []
+
+
+def _target_policy(spec: str, env: Any) -> Any:
+    """The policy that steers one target (``load_policy``'s checks: a declared pilot, or a model file whose
+    observation fits the task's), its errors named as the option's."""
+    from vessel_gym.policy import load_policy
+
+    try:
+        return load_policy(spec, env)
+    except ValueError as exc:
+        raise ValueError(f"--target-agent: {exc}") from None

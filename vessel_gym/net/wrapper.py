@@ -121,8 +121,8 @@ class UdpLinkWrapper(gym.Wrapper):
         base = env.unwrapped
         if not hasattr(base, "sim") or not hasattr(base, "task"):
             raise ValueError(f"UdpLinkWrapper needs a vessel-gym environment, not {type(base).__name__}")
-        if getattr(base.task, "n", 1) != 1:
-            raise ValueError("UdpLinkWrapper wraps single environments (one own ship)")
+        if getattr(base, "num_envs", 1) != 1:  # own ship 0 is the served ship: other own ships are targets
+            raise ValueError("UdpLinkWrapper wraps single environments (one served own ship), not vector ones")
         if takeover not in TAKEOVER_MODES:
             raise ValueError(f"takeover must be one of {TAKEOVER_MODES}, not {takeover!r}")
         if agent_resume_s is not None and not (math.isfinite(agent_resume_s) and agent_resume_s >= 0.0):

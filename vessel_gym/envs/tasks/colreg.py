@@ -3,8 +3,8 @@ simulated in the same batch, the COLREG rules scored per encounter (docs/colreg.
 
 Beside this file: the declaration and its columns (``colreg_columns.py``), the step (``colreg_step.py``),
 the encounter geometry (``colreg_geometry.py``), the Imazu cases and the generator (``colreg_encounters.py``),
-the rule checks (``colreg_rules.py``), the encounters' bookkeeping (``colreg_world.py``) and the baselines
-(``colreg_pilots.py``, ``colreg_mpc.py``).
+the rule checks and the episode metrics (``colreg_rules.py``), the encounters' bookkeeping and the
+rule-following targets (``colreg_world.py``) and the baselines (``colreg_pilots.py``, ``colreg_mpc.py``).
 """
 
 from __future__ import annotations
@@ -17,19 +17,18 @@ from typing import Any
 
 import numpy as np
 
-from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.config import ShipEnvConfig
 from vessel_gym.envs.helm import make_helm
 from vessel_gym.envs.registration import register_task
 from vessel_gym.envs.task import Task, _uniform, start, task_arrays
 from vessel_gym.envs.tasks.colreg_ais import AisReceiver
-from vessel_gym.envs.tasks.colreg_columns import CHECKS, K_MAX, OUTCOMES, SC, SENSOR_MAX, SPEC, P, S
+from vessel_gym.envs.tasks.colreg_columns import K_MAX, OUTCOMES, SC, SENSOR_MAX, SPEC, P, S
 from vessel_gym.envs.tasks.colreg_encounters import GENERATED, IMAZU, LANES, Encounter, generate, imazu, lanes
-from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, sweep_bearings
-from vessel_gym.envs.tasks.colreg_rules import R, new_record
+from vessel_gym.envs.tasks.colreg_geometry import sweep_bearings
+from vessel_gym.envs.tasks.colreg_rules import R, episode_metrics, new_record
 from vessel_gym.envs.tasks.colreg_situation import DNV_COUNT, dnv_situation, read_situation, within_speed
 from vessel_gym.envs.tasks.colreg_step import colreg_update
-from vessel_gym.envs.tasks.colreg_world import OwnShips, World
+from vessel_gym.envs.tasks.colreg_world import OwnShips, World, steer_targets
 from vessel_gym.envs.tasks.common import motion_observed
 from vessel_gym.physics.schema import SpecError, param
 from vessel_gym.physics.simulation import Simulation
@@ -155,6 +154,22 @@ class CollisionAvoidanceConfig(ShipEnvConfig):
         hi=180.0,
         doc="rule 10: heading off the lane's flow that counts as against it",
     )
+    channel_half_L: float = param(
+        0.0,
+        unit="L",
+        lo=0.0,
+        hi=100.0,
+        doc="rule 9 scored in a narrow channel along the route: its half width (0: not scored)",
+    )
+    channel_offset_L: float = param(
+        0.0, unit="L", lo=-100.0, hi=100.0, doc="rule 9: the channel's centre line, this far to port of the route"
+    )
+    channel_pass_L: float = param(
+        1.0, unit="L", lo=0.0, hi=100.0, doc="rule 9(e): overtaking closer than this needs the overtaken's action"
+    )
+    lane_spread: float = param(
+        1.0, unit="-", lo=0.0, hi=1.0, doc="lanes: the lateral offsets' ranges times this (narrow waters)"
+    )
     targets_observed: str = param(
         "true",
         choices=("true", "ais"),
@@ -185,34 +200,6 @@ CollisionAvoidanceArrays = task_arrays(
     vessel=("ts", "scores", "scenario_id", "planned_dcpa"),
     shared=("pairs", "p", "world"),
 )
-
-
-def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
-    """An episode's outcome and COLREG scores from its last ``info``: success and collision (0/1), the
-    closest range (m, ship lengths), path ratio, rudder reversals, the COLREG score, whether a pair violated
-    a rule, the mean reaction delay (s; NaN without an alteration) and each check's pass fraction (NaN where
-    it never applied)."""
-    last = infos[-1]
-    out: dict[str, Any] = {
-        "success": float(last["success"]),
-        "collision": float(last["collision"]),
-        "grounding": float(last["grounding"]),
-        "min_separation_m": last["min_separation_m"],
-        "min_separation_L": last["min_separation_L"],
-        "path_ratio": last["path_ratio"],
-        "rudder_reversals": last["rudder_reversals"],
-        "colreg_score": last["colreg_score"] if last["colreg_checks"] else math.nan,
-        "colreg_violation": float(last["colreg_violations"] > 0),
-        "reaction_delay_s": last["reaction_delay_s"] if last["reaction_delay_s"] >= 0.0 else math.nan,
-    }
-    for c in CHECKS:
-        n = last["colreg_applied"][c]
-        out[f"{c}_ok"] = last["colreg_passed"][c] / n if n else math.nan
-    if last.get("tss_scored"):  # rule 10 in a traffic-separation scheme
-        times = [last["tss_zone_s"], last["tss_wrong_lane_s"], last["tss_against_flow_s"]]
-        out["tss_zone_s"], out["tss_wrong_lane_s"], out["tss_against_flow_s"] = times
-        out["rule10_violation"] = float(any(t > 0.0 for t in times))
-    return out
 
 
 def route_pilot(env: Any) -> Any:
@@ -250,6 +237,19 @@ def vo_nomoto_pilot(env: Any) -> Any:
             "initial_heading_deg": (0.0, 0.0),
             "tss_lane_half_L": 2.5,  # colreg_tss: the northbound lane 1.6 km wide, the zone 0.8 km
             "tss_zone_width_L": 2.5,
+        },
+        "CollisionAvoidanceNarrow-v0": {  # colreg_narrow: a 1.6 km channel, the route on its starboard half
+            "waters": "colreg_narrow",
+            "encounters": "lanes",
+            "sensors": 24,
+            "initial_heading_deg": (0.0, 0.0),
+            "channel_half_L": 2.5,
+            "channel_offset_L": 1.25,
+            "opposite_lane_L": 2.5,
+            "lane_spread": 0.3,
+            # ships passing in the channel's two halves (about 2.5 L apart) meet without risk of collision:
+            # rule 9, not rule 14, is what applies to them
+            "risk_dcpa_L": 1.5,
         },
     },
     max_episode_steps=400,
@@ -402,6 +402,9 @@ class CollisionAvoidanceTask(Task):
         p[P.tss_lane] = c.tss_lane_half_L * self.L
         p[P.tss_zone] = c.tss_zone_width_L * self.L
         p[P.tss_direction] = c.tss_direction_deg * DEG
+        p[P.ch_half], p[P.ch_offset], p[P.ch_pass] = (
+            x * self.L for x in (c.channel_half_L, c.channel_offset_L, c.channel_pass_L)
+        )
         self.p = p
         T = self.L / self.U_T  # s
         # the reacting targets' heading law (PIDHeadingAutopilot's default gains): Kp, Kd (s), rudder limit,
@@ -482,7 +485,7 @@ class CollisionAvoidanceTask(Task):
             types = self._target_types(name, arg, LANES, need, rng)
             T = c.tcpa_L * self.L / self.U_T
             tcpa = tuple(rng.uniform(*c.generated_tcpa_fraction) * T for _ in types)
-            return lanes(types, tcpa, self.U_T, self.L, c.opposite_lane_L * self.L, rng)
+            return lanes(types, tcpa, self.U_T, self.L, c.opposite_lane_L * self.L, rng, c.lane_spread)
         if kind == "dnv":
             fits = [i for i in range(1, DNV_COUNT + 1) if need <= DNV_TARGETS[i - 1] <= c.max_targets]
             number = int(rng.choice(fits)) if not arg else _numbered("dnv", arg, DNV_COUNT)
@@ -590,30 +593,6 @@ class CollisionAvoidanceTask(Task):
             "outcome": OUTCOMES[int(s[S.outcome])],
             "clearance_m": float(s[S.min_sep]) if math.isfinite(s[S.min_sep]) else 0.0,
         }
-
-
-def steer_targets(sim: Simulation, world: World, law: tuple) -> None:
-    """Rudder orders of the scripted targets that keep the rules: a target that must give way to an own ship of
-    its encounter (head-on, crossing with the own ship on its starboard side, overtaking it) alters ``law``'s
-    turn to starboard of its start course once the TCPA is below ``law``'s threshold, and back after the CPA;
-    otherwise it holds its start course (a stand-on target keeps course, rule 17(a)(i))."""
-    Kp, Kd, limit, turn, react, risk = law
-    north, east, psi, r = sim.north, sim.east, sim.heading, sim.r
-    vn, ve = sim.ground_velocity()
-    for members in world.members:
-        own = [j for j in members[: world.agents] if world.active[j]]
-        for j in members[world.agents :]:
-            if not world.active[j]:
-                continue
-            ref = world.course[j]
-            for o in own:
-                pn, pe = north[o] - north[j], east[o] - east[j]
-                dcpa, tcpa = cpa(pn, pe, vn[o] - vn[j], ve[o] - ve[j])
-                role = classify(pn, pe, psi[j], psi[o], dcpa < risk and tcpa > 0.0)
-                if role in GIVE_WAY_ROLES and tcpa < react:
-                    ref = world.course[j] + turn
-            e = wrap_pi(ref - psi[j])
-            sim.set_helm(rudder_order_rad=min(max(Kp * e - Kd * r[j], -limit), limit), k=j)
 
 
 def _load_waters(name: str) -> Any:

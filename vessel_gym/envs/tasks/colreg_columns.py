@@ -76,6 +76,9 @@ S = columns(
     "tss_zone",  # s in the separation zone (rule 10(b)(ii), (e))
     "tss_wrong_lane",  # s in the opposite lane (rule 10(b)(i))
     "tss_against",  # s in the own lane off its direction of flow (rule 10(b)(i))
+    "rule9_port_side",  # s on the port half of a narrow channel (rule 9(a); colreg_rules.narrow_channel)
+    "rule9_crossing",  # s crossing a narrow channel, impeding a ship in it (rule 9(d))
+    "rule9_close_overtake",  # s overtaking closer than channel_pass_L (rule 9(e)(i))
     typename="CollisionAvoidanceState",
 )
 
@@ -100,6 +103,9 @@ P = columns(
     "tss_lane",  # m, the own lane's half width about the route (0: rule 10 not scored)
     "tss_zone",  # m, the separation zone's width, beyond the own lane to port
     "tss_direction",  # rad, heading off the lane's direction of flow that counts as against it
+    "ch_half",  # m, a narrow channel's half width (0: rule 9 not scored)
+    "ch_offset",  # m, its centre line to port of the route
+    "ch_pass",  # m, rule 9(e): an overtaking pass closer than this needs the overtaken ship's action
     typename="CollisionAvoidanceParams",
 )
 
@@ -147,6 +153,22 @@ INFO = (
     Info("tss_zone_s", lambda v: v.ts[S.tss_zone], "time in the separation zone, s (rule 10(b)(ii), (e))"),
     Info(
         "tss_wrong_lane_s", lambda v: v.ts[S.tss_wrong_lane], "time in the opposite lane, s (rule 10(b)(i))"
+    ),
+    Info(
+        "channel_scored",
+        lambda v: v.ts[S.t] * 0.0 + (v.task.p[P.ch_half] > 0.0) > 0.5,
+        "rule 9 is scored (channel_half_L > 0)",
+    ),
+    Info("rule9_port_side_s", lambda v: v.ts[S.rule9_port_side], "time on the channel's port half, s (rule 9(a))"),
+    Info(
+        "rule9_crossing_s",
+        lambda v: v.ts[S.rule9_crossing],
+        "time crossing the channel while a ship in it has a risk of collision with the own ship, s (rule 9(d))",
+    ),
+    Info(
+        "rule9_close_overtake_s",
+        lambda v: v.ts[S.rule9_close_overtake],
+        "time overtaking in the channel closer than channel_pass_L, s (rule 9(e)(i))",
     ),
     Info(
         "tss_against_flow_s",

@@ -186,11 +186,12 @@ def lanes(
     L: float,
     opposite_m: float,
     rng: np.random.Generator,
+    spread: float = 1.0,
 ) -> Encounter:
     """Traffic in a two-lane scheme: the own ship at the origin heading north in its lane at ``U`` m/s; per
     target of ``types`` (``LANES`` key) a ship in the own lane ahead (``overtaking``) or in the opposite lane,
     whose centre line is ``opposite_m`` m to port, on the reciprocal course (``opposing``), with its course,
-    speed and lateral offset drawn from the type's ranges and its start where it comes abeam of the own ship
+    speed and lateral offset drawn from the type's ranges (the offset's times ``spread``) and its start where it comes abeam of the own ship
     (both keeping course and speed) after ``tcpa_s`` s."""
     targets, planned = [], []
     for name, t in zip(types, tcpa_s):
@@ -199,7 +200,7 @@ def lanes(
         course, speed_ratio, offset_L = LANES[name]
         psi = math.radians(course)
         speed = U * rng.uniform(*speed_ratio)
-        e = rng.uniform(*offset_L) * L - (opposite_m if name == "opposing" else 0.0)
+        e = spread * rng.uniform(*offset_L) * L - (opposite_m if name == "opposing" else 0.0)
         n = (U - speed * math.cos(psi)) * t  # closing speed along the lanes x time to come abeam
         d, tc = planned_cpa(n, e, psi, speed, U)
         targets.append(Target(n, e, psi, speed, classify(n, e, 0.0, psi, True)))

@@ -18,11 +18,14 @@ range was above ``release_range_L`` and the CPA ahead. :func:`pair_checks` turns
 
 A give-way role without any alteration fails ``early``, ``substantial`` and ``starboard``. A pair violates the
 rules when any of its checks fails.
+
+Rule 9 (narrow channels) is scored per control step by :func:`narrow_channel` (time in breach, as rule 10 is).
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -33,6 +36,7 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     GIVE_WAY,
     GIVE_WAY_ROLES,
     HEAD_ON,
+    OVERTAKING,
     SAFE,
     STAND_ON,
     STAND_ON_ROLES,
@@ -166,3 +170,96 @@ def score_row(pairs: np.ndarray, out: np.ndarray, p: np.ndarray) -> None:
     passed = sum(out[getattr(SC, f"passed_{c}")] for c in CHECKS)
     out[SC.score] = passed / out[SC.checks] if out[SC.checks] else 1.0
     out[SC.delay] = sum(delays) / len(delays) if delays else -1.0
+
+
+#: the rule 9 breaches :func:`narrow_channel` reports, in its order
+RULE9 = ("port_side", "crossing", "close_overtake")
+
+
+def narrow_channel(
+    offset: float,
+    heading_off: float,
+    others: list[tuple[float, float, float, float, float, int]],
+    half_m: float,
+    along_rad: float,
+    risk_m: float,
+    pass_m: float,
+) -> tuple[bool, bool, bool]:
+    """Which parts of COLREG Rule 9 (narrow channels) the own ship breaches at this moment, as
+    (``port_side``, ``crossing``, ``close_overtake``) (:data:`RULE9`).
+
+    The channel is straight: ``offset`` (m) is the own ship's midship point to starboard of the channel's centre
+    line as seen looking along the channel's direction, ``heading_off`` (rad) its heading less that direction;
+    the channel reaches ``half_m`` to either side of the centre line. A ship heads *along* the channel when its
+    heading is within ``along_rad`` of the direction or of its reciprocal. ``others``: per other ship
+    (offset m, heading_off rad, DCPA m, TCPA s, range m, the own ship's situation towards it, a
+    :data:`~.colreg_geometry.SITUATIONS` index).
+
+    * ``port_side``, 9(a): "A vessel proceeding along the course of a narrow channel or fairway shall keep as
+      near to the outer limit of the channel or fairway which lies on her starboard side as is safe and
+      practicable." Breached while the own ship, in the channel and heading along it, has its midship point
+      on the half of the channel to its port side (measured: the half, a weaker reading of "as near to the
+      outer limit ... as is safe and practicable", which the model cannot judge).
+    * ``crossing``, 9(d): "A vessel shall not cross a narrow channel or fairway if such crossing impedes the
+      passage of a vessel which can safely navigate only within such channel or fairway." Breached while the
+      own ship, in the channel, heads across it (not along) and a ship in the channel heading along it has
+      a risk of collision with it (DCPA below ``risk_m``, TCPA > 0): its crossing impedes that ship.
+    * ``close_overtake``, 9(e)(i): "In a narrow channel or fairway when overtaking can take place only if the
+      vessel to be overtaken has to take action to permit safe passing, the vessel intending to overtake
+      shall indicate her intention by sounding the appropriate signal ... The vessel to be overtaken shall,
+      if in agreement, ... take steps to permit safe passing." The model has no sound signals, so no such
+      agreement can be had: breached while the own ship, overtaking a ship in the channel (rule 13), is
+      closer to it than ``pass_m`` centre to centre (our reading: a pass that close needs the overtaken
+      ship's room). 9(e)(ii) keeps rule 13 (scored by :func:`pair_checks`).
+
+    Rules 9(b) and (c) (small, sailing and fishing vessels) do not apply to the simulated ships; 9(f) and
+    (g) (bends, anchoring) have nothing to score in a straight channel where nobody anchors.
+    """
+    if abs(offset) > half_m:  # outside the channel: rule 9 does not speak of it
+        return False, False, False
+    ahead = abs(heading_off) <= along_rad
+    back = abs(heading_off) >= math.pi - along_rad
+    port_side = (ahead and offset < 0.0) or (back and offset > 0.0)
+    crossing = False
+    close = False
+    for o_off, o_head, dcpa, tcpa, rng, situation in others:
+        if abs(o_off) > half_m:
+            continue
+        o_along = abs(o_head) <= along_rad or abs(o_head) >= math.pi - along_rad
+        if not (ahead or back) and o_along and dcpa < risk_m and tcpa > 0.0:
+            crossing = True
+        if situation == OVERTAKING and rng < pass_m:
+            close = True
+    return port_side, crossing, close
+
+
+def episode_metrics(infos: list, terminated: bool) -> dict[str, Any]:
+    """An episode's outcome and COLREG scores from its last ``info``: success and collision (0/1), the
+    closest range (m, ship lengths), path ratio, rudder reversals, the COLREG score, whether a pair violated
+    a rule, the mean reaction delay (s; NaN without an alteration) and each check's pass fraction (NaN where
+    it never applied)."""
+    last = infos[-1]
+    out: dict[str, Any] = {
+        "success": float(last["success"]),
+        "collision": float(last["collision"]),
+        "grounding": float(last["grounding"]),
+        "min_separation_m": last["min_separation_m"],
+        "min_separation_L": last["min_separation_L"],
+        "path_ratio": last["path_ratio"],
+        "rudder_reversals": last["rudder_reversals"],
+        "colreg_score": last["colreg_score"] if last["colreg_checks"] else math.nan,
+        "colreg_violation": float(last["colreg_violations"] > 0),
+        "reaction_delay_s": last["reaction_delay_s"] if last["reaction_delay_s"] >= 0.0 else math.nan,
+    }
+    for c in CHECKS:
+        n = last["colreg_applied"][c]
+        out[f"{c}_ok"] = last["colreg_passed"][c] / n if n else math.nan
+    if last.get("tss_scored"):  # rule 10 in a traffic-separation scheme
+        times = [last["tss_zone_s"], last["tss_wrong_lane_s"], last["tss_against_flow_s"]]
+        out["tss_zone_s"], out["tss_wrong_lane_s"], out["tss_against_flow_s"] = times
+        out["rule10_violation"] = float(any(t > 0.0 for t in times))
+    if last.get("channel_scored"):  # rule 9 in a narrow channel
+        times = [last[f"rule9_{b}_s"] for b in RULE9]
+        out.update({f"rule9_{b}_s": t for b, t in zip(RULE9, times)})
+        out["rule9_violation"] = float(any(t > 0.0 for t in times))
+    return out

@@ -31,7 +31,7 @@ from vessel_gym.envs.tasks.colreg_geometry import (
     sector_minima,
     sweep,
 )
-from vessel_gym.envs.tasks.colreg_rules import R, detect, score_row, track
+from vessel_gym.envs.tasks.colreg_rules import R, detect, narrow_channel, score_row, track
 from vessel_gym.envs.tasks.common import (
     clear_row,
     encode_row,
@@ -113,6 +113,8 @@ def colreg_update(phase, v, t):
         collided = False
         port_with_give_way = False
         listed = []
+        channel = []  # rule 9: the others' (offset, heading off the channel, DCPA, TCPA, range, situation)
+        sa, ca = math.sin(alpha), math.cos(alpha)
         hulls = []  # the other ships' outlines within the sensors' reach
         sensing = world.sensors > 0
         grounded = stepped and _aground(own_outline, n, e, world)
@@ -145,6 +147,9 @@ def colreg_update(phase, v, t):
                 track(rec, s[S.t], psi, U, rng, tcpa, ahead, p[P.action], p[P.release])
             if sit in (HEAD_ON, GIVE_WAY) and tcpa > 0.0 and order < -p[P.port_order]:
                 port_with_give_way = True
+            if p[P.ch_half] > 0.0:  # the truth, as the rule records
+                off = -(tn - s[S.n0]) * sa + (te - s[S.e0]) * ca + p[P.ch_offset]
+                channel.append((off, wrap_pi(tpsi - alpha), dcpa, tcpa, rng, sit))
             if world.ais is not None:  # the target as received over AIS, dead-reckoned to now
                 _u, _v, tr = velocity_through_water(x, j)
                 an, ae, avn, ave = world.ais.observe(k, slot, s[S.t], tn, te, tvn, tve, tr)
@@ -189,6 +194,14 @@ def colreg_update(phase, v, t):
                 s[S.tss_zone] += p[P.dt]
             elif abs(wrap_pi(alpha - psi)) > p[P.tss_direction]:
                 s[S.tss_against] += p[P.dt]
+        if stepped and p[P.ch_half] > 0.0:  # rule 9 in a narrow channel along the route
+            breach = narrow_channel(
+                cross + p[P.ch_offset], wrap_pi(psi - alpha), channel, p[P.ch_half], p[P.tss_direction],
+                p[P.risk], p[P.ch_pass],
+            )  # fmt: skip
+            s[S.rule9_port_side] += p[P.dt] * breach[0]
+            s[S.rule9_crossing] += p[P.dt] * breach[1]
+            s[S.rule9_close_overtake] += p[P.dt] * breach[2]
         if stepped:
             terms[k, TERM.progress] = (s[S.prev_goal] - goal) / (p[P.U_T] * p[P.dt])
             terms[k, TERM.cross_track] = -min(abs(cross) / p[P.max_cross], 1.0)

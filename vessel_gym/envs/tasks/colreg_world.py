@@ -1,5 +1,6 @@
 """The encounters' bookkeeping of CollisionAvoidance: which vessels of the simulation share an encounter and
-which are in it now (:class:`World`), and the own ships as the helm sees them (:class:`OwnShips`)."""
+which are in it now (:class:`World`), the own ships as the helm sees them (:class:`OwnShips`), and the scripted
+targets' rule-following helm (:func:`steer_targets`)."""
 
 from __future__ import annotations
 
@@ -8,8 +9,9 @@ from typing import Any
 
 import numpy as np
 
+from vessel_gym.control.angles import wrap_pi
 from vessel_gym.envs.tasks.colreg_ais import AisReceiver
-from vessel_gym.envs.tasks.colreg_geometry import polygon_edges
+from vessel_gym.envs.tasks.colreg_geometry import GIVE_WAY_ROLES, classify, cpa, polygon_edges
 from vessel_gym.physics.simulation import Simulation
 from vessel_gym.scenarios.geometry import hull_outline
 
@@ -78,3 +80,27 @@ class World:
             for p in polys
         ]
         self.edges = polygon_edges(polys)
+
+
+def steer_targets(sim: Simulation, world: World, law: tuple) -> None:
+    """Rudder orders of the scripted targets that keep the rules: a target that must give way to an own ship of
+    its encounter (head-on, crossing with the own ship on its starboard side, overtaking it) alters ``law``'s
+    turn to starboard of its start course once the TCPA is below ``law``'s threshold, and back after the CPA;
+    otherwise it holds its start course (a stand-on target keeps course, rule 17(a)(i))."""
+    Kp, Kd, limit, turn, react, risk = law
+    north, east, psi, r = sim.north, sim.east, sim.heading, sim.r
+    vn, ve = sim.ground_velocity()
+    for members in world.members:
+        own = [j for j in members[: world.agents] if world.active[j]]
+        for j in members[world.agents :]:
+            if not world.active[j]:
+                continue
+            ref = world.course[j]
+            for o in own:
+                pn, pe = north[o] - north[j], east[o] - east[j]
+                dcpa, tcpa = cpa(pn, pe, vn[o] - vn[j], ve[o] - ve[j])
+                role = classify(pn, pe, psi[j], psi[o], dcpa < risk and tcpa > 0.0)
+                if role in GIVE_WAY_ROLES and tcpa < react:
+                    ref = world.course[j] + turn
+            e = wrap_pi(ref - psi[j])
+            sim.set_helm(rudder_order_rad=min(max(Kp * e - Kd * r[j], -limit), limit), k=j)
