@@ -43,7 +43,11 @@ def test_noise_is_in_the_observation_only_with_the_configured_spread():
     assert np.abs(clean[:, 0] - clean[:, 1]).max() < 1e-4 and np.abs(clean[:, 2] - clean[:, 3]).max() < 1e-3
     # with it: errors of zero mean and the configured standard deviation (the fix's error along the line of
     # sight for the distance); ~130 samples: the sample sd within 25 % of the true one
-    for col, sd in ((0, NOISE["position_noise_m"]), (2, NOISE["heading_noise_deg"]), (4, NOISE["speed_noise_m_s"])):
+    for col, sd in (
+        (0, NOISE["position_noise_m"]),
+        (2, NOISE["heading_noise_deg"]),
+        (4, NOISE["speed_noise_m_s"]),
+    ):
         err = noisy[:, col] - noisy[:, col + 1]
         assert np.std(err) == pytest.approx(sd, rel=0.25)
         assert abs(np.mean(err)) < 4 * sd / math.sqrt(len(err))
