@@ -87,7 +87,7 @@ PLAN: dict[str, tuple[str, ...]] = {
 }
 #: environments with a row of the method that starts from the classical pilot: behaviour cloning by DAgger
 #: (agents/imitation.py, settings in agents/hyperparams/bc.yml), models in <out>/bc/, shipped to <ship-dir>/bc/
-BC_PLAN = ("vessel_gym/HarbourApproach-v1",)
+BC_PLAN = ("vessel_gym/HarbourApproach-v1", "vessel_gym/HarbourApproach-v3")
 DEFAULT_ENVS = tuple(env_short_name(i) for i in PLAN)
 #: further evaluations of the same agents: env id -> [(label, env kwargs)]
 EXTRA_EVALS: dict[str, list[tuple[str, dict[str, Any]]]] = {
@@ -109,9 +109,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--algos",
         nargs="+",
         type=str.lower,
-        choices=sorted(ALGOS),
+        choices=[*sorted(ALGOS), "bc"],
         default=None,
-        help="algorithms for every env (default: PLAN, PPO everywhere and SAC on ZigZag)",
+        help="algorithms for every env (default: PLAN, PPO everywhere and SAC on ZigZag); bc alone: only the "
+        "behaviour-cloning row of a BC_PLAN environment, in a block of its own (<env id>:bc)",
     )
     p.add_argument(
         "--timesteps",
@@ -428,7 +429,13 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
         eval_kwargs: dict[str, Any] | None = None
         pid_val: dict[str, Any] | None = None
         solved: dict[str, list[dict[str, Any]]] = {}
-        for algo in args.algos or PLAN.get(env_id, ("ppo",)):
+        algos = [a for a in (args.algos or PLAN.get(env_id, ("ppo",))) if a != "bc"]
+        bc_only = not algos  # --algos bc: the behaviour-cloning row alone, in a block of its own
+        if bc_only and (env_id not in BC_PLAN or args.no_bc):
+            raise UsageError(f"--algos bc: {env_id} has no behaviour-cloning row (BC_PLAN: {', '.join(BC_PLAN)})")
+        if bc_only:
+            eval_kwargs = run_config("ppo", env_id, load_hyperparams("ppo", env_id)).eval_env_kwargs
+        for algo in algos:
             cfg = run_config(algo, env_id, load_hyperparams(algo, env_id))
             if eval_kwargs is None:
                 eval_kwargs = cfg.eval_env_kwargs
@@ -525,6 +532,8 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
             sections.append(
                 {
                     "env_id": env_id,
+                    # the page's block: the environment's, or its own for the cloning row alone
+                    "block": f"{env_id}:bc" if bc_only else env_id,
                     "label": label,
                     "env_kwargs": kw,
                     "main": main,

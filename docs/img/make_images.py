@@ -3,7 +3,7 @@
     python docs/img/make_images.py docs/img      # replace the committed pictures
     python docs/img/make_images.py               # write them to out/img/ (ignored by git) to compare first
 
-- ``chart_harbour.png``: the pygame chart view (``render_mode="rgb_array"``) of HarbourApproach-v2 (seed 0)
+- ``chart_harbour.png``: the pygame chart view (``render_mode="rgb_array"``) of HarbourApproach-v3 (seed 0)
   after 100 control steps (about 100 s) under the PID harbour pilot (``vessel_gym.policy.load_policy("pid", env)``).
 - ``imo_turning_circle.png``: the turning-circle plot of ``vessel-gym imo kvlcc2 --plot DIR``.
 
@@ -48,7 +48,7 @@ def chart(out: Path) -> Path:
     import vessel_gym  # noqa: F401  (registers the ids)
     from vessel_gym.policy import load_policy
 
-    env = gym.make("vessel_gym/HarbourApproach-v2", render_mode="rgb_array")
+    env = gym.make("vessel_gym/HarbourApproach-v3", render_mode="rgb_array")
     obs, _ = env.reset(seed=0)
     pilot = load_policy("pid", env)
     for _ in range(STEPS):

@@ -244,3 +244,34 @@ def test_interval95_and_aggregate() -> None:
     agg = results.aggregate([a, b])
     assert agg["return_mean"] == -15.0 and agg["return_std"] == 5.0 and agg["seeds"] == 2
     assert agg["success_rate"] == 0.5 and agg["outcomes"] == {"x": 3, "y": 3}
+
+
+def test_a_cloning_row_alone_has_a_block_of_its_own(tmp_path: Path) -> None:
+    """``--algos bc`` writes its sections into ``<env id>:bc``: the environment's from-scratch block stays."""
+    extra = {"min_clearance_m_mean": 6.0, "min_clearance_m_std": 1.0, "time_s_mean": 300.0, "time_s_std": 9.0}
+    pid = _row("pid", success_rate=1.0, outcomes={"success": 20}, **extra)
+    bc = _row("bc (5 seeds)", True, success_rate=0.95, success_rate_median=1.0, seeds=5, **extra)
+    env = "vessel_gym/HarbourApproach-v3"
+    res = {
+        "argv": ["--algos", "bc"], "date": "2026-12-06", "episodes": 20, "eval_seed": seeds.TEST_START,
+        "seeds": 5, "select": "final", "validation": {"episodes": 10, "every_steps": 50000},
+        "machine": {"cpu_count": 2, "python": "3", "torch": "2", "torch_threads": 1, "sb3": "2",
+                    "load_start": 1.0, "load_end": 1.0},
+        "sections": [{"env_id": env, "block": f"{env}:bc", "label": "training configuration", "env_kwargs": {},
+                      "main": True, "kind": "harbour", "rows": [pid, bc]}],
+    }  # fmt: skip
+    text = results_doc.markdown(res)
+    assert text.startswith(results_doc.begin_marker(f"{env}:bc")) and text.endswith(results_doc.end_marker(f"{env}:bc"))
+    assert f"### {env} (behaviour cloning) — training configuration" in text
+    doc = tmp_path / "results.md"
+    scratch = f"{results_doc.begin_marker(env)}\nfrom scratch\n{results_doc.end_marker(env)}"
+    doc.write_text(f"# Results\n\n{scratch}\n")
+    results.write_doc(doc, text)
+    page = doc.read_text()
+    assert "from scratch" in page and page.count("results:begin") == 2 and "bc (5 seeds)" in page
+
+
+def test_cloning_alone_needs_an_environment_of_the_plan(tmp_path: Path, capsys) -> None:
+    argv = ["--envs", "ZigZag-v1", "--algos", "bc", "--out", str(tmp_path)]
+    assert results.main(argv) == 2
+    assert "has no behaviour-cloning row" in capsys.readouterr().err

@@ -33,6 +33,7 @@ REPRODUCED = (
     "ppo_HarbourApproach-v1_seed0.zip",
     "bc/ppo_HarbourApproach-v1_seed0.zip",
     "ppo_HarbourApproach-v3_seed0.zip",
+    "bc/ppo_HarbourApproach-v3_seed0.zip",
     "ppo_CollisionAvoidance-v0_seed0.zip",
 )
 #: a shipped agent stays small enough for the repository (a 128x128 PPO zip is ~540 kB with its optimiser

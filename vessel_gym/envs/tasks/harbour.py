@@ -35,7 +35,7 @@ from vessel_gym.envs.tasks.chart import (
     depth_tables,
     poses_clear,
 )
-from vessel_gym.envs.tasks.harbour_columns import SPEC, HarbourArrays, P, S
+from vessel_gym.envs.tasks.harbour_columns import FEAT, SPEC, HarbourArrays, P, S
 from vessel_gym.envs.tasks.harbour_helm import LagHelm, cap_rate, lag_gain
 from vessel_gym.envs.tasks.harbour_kernel import PARALLEL_MIN_SHIPS, harbour_update, harbour_update_parallel
 from vessel_gym.physics.schema import SpecError, param
@@ -151,6 +151,32 @@ class HarbourApproachConfig(ShipEnvConfig):
         lo=0.01,
         hi=1.0,
         doc="lag: the order changes at most at this fraction of the steering gear's max rate",
+    )
+    # sensor noise (robustness studies; 0: exact sensors, every registered version): white Gaussian errors, drawn
+    # afresh each control step, in what the observation reports; the physics, reward, outcome and info keep the truth
+    position_noise_m: float = param(
+        0.0,
+        unit="m",
+        lo=0.0,
+        hi=1e4,
+        doc="sensor noise: standard deviation of the position fix per axis (north, east); goal_x, goal_y and "
+        "goal_distance are observed from the noisy fix",
+    )
+    heading_noise_deg: float = param(
+        0.0,
+        unit="deg",
+        lo=0.0,
+        hi=180.0,
+        doc="sensor noise: standard deviation of the compass heading; goal_heading_error and the body axes of "
+        "goal_x, goal_y are the noisy heading's",
+    )
+    speed_noise_m_s: float = param(
+        0.0,
+        unit="m/s",
+        lo=0.0,
+        hi=100.0,
+        doc="sensor noise: standard deviation of the speed log (u) and of the speed over ground (sog), each its "
+        "own draw",
     )
     reward: HarbourApproachReward = param(HarbourApproachReward(), doc="reward weights")
 
@@ -347,6 +373,12 @@ class HarbourApproachTask(Task):
         self.p = p
         if n >= PARALLEL_MIN_SHIPS:
             self.kernel = harbour_update_parallel
+        #: sensor noise standard deviations (m, rad, m/s); all zero: the observation is the kernel's, untouched
+        self.noise_sd = np.array(
+            [config.position_noise_m, config.heading_noise_deg * DEG, config.speed_noise_m_s], dtype=np.float64
+        )
+        #: the noise's generator, seeded by each reset's draws (so an episode's noise follows its reset seed)
+        self.noise_rng = np.random.default_rng(0)
         self.beams, self.hn, self.he, self.bw = self._scratch()  # the serial kernel's, made once
         #: steps per episode before truncation (time limit / control interval, rounded up)
         self.max_steps = math.ceil(tl / ci - 1e-9)
@@ -485,6 +517,8 @@ class HarbourApproachTask(Task):
         chart's depth areas change by steps at their edges: a reading per physics step would move where a
         step in depth takes effect by at most a sixth of a ship length."""
         super().update(phase)
+        if self.noise_sd.any():
+            self.sense(phase)
         if not self.depth_from_chart:
             return
         call = self._depth_call
@@ -507,6 +541,40 @@ class HarbourApproachTask(Task):
             return
         call[0](*call[1])
 
+    def sense(self, phase: np.ndarray) -> None:
+        """The observations of the vessels in ``phase`` as noisy sensors report them (config ``position_noise_m``,
+        ``heading_noise_deg``, ``speed_noise_m_s``): the true features (``feat``, kept) with a position fix,
+        compass heading and speeds off by fresh Gaussian errors, encoded as the kernel encodes
+        (:func:`~vessel_gym.envs.tasks.common.encode_row`) into the observation columns they feed."""
+        idx = np.flatnonzero(phase)
+        if not len(idx):
+            return
+        f = self.feat[idx]
+        sd_pos, sd_psi, sd_speed = self.noise_sd
+        z = self.noise_rng.standard_normal((5, len(idx)))
+        goal_heading = self.p[P.goal_heading]
+        psi = goal_heading - f[:, FEAT.goal_heading_error]  # the true heading (mod 2 pi)
+        c, s = np.cos(psi), np.sin(psi)
+        gx, gy = f[:, FEAT.goal_x], f[:, FEAT.goal_y]
+        # goal point minus the noisy fix, in earth axes
+        gn = c * gx - s * gy - sd_pos * z[0]
+        ge = s * gx + c * gy - sd_pos * z[1]
+        psi_hat = psi + sd_psi * z[2]
+        ch, sh = np.cos(psi_hat), np.sin(psi_hat)
+        sensed = {
+            FEAT.goal_x: ch * gn + sh * ge,
+            FEAT.goal_y: -sh * gn + ch * ge,
+            FEAT.goal_distance: np.hypot(gn, ge),
+            FEAT.goal_heading_error: (goal_heading - psi_hat + math.pi) % (2.0 * math.pi) - math.pi,
+            FEAT.sog: np.abs(f[:, FEAT.sog] + sd_speed * z[3]),  # a speed over ground has no sign
+            FEAT.u: f[:, FEAT.u] + sd_speed * z[4],
+        }
+        enc = self.enc
+        for j in np.flatnonzero(np.isin(enc[:, 0].astype(np.int64), list(sensed))).tolist():
+            x = np.nan_to_num(sensed[int(enc[j, 0])], nan=0.0, posinf=0.0, neginf=0.0)
+            sc = enc[j, 1]
+            self.obs[idx, j] = np.clip(x / sc, -1.0, 1.0) if enc[j, 2] > 0.0 else np.clip(x, -sc, sc)
+
     def __getstate__(self) -> dict:
         state = super().__getstate__()
         state["_depth_call"] = None  # compiled code does not pickle; a copy binds its own at its first update
@@ -521,6 +589,9 @@ class HarbourApproachTask(Task):
         n0, e0, heading, speed = self.start_poses(idx, rng)
         w = self.scenario.weather
         weather = {key: _uniform(rng, getattr(w, key)) for key in WEATHER_DRAWS}
+        if self.noise_sd.any():  # one more draw only with noise: without, every reset draws what it always did
+            words = np.atleast_1d(rng.uniform(0.0, 2.0**32)).astype(np.uint64)
+            self.noise_rng = np.random.default_rng(words.tolist())
         n0 = float(opts.pop("north_m")) if "north_m" in opts else n0
         e0 = float(opts.pop("east_m")) if "east_m" in opts else e0
         heading = float(opts.pop("heading_deg")) if "heading_deg" in opts else heading
