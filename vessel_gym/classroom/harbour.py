@@ -70,7 +70,15 @@ class ShipRecord:
 class ClassHarbour:
     """``n`` own ships in the harbour of ``scenario`` (module doc). Not thread-safe: one owner drives it."""
 
-    def __init__(self, scenario: str, n: int, seed: int | None = None, pilots: int = 0) -> None:
+    def __init__(
+        self,
+        scenario: str,
+        n: int,
+        seed: int | None = None,
+        pilots: int = 0,
+        agent: str | None = None,
+        agents: int = 0,
+    ) -> None:
         import vessel_gym
         from vessel_gym.envs.tasks.harbour import own_ship
         from vessel_gym.scenarios import load_scenario
@@ -80,6 +88,10 @@ class ClassHarbour:
             raise ValueError(f"ships: expected 1..{MAX_SHIPS}, got {n}")
         if not 0 <= pilots <= n:
             raise ValueError(f"pilots: expected 0..{n} (the number of ships), got {pilots}")
+        if not 0 <= agents <= n - pilots or (agents > 0) != (agent is not None):
+            raise ValueError(
+                f"agents: expected 0..{n - pilots} ships (the ships less the pilots) with an agent"
+            )
         sc = load_scenario(scenario)
         self.penv = vessel_gym.parallel_env(
             TASK_ID,
@@ -104,8 +116,19 @@ class ClassHarbour:
         self.hull = np.array(hull_outline(self.L, self.B))  # body axes (x forward, y starboard), m
         #: the last ``pilots`` ships are steered by the task's scripted harbour pilot, not by a student
         self.pilot_ships = np.arange(n - pilots, n)
-        self.names = [f"Ship {k + 1}" if k < n - pilots else f"Pilot {k + 1}" for k in range(n)]
+        #: the ``agents`` ships before the pilot ships are steered by a trained agent (classroom.agents)
+        self.agent_ships = np.arange(n - pilots - agents, n - pilots)
+        students = n - pilots - agents
+        self.names = [
+            f"Ship {k + 1}" if k < students else f"Agent {k + 1}" if k < n - pilots else f"Pilot {k + 1}"
+            for k in range(n)
+        ]
         self.pilot = self._make_pilot() if pilots else None
+        self.agent = None
+        if agents:
+            from vessel_gym.classroom.agents import AgentShips
+
+            self.agent = AgentShips(agent, self.scenario, task.layout, self.dt, self.agent_ships)
         self.rudder_i = np.full(n, RUDDER_ORDERS_DEG.index(0.0), dtype=np.int64)
         self.tele_i = np.full(n, TELEGRAPH_STEPS.index(0), dtype=np.int64)
         self.live = np.zeros(n, dtype=np.bool_)
@@ -225,6 +248,8 @@ class ClassHarbour:
         self._ais_cache.pop(k, None)
         if self.pilot is not None and k in self.pilot_ships:
             self.pilot.reset(self.pilot_ships == k)  # its waypoints and integral start again
+        if self.agent is not None and k in self.agent_ships:
+            self.agent.start(k, sim)
 
     # --- orders and weather ----------------------------------------------------------------------------------
 
@@ -269,6 +294,8 @@ class ClassHarbour:
         rudder = np.where(self.live, self.rudder_i, RUDDER_ORDERS_DEG.index(0.0))
         tele = np.where(self.live, self.tele_i, TELEGRAPH_STEPS.index(0))
         task.helm.apply(np.stack([rudder, tele], axis=1))
+        if self.agent is not None:
+            self.agent.steer(sim, task.obs, self.steps, self.live)
         sim.step(task.nsub)
         task.update(np.where(self.live, PHASE_STEP, 0).astype(np.int8))
         if self.traffic is not None:

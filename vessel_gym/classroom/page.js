@@ -188,7 +188,7 @@ function show(m) {
     for (const s of m.class) {
       const tr = document.createElement("tr");
       cell(tr, String(s.k + 1)); cell(tr, s.name); cell(tr, s.code).className = "code";
-      cell(tr, s.pilot ? "pilot" : s.at_helm ? "yes" : "-");
+      cell(tr, s.pilot ? "pilot" : s.agent ? "agent" : s.at_helm ? "yes" : "-");
       cell(tr, s.outcome + (s.contact_with ? ` (${s.contact_with})` : ""));
       cell(tr, fmt(s.sog_kn, 1)); cell(tr, fmt(s.timer_s, 0, " s"));
       const td = cell(tr, "");

@@ -350,8 +350,8 @@ class ClassroomServer:
                 await _close(client, "too many wrong codes")
             return
         if role.kind == "helm":
-            if role.ship in self.harbour.pilot_ships:
-                await _send(conn, {"type": "refused", "error": "this ship is steered by the pilot"})
+            if role.ship in self.harbour.pilot_ships or role.ship in self.harbour.agent_ships:
+                await _send(conn, {"type": "refused", "error": "this ship is steered by a pilot or an agent"})
                 return
             if role.ship in self.helms:
                 self.stats["taken"] += 1
@@ -472,6 +472,7 @@ class ClassroomServer:
                         "code": self.codes.helm[k],
                         "at_helm": k in self.helms,
                         "pilot": k in h.pilot_ships,
+                        "agent": k in h.agent_ships,
                         **h.conning(k),
                     }
                     for k in range(h.n)
