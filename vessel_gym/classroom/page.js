@@ -122,7 +122,7 @@ function nextView() {
   resize();
 }
 $("b_view").onclick = nextView;
-$("cam3d").onchange = () => { if (vg.view3d) vg.view3d.camera = $("cam3d").value; };
+$("cam3d").onchange = () => { if (vg.view3d) { vg.view3d.camera = $("cam3d").value; vg.view3d.dirty = true; } };
 $("b_port").onclick = () => order(-RUDDER_STEP, 0);
 $("b_stbd").onclick = () => order(RUDDER_STEP, 0);
 $("b_mid").onclick = () => order(0, 0, { rudder: 0 });

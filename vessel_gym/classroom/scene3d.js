@@ -118,8 +118,14 @@ void main() {
     const [x0, x1, y0, y1] = scene.extent;
     this.span = Math.max(x1 - x0, y1 - y0);
     this.last = 0;
+    // a frame when something moved: a state, the camera, the canvas's size; or at MAX_FPS while the sea has
+    // waves (a calm harbour is drawn at the states' rate: software WebGL on a loaded laptop costs CPU)
+    this.dirty = true;
     const loop = (now) => {
-      if (now - this.last >= 1000 / MAX_FPS) { this.last = now; this.draw(now); }
+      const c = this.canvas;
+      const resized = c.width !== Math.round(c.clientWidth * (window.devicePixelRatio || 1));
+      const due = this.dirty || resized || scene.sea.components.length > 0;
+      if (due && now - this.last >= 1000 / MAX_FPS) { this.last = now; this.dirty = false; this.draw(now); }
       requestAnimationFrame(loop);
     };
     requestAnimationFrame(loop);
@@ -141,6 +147,7 @@ void main() {
     if (o && o.n !== null && o.hdg !== null) this.own = { x: o.e, y: o.n, hdg: o.hdg, ended: o.outcome !== "running" };
     this.others = (m.ais || []).map((a) => ({ x: a.e, y: a.n, hdg: a.cog, hull: a.own ? "own" : a.name,
       rgb: a.own ? this.scene.rgb.student : this.scene.rgb.traffic }));
+    this.dirty = true;
   };
 
   Scene3D.prototype.cameraPose = function () {
