@@ -122,7 +122,7 @@ function nextView() {
   resize();
 }
 $("b_view").onclick = nextView;
-$("cam3d").onchange = () => { if (vg.view3d) { vg.view3d.camera = $("cam3d").value; vg.view3d.dirty = true; } };
+$("cam3d").onchange = () => { if (vg.view3d) { vg.view3d.camera = $("cam3d").value; vg.view3d.request(); } };
 $("b_port").onclick = () => order(-RUDDER_STEP, 0);
 $("b_stbd").onclick = () => order(RUDDER_STEP, 0);
 $("b_mid").onclick = () => order(0, 0, { rudder: 0 });
@@ -235,6 +235,7 @@ function resize() {
     const w3 = Math.max(260, Math.min(room, 1600));
     v3.style.width = `${w3}px`;
     v3.style.height = `${Math.round(Math.min(w3 * 0.75, window.innerHeight - 80))}px`;
+    vg.view3d.request();
   }
   // the whole harbour in view: as wide as the box, or as tall as the window leaves room for
   const fit = (window.innerHeight - 60) * (e1 - e0) / (n1 - n0);

@@ -84,7 +84,7 @@ void main() {
 
   // Scene3D(canvas, scene): scene is the welcome's scene3d; update(state, ownShip) takes each state.
   function Scene3D(canvas, scene) {
-    const gl = canvas.getContext("webgl", { antialias: true, preserveDrawingBuffer: true });
+    const gl = canvas.getContext("webgl", { antialias: true });
     this.canvas = canvas; this.gl = gl; this.scene = scene; this.frames = 0; this.camera = "chase";
     this.own = null; this.others = []; this.t = 0; this.tAt = 0; this.rate = 0; this.vp = null;
     if (!gl) { this.error = "no WebGL in this browser"; return; }
@@ -118,18 +118,24 @@ void main() {
     const [x0, x1, y0, y1] = scene.extent;
     this.span = Math.max(x1 - x0, y1 - y0);
     this.last = 0;
-    // a frame when something moved: a state, the camera, the canvas's size; or at MAX_FPS while the sea has
-    // waves (a calm harbour is drawn at the states' rate: software WebGL on a loaded laptop costs CPU)
-    this.dirty = true;
-    const loop = (now) => {
-      const c = this.canvas;
-      const resized = c.width !== Math.round(c.clientWidth * (window.devicePixelRatio || 1));
-      const due = this.dirty || resized || scene.sea.components.length > 0;
-      if (due && now - this.last >= 1000 / MAX_FPS) { this.last = now; this.dirty = false; this.draw(now); }
-      requestAnimationFrame(loop);
-    };
-    requestAnimationFrame(loop);
+    // a frame when something moved (a state, the camera, the canvas's size: request()), or at MAX_FPS while
+    // the sea has waves; nothing between (software WebGL on a loaded laptop takes the CPU the page needs)
+    this.pending = false;
+    this.waves = scene.sea.components.length > 0;
+    this.request();
   }
+
+  Scene3D.prototype.request = function () {
+    if (this.pending || !this.gl) return;
+    this.pending = true;
+    const wait = Math.max(0, this.last + 1000 / MAX_FPS - performance.now());
+    setTimeout(() => requestAnimationFrame((now) => {
+      this.pending = false;
+      this.last = now;
+      this.draw(now);
+      if (this.waves) this.request();
+    }), wait);
+  };
 
   Scene3D.prototype.buffer = function (data, usage) {
     const gl = this.gl, b = gl.createBuffer();
@@ -147,7 +153,7 @@ void main() {
     if (o && o.n !== null && o.hdg !== null) this.own = { x: o.e, y: o.n, hdg: o.hdg, ended: o.outcome !== "running" };
     this.others = (m.ais || []).map((a) => ({ x: a.e, y: a.n, hdg: a.cog, hull: a.own ? "own" : a.name,
       rgb: a.own ? this.scene.rgb.student : this.scene.rgb.traffic }));
-    this.dirty = true;
+    this.request();
   };
 
   Scene3D.prototype.cameraPose = function () {
