@@ -19,6 +19,7 @@ normalisation is needed.
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -76,7 +77,10 @@ class AgentShips:
             )
         kwargs = meta.get("env_kwargs") or {}
         try:
-            env = gym.make(env_id, **{**own_ship(scenario), "scenario": scenario, **kwargs})
+            # v1 is "out of date" to gymnasium: docs/classroom.md says why it runs
+            with warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message=".*out of date.*")
+                env = gym.make(env_id, **{**own_ship(scenario), "scenario": scenario, **kwargs})
         except (TypeError, ValueError) as exc:
             raise ValueError(f"--agent {name}: its task does not build for this scenario: {exc}") from None
         base = env.unwrapped
