@@ -1,7 +1,7 @@
 """Classroom benchmark: key press to state echo, in a real browser, with a full class on loopback.
 
-    python benchmarks/bench_classroom.py                 # 16 ships, then 2, about 2 min
-    python benchmarks/bench_classroom.py --ships 16 --presses 40
+    python benchmarks/bench_classroom.py                 # 16 ships, then 2, each page view, about 4 min
+    python benchmarks/bench_classroom.py --ships 16 --presses 40 --views both
 
 For each class size, ``vessel-gym classroom harbour --ships N`` runs in its own process at time factor 1. The
 instructor's code (printed by the command) gives the helm codes; N - 1 scripted students (websocket clients in
@@ -9,7 +9,9 @@ this process) join ships 2..N and each gives an order every 0.5 s, as people pre
 Chromium joins ship 1 and presses the arrow keys ``--presses`` times, 0.25 s apart. The page itself times each
 key press: from its keydown handler (``performance.now()``) to the state message that echoes that order's
 sequence number (``window.vg.latencies``). Printed: median, p95 and largest of those and of the scripted
-students' send-to-echo times.
+students' send-to-echo times. ``--views``: the page shows the chart and the 3D view side by side (``both``,
+a laptop's default: the page's WebGL drawing shares the browser's main thread with the key handler) or the
+chart only (``chart``); each view is a class of its own.
 
 Goal (issue): key press to echo <= 100 ms at 16 ships on loopback.
 """
@@ -116,7 +118,7 @@ async def _student(
     task.cancel()
 
 
-def run_class(ships: int, presses: int) -> dict[str, list[float]]:
+def run_class(ships: int, presses: int, view: str = "both") -> dict[str, list[float]]:
     port = _free_port()
     out = tempfile.mkdtemp(prefix="vessel-gym-bench-classroom-")
     env = {**os.environ, "PYTHONPATH": f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"}
@@ -174,6 +176,7 @@ def run_class(ships: int, presses: int) -> dict[str, list[float]]:
                 )
                 if got.get("result", {}).get("value"):
                     break
+            b.call("Runtime.evaluate", expression=f"vg.view = {json.dumps(view)}; resize(); true")
             joined_page = b.call("Runtime.evaluate", expression="vg.role", returnByValue=True)["result"]
             if joined_page.get("value") != "helm":
                 why = b.call(
@@ -202,6 +205,7 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--ships", type=int, nargs="*", default=[16, 2])
     p.add_argument("--presses", type=int, default=40)
+    p.add_argument("--views", nargs="*", choices=("both", "chart"), default=["both", "chart"])
     args = p.parse_args()
     if _chromium_driver().chromium_path() is None:
         sys.exit("bench_classroom: needs chromium (Debian package chromium)")
@@ -209,10 +213,11 @@ def main() -> None:
         f"key press to echo, loopback, {os.cpu_count()} CPUs (a shared machine: figures vary with its load)"
     )
     for n in args.ships:
-        got = run_class(n, args.presses)
-        print(f"--- {n} ships")
-        print(_line("browser key press -> echo", got["page"]))
-        print(_line("scripted students send -> echo", got["bots"]))
+        for view in args.views:
+            got = run_class(n, args.presses, view)
+            print(f"--- {n} ships, page view {view}")
+            print(_line("browser key press -> echo", got["page"]))
+            print(_line("scripted students send -> echo", got["bots"]))
 
 
 if __name__ == "__main__":

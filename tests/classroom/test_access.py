@@ -323,7 +323,10 @@ def test_host_names_the_server_accepts(bound, host, ok):
 
 def test_a_pilot_ship_takes_no_student(room):
     r = room(ships=2, pilots=1)
-    assert r.join(r.codes.helm[1])[1] == {"type": "refused", "error": "this ship is steered by the pilot"}
+    assert r.join(r.codes.helm[1])[1] == {
+        "type": "refused",
+        "error": "this ship is steered by a pilot or an agent",
+    }
     ws, _w = r.join(r.codes.instructor)
     st = recv_type(ws, ("state",))
     assert [(s["name"], s["pilot"]) for s in st["class"]] == [("Ship 1", False), ("Pilot 2", True)]

@@ -25,6 +25,7 @@ from vessel_gym.net import protocol as P
 from vessel_gym.scenarios.geometry import signed_area
 from vessel_gym.ui import view3d as V
 from vessel_gym.ui import view3d_gate as G
+from vessel_gym.ui import view3d_scene as S
 
 from .chromium import Chromium, chromium_path
 from .helpers import make_reading
@@ -41,21 +42,21 @@ def test_triangulate_concave_polygon_covers_its_area(reverse):
     # an L-shaped quay (concave), either orientation
     poly = [(0, 0), (40, 0), (40, 10), (10, 10), (10, 30), (0, 30)]
     poly = poly[::-1] if reverse else poly
-    tris = V.triangulate(poly)
+    tris = S.triangulate(poly)
     assert len(tris) == len(poly) - 2
     assert _area(poly, tris) == pytest.approx(abs(signed_area(poly)))  # 40*10 + 10*20 = 600 m^2
     assert abs(signed_area(poly)) == pytest.approx(600.0)
 
 
 def test_prism_has_top_bottom_and_walls():
-    v, f = V.prism([(0, 0), (2, 0), (2, 1), (0, 1)], -1.0, 0.5)
+    v, f = S.prism([(0, 0), (2, 0), (2, 1), (0, 1)], -1.0, 0.5)
     assert v.shape == (8, 3) and f.shape == (2 * 2 + 2 * 4, 3)
     assert set(v[:4, 2]) == {0.5} and set(v[4:, 2]) == {-1.0}
 
 
 def test_heading_quaternion_turns_the_bow_clockwise_from_north():
     for hdg, expected in ((0.0, (0.0, 1.0)), (90.0, (1.0, 0.0)), (225.0, (-math.sqrt(0.5), -math.sqrt(0.5)))):
-        w, _, _, z = V.heading_wxyz(hdg)
+        w, _, _, z = S.heading_wxyz(hdg)
         # rotate the ship frame's forward axis (scene +y) about +z by the quaternion
         angle = 2.0 * math.atan2(z, w)
         fwd = (-math.sin(angle), math.cos(angle))
@@ -75,15 +76,15 @@ def test_attitude_quaternion_heels_the_starboard_side_down_and_keeps_the_heading
     the bow still points east, the starboard side (ship +x, pointing south) dips by sin 10 deg, the mast
     leans to starboard; zero heel is the heading quaternion."""
     for hdg in (0.0, 33.0, 90.0, 225.0):
-        assert V.attitude_wxyz(hdg, 0.0) == pytest.approx(V.heading_wxyz(hdg), abs=1e-15)
-    q = V.attitude_wxyz(90.0, 10.0)
+        assert S.attitude_wxyz(hdg, 0.0) == pytest.approx(S.heading_wxyz(hdg), abs=1e-15)
+    q = S.attitude_wxyz(90.0, 10.0)
     assert sum(c * c for c in q) == pytest.approx(1.0)
     s10, c10 = math.sin(math.radians(10.0)), math.cos(math.radians(10.0))
     assert _rotate(q, (0, 1, 0)) == pytest.approx((1.0, 0.0, 0.0), abs=1e-12)  # bow east
     assert _rotate(q, (1, 0, 0)) == pytest.approx((0.0, -c10, -s10), abs=1e-12)  # starboard side south, down
     assert _rotate(q, (0, 0, 1)) == pytest.approx((0.0, -s10, c10), abs=1e-12)  # mast leans to starboard
     # heel to port lifts the starboard side
-    assert _rotate(V.attitude_wxyz(0.0, -5.0), (1, 0, 0))[2] == pytest.approx(math.sin(math.radians(5.0)))
+    assert _rotate(S.attitude_wxyz(0.0, -5.0), (1, 0, 0))[2] == pytest.approx(math.sin(math.radians(5.0)))
 
 
 def test_viewer_places_the_own_ship_heeled_by_the_state_roll():
@@ -97,9 +98,9 @@ def test_viewer_places_the_own_ship_heeled_by_the_state_roll():
     viewer._ships = {0: frame}
     viewer._place(0, {"x_m": 10.0, "y_m": 20.0, "hdg_deg": 45.0, "roll_deg": -7.89})
     assert frame.position == (20.0, 10.0, 0.0)
-    assert frame.wxyz == pytest.approx(V.attitude_wxyz(45.0, -7.89))
+    assert frame.wxyz == pytest.approx(S.attitude_wxyz(45.0, -7.89))
     viewer._place(0, {"x_m": 10.0, "y_m": 20.0, "hdg_deg": 45.0})
-    assert frame.wxyz == pytest.approx(V.heading_wxyz(45.0))
+    assert frame.wxyz == pytest.approx(S.heading_wxyz(45.0))
     assert "| Heel | -7.9°" in viewer._hud_text.__func__(
         SimpleNamespace(link=SimpleNamespace(owner=None, helm=False, scene=None, events=[])),
         {"roll_deg": -7.89, "hdg_deg": 45.0},
@@ -109,22 +110,22 @@ def test_viewer_places_the_own_ship_heeled_by_the_state_roll():
 def test_wave_number_limits_of_linear_theory():
     omega = 2.0 * math.pi / 8.0
     # deep water: wavelength g T^2 / (2 pi) = 99.89 m for T = 8 s
-    assert 2.0 * math.pi / V.wave_number(omega, 1e4) == pytest.approx(99.89, abs=0.01)
+    assert 2.0 * math.pi / S.wave_number(omega, 1e4) == pytest.approx(99.89, abs=0.01)
     # shallow water: celerity omega / k -> sqrt(g h) (h = 0.5 m: 2.21 m/s), within 1 % at kh ~ 0.18
-    k = V.wave_number(omega, 0.5)
+    k = S.wave_number(omega, 0.5)
     assert omega / k == pytest.approx(math.sqrt(9.80665 * 0.5), rel=0.01)
     h = 10.0
     assert omega**2 == pytest.approx(
-        9.80665 * V.wave_number(omega, h) * math.tanh(V.wave_number(omega, h) * h)
+        9.80665 * S.wave_number(omega, h) * math.tanh(S.wave_number(omega, h) * h)
     )
 
 
 def test_sea_surface_has_the_significant_wave_height():
     x, y = np.meshgrid(np.linspace(0, 2000, 400), np.linspace(0, 2000, 400))
-    z = V.sea_elevation(x.ravel(), y.ravel(), 3.0, 2.0, 8.0, 45.0, 50.0)
+    z = S.sea_elevation(x.ravel(), y.ravel(), 3.0, 2.0, 8.0, 45.0, 50.0)
     assert 4.0 * np.std(z) == pytest.approx(2.0, rel=0.05)  # Hs = 4 sigma
-    assert not np.any(V.sea_elevation(x.ravel(), y.ravel(), 3.0, 0.0, 8.0, 45.0, 50.0))  # calm: flat
-    later = V.sea_elevation(x.ravel(), y.ravel(), 4.0, 2.0, 8.0, 45.0, 50.0)
+    assert not np.any(S.sea_elevation(x.ravel(), y.ravel(), 3.0, 0.0, 8.0, 45.0, 50.0))  # calm: flat
+    later = S.sea_elevation(x.ravel(), y.ravel(), 4.0, 2.0, 8.0, 45.0, 50.0)
     assert np.max(np.abs(later - z)) > 0.5  # it moves
 
 
@@ -481,7 +482,7 @@ def test_viewer_heels_the_container_ship_from_a_real_link():
     frame = SimpleNamespace(position=None, wxyz=None)
     viewer._ships = {0: frame}
     viewer._place(0, st)
-    assert frame.wxyz == pytest.approx(V.attitude_wxyz(st["hdg_deg"], st["roll_deg"]))
+    assert frame.wxyz == pytest.approx(S.attitude_wxyz(st["hdg_deg"], st["roll_deg"]))
     # the starboard side (ship node +x) is up: heeled to port
     assert _rotate(frame.wxyz, (1, 0, 0))[2] == pytest.approx(
         math.sin(math.radians(-st["roll_deg"])), abs=1e-9

@@ -35,6 +35,18 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help="of the ships, how many the scripted harbour pilot steers (the last ones; default 0)",
     )
     cl.add_argument(
+        "--agent",
+        metavar="ZIP",
+        default=None,
+        help="a trained HarbourApproach agent (e.g. agents/trained/ppo_HarbourApproach-v3_seed0.zip) for --agents",
+    )
+    cl.add_argument(
+        "--agents",
+        type=int_in("--agents", 0, MAX_SHIPS),
+        default=None,
+        help="of the ships, how many the --agent steers (the last ones before the pilots; default 1 with --agent)",
+    )
+    cl.add_argument(
         "--bind",
         metavar="HOST:PORT",
         default=DEFAULT_BIND,
@@ -130,13 +142,22 @@ def run(args: argparse.Namespace) -> int:
     sc = load_scenario(args.scenario)  # a bad name is one line here (ScenarioError is a ValueError)
     if args.pilots > args.ships:
         raise UsageError(f"vessel-gym classroom: --pilots {args.pilots} is more than --ships {args.ships}")
+    agents = args.agents if args.agents is not None else int(args.agent is not None)
+    if agents and args.agent is None:
+        raise UsageError("vessel-gym classroom: --agents needs --agent (the trained agent's .zip)")
+    if args.pilots + agents > args.ships:
+        raise UsageError(
+            f"vessel-gym classroom: --pilots {args.pilots} and --agents {agents} are more than --ships {args.ships}"
+        )
     tls = _tls(args)
     stamp = time.strftime("%Y%m%d-%H%M%S", time.gmtime())
     debrief = Path(args.out) / f"classroom_{safe_name(sc.name)}_{stamp}.html"
     check_free([debrief], False, "--out")
     sock = _bind_socket(args)
     try:
-        harbour = ClassHarbour(args.scenario, args.ships, seed=args.seed, pilots=args.pilots)
+        harbour = ClassHarbour(
+            args.scenario, args.ships, seed=args.seed, pilots=args.pilots, agent=args.agent, agents=agents
+        )
     except BaseException:
         sock.close()
         raise

@@ -22,6 +22,7 @@ import numpy as np
 
 from vessel_gym.classroom import MAX_SHIPS
 from vessel_gym.envs.task import PHASE_RESET, PHASE_STEP, reset_vessels, vessel_info
+from vessel_gym.envs.tasks.colreg_ais import REP_T, AisReceiver
 from vessel_gym.envs.tasks.colreg_geometry import cpa, relative_bearing
 from vessel_gym.physics.units import KNOT_M_S
 from vessel_gym.scenarios.geometry import hull_outline, polygons_overlap
@@ -37,6 +38,13 @@ START_SPACING_L = 1.2
 TRACK_SPACING_S = 1.0
 #: other ships listed as a ship's targets (nearest first): what a radar plot of a small harbour shows
 MAX_TARGETS = 6
+#: the other ships reach a student's page as its ship's AIS receiver has them (``envs.tasks.colreg_ais``): Class A
+#: stations (ITU-R M.1371-5 Annex 1 Table 1 rates by speed and turning), SOG and COG rounded to the report's
+#: resolution, dead-reckoned between reports; no lost reports and no position error (a harbour of ships a few
+#: lengths apart would drown in a GNSS error of 10 m): what the student sees of the others is the report's age
+AIS_CLASS = "A"
+#: deg/min: a rate of turn above this is "changing course" (the faster reporting rate); CollisionAvoidance's default
+AIS_TURNING_DEG_MIN = 5.0
 #: a ship's run ends with these outcomes; "contact" covers quays, land, breakwaters, other own ships and traffic
 ENDED = ("success", "contact", "grounding", "out_of_bounds", "diverged", "time_limit")
 
@@ -62,7 +70,15 @@ class ShipRecord:
 class ClassHarbour:
     """``n`` own ships in the harbour of ``scenario`` (module doc). Not thread-safe: one owner drives it."""
 
-    def __init__(self, scenario: str, n: int, seed: int | None = None, pilots: int = 0) -> None:
+    def __init__(
+        self,
+        scenario: str,
+        n: int,
+        seed: int | None = None,
+        pilots: int = 0,
+        agent: str | None = None,
+        agents: int = 0,
+    ) -> None:
         import vessel_gym
         from vessel_gym.envs.tasks.harbour import own_ship
         from vessel_gym.scenarios import load_scenario
@@ -72,6 +88,10 @@ class ClassHarbour:
             raise ValueError(f"ships: expected 1..{MAX_SHIPS}, got {n}")
         if not 0 <= pilots <= n:
             raise ValueError(f"pilots: expected 0..{n} (the number of ships), got {pilots}")
+        if not 0 <= agents <= n - pilots or (agents > 0) != (agent is not None):
+            raise ValueError(
+                f"agents: expected 0..{n - pilots} ships (the ships less the pilots) with an agent"
+            )
         sc = load_scenario(scenario)
         self.penv = vessel_gym.parallel_env(
             TASK_ID,
@@ -96,14 +116,31 @@ class ClassHarbour:
         self.hull = np.array(hull_outline(self.L, self.B))  # body axes (x forward, y starboard), m
         #: the last ``pilots`` ships are steered by the task's scripted harbour pilot, not by a student
         self.pilot_ships = np.arange(n - pilots, n)
-        self.names = [f"Ship {k + 1}" if k < n - pilots else f"Pilot {k + 1}" for k in range(n)]
+        #: the ``agents`` ships before the pilot ships are steered by a trained agent (classroom.agents)
+        self.agent_ships = np.arange(n - pilots - agents, n - pilots)
+        students = n - pilots - agents
+        self.names = [
+            f"Ship {k + 1}" if k < students else f"Agent {k + 1}" if k < n - pilots else f"Pilot {k + 1}"
+            for k in range(n)
+        ]
         self.pilot = self._make_pilot() if pilots else None
+        self.agent = None
+        if agents:
+            from vessel_gym.classroom.agents import AgentShips
+
+            self.agent = AgentShips(agent, self.scenario, task.layout, self.dt, self.agent_ships)
         self.rudder_i = np.full(n, RUDDER_ORDERS_DEG.index(0.0), dtype=np.int64)
         self.tele_i = np.full(n, TELEGRAPH_STEPS.index(0), dtype=np.int64)
         self.live = np.zeros(n, dtype=np.bool_)
         self.steps = np.zeros(n, dtype=np.int64)  # control steps of each ship's run
         self.records = [ShipRecord() for _ in range(n)]
         self.traffic = Traffic.from_scenario(self.scenario, task.dt, self.dt)
+        n_traffic = len(self.traffic.specs) if self.traffic is not None else 0
+        #: ship k's receiver: slot j < n is own ship j, slot n + i the scenario's traffic ship i
+        self.ais = AisReceiver(n, n + n_traffic, AIS_CLASS, 0.0, 0.0, 0.0, 0.0, AIS_TURNING_DEG_MIN)
+        self._ais_rng = np.random.default_rng(seed)
+        self._ais_cache: dict[int, tuple[float, list[dict[str, Any]]]] = {}
+        self._ais_truth: tuple[float, list[tuple]] = (math.nan, [])
         self.weather: dict[str, float] = {}
         self.t_s = 0.0  # class time, s of simulation
         self.seed = seed
@@ -208,8 +245,13 @@ class ClassHarbour:
         )
         self.live[k] = True
         self.steps[k] = 0
+        self.ais.reset(k, self._ais_rng)  # the others are heard afresh: one report each at the next reading
+        self._ais_cache.clear()  # a ship moved without a step (a reset while paused): every picture anew
+        self._ais_truth = (math.nan, [])
         if self.pilot is not None and k in self.pilot_ships:
             self.pilot.reset(self.pilot_ships == k)  # its waypoints and integral start again
+        if self.agent is not None and k in self.agent_ships:
+            self.agent.start(k, sim)
 
     # --- orders and weather ----------------------------------------------------------------------------------
 
@@ -254,6 +296,8 @@ class ClassHarbour:
         rudder = np.where(self.live, self.rudder_i, RUDDER_ORDERS_DEG.index(0.0))
         tele = np.where(self.live, self.tele_i, TELEGRAPH_STEPS.index(0))
         task.helm.apply(np.stack([rudder, tele], axis=1))
+        if self.agent is not None:
+            self.agent.steer(sim, task.obs, self.steps, self.live)
         sim.step(task.nsub)
         task.update(np.where(self.live, PHASE_STEP, 0).astype(np.int8))
         if self.traffic is not None:
@@ -360,35 +404,71 @@ class ClassHarbour:
             "contact_with": rec.contact_with,
         }
 
+    def ais_picture(self, k: int) -> list[dict[str, Any]]:
+        """The other ships (own ships and traffic) as ship ``k``'s AIS receiver has them now (``AIS_CLASS``):
+        name, north and east m (the last report dead-reckoned to now), SOG m/s and COG deg of that report, its
+        age s, length and beam m, and whether it is another student's ship (``own``). Once per step and ship."""
+        cached = self._ais_cache.get(k)
+        if cached is not None and cached[0] == self.t_s:
+            return cached[1]
+        if self._ais_truth[0] != self.t_s:  # every ship as it transmits now, once per step
+            sim = self.sim
+            vn, ve = sim.ground_velocity()
+            truth = [(j, self.names[j], float(sim.north[j]), float(sim.east[j]), float(vn[j]), float(ve[j]),
+                      float(sim.r[j]), self.L, self.B) for j in range(self.n)]  # fmt: skip
+            if self.traffic is not None:
+                for i, t in enumerate(self.traffic.targets()):
+                    r = t.reading
+                    sog, cog = r.sog_kn * KNOT_M_S, math.radians(r.cog_deg)
+                    rot = math.radians(r.rot_dpm) / 60.0
+                    truth.append((self.n + i, t.name, r.x_m, r.y_m, sog * math.cos(cog), sog * math.sin(cog),
+                                  rot, t.length_m, t.beam_m))  # fmt: skip
+            self._ais_truth = (self.t_s, [x for x in truth if all(math.isfinite(v) for v in x[2:7])])
+        out = []
+        for slot, name, n, e, tvn, tve, rot, L, B in self._ais_truth[1]:  # a diverged ship transmits nothing
+            if slot == k:
+                continue
+            # Python floats: rounding numpy scalars costs ten times as much (16 ships: 270 reports a step)
+            an, ae, avn, ave = map(float, self.ais.observe(k, slot, self.t_s, n, e, tvn, tve, rot))
+            out.append(
+                {
+                    "name": name,
+                    "n": round(an, 3),
+                    "e": round(ae, 3),
+                    "sog": round(math.hypot(avn, ave), 3),
+                    "cog": round(math.degrees(math.atan2(ave, avn)) % 360.0, 1),
+                    "vn": avn,
+                    "ve": ave,
+                    "age_s": round(self.t_s - float(self.ais.rep[k, slot, REP_T]), 2),
+                    "L": L,
+                    "B": B,
+                    "own": slot < self.n,
+                }
+            )
+        self._ais_cache[k] = (self.t_s, out)
+        return out
+
     def targets_for(self, k: int, most: int = MAX_TARGETS) -> list[dict[str, Any]]:
-        """The other ships as ship ``k``'s targets, nearest first (at most ``most``): name, range m, relative
-        bearing deg (clockwise from the bow), DCPA m and TCPA s (both keeping course and speed;
-        ``envs.tasks.colreg_geometry.cpa``), midship to midship."""
+        """The other ships as ship ``k``'s targets from its AIS picture (:meth:`ais_picture`), nearest first (at
+        most ``most``): name, range m, relative bearing deg (clockwise from the bow), DCPA m and TCPA s (both
+        keeping course and speed; ``envs.tasks.colreg_geometry.cpa``), midship to midship, the report's age s."""
         sim = self.sim
         vn, ve = sim.ground_velocity()
         n0, e0, psi = float(sim.north[k]), float(sim.east[k]), float(sim.heading[k])
         if not (math.isfinite(n0) and math.isfinite(e0) and math.isfinite(psi)):
             return []
-        others = [(self.names[j], float(sim.north[j]), float(sim.east[j]), float(vn[j]), float(ve[j]))
-                  for j in range(self.n) if j != k]  # fmt: skip
-        if self.traffic is not None:
-            for t in self.traffic.targets():
-                r = t.reading
-                sog, cog = r.sog_kn * KNOT_M_S, math.radians(r.cog_deg)
-                others.append((t.name, r.x_m, r.y_m, sog * math.cos(cog), sog * math.sin(cog)))
         out = []
-        for name, n, e, tvn, tve in others:
-            pn, pe = n - n0, e - e0
-            if not (math.isfinite(pn) and math.isfinite(pe) and math.isfinite(tvn) and math.isfinite(tve)):
-                continue
-            dcpa, tcpa = cpa(pn, pe, tvn - float(vn[k]), tve - float(ve[k]))
+        for a in self.ais_picture(k):
+            pn, pe = a["n"] - n0, a["e"] - e0
+            dcpa, tcpa = cpa(pn, pe, a["vn"] - float(vn[k]), a["ve"] - float(ve[k]))
             out.append(
                 {
-                    "name": name,
+                    "name": a["name"],
                     "range_m": round(math.hypot(pn, pe), 1),
                     "bearing_deg": round(math.degrees(relative_bearing(pn, pe, psi)), 1),
                     "dcpa_m": round(dcpa, 1),
                     "tcpa_s": round(tcpa, 1),
+                    "age_s": a["age_s"],
                 }
             )
         return sorted(out, key=lambda t: t["range_m"])[:most]

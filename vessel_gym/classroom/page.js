@@ -3,12 +3,14 @@
 "use strict";
 
 const RUDDER_MAX = 35, RUDDER_STEP = 5, MIN_SEND_MS = 50, MIN_SHIP_PX = 24;
+const WIDE_PX = 760;  // a chart box this wide shows the chart and the 3D view side by side
+const VIEWS = ["both", "chart", "3d"];
 const TELEGRAPH = { "-4": "full astern", "-3": "half astern", "-2": "slow astern", "-1": "dead slow astern",
   "0": "stop", "1": "dead slow ahead", "2": "slow ahead", "3": "half ahead", "4": "full ahead" };
 const $ = (id) => document.getElementById(id);
 
 // What the page knows; window.vg is read by the tests and the latency benchmark.
-const vg = window.vg = { role: null, ship: -1, session: "", chart: null, state: null, track: [],
+const vg = window.vg = { role: null, ship: -1, session: "", chart: null, state: null, track: [], view: "chart", view3d: null,
   rudder: 0, telegraph: 0, seq: 0, sentAt: {}, latencies: [], lastSend: 0, pending: null, errors: [] };
 let ws = null;
 
@@ -37,6 +39,20 @@ function receive(m) {
     $("app").classList.add(`role-${m.role}`);
     $(m.role === "helm" ? "helm" : m.role === "instructor" ? "instr" : "watch").classList.remove("hidden");
     $("who").textContent = m.role === "helm" ? `helm of ship ${m.ship + 1}` : m.role;
+    if (m.scene3d && window.Scene3D) {
+      try {
+        vg.view3d = new window.Scene3D($("view3d"), m.scene3d);
+      } catch (err) {
+        vg.errors.push(`3D view: ${err.message}`);
+      }
+      if (vg.view3d && !vg.view3d.error) {
+        $("b_view").classList.remove("hidden");
+        $("cam3d").classList.remove("hidden");
+        vg.view = ($("chartbox").clientWidth || 0) >= WIDE_PX ? "both" : "chart";
+      } else {
+        vg.view3d = null;
+      }
+    }
     resize();
   } else if (m.type === "state") {
     vg.state = m;
@@ -46,13 +62,14 @@ function receive(m) {
         delete vg.sentAt[m.ack];
       }
       if (vg.seq === 0) { vg.rudder = m.own.rudder_order_deg; vg.telegraph = m.own.telegraph; }
-      const s = m.ships[vg.ship];
+      const s = m.ships.find((x) => x.k === vg.ship);
       if (s && s.n !== null) {
         const last = vg.track[vg.track.length - 1];
         if (!last || Math.hypot(last[0] - s.n, last[1] - s.e) > 0.5) vg.track.push([s.n, s.e]);
         if (vg.track.length > 4000) vg.track.shift();
       }
     }
+    if (vg.view3d) vg.view3d.update(m, vg.ship);
     show(m);
   } else if (m.type === "refused") {
     $("joinmsg").textContent = m.error;
@@ -98,7 +115,14 @@ document.addEventListener("keydown", (ev) => {
   if (vg.role !== "helm" || ev.target.tagName === "INPUT") return;
   if (KEYS[ev.code]) { order(KEYS[ev.code][0], KEYS[ev.code][1]); ev.preventDefault(); }
   else if (ev.code === "KeyM" || ev.code === "Space") { order(0, 0, { rudder: 0 }); ev.preventDefault(); }
+  else if (ev.code === "KeyV" && vg.view3d) nextView();
 });
+function nextView() {
+  vg.view = VIEWS[(VIEWS.indexOf(vg.view) + 1) % VIEWS.length];
+  resize();
+}
+$("b_view").onclick = nextView;
+$("cam3d").onchange = () => { if (vg.view3d) { vg.view3d.camera = $("cam3d").value; vg.view3d.request(); } };
 $("b_port").onclick = () => order(-RUDDER_STEP, 0);
 $("b_stbd").onclick = () => order(RUDDER_STEP, 0);
 $("b_mid").onclick = () => order(0, 0, { rudder: 0 });
@@ -153,6 +177,7 @@ function show(m) {
       cell(tr, t.name); cell(tr, `${t.range_m.toFixed(0)} m`); cell(tr, `${t.bearing_deg.toFixed(0)}°`);
       cell(tr, t.tcpa_s > 0 ? `${t.dcpa_m.toFixed(0)} m` : "opening");
       cell(tr, t.tcpa_s > 0 ? `${t.tcpa_s.toFixed(0)} s` : "-");
+      cell(tr, `${t.age_s.toFixed(0)} s`);
       body.appendChild(tr);
     }
   }
@@ -163,7 +188,7 @@ function show(m) {
     for (const s of m.class) {
       const tr = document.createElement("tr");
       cell(tr, String(s.k + 1)); cell(tr, s.name); cell(tr, s.code).className = "code";
-      cell(tr, s.pilot ? "pilot" : s.at_helm ? "yes" : "-");
+      cell(tr, s.pilot ? "pilot" : s.agent ? "agent" : s.at_helm ? "yes" : "-");
       cell(tr, s.outcome + (s.contact_with ? ` (${s.contact_with})` : ""));
       cell(tr, fmt(s.sog_kn, 1)); cell(tr, fmt(s.timer_s, 0, " s"));
       const td = cell(tr, "");
@@ -200,9 +225,21 @@ function resize() {
   const c = $("chart"), ch = vg.chart;
   if (!ch) return;
   const [n0, n1, e0, e1] = ch.bounds;
+  const box = $("chartbox").clientWidth || 800, v3 = $("view3d");
+  const show3d = vg.view3d !== null && vg.view !== "chart", showChart = vg.view !== "3d" || !vg.view3d;
+  const room = show3d && showChart ? Math.floor((box - 8) / 2) : box;
+  c.classList.toggle("hidden", !showChart);
+  v3.classList.toggle("hidden", !show3d);
+  $("b_view").textContent = { both: "chart + 3D", chart: "chart", "3d": "3D" }[vg.view];
+  if (show3d) {
+    const w3 = Math.max(260, Math.min(room, 1600));
+    v3.style.width = `${w3}px`;
+    v3.style.height = `${Math.round(Math.min(w3 * 0.75, window.innerHeight - 80))}px`;
+    vg.view3d.request();
+  }
   // the whole harbour in view: as wide as the box, or as tall as the window leaves room for
   const fit = (window.innerHeight - 60) * (e1 - e0) / (n1 - n0);
-  const w = Math.round(Math.max(280, Math.min(1600, $("chartbox").clientWidth || 800, fit)));
+  const w = Math.round(Math.max(260, Math.min(1600, room, fit)));
   c.width = w;
   c.style.width = `${w}px`;
   c.height = Math.round(w * (n1 - n0) / (e1 - e0));
@@ -242,6 +279,10 @@ function draw(m) {
     g.fillText(label, X(e) + 8, Y(n) - 6);
   };
   for (const t of m.targets || []) ship(t.n, t.e, t.hdg, t.L, t.B, "#8a8a8a", t.name);
+  // a student's page: the others as its AIS has them, drawn along their course over ground, with the age
+  for (const a of m.ais || []) {
+    ship(a.n, a.e, a.cog, a.L, a.B, a.own ? "#2a6ad8" : "#8a8a8a", `${a.name} (AIS ${a.age_s.toFixed(0)} s)`);
+  }
   for (const s of m.ships) {
     const own = s.k === vg.ship;
     const fill = own ? "#e03020" : s.outcome === "running" ? "#2a6ad8" : "#b0b0b0";

@@ -158,6 +158,8 @@ class ClassroomServer:
         )
         self._page = resources.files("vessel_gym.classroom").joinpath("page.html").read_bytes()
         self._script = resources.files("vessel_gym.classroom").joinpath("page.js").read_bytes()
+        self._script3d = resources.files("vessel_gym.classroom").joinpath("scene3d.js").read_bytes()
+        self._scene3d: dict[str, Any] | None = None  # built at the first student's join
         self._loop: asyncio.AbstractEventLoop | None = None
         self._stop: asyncio.Event | None = None
         self._thread: threading.Thread | None = None
@@ -233,6 +235,8 @@ class ClassroomServer:
             return self._response(200, self._page, "text/html; charset=utf-8")
         if path == "/page.js":
             return self._response(200, self._script, "text/javascript; charset=utf-8")
+        if path == "/scene3d.js":
+            return self._response(200, self._script3d, "text/javascript; charset=utf-8")
         if path == "/favicon.ico":  # browsers ask for it: no icon, and no error in the page's console
             return self._response(204, b"", "image/x-icon")
         if path != "/ws":
@@ -346,8 +350,8 @@ class ClassroomServer:
                 await _close(client, "too many wrong codes")
             return
         if role.kind == "helm":
-            if role.ship in self.harbour.pilot_ships:
-                await _send(conn, {"type": "refused", "error": "this ship is steered by the pilot"})
+            if role.ship in self.harbour.pilot_ships or role.ship in self.harbour.agent_ships:
+                await _send(conn, {"type": "refused", "error": "this ship is steered by a pilot or an agent"})
                 return
             if role.ship in self.helms:
                 self.stats["taken"] += 1
@@ -362,18 +366,22 @@ class ClassroomServer:
         h = self.harbour
         if role.kind == "helm" and client.name:
             h.names[role.ship] = client.name
-        await _send(
-            conn,
-            {
-                "type": "welcome",
-                "role": role.kind,
-                "ship": role.ship,
-                "session": client.session,
-                "chart": h.chart(),
-                "rudder_step_deg": 5.0,
-                "dt_s": h.dt,
-            },
-        )
+        welcome = {
+            "type": "welcome",
+            "role": role.kind,
+            "ship": role.ship,
+            "session": client.session,
+            "chart": h.chart(),
+            "rudder_step_deg": 5.0,
+            "dt_s": h.dt,
+        }
+        if role.kind == "helm":  # the bridge's 3D view
+            if self._scene3d is None:
+                from vessel_gym.classroom.scene3d import class_scene
+
+                self._scene3d = class_scene(h)
+            welcome["scene3d"] = self._scene3d
+        await _send(conn, welcome)
         await _send(conn, self._state_for(client, self._common()))
 
     async def _order(self, client: Client, msg: dict) -> None:
@@ -442,11 +450,15 @@ class ClassroomServer:
         if role is None:
             return common
         if role.kind == "helm":
+            # a student knows the truth of the own ship only: the others come as its AIS receiver has them
             h = self.harbour
+            k = role.ship
             return {
-                **common,
-                "own": h.conning(role.ship),
-                "radar": h.targets_for(role.ship),
+                **{key: v for key, v in common.items() if key not in ("ships", "targets")},
+                "ships": [common["ships"][k]],
+                "ais": h.ais_picture(k),
+                "own": h.conning(k),
+                "radar": h.targets_for(k),
                 "ack": client.ack,
             }
         if role.kind == "instructor":
@@ -460,6 +472,7 @@ class ClassroomServer:
                         "code": self.codes.helm[k],
                         "at_helm": k in self.helms,
                         "pilot": k in h.pilot_ships,
+                        "agent": k in h.agent_ships,
                         **h.conning(k),
                     }
                     for k in range(h.n)

@@ -36,8 +36,6 @@ from typing import Any, TextIO
 
 import numpy as np
 
-from vessel_gym.scenarios.geometry import hull_outline
-from vessel_gym.ui.chart import depth_colour
 from vessel_gym.ui.panels import RUDDER_STEP_DEG
 from vessel_gym.ui.view3d_gate import (
     PageGate,
@@ -49,19 +47,18 @@ from vessel_gym.ui.view3d_gate import (
 from vessel_gym.ui.view3d_link import Address, LinkClient
 from vessel_gym.ui.view3d_scene import (
     CAMERAS,
+    CHASE_ABOVE_L,
+    CHASE_AHEAD_L,
+    CHASE_ASTERN_L,
     COLOURS,
     FREEBOARD_T,
-    RELIEF_T,
-    SEA_CELLS,
     TELEGRAPH_NAMES,
-    _ship_meshes,
     attitude_wxyz,
-    chart_to_scene,
+    harbour_geometry,
     heading_wxyz,
-    prism,
     sea_elevation,
-    triangulate,
-    wave_number,
+    sea_grid,
+    ship_meshes,
 )
 from vessel_gym.ui.view3d_tasks import AssistControls, TaskScene, hud_rows, outcome_figures
 
@@ -192,92 +189,31 @@ class Viewer3D:
         own = self.link.particulars.get(0)
         if own is not None:
             self._L, self._T = float(own["length_m"] or 7.0), float(own["draught_m"] or 0.5)
-        bounds = scene.get("bounds_m")
-        if isinstance(bounds, list) and len(bounds) == 4 and all(isinstance(b, (int, float)) for b in bounds):
-            n0, n1, e0, e1 = bounds
-            self._extent = (e0, e1, n0, n1)
-        else:
-            s = 40.0 * self._L
-            self._extent = (-s, s, -s, s)
-        self._depth = float(scene.get("water_depth_m") or 10.0 * self._T)
+        geo = harbour_geometry(scene, self._L, self._T)
+        self._extent, self._depth = geo.extent, geo.depth_m
         x0, x1, y0, y1 = self._extent
         span = max(x1 - x0, y1 - y0)
         self._fog = (2.0 * span, 6.0 * span)  # haze well beyond the harbour
         for client in self.server.get_clients().values():
             self._joined(client)
-        pad = 0.25 * max(x1 - x0, y1 - y0)
-        bed = prism(
-            [(x0 - pad, y0 - pad), (x1 + pad, y0 - pad), (x1 + pad, y1 + pad), (x0 - pad, y1 + pad)],
-            -self._depth - 0.05,
-            -self._depth,
-        )
-        deepest = max([self._depth] + [float(f.get("depth_m") or 0.0) for f in scene["features"]])
-        bed_colour = depth_colour(self._depth, self._T, deepest)
-        sc.add_mesh_simple("/chart/seabed", *bed, color=bed_colour, flat_shading=True, cast_shadow=False)
-        for f in scene["features"]:
-            pts = f.get("points") or []
-            if len(pts) < 3:
-                continue
-            xy = chart_to_scene(pts)
-            name = f"/chart/{f['kind']}_{f.get('id', 0)}"
-            kind = f["kind"]
-            if kind in RELIEF_T:
-                v, fc = prism(xy, -deepest - 0.1, RELIEF_T[kind] * self._T)
-                sc.add_mesh_simple(
-                    name, v, fc, color=COLOURS[kind], flat_shading=True, side="double", cast_shadow=False
-                )
-            elif kind == "depth":
-                # A slab of the sea bed at the charted depth, in the chart's depth shading (sand where it is
-                # shallower than the own ship's draught); deeper pockets show as steps of the open-water bed.
-                d = float(f.get("depth_m") or 0.0)
-                top = -min(d, self._depth) + 0.01 * self._T
-                v, fc = prism(xy, top - 0.02 * self._T, top)
-                colour = depth_colour(d, self._T, deepest)
-                sc.add_mesh_simple(
-                    name, v, fc, color=colour, flat_shading=True, side="double", cast_shadow=False
-                )
-            elif kind in ("goal", "start"):
-                ring = np.column_stack([xy, np.full(len(xy), 0.05 * self._T)])
-                segs = np.stack([ring, np.roll(ring, -1, axis=0)], axis=1)
-                sc.add_line_segments(name, segs, COLOURS[kind], thickness=0.04 * self._L)
-                if kind == "goal":
-                    v, fc = prism(xy, 0.0, 0.02 * self._T)
-                    sc.add_mesh_simple(name + "_area", v, fc, color=COLOURS["goal"], opacity=0.35)
-                    gp = f.get("point_m")
-                    hd = f.get("heading_deg")
-                    if isinstance(gp, list) and len(gp) == 2 and isinstance(hd, (int, float)):
-                        gx, gy = gp[1], gp[0]
-                        r = 0.6 * self._L
-                        tip = (gx + r * math.sin(math.radians(hd)), gy + r * math.cos(math.radians(hd)))
-                        sc.add_arrows(
-                            "/chart/goal_heading",
-                            np.array([[[gx, gy, 0.3 * self._T], [tip[0], tip[1], 0.3 * self._T]]]),
-                            COLOURS["goal"],
-                            shaft_radius=0.03 * self._L,
-                            head_radius=0.08 * self._L,
-                            head_length=0.15 * self._L,
-                        )
+        for m in geo.meshes:
+            sc.add_mesh_simple(
+                m.name, m.vertices, m.faces, color=m.colour, opacity=m.opacity if m.opacity < 1.0 else None,
+                flat_shading=True, side="double", cast_shadow=False,
+            )  # fmt: skip
+        for name, segs, colour in geo.rings:
+            sc.add_line_segments(name, segs, colour, thickness=0.04 * self._L)
+        if geo.goal_arrow is not None:
+            L = self._L
+            sc.add_arrows("/chart/goal_heading", geo.goal_arrow[None], COLOURS["goal"], shaft_radius=0.03 * L,
+                          head_radius=0.08 * L, head_length=0.15 * L)  # fmt: skip
         self.task_scene.build(sc, scene["features"], self._T, self._L)
-        self._build_sea()
-
-    def _build_sea(self) -> None:
-        x0, x1, y0, y1 = self._extent
-        pad = 0.25 * max(x1 - x0, y1 - y0)
-        xs = np.linspace(x0 - pad, x1 + pad, SEA_CELLS + 1)
-        ys = np.linspace(y0 - pad, y1 + pad, SEA_CELLS + 1)
-        gx, gy = np.meshgrid(xs, ys)
-        self._sea_xy = (gx.ravel(), gy.ravel())
-        m = SEA_CELLS + 1
-        i, j = np.meshgrid(np.arange(SEA_CELLS), np.arange(SEA_CELLS))
-        a = (j * m + i).ravel()
-        faces = np.concatenate(
-            [np.column_stack([a, a + 1, a + m + 1]), np.column_stack([a, a + m + 1, a + m])]
-        )
-        verts = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(m * m)]).astype(np.float32)
-        self._sea = self.server.scene.add_mesh_simple(
+        x, y, faces = sea_grid(self._extent)
+        self._sea_xy = (x, y)
+        self._sea = sc.add_mesh_simple(
             "/sea",
-            verts,
-            faces.astype(np.uint32),
+            np.column_stack([x, y, np.zeros(len(x))]).astype(np.float32),
+            faces,
             color=COLOURS["sea"],
             opacity=0.55,
             side="double",
@@ -291,16 +227,11 @@ class Viewer3D:
             L, B, T = (float(p.get(k) or 0.0) for k in ("length_m", "beam_m", "draught_m"))
             if not (L > 0.0 and B > 0.0):
                 continue
-            outline = p.get("outline_m") or hull_outline(L, B)
             frame = sc.add_frame(f"/ship_{pid}", show_axes=False)
             colour = COLOURS["own"] if pid == 0 else COLOURS["traffic"]
-            (hv, hf), (dv, df) = _ship_meshes(outline, L, B, T or 0.1 * L)
-            sc.add_mesh_simple(
-                f"/ship_{pid}/hull", hv, hf, color=colour, flat_shading=True, side="double", cast_shadow=False
-            )
-            sc.add_mesh_simple(
-                f"/ship_{pid}/house", dv, df, color=COLOURS["deckhouse"], flat_shading=True, cast_shadow=False
-            )
+            for m in ship_meshes(pid, p.get("outline_m"), L, B, T, colour):
+                sc.add_mesh_simple(m.name, m.vertices, m.faces, color=m.colour, flat_shading=True,
+                                   side="double", cast_shadow=False)  # fmt: skip
             self._ships[pid] = frame
             if pid != 0:
                 self._labels[pid] = sc.add_label(
@@ -454,7 +385,8 @@ class Viewer3D:
         fwd = np.array([math.sin(math.radians(h)), math.cos(math.radians(h)), 0.0])
         ship = np.array([x, y, 0.0])
         if self.camera == "chase":
-            pos, look, up = ship - 2.2 * L * fwd + np.array([0, 0, 0.9 * L]), ship + 0.8 * L * fwd, (0, 0, 1)
+            pos = ship - CHASE_ASTERN_L * L * fwd + np.array([0, 0, CHASE_ABOVE_L * L])
+            look, up = ship + CHASE_AHEAD_L * L * fwd, (0, 0, 1)
         elif self.camera == "bridge":
             eye = ship - 0.38 * L * fwd + np.array([0, 0, FREEBOARD_T * T + 0.1 * L])
             pos, look, up = eye, eye + 3.0 * L * fwd - np.array([0, 0, 0.1 * L]), (0, 0, 1)
@@ -650,8 +582,5 @@ __all__ = [
     "TRACK_REDRAW_S",
     "TRACK_SPACING_S",
     "Viewer3D",
-    "sea_elevation",
-    "triangulate",
     "view3d",
-    "wave_number",
 ]

@@ -7,11 +7,13 @@ protocol is stated where it is chosen (freeboard, superstructure, heights of lan
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from vessel_gym.scenarios.geometry import signed_area
+from vessel_gym.ui.chart import depth_colour
 
 CAMERAS = ("chase", "bridge", "top-down", "harbour", "free")
 TELEGRAPH_NAMES = {
@@ -27,6 +29,8 @@ TELEGRAPH_NAMES = {
 }
 G_M_S2 = 9.80665  # standard gravity, m/s^2
 SEA_CELLS = 48  # sea grid resolution per side
+#: the chase camera: eye this many ship lengths astern and above the ship, looking at a point this far ahead
+CHASE_ASTERN_L, CHASE_ABOVE_L, CHASE_AHEAD_L = 2.2, 0.9, 0.8
 # Drawing choices (not in the protocol): freeboard as a fraction of the draught (a laden tanker's is about half),
 # height of the deckhouse as a fraction of the beam, heights above the water of land, breakwaters and quays (m,
 # as multiples of the own ship's draught so that model-scale and full-scale scenes both look right).
@@ -138,6 +142,119 @@ def attitude_wxyz(hdg_deg: float, roll_deg: float = 0.0) -> tuple[float, float, 
     return (yw * rw, -yz * ry, yw * ry, yz * rw)
 
 
+@dataclass
+class Mesh:
+    """A triangle mesh of the scene: vertices (n, 3) float32 m, faces (m, 3) uint32, colour RGB 0-255."""
+
+    name: str
+    vertices: np.ndarray
+    faces: np.ndarray
+    colour: tuple[int, int, int]
+    opacity: float = 1.0
+
+    def as_json(self) -> dict:
+        """For a page that draws it itself: rounded to the millimetre, flat lists."""
+        return {
+            "name": self.name,
+            "v": np.round(self.vertices.astype(np.float64), 3).ravel().tolist(),
+            "f": self.faces.astype(np.int64).ravel().tolist(),
+            "rgb": list(self.colour),
+            "opacity": self.opacity,
+        }
+
+
+@dataclass
+class HarbourGeometry:
+    """The harbour of a ``scenario`` message in the scene frame: its extent (x min, x max, y min, y max, m),
+    open-water depth (m), the meshes (sea bed, land, breakwaters, quays, depth slabs, the goal's area), the
+    outlines drawn as lines (goal, start: (name, (k, 2, 3) segments, colour)) and the goal's heading arrow."""
+
+    extent: tuple[float, float, float, float]
+    depth_m: float
+    meshes: list[Mesh] = field(default_factory=list)
+    rings: list[tuple[str, np.ndarray, tuple[int, int, int]]] = field(default_factory=list)
+    goal_arrow: np.ndarray | None = None  # (2, 3): tail, tip
+
+
+def harbour_geometry(scene: Mapping, L: float, T: float) -> HarbourGeometry:
+    """What the 3D views build of a ``scenario`` message (protocol v2: ``bounds_m``, ``water_depth_m``,
+    ``features``) for an own ship of length ``L`` and draught ``T`` (m): land, breakwaters and quays extruded
+    from below the deepest bed to RELIEF_T draughts above the water, depth areas as slabs of the sea bed in the
+    chart's depth shading, the goal and start outlines and the goal's area and heading."""
+    bounds = scene.get("bounds_m")
+    if isinstance(bounds, list) and len(bounds) == 4 and all(isinstance(b, (int, float)) for b in bounds):
+        n0, n1, e0, e1 = bounds
+        extent = (float(e0), float(e1), float(n0), float(n1))
+    else:
+        s = 40.0 * L
+        extent = (-s, s, -s, s)
+    depth = float(scene.get("water_depth_m") or 10.0 * T)
+    geo = HarbourGeometry(extent, depth)
+    x0, x1, y0, y1 = extent
+    pad = 0.25 * max(x1 - x0, y1 - y0)
+    features = [f for f in scene.get("features") or [] if isinstance(f, Mapping)]
+    bed = prism(
+        [(x0 - pad, y0 - pad), (x1 + pad, y0 - pad), (x1 + pad, y1 + pad), (x0 - pad, y1 + pad)],
+        -depth - 0.05,
+        -depth,
+    )
+    deepest = max([depth] + [float(f.get("depth_m") or 0.0) for f in features])
+    geo.meshes.append(Mesh("/chart/seabed", *bed, depth_colour(depth, T, deepest)))
+    for f in features:
+        pts = f.get("points") or []
+        if len(pts) < 3:
+            continue
+        xy = chart_to_scene(pts)
+        kind = f.get("kind")
+        name = f"/chart/{kind}_{f.get('id', 0)}"
+        if kind in RELIEF_T:
+            geo.meshes.append(Mesh(name, *prism(xy, -deepest - 0.1, RELIEF_T[kind] * T), COLOURS[kind]))
+        elif kind == "depth":
+            # A slab of the sea bed at the charted depth, in the chart's depth shading (sand where it is
+            # shallower than the own ship's draught); deeper pockets show as steps of the open-water bed.
+            d = float(f.get("depth_m") or 0.0)
+            top = -min(d, depth) + 0.01 * T
+            geo.meshes.append(Mesh(name, *prism(xy, top - 0.02 * T, top), depth_colour(d, T, deepest)))
+        elif kind in ("goal", "start"):
+            ring = np.column_stack([xy, np.full(len(xy), 0.05 * T)])
+            geo.rings.append((name, np.stack([ring, np.roll(ring, -1, axis=0)], axis=1), COLOURS[kind]))
+            if kind == "goal":
+                geo.meshes.append(Mesh(name + "_area", *prism(xy, 0.0, 0.02 * T), COLOURS["goal"], 0.35))
+                gp, hd = f.get("point_m"), f.get("heading_deg")
+                if isinstance(gp, list) and len(gp) == 2 and isinstance(hd, (int, float)):
+                    gx, gy, r = gp[1], gp[0], 0.6 * L
+                    tip = (gx + r * math.sin(math.radians(hd)), gy + r * math.cos(math.radians(hd)))
+                    geo.goal_arrow = np.array([[gx, gy, 0.3 * T], [tip[0], tip[1], 0.3 * T]])
+    return geo
+
+
+def sea_grid(extent: tuple[float, float, float, float]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The sea surface's grid over ``extent`` and a quarter of its span around it: x, y (SEA_CELLS + 1)^2 m and
+    faces (2 SEA_CELLS^2, 3) uint32."""
+    x0, x1, y0, y1 = extent
+    pad = 0.25 * max(x1 - x0, y1 - y0)
+    gx, gy = np.meshgrid(
+        np.linspace(x0 - pad, x1 + pad, SEA_CELLS + 1), np.linspace(y0 - pad, y1 + pad, SEA_CELLS + 1)
+    )
+    m = SEA_CELLS + 1
+    i, j = np.meshgrid(np.arange(SEA_CELLS), np.arange(SEA_CELLS))
+    a = (j * m + i).ravel()
+    faces = np.concatenate([np.column_stack([a, a + 1, a + m + 1]), np.column_stack([a, a + m + 1, a + m])])
+    return gx.ravel(), gy.ravel(), faces.astype(np.uint32)
+
+
+def ship_meshes(pid: int | str, outline: Sequence[Sequence[float]] | None, L: float, B: float, T: float,
+                colour: tuple[int, int, int]) -> list[Mesh]:  # fmt: skip
+    """A ship's hull (``outline`` in body axes, or the standard hull outline) and deckhouse, ship frame."""
+    from vessel_gym.scenarios.geometry import hull_outline
+
+    (hv, hf), (dv, df) = _ship_meshes(outline or hull_outline(L, B), L, B, T or 0.1 * L)
+    return [
+        Mesh(f"/ship_{pid}/hull", hv, hf, colour),
+        Mesh(f"/ship_{pid}/house", dv, df, COLOURS["deckhouse"]),
+    ]
+
+
 def wave_number(omega: float, depth_m: float) -> float:
     """Wave number k (rad/m) of angular frequency omega (rad/s) in water of depth h: omega^2 = g k tanh(k h)
     (linear wave theory), solved by Newton iteration from the deep-water value."""
@@ -155,21 +272,31 @@ def wave_number(omega: float, depth_m: float) -> float:
     return k
 
 
-def sea_elevation(
-    x: np.ndarray, y: np.ndarray, t_s: float, hs_m: float, tp_s: float, from_deg: float, depth_m: float
-) -> np.ndarray:
-    """Surface elevation (m) drawn for a sea state: two long-crested regular components (periods Tp and
-    0.8 Tp, directions 20 deg apart) whose combined variance gives the significant wave height
-    Hs = 4 sigma. A picture of the sea state, not a spectrum: the physics takes its wave forces elsewhere."""
+def sea_components(hs_m: float, tp_s: float, from_deg: float, depth_m: float) -> list[tuple[float, ...]]:
+    """The sea state drawn for Hs, Tp and the direction waves come from: two long-crested regular components
+    (periods Tp and 0.8 Tp, directions 20 deg apart) whose combined variance gives the significant wave height
+    Hs = 4 sigma, each (amplitude m, kx, ky rad/m, omega rad/s, phase rad) with elevation
+    a sin(kx x + ky y - omega t + phase). A picture of the sea state, not a spectrum: the physics takes its
+    wave forces elsewhere. Calm (Hs 0): none."""
     if not hs_m > 0.0:
-        return np.zeros_like(x)
+        return []
     a = 0.25 * hs_m  # two components of amplitude a: variance a^2 = (Hs / 4)^2
-    z = np.zeros_like(x)
+    out = []
     for period, dtheta, phase in ((tp_s, 0.0, 0.0), (0.8 * tp_s, 20.0, 1.3)):
         omega = 2.0 * math.pi / period
         k = wave_number(omega, depth_m)
         to = math.radians(from_deg + 180.0 + dtheta)  # waves travel away from where they come from
-        z += a * np.sin(k * (x * math.sin(to) + y * math.cos(to)) - omega * t_s + phase)
+        out.append((a, k * math.sin(to), k * math.cos(to), omega, phase))
+    return out
+
+
+def sea_elevation(
+    x: np.ndarray, y: np.ndarray, t_s: float, hs_m: float, tp_s: float, from_deg: float, depth_m: float
+) -> np.ndarray:
+    """Surface elevation (m) at scene points (x, y) and time ``t_s`` of :func:`sea_components`."""
+    z = np.zeros_like(x)
+    for a, kx, ky, omega, phase in sea_components(hs_m, tp_s, from_deg, depth_m):
+        z += a * np.sin(kx * x + ky * y - omega * t_s + phase)
     return z
 
 
