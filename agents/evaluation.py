@@ -61,7 +61,7 @@ class _NormalizedObs:
         return self.policy(self.stats.normalize_obs(np.asarray(obs, dtype=np.float32)))
 
 
-def same_task(a: str, b: str) -> bool:
+def _same_task(a: str, b: str) -> bool:
     """Whether two registered ids are presets of one task (an agent may run on another preset of its task,
     e.g. CollisionAvoidance-v0's in the Channel, where its observation fits: :func:`load_agent` checks)."""
     from vessel_gym.envs.registration import declaration
@@ -194,7 +194,7 @@ def evaluate(
     if spec not in PILOTS and not Path(spec).is_file() and not Path(spec + ".zip").is_file():
         raise UsageError(f"agent {spec!r}: not a baseline ({', '.join(PILOTS)}) and no such file")
     rec = run_record(spec)
-    if rec.get("env_id") not in (None, env_id) and not same_task(rec["env_id"], env_id):
+    if rec.get("env_id") not in (None, env_id) and not _same_task(rec["env_id"], env_id):
         raise UsageError(
             f"agent {spec!r} was trained on {rec['env_id']}, not {env_id} (nor another preset of its task)"
         )
