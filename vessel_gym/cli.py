@@ -242,6 +242,9 @@ def build_parser() -> argparse.ArgumentParser:
     from vessel_gym.classroom.command import add_parser as add_classroom
 
     add_classroom(sub)
+    from vessel_gym.cli_warm import add_parser as add_warm
+
+    add_warm(sub)
     fm = sub.add_parser(
         "fmu",
         help="write an FMI 2.0 co-simulation FMU of the whole ship (docs/fmi.md; needs the 'fmi' extra)",
@@ -493,6 +496,10 @@ def _main(argv: Sequence[str] | None) -> int:
             from vessel_gym.classroom.command import run as run_classroom
 
             return run_classroom(args)
+        if args.command == "warm":
+            from vessel_gym.cli_warm import run as run_warm
+
+            return run_warm(args)
         raise UsageError(f"vessel-gym: unknown command {args.command!r}")
     except UsageError as exc:
         error_line(str(exc))
