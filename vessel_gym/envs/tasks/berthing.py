@@ -164,6 +164,12 @@ class BerthingConfig(ShipEnvConfig):
         (0.5, 1.0), unit="m/s", lo=0.01, hi=10.0, doc="[min, max] start"
     )
     weather: bool = param(True, doc="draw wind and current from the scenario's [weather] (else calm)")
+    wind_m_s: tuple[float, ...] | None = param(
+        None, unit="m/s", lo=0.0, hi=40.0, doc="[min, max] wind speed instead of the scenario's (directions its)"
+    )
+    current_m_s: tuple[float, ...] | None = param(
+        None, unit="m/s", lo=0.0, hi=3.0, doc="[min, max] current speed instead of the scenario's (directions its)"
+    )
     gap_tolerance_m: float = param(
         0.1, unit="m", lo=0.0, hi=10.0, doc="side at most this off the fender faces, having touched them"
     )
@@ -552,7 +558,12 @@ class BerthingTask(Task):
         speed = _uniform(rng, c.start_speed_m_s)
         w = self.scenario.weather
         keys = ("wind_speed_m_s", "wind_from_deg", "current_speed_m_s", "current_to_deg")
-        weather = {key: _uniform(rng, getattr(w, key)) for key in keys}
+        ranges = {key: getattr(w, key) for key in keys}
+        if c.wind_m_s is not None:  # a stronger (or calmer) sea than the scenario's, its directions kept
+            ranges["wind_speed_m_s"] = c.wind_m_s
+        if c.current_m_s is not None:
+            ranges["current_speed_m_s"] = c.current_m_s
+        weather = {key: _uniform(rng, ranges[key]) for key in keys}
         if not c.weather:
             weather = {"wind_speed_m_s": 0.0, "current_speed_m_s": 0.0}
         self.sim.set_environments(np.array([k]), **weather)
