@@ -84,6 +84,7 @@ PLAN: dict[str, tuple[str, ...]] = {
     "vessel_gym/HarbourApproach-v1": ("ppo",),
     "vessel_gym/HarbourApproach-v3": ("ppo",),
     "vessel_gym/TurningCircle-v0": ("ppo",),
+    "vessel_gym/Berthing-v0": ("ppo",),
 }
 #: environments with a row of the method that starts from the classical pilot: behaviour cloning by DAgger
 #: (agents/imitation.py, settings in agents/hyperparams/bc.yml), models in <out>/bc/, shipped to <ship-dir>/bc/
