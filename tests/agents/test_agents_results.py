@@ -275,3 +275,44 @@ def test_cloning_alone_needs_an_environment_of_the_plan(tmp_path: Path, capsys) 
     argv = ["--envs", "ZigZag-v1", "--algos", "bc", "--out", str(tmp_path)]
     assert results.main(argv) == 2
     assert "has no behaviour-cloning row" in capsys.readouterr().err
+
+
+def _berth(agent, success, outcomes, trained=False):
+    row = _row(
+        agent,
+        trained,
+        success_rate=success,
+        success_rate_median=success,
+        outcomes=outcomes,
+        contact_speed_m_s_mean=0.04,
+        contact_speed_m_s_std=0.01,
+        max_fender_energy_fraction_mean=0.02,
+        max_fender_energy_fraction_std=0.01,
+        time_s_mean=830.0,
+        time_s_std=90.0,
+        assist_effort_mean=0.4,
+        assist_effort_std=0.1,
+        rudder_deg_mean=4.0,
+        rudder_deg_std=1.0,
+        rudder_rate_deg_s_mean=0.1,
+        rudder_rate_deg_s_std=0.01,
+    )
+    return row
+
+
+def test_berthing_table_and_verdict() -> None:
+    """Berthing has no PID helm: the goal is absolute (median success >= 90 %, no fender overload, <= 20 min per
+    seed), the scripted pilot's success beside it; the table gives the overload share and the contact figures."""
+    pilot = _berth("scripted", 1.0, {"success": 20})
+    good = _berth("ppo (5 seeds)", 0.95, {"success": 19, "timeout": 1}, trained=True)
+    text = results.verdict("berthing", [pilot, good])
+    assert "**met**" in text and "scripted pilot succeeds in 100 %" in text
+    over = _berth("ppo (5 seeds)", 0.95, {"success": 19, "fender_overload": 1}, trained=True)
+    assert "**not met**: 5 % of episodes overload a fender" in results.verdict("berthing", [pilot, over])
+    short = _berth("ppo (5 seeds)", 0.30, {"success": 6, "timeout": 14}, trained=True)
+    assert "**not met**: 60 points of success short" in results.verdict("berthing", [pilot, short])
+    table = results_doc.table("berthing", [pilot, over])
+    head, _, first, second = table.splitlines()
+    assert "fender overload %" in head and "contact speed m/s" in head
+    assert "| 100 | 0 | success 20 | 0.040 ± 0.010 | 0.020 ± 0.010 | 830 ± 90 | 0.40 ± 0.10 |" in first
+    assert "| 95 | 5 | fender_overload 1, success 19 |" in second

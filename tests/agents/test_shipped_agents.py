@@ -35,6 +35,7 @@ REPRODUCED = (
     "ppo_HarbourApproach-v3_seed0.zip",
     "bc/ppo_HarbourApproach-v3_seed0.zip",
     "ppo_CollisionAvoidance-v0_seed0.zip",
+    "ppo_Berthing-v0_seed0.zip",
 )
 #: a shipped agent stays small enough for the repository (a 128x128 PPO zip is ~540 kB with its optimiser
 #: state; the 64x64 ones ~150 kB)

@@ -249,3 +249,24 @@ def test_the_scripted_pilot_berths_the_tanker_on_two_tugs(seed):
     assert max(lateral) <= 0.11
     assert abs(info["heading_error_deg"]) <= 3.0 and abs(info["along_error_m"]) <= 5.0
     env.close()
+
+
+def test_wind_and_current_can_be_stronger_than_the_scenarios_with_its_directions():
+    """wind_m_s / current_m_s replace the scenario's speed ranges (the stronger-weather sweep of the tanker,
+    benchmarks/bench_berthing_weather.py); directions stay the scenario's draw; a negative speed is refused."""
+    env = gym.make("vessel_gym/BerthingTanker-v0", wind_m_s=[14.0, 14.0], current_m_s=[0.3, 0.3])
+    sim = env.unwrapped.task.sim
+    froms = set()
+    for seed in range(3):
+        env.reset(seed=seed)
+        e = sim.environments[0]
+        assert e.wind_speed_m_s == pytest.approx(14.0) and e.current_speed_m_s == pytest.approx(0.3)
+        froms.add(round(e.wind_from_deg))
+    assert len(froms) == 3
+    env.close()
+    env = gym.make("vessel_gym/BerthingTanker-v0")
+    env.reset(seed=0)
+    assert env.unwrapped.task.sim.environments[0].wind_speed_m_s <= 6.0  # the scenario's range
+    env.close()
+    with pytest.raises(SpecError, match="wind_m_s"):
+        gym.make("vessel_gym/BerthingTanker-v0", wind_m_s=[-1.0, 2.0])

@@ -97,6 +97,13 @@ SPEC = task_spec(
             "(d_prev - d) / L, d the distance to the berthed pose (heading error x L / pi added)",
         ),
         Term("effort", 0.01, "-mean over the thrusters and tugs of order^2"),
+        Term(
+            "overspeed",
+            0.05,
+            "-(speed towards the quay beyond the pilot's profile, 0.5 v_PIANC + 0.01 x distance off) / v_PIANC,"
+            " at most 1",
+        ),
+        Term("alongside", 1.0, "control interval / hold time while alongside within the tolerances"),
         Term("outcome", 10.0, "+1 on success, -1 on a failure (the step it ends)"),
     ),
     features=(
@@ -157,6 +164,12 @@ class BerthingConfig(ShipEnvConfig):
         (0.5, 1.0), unit="m/s", lo=0.01, hi=10.0, doc="[min, max] start"
     )
     weather: bool = param(True, doc="draw wind and current from the scenario's [weather] (else calm)")
+    wind_m_s: tuple[float, ...] | None = param(
+        None, unit="m/s", lo=0.0, hi=40.0, doc="[min, max] wind speed instead of the scenario's (directions its)"
+    )
+    current_m_s: tuple[float, ...] | None = param(
+        None, unit="m/s", lo=0.0, hi=3.0, doc="[min, max] current speed instead of the scenario's (directions its)"
+    )
     gap_tolerance_m: float = param(
         0.1, unit="m", lo=0.0, hi=10.0, doc="side at most this off the fender faces, having touched them"
     )
@@ -332,9 +345,18 @@ def berthing_update(phase: np.ndarray, v: Any, t: Any) -> None:
     flags[ended] = new[ended]
     terms = v.terms
     terms[act] = 0.0
-    progress = np.where(stepped, (ts[:, S.d_prev] - d) / g.L, 0.0)
+    # a diverged hull's position is not a number or far off: no progress from it (the outcome term ends it)
+    progress = np.where(stepped & v.alive & np.isfinite(d), (ts[:, S.d_prev] - d) / g.L, 0.0)
+    # closing on the quay faster than a gentle approach profile (half the PIANC velocity at the fenders,
+    # 1 cm/s more per metre off): a dense signal of the contact-speed limit, which otherwise speaks only at
+    # the touch
+    profile = 0.5 * g.v_limit + 0.01 * np.maximum(off, 0.0)
+    overspeed = np.nan_to_num(np.clip((-vo - profile) / g.v_limit, 0.0, 1.0), nan=0.0)
     terms[:, TERM.progress] = np.where(act, progress, terms[:, TERM.progress])
     terms[:, TERM.effort] = np.where(stepped, -effort, np.where(act, 0.0, terms[:, TERM.effort]))
+    terms[:, TERM.overspeed] = np.where(stepped, -overspeed, np.where(act, 0.0, terms[:, TERM.overspeed]))
+    held = np.where(stepped & alongside, ci / max(c.hold_s, ci), 0.0)
+    terms[:, TERM.alongside] = np.where(stepped, held, np.where(act, 0.0, terms[:, TERM.alongside]))
     outcome = np.where(flags == SUCCESS, 1.0, -1.0)
     terms[:, TERM.outcome] = np.where(ended, outcome, np.where(act, 0.0, terms[:, TERM.outcome]))
     ts[act, S.d_prev] = d[act]
@@ -371,7 +393,27 @@ def berthing_update(phase: np.ndarray, v: Any, t: Any) -> None:
     max_episode_steps=900,  # 30 minutes at the default 2 s control interval
     pilots={"scripted": scripted_pilot},
     metrics=episode_metrics,
-    train={"common": {"n_timesteps": 2_000_000, "n_envs": 8}},
+    train={
+        # PPO as the shipped Berthing-v0 agents were trained (docs/berthing.md, "PPO from scratch"): 1.2M steps,
+        # about 11 minutes of a loaded 2-core machine; observations normalised (the contact speeds are
+        # hundredths of the scales the features are clipped to)
+        "common": {
+            "n_timesteps": 1_200_000,
+            "n_envs": 16,
+            "normalize": {"norm_obs": True, "norm_reward": True},
+        },
+        "ppo": {
+            "n_steps": 256,
+            "batch_size": 1024,
+            "n_epochs": 5,
+            "gamma": 0.995,
+            "gae_lambda": 0.95,
+            "learning_rate": 3e-4,
+            "clip_range": 0.2,
+            "ent_coef": 0.0,
+            "policy_kwargs": {"net_arch": [128, 128], "activation_fn": "tanh", "log_std_init": -0.5},
+        },
+    },
 )
 class BerthingTask(Task):
     """Berthing: from 3-10 ship lengths off a scenario's berth to alongside its fenders (docs/berthing.md).
@@ -398,6 +440,8 @@ class BerthingTask(Task):
     |------|----------------|----------------|
     | progress | 1.0 | (d_prev - d) / L, d the distance to the berthed pose plus L x heading error / pi |
     | effort | 0.01 | -mean over the thrusters and tugs of order^2 |
+    | overspeed | 0.05 | -(closing speed on the quay beyond 0.5 v_PIANC + 0.01 x distance off) / v_PIANC, <= 1 |
+    | alongside | 1.0 | control interval / hold time while alongside within the tolerances |
     | outcome | 10.0 | +1 on success, -1 on a failure (the step it ends) |
 
     ## Episode End
@@ -474,9 +518,8 @@ class BerthingTask(Task):
         if (
             self._assist_count is None
         ):  # before the simulation with the berth exists: the ship file's and tugs'
-            from vessel_gym.physics.components.thrusters import TunnelThruster
-
-            own = sum(1 for e in self.ship.components if issubclass(e.cls, (TunnelThruster, Tug)))
+            # every commanded unit of the ship file (tunnel and azimuth thrusters; tugs), then the berth's tugs
+            own = sum(1 for e in self.ship.components if issubclass(e.cls, OrderedComponent))
             self._assist_count = own + len(self.berth.tugs)
         return {"n_assist": self._assist_count}
 
@@ -515,7 +558,12 @@ class BerthingTask(Task):
         speed = _uniform(rng, c.start_speed_m_s)
         w = self.scenario.weather
         keys = ("wind_speed_m_s", "wind_from_deg", "current_speed_m_s", "current_to_deg")
-        weather = {key: _uniform(rng, getattr(w, key)) for key in keys}
+        ranges = {key: getattr(w, key) for key in keys}
+        if c.wind_m_s is not None:  # a stronger (or calmer) sea than the scenario's, its directions kept
+            ranges["wind_speed_m_s"] = c.wind_m_s
+        if c.current_m_s is not None:
+            ranges["current_speed_m_s"] = c.current_m_s
+        weather = {key: _uniform(rng, ranges[key]) for key in keys}
         if not c.weather:
             weather = {"wind_speed_m_s": 0.0, "current_speed_m_s": 0.0}
         self.sim.set_environments(np.array([k]), **weather)

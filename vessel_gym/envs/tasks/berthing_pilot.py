@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from vessel_gym.envs.policies import HelmPolicy
+from vessel_gym.physics.components.azimuth import AzimuthThruster
 from vessel_gym.physics.components.fenders import added_mass_coefficient
 from vessel_gym.physics.components.thrusters import TunnelThruster
 
@@ -75,6 +76,9 @@ class BerthingPilot(HelmPolicy):
             lag = max(lag, c.params.time_constant_s)
             if isinstance(c, TunnelThruster):
                 self.units.append((c.params.x_m, c.T_max, True))
+            elif isinstance(c, AzimuthThruster):
+                # athwartships ('side' order): thrust ~ rpm^2, as a tunnel thruster's
+                self.units.append((c.params.x_m, (1.0 - c.params.thrust_deduction) * c.T_max, True))
             else:
                 self.units.append((c.params.x_m, c.F_max * c.direction[1], False))
         #: sway and yaw loop time constant, s: ten seconds, or twice the lag of the slowest thruster or tug
