@@ -89,7 +89,10 @@ def test_the_3d_view_draws_the_harbour_and_the_own_ship_turns_in_it(room, tmp_pa
         png1 = ann.screenshot(str(tmp_path / "ann3d_1.png"))
         px1 = _canvas_pixels(ann, png1, "view3d")
         assert _red(px1).sum() > 300  # the chase camera keeps the ship in view
-        assert np.abs(px1 - px0).mean() > 3.0  # the harbour swung round it
+        # the harbour swung round it: count the pixels that changed clearly (> 96 levels over R+G+B); a mean over
+        # the canvas would mostly measure how much of it is uniform sky and sea (~3 levels here for a 20 deg turn)
+        changed = (np.abs(px1 - px0).sum(axis=2) > 96).mean()
+        assert changed > 0.01, changed  # 3.7 % measured after a 20 deg turn
         # the harbour camera: the whole harbour from above, the ship where the physics has it
         js(ann, "document.getElementById('cam3d').value = 'harbour'; "
                 "document.getElementById('cam3d').dispatchEvent(new Event('change')); true")  # fmt: skip
