@@ -47,20 +47,6 @@ def load_json_sidecar(path: Path) -> Any:
         raise UsageError(f"{path}: not a readable JSON sidecar ({exc})") from None
 
 
-class _NormalizedObs:
-    """A policy behind the observation normalisation of a ``VecNormalize`` saved with the model."""
-
-    def __init__(self, policy: Any, stats: Any) -> None:
-        self.policy = policy
-        self.stats = stats
-
-    def reset(self, mask: np.ndarray | None = None) -> None:
-        self.policy.reset(mask)
-
-    def __call__(self, obs: np.ndarray) -> np.ndarray:
-        return self.policy(self.stats.normalize_obs(np.asarray(obs, dtype=np.float32)))
-
-
 def _same_task(a: str, b: str) -> bool:
     """Whether two registered ids are presets of one task (an agent may run on another preset of its task,
     e.g. CollisionAvoidance-v0's in the Channel, where its observation fits: :func:`load_agent` checks)."""
@@ -75,8 +61,8 @@ def _same_task(a: str, b: str) -> bool:
 def load_agent(agent: str | Path, env: Any) -> Any:
     """Policy ``action = policy(obs)`` with ``reset()`` for ``env``: a baseline name or a model path.
 
-    Models load through :func:`vessel_gym.policy.load_policy`; if training used ``normalize`` with
-    ``norm_obs``, the saved statistics (``<stem>_vecnormalize.pkl``) are applied to the observations.
+    Models load through :func:`vessel_gym.policy.load_policy`, which applies the observation statistics
+    saved with the model (``<stem>_vecnormalize.pkl``) when training normalised observations.
     """
     from vessel_gym.policy import load_policy
 
@@ -87,15 +73,6 @@ def load_agent(agent: str | Path, env: Any) -> Any:
         policy = load_policy(spec, env)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    vn = sidecar(spec, "_vecnormalize.pkl") if spec not in PILOTS else None
-    if vn is not None and vn.is_file():
-        import pickle
-
-        with open(vn, "rb") as f:
-            stats = pickle.load(f)
-        if getattr(stats, "norm_obs", False):
-            stats.training = False
-            policy = _NormalizedObs(policy, stats)
     return policy
 
 

@@ -23,15 +23,41 @@ PILOTS_FILE = Path(__file__).resolve().parent / "envs" / "pilots.toml"
 
 
 class _SB3Policy:
-    def __init__(self, model: Any) -> None:
+    """A trained model; ``stats`` is the ``VecNormalize`` its training saved when it normalised observations
+    (``<stem>_vecnormalize.pkl`` beside the model): the model only ever saw normalised observations, so every
+    user of the model (evaluation, ``serve``, the classroom) must apply the same statistics."""
+
+    def __init__(self, model: Any, stats: Any = None) -> None:
         self.model = model
+        self.stats = stats
 
     def reset(self, mask: np.ndarray | None = None) -> None:
         pass
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
+        if self.stats is not None:
+            obs = self.stats.normalize_obs(np.asarray(obs, dtype=np.float32))
         action, _ = self.model.predict(obs, deterministic=True)
         return action
+
+
+def _observation_stats(path: Path) -> Any:
+    """The observation statistics saved beside the model at ``path`` (None when training did not normalise
+    observations); an unreadable file is a ValueError naming it."""
+    import pickle
+
+    vn = path.with_name(path.stem + "_vecnormalize.pkl")
+    if not vn.is_file():
+        return None
+    try:
+        with open(vn, "rb") as f:
+            stats = pickle.load(f)
+    except Exception as exc:  # a truncated/foreign file: one clear line
+        raise ValueError(f"{vn}: not readable observation statistics ({exc})") from None
+    if not getattr(stats, "norm_obs", False):
+        return None
+    stats.training = False
+    return stats
 
 
 def nomoto_pid_kwargs(env: Any, omega_n_UL: float = 0.6, zeta: float = 0.9) -> dict[str, float]:
@@ -167,7 +193,7 @@ def load_policy(spec: str, env: Any, algo: str | None = None):
             f"agent {spec!r}: observation shape {model.observation_space.shape} does not match "
             f"the environment's {base.observation_space.shape}"
         )
-    return _SB3Policy(model)
+    return _SB3Policy(model, _observation_stats(path))
 
 
 __all__ = [

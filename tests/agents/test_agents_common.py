@@ -27,8 +27,29 @@ def test_every_hyperparameter_block_is_valid(algo: str) -> None:
         assert cfg.n_timesteps >= 1000 and cfg.n_envs >= 1
         common.make_env(env_id, cfg.env_kwargs).close()
         common.make_env(env_id, cfg.eval_env_kwargs).close()
-        if cfg.normalize is not None:  # keep models loadable by load_policy without statistics
-            assert not cfg.normalize["norm_obs"], f"{algo}.yml {env_id}: norm_obs needs the saved statistics"
+        if cfg.normalize is not None:
+            assert set(cfg.normalize) >= {"norm_obs", "norm_reward"}, f"{algo}.yml {env_id}: {cfg.normalize}"
+
+
+def test_load_policy_applies_the_observation_statistics_saved_with_a_model() -> None:
+    """A model trained on normalised observations (Berthing-v0's defaults) acts on them wherever it is loaded
+    (``vessel_gym.policy.load_policy``: evaluation, ``serve``, the classroom), not on raw observations."""
+    import numpy as np
+
+    from vessel_gym.policy import load_policy
+
+    path = common.HYPERPARAMS_DIR.parent / "trained" / "ppo_Berthing-v0_seed0.zip"
+    env = common.make_env("vessel_gym/Berthing-v0", {})
+    try:
+        obs, _ = env.reset(seed=0)
+        policy = load_policy(str(path), env)
+        assert policy.stats is not None and policy.stats.norm_obs and not policy.stats.training
+        normalised = policy.stats.normalize_obs(np.asarray(obs, dtype=np.float32))
+        assert not np.allclose(normalised, obs)  # the statistics change what the model sees
+        expected, _ = policy.model.predict(normalised, deterministic=True)
+        assert np.array_equal(policy(obs), expected)
+    finally:
+        env.close()
 
 
 def test_unknown_hyperparameter_is_named() -> None:
