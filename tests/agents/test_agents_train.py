@@ -81,7 +81,7 @@ def test_vecnormalize_statistics_are_applied(tmp_path: Path) -> None:
     assert res.vecnormalize_path is not None and res.vecnormalize_path.is_file()
     env = common.make_env("vessel_gym/ZigZag-v1", {"schedule": "random"})
     policy = common.load_agent(res.model_path, env)
-    assert type(policy).__name__ == "_NormalizedObs"
+    assert policy.stats is not None and policy.stats.norm_obs and not policy.stats.training
     obs, _ = env.reset(seed=0)
     assert env.action_space.contains(np.asarray(policy(obs), dtype=np.float32))
 

@@ -184,7 +184,10 @@ def compose(
     slot is filled once: raises ValueError (one line naming ``where``) for an unknown or unsupported slot, a
     component in a slot a built-in still fills, two components in one slot, or a hull without added mass."""
     P = P.copy()
-    slots = [slot_name(name) for name in replace]
+    try:
+        slots = [slot_name(name) for name in replace]
+    except ValueError as exc:  # the one line names the file or caller, as every other refusal here
+        raise ValueError(f"{where}: {exc}") from None
     if "hull" in slots:
         remove_hull(P, ship)
     if "rudder" in slots:
