@@ -186,7 +186,14 @@ def stability_finding(ship: Ship) -> Finding:
         return np.array([Y + cY, N + cN])
 
     J = np.column_stack([(yn(dv, 0.0) - yn(-dv, 0.0)) / (2 * dv), (yn(0.0, dr) - yn(0.0, -dr)) / (2 * dr)])
-    lam = np.linalg.eigvals(np.linalg.solve(mass_matrix(ship)[1:, 1:], J))
+    M = mass_matrix(ship)[1:, 1:]
+    if not (np.isfinite(M).all() and np.isfinite(J).all()):
+        # derivatives so large (a typo such as 1e300) that the sway-yaw mass or damping overflows: say where
+        raise ValueError(
+            f"{ship.path or ship.name}: the sway-yaw mass or damping is not finite at the test speed "
+            "(check the hull derivatives and the added-mass terms for a misplaced exponent)"
+        )
+    lam = np.linalg.eigvals(np.linalg.solve(M, J))
     top = float(max(lam.real))
     return Finding(
         "course stability, 1/s",
