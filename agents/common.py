@@ -54,7 +54,7 @@ from agents.evaluation import (  # noqa: F401
     run_record,
     summarize,
 )
-from agents.training import TrainResult, build_model, train  # noqa: F401
+from agents.training import TrainResult, build_model, curriculum_callback, train  # noqa: F401
 
 __all__ = [
     "ALGOS",
@@ -65,6 +65,7 @@ __all__ = [
     "TrainResult",
     "UsageError",
     "build_model",
+    "curriculum_callback",
     "env_short_name",
     "evaluate",
     "load_agent",

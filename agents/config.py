@@ -34,7 +34,10 @@ META_KEYS = (
     "action_filter",
     "noise_type",
     "noise_std",
+    "curriculum",
 )
+#: keys of a ``curriculum`` block (agents.training.curriculum_callback)
+CURRICULUM_KEYS = ("levels", "promote_at", "window", "final_by")
 NORMALIZE_KEYS = ("norm_obs", "norm_reward", "clip_obs", "clip_reward", "gamma", "epsilon")
 ACTIVATIONS = ("tanh", "relu", "elu", "leaky_relu", "gelu", "silu")
 
@@ -231,10 +234,45 @@ class RunConfig:
     eval_env_kwargs: dict[str, Any]
     env_wrapper: Any
     action_filter: Any  # wrappers of agents.wrappers applied in training and evaluation (run record, sidecar)
+    curriculum: dict[str, Any] | None  # see _curriculum: difficulty levels of the training episodes
     policy_kwargs: dict[str, Any]
     algo_kwargs: dict[str, Any]
     noise: tuple[str, float] | None
     hyperparams: dict[str, Any] = field(default_factory=dict)  # the block as written (for the run record)
+
+
+def _curriculum(block: Any) -> dict[str, Any] | None:
+    """The ``curriculum`` key checked: ``levels`` (the training episodes' ``difficulty``, easiest first,
+    at least two), ``promote_at`` (success rate over the last ``window`` finished training episodes that moves
+    to the next level, in (0, 1]) and ``final_by`` (fraction of ``n_timesteps`` by which the last level is
+    reached whatever the success: level k at the latest at k / (len(levels) - 1) x final_by)."""
+    if block is None:
+        return None
+    if not isinstance(block, Mapping):
+        raise UsageError(f"hyperparameter curriculum: expected a mapping, got {block!r}")
+    bad = sorted(set(block) - set(CURRICULUM_KEYS))
+    if bad:
+        raise UsageError(
+            f"hyperparameter curriculum: unknown key(s) {', '.join(bad)} (allowed: {', '.join(CURRICULUM_KEYS)})"
+        )
+    levels = block.get("levels")
+    if not isinstance(levels, list) or len(levels) < 2 or not all(isinstance(v, (int, str)) for v in levels):
+        raise UsageError(
+            f"hyperparameter curriculum.levels: expected a list of at least two levels, got {levels!r}"
+        )
+    out: dict[str, Any] = {"levels": list(levels)}
+    for key, default, lo, hi in (("promote_at", 0.8, 0.0, 1.0), ("final_by", 0.5, 0.0, 1.0)):
+        v = block.get(key, default)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not lo < float(v) <= hi:
+            raise UsageError(
+                f"hyperparameter curriculum.{key}: expected a number in ({lo:g}, {hi:g}], got {v!r}"
+            )
+        out[key] = float(v)
+    w = block.get("window", 100)
+    if isinstance(w, bool) or not isinstance(w, int) or w < 1:
+        raise UsageError(f"hyperparameter curriculum.window: expected a positive integer, got {w!r}")
+    out["window"] = w
+    return out
 
 
 def run_config(algo: str, env_id: str, hyperparams: Mapping[str, Any]) -> RunConfig:
@@ -303,6 +341,7 @@ def run_config(algo: str, env_id: str, hyperparams: Mapping[str, Any]) -> RunCon
         eval_env_kwargs=dict(eval_env_kwargs),
         env_wrapper=copy.deepcopy(hp.get("env_wrapper")),
         action_filter=copy.deepcopy(hp.get("action_filter")),
+        curriculum=_curriculum(hp.get("curriculum")),
         policy_kwargs=kwargs.pop("policy_kwargs"),
         algo_kwargs=kwargs,
         noise=noise,

@@ -82,7 +82,7 @@ from vessel_gym.envs.registration import declaration
 PLAN: dict[str, tuple[str, ...]] = {
     "vessel_gym/ZigZagRandom-v1": ("ppo", "sac"),
     "vessel_gym/HarbourApproach-v1": ("ppo",),
-    "vessel_gym/HarbourApproach-v3": ("ppo",),
+    "vessel_gym/HarbourApproach-v3": ("ppo", "sac"),
     "vessel_gym/TurningCircle-v0": ("ppo",),
     "vessel_gym/Berthing-v0": ("ppo",),
 }
@@ -170,6 +170,21 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--no-bc", action="store_true", help="no behaviour-cloning rows (BC_PLAN)")
     p.add_argument("--threads", type=positive(int, "--threads"), default=1, help="torch threads")
+    p.add_argument(
+        "--jobs",
+        type=positive(int, "--jobs"),
+        default=1,
+        help="training runs at once, each in its own process (default 1; 2 on a 2-core machine: the wall "
+        "times in the table are then those of two runs sharing it)",
+    )
+    p.add_argument(
+        "--time-budget",
+        type=positive(float, "--time-budget"),
+        default=None,
+        metavar="MIN",
+        help="also stop each training run after MIN minutes of wall clock (the goal's 20: a safety cap; the "
+        "budget is the block's steps)",
+    )
     p.add_argument(
         "--eval-freq",
         type=positive(int, "--eval-freq"),
@@ -413,6 +428,43 @@ def _pid_validation(env_id: str, episodes: int, kw: dict[str, Any]) -> dict[str,
     return {"return": ev["return_mean"], "success": ev.get("success_rate")}
 
 
+def _train_options(args: argparse.Namespace, steps: int) -> dict[str, Any]:
+    """The keyword arguments of :func:`train` for one run of the plan."""
+    return {
+        "timesteps": steps,
+        "out": Path(args.out),
+        "threads": args.threads,
+        "eval_freq": min(args.eval_freq, steps),
+        "eval_episodes": args.eval_episodes,
+        "time_budget_s": args.time_budget * 60.0 if args.time_budget else None,
+    }
+
+
+def _trained(res: Any, path: Path, args: argparse.Namespace) -> None:
+    _log(f"  {res.n_timesteps} steps in {res.wall_time_s / 60:.1f} min -> {res.model_path}")
+    if args.select == "final":  # no stale "best" of an earlier run next to the final model
+        path.with_name(path.stem + "_best.zip").unlink(missing_ok=True)
+        path.with_name(path.stem + "_best.yml").unlink(missing_ok=True)
+
+
+def _train_in_parallel(args: argparse.Namespace, runs: list[tuple[str, str, int, Path, int]]) -> set[Path]:
+    """``--jobs``: the training runs ``(algo, env id, seed, model path, steps)`` in ``args.jobs`` worker
+    processes (spawned: each imports torch and the kernels afresh); the model paths trained."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    done: set[Path] = set()
+    with ProcessPoolExecutor(args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = {}
+        for algo, env_id, seed, path, steps in runs:
+            _log(f"train {algo} on {env_id}, seed {seed} ({steps} steps; {args.jobs} at once)")
+            futures[pool.submit(train, algo, env_id, seed, **_train_options(args, steps))] = path
+        for fut in as_completed(futures):
+            _trained(fut.result(), futures[fut], args)
+            done.add(futures[fut])
+    return done
+
+
 def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     import stable_baselines3 as sb3
     import torch
@@ -426,6 +478,17 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     load_start = os.getloadavg()[0]
     eval_seed = seeds.episode_seeds("test", args.episodes)[0]  # never seen in training or model selection
     sections, curves_out, shipped_files = [], {}, []
+    trained_now: set[Path] = set()
+    if args.jobs > 1 and not args.skip_train:
+        runs = []
+        for env_id in envs:
+            for algo in [a for a in (args.algos or PLAN.get(env_id, ("ppo",))) if a != "bc"]:
+                steps = args.timesteps or run_config(algo, env_id, load_hyperparams(algo, env_id)).n_timesteps
+                for seed in train_seeds:
+                    path = out / f"{model_stem(algo, env_id, seed)}.zip"
+                    if not (args.resume and path.is_file()):
+                        runs.append((algo, env_id, seed, path, steps))
+        trained_now = _train_in_parallel(args, runs)
     tracks: dict[str, str] = {}
     for env_id in envs:
         trained: list[tuple[str, list[Path]]] = []
@@ -435,7 +498,9 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
         algos = [a for a in (args.algos or PLAN.get(env_id, ("ppo",))) if a != "bc"]
         bc_only = not algos  # --algos bc: the behaviour-cloning row alone, in a block of its own
         if bc_only and (env_id not in BC_PLAN or args.no_bc):
-            raise UsageError(f"--algos bc: {env_id} has no behaviour-cloning row (BC_PLAN: {', '.join(BC_PLAN)})")
+            raise UsageError(
+                f"--algos bc: {env_id} has no behaviour-cloning row (BC_PLAN: {', '.join(BC_PLAN)})"
+            )
         if bc_only:
             eval_kwargs = run_config("ppo", env_id, load_hyperparams("ppo", env_id)).eval_env_kwargs
         for algo in algos:
@@ -447,23 +512,11 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
             paths = []
             for seed in train_seeds:
                 path = out / f"{model_stem(algo, env_id, seed)}.zip"
-                if not args.skip_train and not (args.resume and path.is_file()):
+                fresh = path in trained_now
+                if not args.skip_train and not fresh and not (args.resume and path.is_file()):
                     steps = args.timesteps or cfg.n_timesteps
                     _log(f"train {algo} on {env_id}, seed {seed} ({steps} steps)")
-                    res = train(
-                        algo,
-                        env_id,
-                        seed,
-                        timesteps=steps,
-                        out=out,
-                        threads=args.threads,
-                        eval_freq=min(args.eval_freq, steps),
-                        eval_episodes=args.eval_episodes,
-                    )
-                    _log(f"  {res.n_timesteps} steps in {res.wall_time_s / 60:.1f} min -> {res.model_path}")
-                    if args.select == "final":  # no stale "best" of an earlier run next to the final model
-                        path.with_name(path.stem + "_best.zip").unlink(missing_ok=True)
-                        path.with_name(path.stem + "_best.yml").unlink(missing_ok=True)
+                    _trained(train(algo, env_id, seed, **_train_options(args, steps)), path, args)
                 if not path.is_file():
                     raise UsageError(f"no model {path} (train first, without --skip-train)")
                 if args.select == "best":

@@ -66,6 +66,59 @@ def _stop_on_wall_clock(seconds: float) -> Any:
     return StopOnWallClock()
 
 
+def curriculum_callback(spec: Mapping[str, Any], n_timesteps: int, n_envs: int) -> Any:
+    """SB3 callback of a ``curriculum`` block (:func:`agents.config._curriculum`): the training episodes start
+    at ``levels[0]`` (the training environment is made at it) and move to the next level, through the
+    environment's ``set_difficulty`` (from each copy's next reset), when the success rate of the last
+    ``window`` training episodes begun at the current level reaches ``promote_at``, or at the latest when
+    training passes k / (len(levels) - 1) x ``final_by`` x ``n_timesteps`` for level k: a curriculum that
+    ends on the task itself in every run. ``history``: (timesteps, level, why) of every change, for the run
+    record."""
+    from collections import deque
+
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    levels = list(spec["levels"])
+    last = len(levels) - 1
+    deadlines = [k / last * spec["final_by"] * n_timesteps for k in range(len(levels))]
+
+    class Curriculum(BaseCallback):
+        def __init__(self) -> None:
+            super().__init__()
+            self.index = 0
+            self.history: list[dict[str, Any]] = [{"timesteps": 0, "level": levels[0], "why": "start"}]
+            self.recent: deque[bool] = deque(maxlen=spec["window"])
+            # a copy's first episode to end after a change began at the level before it: not counted
+            self.fresh = np.ones(n_envs, dtype=bool)
+
+        def _on_step(self) -> bool:
+            for i, (done, info) in enumerate(zip(self.locals["dones"], self.locals["infos"])):
+                if not done:
+                    continue
+                if self.fresh[i]:
+                    self.recent.append(bool(info.get("success", False)))
+                self.fresh[i] = True
+            self.logger.record("curriculum/level", self.index)  # learning curves over the levels
+            if self.index < last:
+                full = len(self.recent) == self.recent.maxlen
+                if full and float(np.mean(self.recent)) >= spec["promote_at"]:
+                    self._promote(f"success {np.mean(self.recent):.2f} over {len(self.recent)} episodes")
+                elif self.num_timesteps >= deadlines[self.index + 1]:
+                    self._promote("schedule")
+            return True
+
+        def _promote(self, why: str) -> None:
+            self.index += 1
+            self.training_env.env_method("set_difficulty", levels[self.index])
+            self.history.append(
+                {"timesteps": int(self.num_timesteps), "level": levels[self.index], "why": why}
+            )
+            self.recent.clear()
+            self.fresh[:] = False
+
+    return Curriculum()
+
+
 #: per periodic evaluation, the training time spent until then (next to SB3's ``evaluations.npz``)
 EVAL_TIMES_FILE = "eval_times.npz"
 
@@ -208,7 +261,10 @@ def train(
     from agents.wrappers import join
 
     train_wrappers = join(cfg.action_filter, cfg.env_wrapper)  # the filter innermost: it is the agent's
-    venv = make_vec_env(env_id, cfg.n_envs, seed, vec, cfg.env_kwargs, env_wrapper=train_wrappers or None)
+    train_kwargs = dict(cfg.env_kwargs)
+    if cfg.curriculum is not None:  # the first episodes already at the first level
+        train_kwargs["difficulty"] = cfg.curriculum["levels"][0]
+    venv = make_vec_env(env_id, cfg.n_envs, seed, vec, train_kwargs, env_wrapper=train_wrappers or None)
     try:
         if cfg.normalize is not None:
             norm = dict(cfg.normalize)
@@ -221,6 +277,10 @@ def train(
         stopper = _stop_on_wall_clock(time_budget_s) if time_budget_s else None
         if stopper is not None:
             cbs.append(stopper)
+        teacher = None
+        if cfg.curriculum is not None:
+            teacher = curriculum_callback(cfg.curriculum, cfg.n_timesteps, cfg.n_envs)
+            cbs.append(teacher)
         evaluator = None
         if eval_freq:
             # one copy per validation episode, all reseeded before every evaluation: the same episodes each time
@@ -277,6 +337,8 @@ def train(
         "eval_env_kwargs": cfg.eval_env_kwargs,
         "env_wrapper": cfg.env_wrapper,
         "action_filter": cfg.action_filter,
+        "curriculum": cfg.curriculum,
+        "curriculum_history": teacher.history if teacher is not None else None,
         "vecnormalize": vn_path.name if vn_path else None,
         "train_time_s": round(wall, 2),
         "cpu_time_s": round(cpu, 2),

@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 
 import pytest
+import yaml
 
 from agents import results, results_doc, seeds
 
@@ -120,7 +121,9 @@ def test_harbour_verdict_and_table() -> None:
 def test_harbour_helmsman_goal_per_seed() -> None:
     """The harbour goal beyond success: median over the seeds of time (shorter than the pid's), rudder rate (at
     most 2x its) and minimum clearance (no smaller), with the gap of every failed test."""
-    pid = _row("pid", success_rate=1.0, time_s_mean=300.0, rudder_rate_deg_s_mean=0.5, min_clearance_m_mean=5.0)
+    pid = _row(
+        "pid", success_rate=1.0, time_s_mean=300.0, rudder_rate_deg_s_mean=0.5, min_clearance_m_mean=5.0
+    )
 
     def seed(k, success, time, rate, clear):
         return {"seed": k, "selected_at_timesteps": 500_000, "summary": {
@@ -140,7 +143,10 @@ def test_harbour_helmsman_goal_per_seed() -> None:
     assert "rudder rate 1.20 vs 1.00 (misses by 0.20)" in text and "**not met**" in text
     table = results_doc.harbour_seed_table(row, pid["summary"])
     assert "| 0 | best at 500k | 100 | 250 | 0.80 (1.6x) | 6.00 | 40.0 | met |" in table
-    assert "| 1 | best at 500k | 95 | 260 | 1.20 (2.4x) | 4.00 | 40.0 | misses rudder rate, min clearance |" in table
+    assert (
+        "| 1 | best at 500k | 95 | 260 | 1.20 (2.4x) | 4.00 | 40.0 | misses rudder rate, min clearance |"
+        in table
+    )
 
 
 def test_write_doc_replaces_only_the_blocks_of_the_run(tmp_path: Path) -> None:
@@ -191,7 +197,12 @@ def test_results_end_to_end_tiny(tmp_path: Path, monkeypatch) -> None:
     assert results.main(argv) == 0
     data = json.loads((tmp_path / "out" / "results.json").read_text())
     rows = data["sections"][0]["rows"]
-    assert [r["agent"] for r in rows] == ["pid", "scripted", "ppo (2 seeds)", f"{results.ROW_NAMES['bc']} (2 seeds)"]
+    assert [r["agent"] for r in rows] == [
+        "pid",
+        "scripted",
+        "ppo (2 seeds)",
+        f"{results.ROW_NAMES['bc']} (2 seeds)",
+    ]
     assert rows[3]["training"]["num_timesteps"] == 128 and rows[3]["summary"]["seeds"] == 2
     rl = rows[2]
     assert [p["seed"] for p in rl["per_seed"]] == [0, 1] and rl["summary"]["seeds"] == 2
@@ -261,7 +272,9 @@ def test_a_cloning_row_alone_has_a_block_of_its_own(tmp_path: Path) -> None:
                       "main": True, "kind": "harbour", "rows": [pid, bc]}],
     }  # fmt: skip
     text = results_doc.markdown(res)
-    assert text.startswith(results_doc.begin_marker(f"{env}:bc")) and text.endswith(results_doc.end_marker(f"{env}:bc"))
+    assert text.startswith(results_doc.begin_marker(f"{env}:bc")) and text.endswith(
+        results_doc.end_marker(f"{env}:bc")
+    )
     assert f"### {env} (behaviour cloning) — training configuration" in text
     doc = tmp_path / "results.md"
     scratch = f"{results_doc.begin_marker(env)}\nfrom scratch\n{results_doc.end_marker(env)}"
@@ -316,3 +329,32 @@ def test_berthing_table_and_verdict() -> None:
     assert "fender overload %" in head and "contact speed m/s" in head
     assert "| 100 | 0 | success 20 | 0.040 ± 0.010 | 0.020 ± 0.010 | 830 ± 90 | 0.40 ± 0.10 |" in first
     assert "| 95 | 5 | fender_overload 1, success 19 |" in second
+
+
+@pytest.mark.slow
+def test_training_runs_in_parallel_give_the_models_of_one_at_a_time(tmp_path: Path) -> None:
+    """--jobs 2 trains the runs of the plan in two worker processes: the same models as one after the other in
+    this process (each run is seeded and single-threaded), each with its run record and its time budget."""
+    import argparse
+    import zipfile
+
+    from agents.training import train
+
+    env = "vessel_gym/ZigZag-v1"
+    args = argparse.Namespace(
+        jobs=2,
+        out=str(tmp_path / "two"),
+        threads=1,
+        eval_freq=128,
+        eval_episodes=1,
+        time_budget=10.0,
+        select="final",
+    )
+    runs = [("ppo", env, s, tmp_path / "two" / f"ppo_ZigZag-v1_s{s}.zip", 256) for s in (0, 1)]
+    assert results._train_in_parallel(args, runs) == {r[3] for r in runs}
+    one = train("ppo", env, 1, timesteps=256, out=tmp_path / "one", eval_freq=128, eval_episodes=1)
+    with zipfile.ZipFile(one.model_path) as a, zipfile.ZipFile(runs[1][3]) as b:
+        assert a.read("policy.pth") == b.read("policy.pth")
+    for _, _, seed, path, _ in runs:
+        record = yaml.safe_load(path.with_suffix(".yml").read_text())
+        assert record["seed"] == seed and record["time_budget_s"] == 600.0 and not record["budget_hit"]
