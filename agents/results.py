@@ -174,16 +174,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--jobs",
         type=positive(int, "--jobs"),
         default=1,
-        help="training runs at once, each in its own process (default 1; 2 on a 2-core machine: the wall "
-        "times in the table are then those of two runs sharing it)",
+        help="training runs at once, each in its own process (default 1; wall times: of runs sharing the CPU)",
     )
     p.add_argument(
         "--time-budget",
         type=positive(float, "--time-budget"),
         default=None,
         metavar="MIN",
-        help="also stop each training run after MIN minutes of wall clock (the goal's 20: a safety cap; the "
-        "budget is the block's steps)",
+        help="also stop each training run after MIN minutes of wall clock (a safety cap: the budget is in steps)",
     )
     p.add_argument(
         "--eval-freq",
@@ -428,6 +426,11 @@ def _pid_validation(env_id: str, episodes: int, kw: dict[str, Any]) -> dict[str,
     return {"return": ev["return_mean"], "success": ev.get("success_rate")}
 
 
+def _algos(args: argparse.Namespace, env_id: str) -> list[str]:
+    """The trained algorithms of ``env_id`` in this run (``bc`` rows are made by :func:`_cloned`)."""
+    return [a for a in (args.algos or PLAN.get(env_id, ("ppo",))) if a != "bc"]
+
+
 def _train_options(args: argparse.Namespace, steps: int) -> dict[str, Any]:
     """The keyword arguments of :func:`train` for one run of the plan."""
     return {
@@ -482,7 +485,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
     if args.jobs > 1 and not args.skip_train:
         runs = []
         for env_id in envs:
-            for algo in [a for a in (args.algos or PLAN.get(env_id, ("ppo",))) if a != "bc"]:
+            for algo in _algos(args, env_id):
                 steps = args.timesteps or run_config(algo, env_id, load_hyperparams(algo, env_id)).n_timesteps
                 for seed in train_seeds:
                     path = out / f"{model_stem(algo, env_id, seed)}.zip"
@@ -495,7 +498,7 @@ def run(args: argparse.Namespace, argv: list[str]) -> dict[str, Any]:
         eval_kwargs: dict[str, Any] | None = None
         pid_val: dict[str, Any] | None = None
         solved: dict[str, list[dict[str, Any]]] = {}
-        algos = [a for a in (args.algos or PLAN.get(env_id, ("ppo",))) if a != "bc"]
+        algos = _algos(args, env_id)
         bc_only = not algos  # --algos bc: the behaviour-cloning row alone, in a block of its own
         if bc_only and (env_id not in BC_PLAN or args.no_bc):
             raise UsageError(

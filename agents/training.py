@@ -26,7 +26,7 @@ from agents.config import (
     run_config,
     sidecar,
 )
-from agents.envs import make_vec_env
+from agents.envs import make_env, make_vec_env
 from agents.evaluation import evaluate
 
 
@@ -262,8 +262,12 @@ def train(
 
     train_wrappers = join(cfg.action_filter, cfg.env_wrapper)  # the filter innermost: it is the agent's
     train_kwargs = dict(cfg.env_kwargs)
-    if cfg.curriculum is not None:  # the first episodes already at the first level
-        train_kwargs["difficulty"] = cfg.curriculum["levels"][0]
+    if cfg.curriculum is not None:
+        # every level through the task's own config check now (a task without `difficulty`, a level out of
+        # its range: one line before training), not at a promotion mid-run; the first episodes at the first
+        for level in reversed(cfg.curriculum["levels"]):
+            train_kwargs["difficulty"] = level
+            make_env(env_id, train_kwargs).close()
     venv = make_vec_env(env_id, cfg.n_envs, seed, vec, train_kwargs, env_wrapper=train_wrappers or None)
     try:
         if cfg.normalize is not None:

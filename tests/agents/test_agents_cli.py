@@ -24,6 +24,10 @@ BAD = [
     (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams", "gamma"]),
     (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams", "env_kwargs.schedule=sometimes"]),
     (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams-file", "/nonexistent.yml"]),
+    # a curriculum: a bad block, a task without difficulty levels, a level out of the task's range
+    (train, ["--env", "HarbourApproach-v3", "--algo", "ppo", "--hyperparams", "curriculum={levels: [3]}"]),
+    (train, ["--env", "ZigZag-v1", "--algo", "ppo", "--hyperparams", "curriculum={levels: [0, 3]}"]),
+    (train, ["--env", "HarbourApproach-v3", "--algo", "ppo", "--hyperparams", "curriculum={levels: [0, 7]}"]),
     (evaluate, ["--env", "ZigZag-v1"]),  # --agent missing
     (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--episodes", "0"]),
     (evaluate, ["--env", "ZigZag-v1", "--agent", "pid", "--episodes", "two"]),
@@ -37,6 +41,8 @@ BAD = [
     (results, ["--seeds", "0"]),
     (results, ["--budget", "0"]),
     (results, ["--algos", "dqn"]),
+    (results, ["--jobs", "0"]),
+    (results, ["--time-budget", "nan"]),
     (results, ["--envs", "Nope-v0", "--skip-train"]),
     (tune_ray, ["--env", "ZigZag-v1", "--algo", "ppo", "--samples", "0"]),
     (tune_ray, ["--env", "ZigZag-v1"]),
