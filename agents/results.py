@@ -88,7 +88,7 @@ PLAN: dict[str, tuple[str, ...]] = {
 }
 #: environments with a row of the method that starts from the classical pilot: behaviour cloning by DAgger
 #: (agents/imitation.py, settings in agents/hyperparams/bc.yml), models in <out>/bc/, shipped to <ship-dir>/bc/
-BC_PLAN = ("vessel_gym/HarbourApproach-v1", "vessel_gym/HarbourApproach-v3")
+BC_PLAN = ("vessel_gym/ZigZagRandom-v1", "vessel_gym/HarbourApproach-v1", "vessel_gym/HarbourApproach-v3")
 DEFAULT_ENVS = tuple(env_short_name(i) for i in PLAN)
 #: further evaluations of the same agents: env id -> [(label, env kwargs)]
 EXTRA_EVALS: dict[str, list[tuple[str, dict[str, Any]]]] = {
