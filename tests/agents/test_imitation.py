@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 import yaml
 
-from agents import common, imitation
+from agents import common, imitation, results
+from vessel_gym.envs.registration import declaration
 
 
 def test_settings_block_checked(tmp_path: Path) -> None:
@@ -26,6 +27,14 @@ def test_settings_block_checked(tmp_path: Path) -> None:
         imitation.load_bc_settings("HarbourApproach-v1", bad)
     with pytest.raises(common.UsageError, match="no behaviour-cloning block"):
         imitation.load_bc_settings("ZigZag-v1", bad)
+
+
+@pytest.mark.parametrize("env_id", results.BC_PLAN)
+def test_every_cloning_row_of_the_study_has_its_block(env_id: str) -> None:
+    """results.py clones the pilot of every BC_PLAN environment: each has a bc.yml block whose pilot the
+    task declares, so a study run does not stop at its cloning row."""
+    st = imitation.load_bc_settings(env_id)
+    assert st["pilot"] in declaration(env_id).pilots
 
 
 def test_fit_regresses_the_mean_action_on_the_labels() -> None:
