@@ -35,6 +35,7 @@ from agents.config import (  # noqa: F401
     RunConfig,
     UsageError,
     check_algo,
+    check_keys,
     env_short_name,
     load_hyperparams,
     merge,

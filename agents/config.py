@@ -10,7 +10,7 @@ from __future__ import annotations
 import copy
 import inspect
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -205,18 +205,23 @@ def _policy_kwargs(value: Any) -> dict[str, Any]:
     return out
 
 
+def check_keys(what: str, block: Any, allowed: Iterable[str], expected: str = "a mapping") -> None:
+    """A settings block (``what``: where it stands, for the message) that must be a mapping of ``allowed``
+    keys only; anything else is a one-line UsageError naming it, the keys it got wrong and those allowed."""
+    if not isinstance(block, Mapping):
+        raise UsageError(f"{what}: expected {expected}, got {block!r}")
+    allowed = list(allowed)
+    bad = sorted(str(key) for key in set(block) - set(allowed))
+    if bad:
+        raise UsageError(f"{what}: unknown key(s) {', '.join(bad)} (allowed: {', '.join(allowed)})")
+
+
 def _normalize(value: Any) -> dict[str, Any] | None:
     if value in (None, False):
         return None
     if value is True:
         return {"norm_obs": True, "norm_reward": True}
-    if not isinstance(value, Mapping):
-        raise UsageError(f"hyperparameter normalize: expected true/false or a mapping, got {value!r}")
-    bad = sorted(set(value) - set(NORMALIZE_KEYS))
-    if bad:
-        raise UsageError(
-            f"hyperparameter normalize: unknown key(s) {bad} (allowed: {', '.join(NORMALIZE_KEYS)})"
-        )
+    check_keys("hyperparameter normalize", value, NORMALIZE_KEYS, "true/false or a mapping")
     return {"norm_obs": True, "norm_reward": True, **value}
 
 
@@ -248,13 +253,7 @@ def _curriculum(block: Any) -> dict[str, Any] | None:
     reached whatever the success: level k at the latest at k / (len(levels) - 1) x final_by)."""
     if block is None:
         return None
-    if not isinstance(block, Mapping):
-        raise UsageError(f"hyperparameter curriculum: expected a mapping, got {block!r}")
-    bad = sorted(set(block) - set(CURRICULUM_KEYS))
-    if bad:
-        raise UsageError(
-            f"hyperparameter curriculum: unknown key(s) {', '.join(bad)} (allowed: {', '.join(CURRICULUM_KEYS)})"
-        )
+    check_keys("hyperparameter curriculum", block, CURRICULUM_KEYS)
     levels = block.get("levels")
     if not isinstance(levels, list) or len(levels) < 2 or not all(isinstance(v, (int, str)) for v in levels):
         raise UsageError(

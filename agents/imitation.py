@@ -29,7 +29,15 @@ from typing import Any
 import numpy as np
 
 from agents import seeds
-from agents.config import UsageError, load_hyperparams, model_stem, resolve_env_id, run_config, sidecar
+from agents.config import (
+    UsageError,
+    check_keys,
+    load_hyperparams,
+    model_stem,
+    resolve_env_id,
+    run_config,
+    sidecar,
+)
 from agents.envs import make_vec_env
 from agents.training import TrainResult, build_model
 
@@ -56,9 +64,7 @@ def load_bc_settings(env_id: str, path: str | Path | None = None) -> dict[str, A
     block = (data or {}).get(env_id)
     if block is None:
         raise UsageError(f"{path}: no behaviour-cloning block for {env_id}")
-    bad = sorted(set(block) - set(DEFAULTS))
-    if bad:
-        raise UsageError(f"{path}: {env_id}: unknown key(s) {', '.join(bad)} (allowed: {', '.join(DEFAULTS)})")
+    check_keys(f"{path}: {env_id}", block, DEFAULTS)
     out = {**DEFAULTS, **block}
     if out["pilot"] not in ("pid", "scripted"):
         raise UsageError(f"{path}: {env_id}: pilot must be pid or scripted, got {out['pilot']!r}")
@@ -76,8 +82,15 @@ def _mean_action(policy: Any, obs: Any) -> Any:
     return policy.action_net(policy.mlp_extractor.forward_actor(features))
 
 
-def _fit(policy: Any, obs: np.ndarray, act: np.ndarray, epochs: int, batch: int, rng: np.random.Generator,
-         optimizer: Any) -> float:
+def _fit(
+    policy: Any,
+    obs: np.ndarray,
+    act: np.ndarray,
+    epochs: int,
+    batch: int,
+    rng: np.random.Generator,
+    optimizer: Any,
+) -> float:
     """``epochs`` passes of minibatch MSE regression of the mean action on the labels; the last epoch's loss."""
     import torch
 
@@ -164,8 +177,9 @@ def clone(
                     ends += int(done.sum())
                     successes += sum(bool(infos[i].get("is_success", False)) for i in np.flatnonzero(done))
             policy.set_training_mode(True)
-            loss = _fit(policy, np.concatenate(xs), np.concatenate(ys), st["epochs"], st["batch_size"], rng,
-                        optimizer)
+            loss = _fit(
+                policy, np.concatenate(xs), np.concatenate(ys), st["epochs"], st["batch_size"], rng, optimizer
+            )
             policy.set_training_mode(False)
             rounds.append(
                 {

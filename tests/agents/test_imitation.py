@@ -22,6 +22,9 @@ def test_settings_block_checked(tmp_path: Path) -> None:
     bad.write_text("vessel_gym/HarbourApproach-v1: {pilot: autopilot}\n")
     with pytest.raises(common.UsageError, match="pilot must be"):
         imitation.load_bc_settings("HarbourApproach-v1", bad)
+    bad.write_text("vessel_gym/HarbourApproach-v1: [rounds, 2]\n")  # a list where a block belongs
+    with pytest.raises(common.UsageError, match="HarbourApproach-v1: expected a mapping"):
+        imitation.load_bc_settings("HarbourApproach-v1", bad)
     bad.write_text("vessel_gym/HarbourApproach-v1: {rounds: 0}\n")
     with pytest.raises(common.UsageError, match="rounds must be an integer >= 1"):
         imitation.load_bc_settings("HarbourApproach-v1", bad)
