@@ -5,7 +5,8 @@
     vessel-cfd run --study study.toml [--out DIR ...]
     vessel-cfd wigley --lpp L --bwl B --tm T --out hull.stl
     vessel-cfd clarke --lpp L --bwl B --tm T --cb CB
-    vessel-cfd dtc-validation --out DIR [--hull DTC.stl] [--grading G] [--speeds ...] [--iterations N]
+    vessel-cfd dtc-validation --out DIR [--hull DTC.stl] [--grading G] [--grid K] [--speeds ...] [--iterations N]
+    vessel-cfd dtc-grid-study --grids DIR0,DIR1[,DIR2] --out DIR [--speeds ...]
 
 Exit codes: 0 success, 1 a CFD step failed (one line on stderr naming the step and its log),
 2 bad input (one line on stderr naming the argument or key and the allowed range), 3 the study finished
@@ -137,12 +138,17 @@ def _parser() -> OneLineParser:
     dv.add_argument("--hull", help="the DTC STL (default: Debian openfoam-examples' DTC-scaled.stl.gz)")
     dv.add_argument("--out", required=True, help="output folder (cases/, validation.md, validation.json)")
     dv.add_argument("--grading", default="1", help="mesh grading 1-5")
+    dv.add_argument("--grid", default="0", help="grid K of a grid study: cells / sqrt(2)^K (0-3)")
     dv.add_argument("--speeds", help="tank speeds to run (m/s), e.g. 1.668 (default: all six)")
     dv.add_argument("--iterations", default="4000", help="interFoam LTS iterations per speed")
     dv.add_argument("--procs", default="1", help="MPI processors per case")
     dv.add_argument(
         "--mode", default="run", help="run; write (mesh, write the cases, run none); collect (report)"
     )
+    gs = sub.add_parser("dtc-grid-study", help="DTC free-surface tows on 2-3 grids: GCI and tank error")
+    gs.add_argument("--grids", required=True, help="the grids' dtc-validation folders, comma-separated")
+    gs.add_argument("--out", required=True, help="output folder (grid_study.md, grid_study.json)")
+    gs.add_argument("--speeds", help="tank speeds (m/s) (default: every speed run on every grid)")
     sub.add_parser("interactive", help="interactive set-up (the default without a command)")
     w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
     for opt in ("lpp", "bwl", "tm", "out"):
@@ -495,9 +501,19 @@ def _dtc_validation(args: argparse.Namespace) -> int:
         procs=int(parse_number("procs", args.procs, 1, 4 * (os.cpu_count() or 1), integer=True)),
         progress=Progress(),
         mode=args.mode,
+        grid=int(parse_number("grid", args.grid, 0, 3, integer=True)),
     )
     print("\n".join(console_lines(doc, Path(args.out))))
     return 0 if doc.get("passed", True) else EXIT_UNVERIFIED
+
+
+def _dtc_grid_study(args: argparse.Namespace) -> int:
+    from .tank_grid import console_lines, dtc_grid_study  # noqa: PLC0415
+
+    speeds = parse_list("speeds", args.speeds, 0.0, 20.0) if args.speeds else None
+    doc = dtc_grid_study([Path(f) for f in args.grids.split(",") if f.strip()], Path(args.out), speeds)
+    print("\n".join(console_lines(doc, Path(args.out))))
+    return 0 if doc["passed"] else EXIT_UNVERIFIED
 
 
 def _wigley(args: argparse.Namespace) -> int:
@@ -546,6 +562,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _slurm(args)
         if args.command == "dtc-validation":
             return _dtc_validation(args)
+        if args.command == "dtc-grid-study":
+            return _dtc_grid_study(args)
         if args.command == "wigley":
             return _wigley(args)
         if args.command == "clarke":

@@ -37,6 +37,10 @@ BAND_OUTER = 0.06
 AHEAD_OF_BOW = 0.5  # Lpp of free-surface refinement ahead of the bow
 AIR = {"nu": 1.48e-5, "rho": 1.0}  # air at 15 deg C (m2/s, kg/m3), as in the DTCHull tutorial
 G = 9.81  # m/s2
+# A stopped run continues from its last written iteration (startFrom latestTime), so the cases write every
+# RESTART_EVERY iterations (every quarter of a shorter run), keeping only the latest: a run stopped at the
+# end of a 150-minute slot loses at most that many (2-7 min of a fine grid's iterations on 2 cores).
+RESTART_EVERY = 250
 
 
 def free_surface_spec(spec: MeshSpec, half: bool = True) -> MeshSpec:
@@ -99,8 +103,10 @@ def write_free_surface_mesh(case: Path, fs: MeshSpec, stl: Path, procs: int = 1)
     # Castellated hull: every snapped hull mesh we tried (feature snapping on or off, tighter tolerances,
     # prism layers) blew up within 10-30 interFoam iterations in v1912 (also single-phase, also without
     # gravity, also with Euler at Co 0.2), while pimpleFoam ran on the same snapped mesh and interFoam on the
-    # castellated one: the stair-stepped surface is what runs here. It adds roughness-like drag that shrinks
-    # with the grading; docs/cfd.md says so next to every free-surface number.
+    # castellated one: the stair-stepped surface is what runs here. The DTCHull tutorial's own snapped,
+    # layered mesh blows up the same way on this build, and so do prism layers on the castellated hull
+    # (cfd/studies/dtc_snapped_probe/). It adds roughness-like drag that shrinks with the cell size;
+    # docs/cfd.md says so next to every free-surface number.
     snappy["snap"] = False
     snappy["addLayers"] = False
     foamdict.write(system / "snappyHexMeshDict", snappy)
@@ -285,7 +291,7 @@ def write_free_surface_case(
             "endTime": iterations,
             "deltaT": 1,
             "writeControl": "timeStep",
-            "writeInterval": max(1, iterations // 4),
+            "writeInterval": max(1, min(iterations // 4, RESTART_EVERY)),
             "purgeWrite": 1,
             "writeFormat": "binary",
             "writePrecision": 10,

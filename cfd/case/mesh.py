@@ -116,7 +116,7 @@ def _snappy(spec: MeshSpec) -> dict[str, Any]:
             "maxGlobalCells": 50_000_000,
             "minRefinementCells": 10,
             "maxLoadUnbalance": 0.10,
-            "nCellsBetweenLevels": 3,
+            "nCellsBetweenLevels": spec.cells_between_levels,
             "features": [{"file": '"hull.eMesh"', "level": H}],
             "refinementSurfaces": {HULL_PATCH: {"level": (H, H), "patchInfo": {"type": "wall"}}},
             "resolveFeatureAngle": 30,

@@ -29,6 +29,9 @@ TABLE2_HALF_BREADTH = 0.859 / (2 * 5.976)
 # to each side, 1 Lpp deep), enclosing the seed's outermost box with 0.5-0.8 Lpp to spare.
 DOMAIN = ((-3.0, 2.0), (-1.5, 1.5), (-1.0, 0.0))
 BACKGROUND_CELLS_PER_L = 8
+# Cells of one level between two refinement levels (snappyHexMesh nCellsBetweenLevels) at cell_scale 1; a
+# finer family member has proportionally more, so the transitions keep their physical width.
+CELLS_BETWEEN_LEVELS = 3
 
 
 @dataclass(frozen=True)
@@ -75,6 +78,7 @@ class MeshSpec:
     expansion: float = 1.2
     yplus_target: float = 0.0  # y+ the first layer was sized for (0: no layers)
     wakes: tuple[Wake, ...] = ()
+    cells_between_levels: int = 3  # snappyHexMesh's buffer of cells between two refinement levels
 
     @property
     def h_hull(self) -> float:
@@ -102,6 +106,7 @@ def mesh_spec(
     yplus: float = 150.0,
     sizing: str = "grading",
     wake_deg: tuple[float, ...] = (),
+    cell_scale: float = 1.0,
 ) -> MeshSpec:
     """Background mesh, Table-2 boxes and surface levels for a hull of Lpp L, breadth B, draught T.
 
@@ -110,13 +115,20 @@ def mesh_spec(
     of level < 1 dropped (grading 5 uses the seed's full six-box scheme).
     ``sizing="yplus"``: the seed's rule — hull cells as high as the y⁺ wall cell (2 × wall distance,
     aspect ratio 1) and background cell = that size × 2^levels. Expect very large meshes.
+    ``cell_scale`` (grading sizing) multiplies the background cell, hence every cell, leaving the levels,
+    the regions' extents and the physical width of the transitions between levels (the buffer of
+    :data:`CELLS_BETWEEN_LEVELS` cells grows as the cells shrink) as they are: meshes with cell_scale 1, 1/√2
+    and 1/2 are a systematically refined family with refinement ratio √2 (a grid study's grids), which the
+    grading's level steps are not.
     """
+    if not 0.0 < cell_scale <= 4.0:
+        raise ValueError(f"cell_scale must be in (0, 4], got {cell_scale}")
     H = hull_level_for(grading, L, T)
     y_wall = wall_distance(U, L, nu, yplus)
     if sizing == "yplus":
         h0 = 2.0 * y_wall * 2**H
     else:
-        h0 = L / BACKGROUND_CELLS_PER_L
+        h0 = L / BACKGROUND_CELLS_PER_L * cell_scale
     lo, hi, cells = [], [], []
     for a, b in DOMAIN:
         n = max(1, math.ceil(round((b - a) * L / h0, 9)))
@@ -166,6 +178,7 @@ def mesh_spec(
         t1,
         yplus_target=yplus if n_layers else 0.0,
         wakes=wake_regions(L, B, T, H, wake_deg),
+        cells_between_levels=max(1, round(CELLS_BETWEEN_LEVELS / cell_scale)),
     )
 
 

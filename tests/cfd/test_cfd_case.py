@@ -78,6 +78,31 @@ def test_mesh_spec_grading_scales_levels_and_boxes():
     assert abs(y) > B and z < -T  # the fluid point is away from the hull
 
 
+def test_a_grid_family_divides_every_cell_by_the_same_ratio():
+    # grid k of a grid study: cell_scale sqrt(2)^-k; every cell size shrinks by the ratio (background, hull
+    # and every box, since their levels are unchanged), the regions stay where they are, and the buffer
+    # between two levels keeps its physical width (3 cells at scale 1, 6 at scale 1/2)
+    family = [mesh_spec(L, B, T, 1, U=1.0, nu=1e-6, cell_scale=math.sqrt(2) ** -k) for k in range(3)]
+    for coarse, fine in zip(family, family[1:]):
+        assert coarse.h0 / fine.h0 == pytest.approx(math.sqrt(2))
+        assert coarse.h_hull / fine.h_hull == pytest.approx(math.sqrt(2))
+        assert [b.level for b in fine.boxes] == [b.level for b in coarse.boxes]
+        assert [(b.lo[0], b.hi[0], b.lo[1]) for b in fine.boxes] == [
+            (b.lo[0], b.hi[0], b.lo[1]) for b in coarse.boxes
+        ]
+    assert [s.cells_between_levels for s in family] == [3, 4, 6]
+    assert family[0] == mesh_spec(L, B, T, 1, U=1.0, nu=1e-6)  # scale 1 is the grading's own mesh
+    # the domain is whole background cells: it can only grow, by less than a cell of the coarsest grid
+    for s in family[1:]:
+        for k in range(3):
+            assert family[0].lo[k] - family[0].h0 < s.lo[k] <= family[0].lo[k] + 1e-12
+    # the estimate grows by about r^3 = 2.8 per step (the hull band only by r^2)
+    ratio = cell_count_estimate(family[1]) / cell_count_estimate(family[0])
+    assert 2.0 < ratio < 3.0
+    with pytest.raises(ValueError, match="cell_scale"):
+        mesh_spec(L, B, T, 1, U=1.0, nu=1e-6, cell_scale=0.0)
+
+
 def test_wall_distance_and_layers():
     # Re = 9.1e6 (DTC model): the first cell centre for y+ = 150 is a few millimetres off the wall
     y = wall_distance(1.668, 5.976, 1.09e-6, 150.0)

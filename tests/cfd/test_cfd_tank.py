@@ -63,6 +63,12 @@ def test_the_command_refuses_bad_input_before_any_work(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "speeds" in err and "1.668" in err and len(err.strip().splitlines()) == 1
     assert main(["dtc-validation", "--out", out, "--hull", str(stl), "--grading", "7"]) == 2
+    capsys.readouterr()
+    for grid in ("4", "-1", "1.5", "fine"):
+        assert main(["dtc-validation", "--out", out, "--hull", str(stl), "--grid", grid]) == 2
+        err = capsys.readouterr().err
+        assert "grid" in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert not (tmp_path / "v").exists()  # refused before anything was written
 
 
 def _ran_elsewhere(out, speeds_R: dict[float, float]) -> None:
@@ -131,6 +137,16 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
     (out / "cases" / "mesh" / "vof_mesh.json").write_text('{"grading": 2, "hull_level": 5}')
     assert main(argv) == 0
     assert "Mesh: grading 2, 129016 cells (half domain), hull level 5," in (out / "validation.md").read_text()
+    # a grid of the sqrt(2) family and its hull cell are named (a record without a grid is grid 0)
+    (out / "cases" / "mesh" / "vof_mesh.json").write_text(
+        '{"grading": 1, "grid": 2, "hull_level": 4, "hull_cell_m": 0.02334}'
+    )
+    assert main(argv) == 0
+    assert (
+        "Mesh: grading 1, grid 2 (cells / 1.414^2), hull cell 23.3 mm, 129016 cells (half domain),"
+        in (out / "validation.md").read_text()
+    )
+    assert json.loads((out / "validation.json").read_text())["mesh"]["grid"] == 2
     capsys.readouterr()
     # a damaged record is bad input: exit 2, one line naming the file, the report left as it was
     report_before = (out / "validation.md").read_text()
@@ -150,21 +166,23 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
 def test_window_statistics_give_the_mean_its_uncertainty_and_drift():
     import numpy as np
 
-    from cfd.tank import window_statistics
+    from cfd.tank import SETTLE_WINDOW, window_statistics
 
     t = np.arange(1.0, 4001.0)
-    # a force oscillating by +-10 % with a period of 40 iterations: the window (400 iterations, 5 batches of
-    # 80, two periods each) averages it out exactly, so the mean is exact and the batches agree
+    n = int(SETTLE_WINDOW * len(t))  # the window: the last quarter, 1000 iterations, 5 batches of 200
+    # a force oscillating by +-10 % with a period of 40 iterations: every batch holds whole periods, so the
+    # mean is exact and the batches agree
     s = window_statistics(-10.0 * (1 + 0.1 * np.sin(2 * np.pi * t / 40)))
     assert s["mean"] == pytest.approx(-10.0, rel=1e-12) and s["halfwidth_rel"] < 1e-12
     assert s["spread_rel"] == pytest.approx(0.2, rel=1e-3) and abs(s["drift_rel"]) < 1e-12
-    # a force still falling linearly by 1e-4 of its value per iteration: the window mean is 400 iterations
-    # later than the one before, so the drift is -400e-4 / (its mean); the batch means differ by 80e-4 each
+    # a force still falling linearly by 1e-4 of its value per iteration: the window mean is n iterations
+    # later than the one before, so the drift is -n e-4 / (its mean); the batch means differ by n/5 e-4 each
     fx = 1.0 - 1e-4 * t
     s = window_statistics(fx)
-    mean = fx[-400:].mean()
-    assert s["drift_rel"] == pytest.approx(-0.04 / mean, rel=1e-9)
-    half = 2.776 * np.std([fx[-400 + 80 * k : -320 + 80 * k or None].mean() for k in range(5)], ddof=1)
+    mean = fx[-n:].mean()
+    assert s["drift_rel"] == pytest.approx(-n * 1e-4 / mean, rel=1e-9)
+    size = n // 5
+    half = 2.776 * np.std([fx[-n + size * k : -n + size * (k + 1) or None].mean() for k in range(5)], ddof=1)
     assert s["halfwidth_rel"] == pytest.approx(half / np.sqrt(5) / mean, rel=1e-9)
     # too short a history for batches (a window of one iteration) or for a window before: not estimated,
     # never a made-up number
@@ -172,6 +190,52 @@ def test_window_statistics_give_the_mean_its_uncertainty_and_drift():
     assert s["mean"] == 2.0 and np.isnan(s["halfwidth_rel"]) and s["drift_rel"] == 0.0
     s = window_statistics(np.array([2.0]))
     assert np.isnan(s["halfwidth_rel"]) and np.isnan(s["drift_rel"])
+
+
+def _coverage(signals, true_mean: float) -> tuple[float, float]:
+    """How often the window's 95 % interval holds the true mean, and the median half-width (relative)."""
+    import numpy as np
+
+    from cfd.tank import window_statistics
+
+    stats = [window_statistics(y) for y in signals]
+    hits = [abs(s["mean"] - true_mean) <= s["halfwidth_rel"] * abs(s["mean"]) for s in stats]
+    return float(np.mean(hits)), float(np.median([s["halfwidth_rel"] for s in stats]))
+
+
+def _red_noise(rng, shape, phi: float, sd: float):
+    """AR(1) noise x_k = phi x_(k-1) + e_k, started from its stationary distribution."""
+    import numpy as np
+
+    e = rng.normal(0.0, sd, shape)
+    x = np.empty(shape)
+    x[:, 0] = e[:, 0] / np.sqrt(1.0 - phi**2)
+    for k in range(1, shape[1]):
+        x[:, k] = phi * x[:, k - 1] + e[:, k]
+    return x
+
+
+def test_the_half_width_covers_the_true_mean_of_signals_like_the_free_surface_tows():
+    # Monte-Carlo check of the batch-means interval on 4000-iteration signals shaped like the DTC tows'
+    # R_T (cfd/studies/dtc_vof_grading1/R_T_history.csv: oscillations of +-5-15 % with periods of 100-500
+    # iterations, plus correlated noise), true mean 1: a "95 %" interval should hold it about 95 % of the time
+    import numpy as np
+
+    rng = np.random.default_rng(20261207)
+    t = np.arange(4000.0)
+    runs = 300
+    # slowly correlated noise alone (correlation time ~50 iterations)
+    cover, _ = _coverage(1.0 + _red_noise(rng, (runs, 4000), 0.98, 0.01), 1.0)
+    assert cover >= 0.9
+    # an oscillation of 150 iterations, random phase, with correlated noise
+    phase = rng.uniform(0, 2 * np.pi, (runs, 1))
+    y = 1.0 + 0.1 * np.sin(2 * np.pi * t / 150 + phase) + _red_noise(rng, (runs, 4000), 0.9, 0.02)
+    cover, half = _coverage(y, 1.0)
+    assert cover >= 0.9 and half < 0.03  # it covers, and is not so wide as to say nothing
+    # a slow oscillation of 520 iterations (the 1.668 m/s tow's): still covered
+    phase = rng.uniform(0, 2 * np.pi, (runs, 1))
+    cover, half = _coverage(1.0 + 0.1 * np.sin(2 * np.pi * t / 520 + phase), 1.0)
+    assert cover >= 0.9
 
 
 def test_a_tow_whose_forces_diverged_is_an_error_not_a_number(tmp_path):
@@ -191,3 +255,95 @@ def test_a_tow_whose_forces_diverged_is_an_error_not_a_number(tmp_path):
     (d / "moment.dat").write_text(mtxt)
     with pytest.raises(CfdError, match="non-finite forces: the solution diverged"):
         _result(tmp_path / "vof_U1.6680", 1.668, 5.976)
+
+
+def test_the_snapped_hull_probe_refuses_bad_input_before_any_work(tmp_path):
+    # cfd/studies/dtc_snapped_probe/probe.sh: one line and exit code 2, nothing copied or overwritten
+    import subprocess
+    from pathlib import Path
+
+    probe = Path(__file__).parents[2] / "cfd" / "studies" / "dtc_snapped_probe" / "probe.sh"
+    existing = tmp_path / "mine"
+    existing.mkdir()
+    (existing / "keep.txt").write_text("a user's file")
+    cases = [
+        ([], {}, "usage"),
+        ([str(tmp_path / "p"), "turbulent"], {}, "unknown variant 'turbulent'"),
+        ([str(tmp_path / "p")], {"ITERATIONS": "ten"}, "ITERATIONS must be a whole number"),
+        ([str(existing)], {}, "exists; give a new folder"),
+    ]
+    for args, env, message in cases:
+        done = subprocess.run(
+            ["bash", str(probe), *args], capture_output=True, text=True, env={"PATH": "/usr/bin:/bin"} | env
+        )
+        assert done.returncode == 2 and message in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "p").exists() and [p.name for p in existing.iterdir()] == ["keep.txt"]
+
+
+def _grid_folder(root, grid: int, R: float, speeds=(1.668,), grading: int = 1):
+    out = root / f"g{grid}"
+    _ran_elsewhere(out, {U: R for U in speeds})
+    cell = 0.0466875 / math.sqrt(2) ** grid
+    (out / "cases" / "mesh" / "vof_mesh.json").write_text(
+        json.dumps({"grading": grading, "grid": grid, "hull_level": 4, "hull_cell_m": cell})
+    )
+    return out
+
+
+def test_a_grid_study_gives_the_grid_uncertainty_and_the_tank_error(tmp_path, capsys):
+    # three grids of the sqrt(2) family converging monotonically, 36 -> 34 -> 33 N: with a constant ratio
+    # r = sqrt(2), eps32 / eps21 = 2 gives the apparent order p = ln 2 / ln r = 2 exactly, so (Celik et al.
+    # 2008) phi_ext = (r^2 33 - 34) / (r^2 - 1) = 32 N and GCI_fine = 1.25 (1/33) / (r^2 - 1) = 3.79 %
+    folders = [_grid_folder(tmp_path, g, R) for g, R in ((0, 36.0), (2, 33.0), (1, 34.0))]
+    out = tmp_path / "study"
+    argv = ["dtc-grid-study", "--grids", ",".join(map(str, folders)), "--out", str(out)]
+    assert main(argv) == 3  # 33 N is 3.7 % above the tank's 31.83 N: within the seed's 5.69 %, not 3 %
+    printed = capsys.readouterr().out
+    assert "U = 1.668 m/s: R_T 33.00 / 34.00 / 36.00 N (finest first), monotonic, U_grid 3.79 %" in printed
+    doc = json.loads((out / "grid_study.json").read_text())
+    row = doc["rows"][0]
+    assert [g["grid"] for g in doc["grids"]] == [2, 1, 0]
+    assert row["grid"]["p"] == pytest.approx(2.0, rel=1e-9)
+    # (the fake forces settle to R within 2.3e-5 by the last quarter, the same factor on every grid)
+    assert row["grid"]["phi_ext"] == pytest.approx(32.0, rel=1e-4)
+    assert row["u_grid_rel"] == pytest.approx(1.25 / 33.0, rel=1e-9)
+    assert row["error_rel"] == pytest.approx(33.0 / 31.83 - 1.0, rel=1e-3)
+    # the settled fake forces have no statistical spread, so U_SN is the grid uncertainty
+    assert row["u_sn_rel"] == pytest.approx(row["u_grid_rel"], rel=1e-6)
+    assert row["within_seed"] and not row["within_target"] and not doc["passed"]
+    text = (out / "grid_study.md").read_text()
+    assert "| 1.668 | 0.218 | 31.83 | 33.00 / 34.00 / 36.00 |" in text and "Celik" in text
+    assert "Verdict: within 5.69 % (not 3 %) at every speed." in text
+    # two grids: Roache's variant, order 2 assumed, F_s = 3: GCI = 3 (1/33) / (r^2 - 1) = 9.09 %
+    assert main(["dtc-grid-study", "--grids", f"{folders[1]},{folders[2]}", "--out", str(out)]) == 3
+    row = json.loads((out / "grid_study.json").read_text())["rows"][0]
+    assert row["grid"]["condition"] == "two grids, order assumed"
+    assert (
+        row["u_grid_rel"] == pytest.approx(3.0 / 33.0, rel=1e-9)
+        and "Roache" in (out / "grid_study.md").read_text()
+    )
+
+
+def test_a_grid_study_refuses_folders_that_are_not_one_family(tmp_path, capsys):
+    g0 = _grid_folder(tmp_path, 0, 36.0, speeds=(1.668, 1.535))
+    g1 = _grid_folder(tmp_path, 1, 34.0)
+    other = _grid_folder(tmp_path / "other", 1, 34.0, grading=2)
+    out = tmp_path / "study"
+    bad = [
+        ([g0], "grids"),  # one grid
+        ([g0, g0], "different grids"),  # the same grid twice
+        ([g0, other], "one grading"),
+        ([g0, tmp_path / "none"], "no meshed free-surface study"),
+    ]
+    for folders, message in bad:
+        assert main(["dtc-grid-study", "--grids", ",".join(map(str, folders)), "--out", str(out)]) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    # 1.535 m/s ran on grid 0 only; 1.5 m/s is no tank speed
+    for speeds, message in (("1.535", "has not been run"), ("1.5", "not a tank speed")):
+        assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out), "--speeds", speeds]) == 2
+        assert message in capsys.readouterr().err
+    assert not out.exists()  # nothing written on bad input
+    # by default, the speeds run on every grid: 1.668 only
+    assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out)]) in (0, 3)
+    assert [r["U_m_s"] for r in json.loads((out / "grid_study.json").read_text())["rows"]] == [1.668]
