@@ -241,12 +241,15 @@ def _result(case: Path, U: float, lpp: float) -> dict[str, Any]:
 
 def solver_cpu_s(case: Path) -> float | None:
     """CPU seconds interFoam spent on a case: the last ``ExecutionTime`` of each of its interFoam logs (a
-    continued run writes a log of its own, e.g. ``log.interFoam.3000``), summed; None without a log."""
+    continued run writes a log of its own, e.g. ``log.interFoam.3000``) times the log's processors (the
+    ``nProcs`` of its header: a parallel run's ExecutionTime is one rank's), summed; None without a log."""
     total, found = 0.0, False
     for log in sorted(case.glob("log.interFoam*")):
-        times = re.findall(r"^ExecutionTime = ([\d.eE+-]+) s", log.read_text(errors="replace"), re.M)
+        text = log.read_text(errors="replace")
+        times = re.findall(r"^ExecutionTime = ([\d.eE+-]+) s", text, re.M)
+        procs = re.search(r"^nProcs\s*:\s*(\d+)", text, re.M)
         if times:
-            total, found = total + float(times[-1]), True
+            total, found = total + float(times[-1]) * (int(procs.group(1)) if procs else 1), True
     return total if found else None
 
 

@@ -93,8 +93,10 @@ def _ran_elsewhere(out, speeds_R: dict[float, float]) -> None:
         (case / "log.interFoam").write_text(
             "ExecutionTime = 10 s  ClockTime = 11 s\nExecutionTime = 1800 s\n"
         )
-        if U > 1.5:
-            (case / "log.interFoam.4000").write_text("ExecutionTime = 1800.5 s  ClockTime = 2000 s\nEnd\n")
+        if U > 1.5:  # continued on 2 processors: the log's ExecutionTime is one rank's
+            (case / "log.interFoam.4000").write_text(
+                "nProcs : 2\nExecutionTime = 900.25 s  ClockTime = 1000 s\nEnd\n"
+            )
 
 
 def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
