@@ -11,7 +11,8 @@
 Exit codes: 0 success, 1 a CFD step failed (one line on stderr naming the step and its log),
 2 bad input (one line on stderr naming the argument or key and the allowed range), 3 the study finished
 and wrote its ship file and report, but the verification gate failed (UNVERIFIED; see report/summary.md),
-or the DTC validation ran but missed its target at some speed (see validation.md).
+or the DTC validation or grid study ran but missed its target at some speed (see validation.md,
+grid_study.md).
 """
 
 from __future__ import annotations

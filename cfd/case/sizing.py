@@ -78,7 +78,7 @@ class MeshSpec:
     expansion: float = 1.2
     yplus_target: float = 0.0  # y+ the first layer was sized for (0: no layers)
     wakes: tuple[Wake, ...] = ()
-    cells_between_levels: int = 3  # snappyHexMesh's buffer of cells between two refinement levels
+    cells_between_levels: int = CELLS_BETWEEN_LEVELS  # snappyHexMesh's buffer between two levels
 
     @property
     def h_hull(self) -> float:
