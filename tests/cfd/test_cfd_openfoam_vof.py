@@ -80,10 +80,13 @@ def test_write_only_meshes_and_leaves_runnable_cases(tmp_path):
     )
     assert result["runs"] == [] and result["mesh"]["cells"] > 5_000
     cases = tmp_path / "cases"
-    # the mesh's grading and hull level are kept for the report of the cases once run elsewhere
+    # the mesh's grading, grid, hull level and hull cell are kept for the report of the cases once run
+    # elsewhere (and for a grid study of them)
     assert json.loads((cases / "mesh" / "vof_mesh.json").read_text()) == {
         "grading": 1,
+        "grid": 0,
         "hull_level": result["mesh"]["hull_level"],
+        "hull_cell_m": pytest.approx(result["mesh"]["hull_cell_m"]),
     }
     assert [(c.name, app) for c, app in pending_cases(cases)] == [
         ("vof_U0.8000", "interFoam"),
