@@ -34,6 +34,7 @@ from . import __version__
 from .config import GRADINGS, SIMULATION_TYPES, Study, build_study, load_study_file, parse_list, parse_number
 from .errors import CfdError, InputError
 from .heel import RUN_OPTIONS as HEEL_OPTIONS
+from .tank import GRIDS
 
 EXIT_UNVERIFIED = 3  # the run finished but its verification gate failed
 
@@ -139,7 +140,7 @@ def _parser() -> OneLineParser:
     dv.add_argument("--hull", help="the DTC STL (default: Debian openfoam-examples' DTC-scaled.stl.gz)")
     dv.add_argument("--out", required=True, help="output folder (cases/, validation.md, validation.json)")
     dv.add_argument("--grading", default="1", help="mesh grading 1-5")
-    dv.add_argument("--grid", default="0", help="grid K of a grid study: cells / sqrt(2)^K (0-3)")
+    dv.add_argument("--grid", default="0", help=f"grid K: cells / sqrt(2)^K ({GRIDS[0]}-{GRIDS[-1]})")
     dv.add_argument("--speeds", help="tank speeds to run (m/s), e.g. 1.668 (default: all six)")
     dv.add_argument("--iterations", default="4000", help="interFoam LTS iterations per speed")
     dv.add_argument("--procs", default="1", help="MPI processors per case")
@@ -502,7 +503,7 @@ def _dtc_validation(args: argparse.Namespace) -> int:
         procs=int(parse_number("procs", args.procs, 1, 4 * (os.cpu_count() or 1), integer=True)),
         progress=Progress(),
         mode=args.mode,
-        grid=int(parse_number("grid", args.grid, 0, 3, integer=True)),
+        grid=int(parse_number("grid", args.grid, GRIDS[0], GRIDS[-1], integer=True)),
     )
     print("\n".join(console_lines(doc, Path(args.out))))
     return 0 if doc.get("passed", True) else EXIT_UNVERIFIED

@@ -289,6 +289,24 @@ def read_mesh_record(record: Path) -> dict[str, Any]:
         ) from None
 
 
+def _end_time(case: Path) -> int | None:
+    """The iterations a tow case was written for (its controlDict's endTime), None if unreadable."""
+    control = case / "system" / "controlDict"
+    m = re.search(r"^endTime\s+(\d+);", control.read_text(), re.M) if control.is_file() else None
+    return int(m.group(1)) if m else None
+
+
+def finished_tows(cases: Path) -> list[float]:
+    """The speeds (m/s, rounded to 0.1 mm/s) whose tow in ``cases`` has run all its iterations."""
+    done = []
+    for case in sorted(cases.glob("vof_U*")):
+        end = _end_time(case)
+        if (case / "postProcessing" / "forces").is_dir() and end is not None:
+            if read_forces(case).t[-1] >= end:
+                done.append(round(float(case.name.removeprefix("vof_U")), 4))
+    return done
+
+
 def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
     """Read back tows run elsewhere (e.g. by ``vessel-cfd slurm``) from ``out/cases``: the same record as
     :func:`run_free_surface_tows` (mesh cells from its checkMesh log, no wall times)."""
@@ -301,9 +319,15 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
         case = cases / f"vof_U{U:.4f}"
         if not (case / "postProcessing" / "forces").is_dir():
             raise InputError("speeds", f"{U:g} m/s has not been run ({case} has no forces output)")
-        runs.append(_result(case, U, lpp) | {"wall_s": None})
-    control = (cases / f"vof_U{speeds[0]:.4f}" / "system" / "controlDict").read_text()
-    m = re.search(r"^endTime\s+(\d+);", control, re.M)
+        run = _result(case, U, lpp) | {"wall_s": None}
+        end = _end_time(case)
+        if end is not None and run["iterations"] < end:  # a mean over a running tow's quarter is no result
+            raise InputError(
+                "speeds",
+                f"{U:g} m/s has run {run['iterations']} of {end} iterations ({case}): not finished "
+                "(its Allrun resumes it)",
+            )
+        runs.append(run)
     written = read_mesh_record(cases / "mesh" / MESH_RECORD)
     mesh = {
         "cells": parse_check_mesh(log)["cells"],
@@ -314,10 +338,15 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
     return {
         "mesh": mesh,
         "grading": written["grading"],
-        "iterations": int(m.group(1)) if m else None,
+        "iterations": _end_time(cases / f"vof_U{speeds[0]:.4f}"),
         "procs": None,
         "runs": runs,
     }
+
+
+def check_tank_speeds(speeds: tuple[float, ...], tank: tuple[TankPoint, ...] = DTC_TANK) -> None:
+    """Refuse, before any work, a speed at which the tank has no point (InputError naming the speeds)."""
+    compare_with_tank([{"U_m_s": u, "R_T_N": 1.0} for u in speeds], tank)
 
 
 def compare_with_tank(
@@ -456,7 +485,7 @@ def validate_dtc(
     if mode not in MODES:
         raise InputError("mode", f"must be one of {', '.join(MODES)} (got {mode!r})")
     chosen = speeds or tuple(p.U_m_s for p in DTC_TANK)
-    compare_with_tank([{"U_m_s": u, "R_T_N": 1.0} for u in chosen])  # refuse a non-tank speed before meshing
+    check_tank_speeds(chosen)
     if mode == "collect":
         result = collect_tows(out, chosen, DTC["lpp"])
         return report(result, compare_with_tank(result["runs"]), Path(out))

@@ -17,8 +17,10 @@ from .tank import (
     GRID_RATIO,
     MESH_RECORD,
     TARGET_REL,
+    check_tank_speeds,
     collect_tows,
     compare_with_tank,
+    finished_tows,
     percent,
     read_mesh_record,
 )
@@ -36,7 +38,7 @@ def dtc_grid_study(
     statistical half-width, the grid uncertainty of the finest grid's R_T (GCI: Celik et al. 2008 with three
     grids, Roache's two-grid variant with two; :mod:`cfd.gridstudy`), and the finest grid's error against
     :data:`DTC_TANK` next to the numerical uncertainty U_SN = sqrt(U_stat^2 + U_grid^2) (ITTC 7.5-03-01-01).
-    Speeds: those run on every grid, or the ones given. Writes ``grid_study.md`` and ``grid_study.json``
+    Speeds: those finished on every grid, or the ones given. Writes ``grid_study.md`` and ``grid_study.json``
     in ``out``; returns the JSON content."""
     if len(grid_outs) not in (2, 3):
         raise InputError("grids", f"two or three output folders of dtc-validation (got {len(grid_outs)})")
@@ -46,11 +48,7 @@ def dtc_grid_study(
         record = read_mesh_record(cases / "mesh" / MESH_RECORD)
         if record["grid"] is None:
             raise InputError("grids", f"{folder} holds no meshed free-surface study (missing {MESH_RECORD})")
-        run = sorted(
-            round(float(c.name.removeprefix("vof_U")), 4)
-            for c in cases.glob("vof_U*")
-            if (c / "postProcessing" / "forces").is_dir()
-        )
+        run = finished_tows(cases)
         grids.append((record, Path(folder), run))
     grids.sort(key=lambda g: -g[0]["grid"])  # finest first
     if len({g[0]["grid"] for g in grids}) != len(grids) or len({g[0]["grading"] for g in grids}) != 1:
@@ -64,7 +62,7 @@ def dtc_grid_study(
     chosen = tuple(speeds) if speeds else tuple(common)
     if not chosen:
         raise InputError("speeds", "no speed has been run on every grid")
-    compare_with_tank([{"U_m_s": u, "R_T_N": 1.0} for u in chosen])  # refuse a non-tank speed first
+    check_tank_speeds(chosen)
     per_grid = [collect_tows(g[1], chosen, DTC["lpp"]) for g in grids]
     h = tuple(GRID_RATIO ** -g[0]["grid"] for g in grids)  # cell size relative to grid 0, finest first
     rows = []

@@ -273,7 +273,8 @@ def write_free_surface_case(
     ``spec`` is the double-body spec (:func:`~cfd.case.sizing.mesh_spec`); the VOF one is derived from it
     and returned. With ``mesh_case`` (a finished VOF mesh) its polyMesh is copied in; otherwise the case
     holds the meshing dictionaries too and its ``Allrun`` meshes first. ``0.orig`` holds the initial fields;
-    ``Allrun`` copies it to ``0`` and runs setFields (water below z = 0) before interFoam.
+    ``Allrun`` copies it to ``0`` and runs setFields (water below z = 0) before interFoam, on ``procs``
+    MPI processes when ``procs`` > 1; run again, it resumes from the last time written.
     """
     fs = free_surface_spec(spec)
     case.mkdir(parents=True, exist_ok=True)
@@ -373,11 +374,32 @@ def write_free_surface_case(
         if mesh_case is None
         else ""
     )
+    # controlDict starts from the latest time, so running Allrun again resumes a stopped tow: a serial one
+    # from its last write, a parallel one from its processor folders (or, once reconstructed, from the
+    # reconstructed last time, decomposed again). setFields only ever rewrites 0. The log of an earlier part
+    # is kept under a number, so that the CPU time of every part is counted (cfd.tank.solver_cpu_s).
+    water = "rm -rf 0 && cp -r 0.orig 0\nsetFields > log.setFields\n"
+    keep_log = (
+        "if [ -f log.interFoam ]; then\n    n=1\n    while [ -f log.interFoam.$n ]; do n=$((n + 1)); done\n"
+        "    mv log.interFoam log.interFoam.$n\nfi\n"
+    )
+    if procs > 1:
+        solve = (
+            "if [ ! -d processor0 ]; then\n"
+            + "".join("    " + line + "\n" for line in water.splitlines())
+            + "    decomposePar -force > log.decomposePar\nfi\n"
+            + 'ROOT=""\nif [ "$(id -u)" = 0 ]; then ROOT=--allow-run-as-root; fi\n'
+            + f"mpirun -np {procs} $ROOT --oversubscribe interFoam -parallel > log.interFoam\n"
+            + "reconstructPar -latestTime > log.reconstructPar\nrm -rf processor*\n"
+        )
+    else:
+        solve = water + "interFoam > log.interFoam\n"
     (case / "Allrun").write_text(
         "#!/bin/sh\n# VOF straight tow written by vessel-cfd (docs/cfd.md, section Free surface).\n"
         'set -e\ncd "${0%/*}"\nexport WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}\n'
         + mesh_steps
-        + "rm -rf 0 && cp -r 0.orig 0\nsetFields > log.setFields\ninterFoam > log.interFoam\n"
+        + keep_log
+        + solve
     )
     (case / "Allrun").chmod(0o755)
     return fs

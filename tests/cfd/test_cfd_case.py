@@ -249,7 +249,7 @@ def test_free_surface_case_is_generated(tmp_path):
     for f in ("alpha.water", "U", "p_rgh", "k", "omega", "nut"):
         assert _parse(case / "0.orig" / f)["boundaryField"]["midPlane"]["type"] == "symmetryPlane"
     text = (case / "Allrun").read_text()
-    assert text.index("snappyHexMesh") < text.index("setFields") < text.index("interFoam")
+    assert text.index("snappyHexMesh") < text.index("setFields") < text.index("\ninterFoam > log.interFoam")
     assert resistance_from_half(-1.5) == 3.0  # both sides of the hull, as a positive resistance
 
 

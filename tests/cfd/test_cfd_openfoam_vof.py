@@ -95,3 +95,46 @@ def test_write_only_meshes_and_leaves_runnable_cases(tmp_path):
     for c, _ in pending_cases(cases):
         assert (c / "constant" / "polyMesh" / "owner").is_file() and (c / "0" / "alpha.water").is_file()
         assert not (c / "log.interFoam").exists() and "interFoam" in (c / "Allrun").read_text()
+
+
+def test_a_written_parallel_tow_runs_on_two_processes_and_resumes(tmp_path):
+    """A case written for 2 processors (``--mode write --procs 2``): its Allrun runs interFoam on both, and
+    run again after endTime is raised (as after a stop at a 150-minute slot's end) it continues from the
+    last time written instead of starting over."""
+    import re
+    import subprocess
+
+    run_free_surface_tows(
+        wigley_hull_with_freeboard(L, B, T, 0.05),
+        lpp=L,
+        bwl=B,
+        tm=T,
+        speeds=(0.9,),
+        out=tmp_path,
+        iterations=4,
+        rho=RHO,
+        nu=1e-6,
+        procs=2,
+        progress=Progress(quiet=True),
+        write_only=True,
+    )
+    case = tmp_path / "cases" / "vof_U0.9000"
+
+    def allrun() -> list[int]:
+        subprocess.run(["sh", str(case / "Allrun")], check=True, capture_output=True, timeout=600)
+        log = (case / "log.interFoam").read_text(errors="replace")
+        assert "nProcs : 2" in log and "\nEnd\n" in log
+        return [int(t) for t in re.findall(r"^Time = (\d+)$", log, flags=re.M)]
+
+    assert allrun() == [1, 2, 3, 4]
+    assert (case / "4" / "alpha.water").is_file() and not (case / "processor0").exists()
+    control = case / "system" / "controlDict"
+    control.write_text(re.sub(r"^endTime\s+4;", "endTime 6;", control.read_text(), flags=re.M))
+    assert allrun() == [5, 6]  # resumed from the reconstructed time 4
+    assert (case / "6" / "U").is_file()
+    # the first part's log is kept, so the CPU time counts both parts
+    from cfd.tank import solver_cpu_s
+
+    first = (case / "log.interFoam.1").read_text(errors="replace")
+    assert re.findall(r"^Time = (\d+)$", first, flags=re.M)[-1] == "4"
+    assert solver_cpu_s(case) > float(re.findall(r"^ExecutionTime = ([\d.]+) s", first, flags=re.M)[-1]) * 2

@@ -158,9 +158,14 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
         err = capsys.readouterr().err.strip()
         assert "vof_mesh.json" in err and len(err.splitlines()) == 1 and "Traceback" not in err
     assert (out / "validation.md").read_text() == report_before
-    # a speed not run yet, and a mode that does not exist, are bad input
+    # a speed not run yet, one still running, and a mode that does not exist, are bad input
     assert main(argv[:5] + ["--speeds", "1.401", "--mode", "collect"]) == 2
     assert "has not been run" in capsys.readouterr().err
+    control = out / "cases" / "vof_U1.3350" / "system" / "controlDict"
+    control.write_text(control.read_text().replace("endTime 4000;", "endTime 6000;"))
+    assert main(argv[:5] + ["--speeds", "1.335", "--mode", "collect"]) == 2
+    err = capsys.readouterr().err
+    assert "1.335 m/s has run 4000 of 6000 iterations" in err and len(err.strip().splitlines()) == 1
     assert main(argv[:-1] + ["rerun"]) == 2
     assert "mode" in capsys.readouterr().err
 
@@ -249,7 +254,7 @@ def test_a_tow_whose_forces_diverged_is_an_error_not_a_number(tmp_path):
 
     t = np.arange(1.0, 101.0)
     F = np.column_stack([-10.0 + 0 * t, 0 * t, 0 * t])
-    F[-3, 0] = np.nan  # in the last tenth, which the resistance is the mean of
+    F[-3, 0] = np.nan  # in the last quarter, which the resistance is the mean of
     d = tmp_path / "vof_U1.6680" / "postProcessing" / "forces" / "0"
     d.mkdir(parents=True)
     ftxt, mtxt = _forces_table(t, F, 0 * F)
@@ -327,8 +332,11 @@ def test_a_grid_study_gives_the_grid_uncertainty_and_the_tank_error(tmp_path, ca
 
 
 def test_a_grid_study_refuses_folders_that_are_not_one_family(tmp_path, capsys):
-    g0 = _grid_folder(tmp_path, 0, 36.0, speeds=(1.668, 1.535))
-    g1 = _grid_folder(tmp_path, 1, 34.0)
+    g0 = _grid_folder(tmp_path, 0, 36.0, speeds=(1.668, 1.535, 1.401))
+    g1 = _grid_folder(tmp_path, 1, 34.0, speeds=(1.668, 1.401))
+    # 1.401 m/s on grid 1 is still running: 4000 of its 5000 iterations
+    control = g1 / "cases" / "vof_U1.4010" / "system" / "controlDict"
+    control.write_text(control.read_text().replace("endTime 4000;", "endTime 5000;"))
     other = _grid_folder(tmp_path / "other", 1, 34.0, grading=2)
     out = tmp_path / "study"
     bad = [
@@ -341,11 +349,15 @@ def test_a_grid_study_refuses_folders_that_are_not_one_family(tmp_path, capsys):
         assert main(["dtc-grid-study", "--grids", ",".join(map(str, folders)), "--out", str(out)]) == 2
         err = capsys.readouterr().err
         assert message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    # 1.535 m/s ran on grid 0 only; 1.5 m/s is no tank speed
-    for speeds, message in (("1.535", "has not been run"), ("1.5", "not a tank speed")):
+    # 1.535 m/s ran on grid 0 only; 1.401 m/s has not finished on grid 1; 1.5 m/s is no tank speed
+    for speeds, message in (
+        ("1.535", "has not been run"),
+        ("1.401", "1.401 m/s has run 4000 of 5000 iterations"),
+        ("1.5", "not a tank speed"),
+    ):
         assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out), "--speeds", speeds]) == 2
         assert message in capsys.readouterr().err
     assert not out.exists()  # nothing written on bad input
-    # by default, the speeds run on every grid: 1.668 only
+    # by default, the speeds finished on every grid: 1.668 only
     assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out)]) in (0, 3)
     assert [r["U_m_s"] for r in json.loads((out / "grid_study.json").read_text())["rows"]] == [1.668]
