@@ -27,7 +27,7 @@ from .case.free_surface import (
 from .errors import CfdError, InputError
 from .foamdict import write as write_dict
 from .geometry import place_hull, read_stl, write_stl
-from .postprocess import read_forces
+from .postprocess import ForceHistory, read_forces
 from .runner import Progress, check_openfoam, parse_check_mesh, read_boundary, run_app
 
 # The DTC model of the towing-tank tests: el Moctar, O., Shigunov, V. and Zorn, T. (2012). Duisburg Test
@@ -212,10 +212,11 @@ def window_statistics(fx) -> dict[str, float]:
     return {"mean": mean, "spread_rel": spread, "halfwidth_rel": half_width, "drift_rel": drift}
 
 
-def _result(case: Path, U: float, lpp: float) -> dict[str, Any]:
+def _result(case: Path, U: float, lpp: float, h: ForceHistory | None = None) -> dict[str, Any]:
     """R_T (both sides) of a finished tow: the mean x force over the last quarter of its iterations, with the
-    uncertainty of that mean and its drift from the quarter before (:func:`window_statistics`)."""
-    h = read_forces(case)
+    uncertainty of that mean and its drift from the quarter before (:func:`window_statistics`). ``h``: its
+    force history when already read."""
+    h = read_forces(case) if h is None else h
     fx = h.F[:, 0]
     stats = window_statistics(fx)
     if not math.isfinite(stats["mean"]):  # a non-finite force in the window makes its mean non-finite
@@ -296,15 +297,26 @@ def _end_time(case: Path) -> int | None:
     return int(m.group(1)) if m else None
 
 
+def _tow_progress(case: Path) -> tuple[ForceHistory | None, int | None]:
+    """A tow case's force history (None before its first iteration) and the iterations it was written for
+    (None if its controlDict cannot be read): whether it has finished is :func:`_finished` of the two."""
+    forces = read_forces(case) if (case / "postProcessing" / "forces").is_dir() else None
+    return forces, _end_time(case)
+
+
+def _finished(forces: ForceHistory | None, end: int | None) -> bool:
+    """The one rule for a finished tow: it has run every iteration it was written for (a mean over a running
+    tow's last quarter is no result)."""
+    return forces is not None and end is not None and int(forces.t[-1]) >= end
+
+
 def finished_tows(cases: Path) -> list[float]:
     """The speeds (m/s, rounded to 0.1 mm/s) whose tow in ``cases`` has run all its iterations."""
-    done = []
-    for case in sorted(cases.glob("vof_U*")):
-        end = _end_time(case)
-        if (case / "postProcessing" / "forces").is_dir() and end is not None:
-            if read_forces(case).t[-1] >= end:
-                done.append(round(float(case.name.removeprefix("vof_U")), 4))
-    return done
+    return [
+        round(float(case.name.removeprefix("vof_U")), 4)
+        for case in sorted(cases.glob("vof_U*"))
+        if _finished(*_tow_progress(case))
+    ]
 
 
 def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
@@ -317,17 +329,16 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
     runs = []
     for U in speeds:
         case = cases / f"vof_U{U:.4f}"
-        if not (case / "postProcessing" / "forces").is_dir():
+        forces, end = _tow_progress(case)
+        if forces is None:
             raise InputError("speeds", f"{U:g} m/s has not been run ({case} has no forces output)")
-        run = _result(case, U, lpp) | {"wall_s": None}
-        end = _end_time(case)
-        if end is not None and run["iterations"] < end:  # a mean over a running tow's quarter is no result
+        if not _finished(forces, end):
             raise InputError(
                 "speeds",
-                f"{U:g} m/s has run {run['iterations']} of {end} iterations ({case}): not finished "
-                "(its Allrun resumes it)",
+                f"{U:g} m/s has run {int(forces.t[-1])} of {end if end is not None else 'an unknown number of'} "
+                f"iterations ({case}): not finished (its Allrun resumes it)",
             )
-        runs.append(run)
+        runs.append(_result(case, U, lpp, forces) | {"wall_s": None})
     written = read_mesh_record(cases / "mesh" / MESH_RECORD)
     mesh = {
         "cells": parse_check_mesh(log)["cells"],

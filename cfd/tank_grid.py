@@ -61,7 +61,7 @@ def dtc_grid_study(
     common = sorted(set.intersection(*(set(g[2]) for g in grids)))
     chosen = tuple(speeds) if speeds else tuple(common)
     if not chosen:
-        raise InputError("speeds", "no speed has been run on every grid")
+        raise InputError("speeds", "no speed has finished on every grid")
     check_tank_speeds(chosen)
     per_grid = [collect_tows(g[1], chosen, DTC["lpp"]) for g in grids]
     h = tuple(GRID_RATIO ** -g[0]["grid"] for g in grids)  # cell size relative to grid 0, finest first

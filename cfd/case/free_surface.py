@@ -396,7 +396,7 @@ def write_free_surface_case(
         solve = water + "interFoam > log.interFoam\n"
     (case / "Allrun").write_text(
         "#!/bin/sh\n# VOF straight tow written by vessel-cfd (docs/cfd.md, section Free surface).\n"
-        'set -e\ncd "${0%/*}"\nexport WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}\n'
+        'set -e\ncd "$(dirname "$0")"\nexport WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}\n'
         + mesh_steps
         + keep_log
         + solve

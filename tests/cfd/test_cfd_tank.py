@@ -361,3 +361,14 @@ def test_a_grid_study_refuses_folders_that_are_not_one_family(tmp_path, capsys):
     # by default, the speeds finished on every grid: 1.668 only
     assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out)]) in (0, 3)
     assert [r["U_m_s"] for r in json.loads((out / "grid_study.json").read_text())["rows"]] == [1.668]
+    # once 1.668 m/s is running again on grid 1 no speed has finished on both grids; a tow whose controlDict
+    # gives no endTime cannot be told finished either, and is named
+    control = g1 / "cases" / "vof_U1.6680" / "system" / "controlDict"
+    control.write_text(control.read_text().replace("endTime 4000;", "endTime 5000;"))
+    assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(tmp_path / "none_finished")]) == 2
+    assert "no speed has finished on every grid" in capsys.readouterr().err
+    control.write_text(control.read_text().replace("endTime 5000;", ""))
+    assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out), "--speeds", "1.668"]) == 2
+    err = capsys.readouterr().err
+    assert "1.668 m/s has run 4000 of an unknown number of iterations" in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "none_finished").exists()
