@@ -148,9 +148,9 @@ def _parser() -> OneLineParser:
         "--mode", default="run", help="run; write (mesh, write the cases, run none); collect (report)"
     )
     gs = sub.add_parser("dtc-grid-study", help="DTC free-surface tows on 2-3 grids: GCI and tank error")
-    gs.add_argument("--grids", required=True, help="the grids' dtc-validation folders, comma-separated")
+    gs.add_argument("--grids", required=True, help="dtc-validation folders with reports, comma-separated")
     gs.add_argument("--out", required=True, help="output folder (grid_study.md, grid_study.json)")
-    gs.add_argument("--speeds", help="tank speeds (m/s) (default: every speed run on every grid)")
+    gs.add_argument("--speeds", help="tank speeds (m/s) (default: every speed reported on every grid)")
     sub.add_parser("interactive", help="interactive set-up (the default without a command)")
     w = sub.add_parser("wigley", help="write a parabolic Wigley hull STL (double body about the waterline)")
     for opt in ("lpp", "bwl", "tm", "out"):

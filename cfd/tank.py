@@ -310,15 +310,6 @@ def _finished(forces: ForceHistory | None, end: int | None) -> bool:
     return forces is not None and end is not None and int(forces.t[-1]) >= end
 
 
-def finished_tows(cases: Path) -> list[float]:
-    """The speeds (m/s, rounded to 0.1 mm/s) whose tow in ``cases`` has run all its iterations."""
-    return [
-        round(float(case.name.removeprefix("vof_U")), 4)
-        for case in sorted(cases.glob("vof_U*"))
-        if _finished(*_tow_progress(case))
-    ]
-
-
 def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
     """Read back tows run elsewhere (e.g. by ``vessel-cfd slurm``) from ``out/cases``: the same record as
     :func:`run_free_surface_tows` (mesh cells from its checkMesh log, no wall times)."""

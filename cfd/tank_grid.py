@@ -12,17 +12,12 @@ from typing import Any
 from .errors import InputError
 from .gridstudy import grid_convergence, grid_convergence_two
 from .tank import (
-    DTC,
     DTC_CITATION,
     GRID_RATIO,
-    MESH_RECORD,
     TARGET_REL,
     check_tank_speeds,
-    collect_tows,
     compare_with_tank,
-    finished_tows,
     percent,
-    read_mesh_record,
 )
 
 # The seed report's own VOF error against this tank: the bound the grid study's finest grid must reach at
@@ -30,44 +25,106 @@ from .tank import (
 SEED_REL = 0.0569
 
 
+REPORT = "validation.json"  # what dtc-validation (--mode run or collect) writes in its output folder
+
+
+def _read_report(folder: Path) -> dict[str, Any]:
+    """The ``dtc-validation`` report in ``folder``: its grading, mesh (grid, cells, hull cell) and finished
+    tows; a folder without one, or with a damaged one, is bad input naming the file."""
+    path = Path(folder) / REPORT
+    if not path.is_file():
+        raise InputError(
+            "grids", f"{folder} holds no dtc-validation report (missing {REPORT}: run --mode collect there)"
+        )
+    try:
+        doc = json.loads(path.read_text(errors="replace"))
+        mesh = doc["mesh"]
+        report = {
+            "folder": Path(folder),
+            "grading": int(doc["grading"]),
+            "grid": int(mesh["grid"]),
+            "cells": int(mesh["cells"]),
+            "hull_cell_m": None if mesh.get("hull_cell_m") is None else float(mesh["hull_cell_m"]),
+            "runs": {
+                round(float(r["U_m_s"]), 4): r
+                | {"R_T_N": float(r["R_T_N"]), "iterations": int(r["iterations"])}
+                for r in doc["runs"]
+            },
+        }
+    except (ValueError, TypeError, KeyError, AttributeError) as e:
+        raise InputError(
+            "grids", f"{path}: not a dtc-validation report with a grid ({type(e).__name__}: {e})"
+        ) from None
+    return report
+
+
+def _grids(folders: list[Path]) -> list[dict[str, Any]]:
+    """The reports of ``folders`` grouped by grid, finest first: one entry per grid with its mesh and the tows
+    of all its reports (a grid's speeds may have been collected in more than one folder)."""
+    reports = [_read_report(f) for f in folders]
+    if len({r["grading"] for r in reports}) != 1:
+        raise InputError(
+            "grids",
+            "the folders must be grids of one grading (got "
+            + ", ".join(f"{r['folder']}: grading {r['grading']} grid {r['grid']}" for r in reports)
+            + ")",
+        )
+    grids: dict[int, dict[str, Any]] = {}
+    for r in reports:
+        keep = ("grading", "grid", "cells", "hull_cell_m")
+        g = grids.setdefault(r["grid"], {k: r[k] for k in keep} | {"folders": [], "runs": {}})
+        if r["cells"] != g["cells"]:
+            raise InputError(
+                "grids",
+                f"{r['folder']} and {g['folders'][0]} are both grid {r['grid']} but have different meshes "
+                f"({r['cells']} and {g['cells']} cells)",
+            )
+        for U, run in r["runs"].items():
+            if U in g["runs"]:
+                raise InputError(
+                    "grids",
+                    f"{U:g} m/s of grid {r['grid']} is in two reports ({g['runs'][U][0]}, {r['folder']})",
+                )
+            g["runs"][U] = (r["folder"], run)
+        g["folders"].append(r["folder"])
+    if len(grids) not in (2, 3):
+        raise InputError(
+            "grids",
+            f"two or three different grids of one grading (got grid(s) {', '.join(map(str, sorted(grids)))})",
+        )
+    return sorted(grids.values(), key=lambda g: -g["grid"])
+
+
 def dtc_grid_study(
     grid_outs: list[Path], out: Path, speeds: tuple[float, ...] | None = None
 ) -> dict[str, Any]:
-    """The DTC free-surface tows of two or three grids of one :data:`GRID_RATIO` family (each a
-    ``dtc-validation`` output folder, meshed with its own ``--grid``), per speed: R_T on every grid with its
+    """The DTC free-surface tows of two or three grids of one :data:`GRID_RATIO` family, read from the
+    ``dtc-validation`` reports (``validation.json``) in ``grid_outs`` (each folder meshed with its own
+    ``--grid``; a grid's speeds may be split over several folders), per speed: R_T on every grid with its
     statistical half-width, the grid uncertainty of the finest grid's R_T (GCI: Celik et al. 2008 with three
     grids, Roache's two-grid variant with two; :mod:`cfd.gridstudy`), and the finest grid's error against
     :data:`DTC_TANK` next to the numerical uncertainty U_SN = sqrt(U_stat^2 + U_grid^2) (ITTC 7.5-03-01-01).
-    Speeds: those finished on every grid, or the ones given. Writes ``grid_study.md`` and ``grid_study.json``
-    in ``out``; returns the JSON content."""
-    if len(grid_outs) not in (2, 3):
-        raise InputError("grids", f"two or three output folders of dtc-validation (got {len(grid_outs)})")
-    grids = []
-    for folder in grid_outs:
-        cases = Path(folder) / "cases"
-        record = read_mesh_record(cases / "mesh" / MESH_RECORD)
-        if record["grid"] is None:
-            raise InputError("grids", f"{folder} holds no meshed free-surface study (missing {MESH_RECORD})")
-        run = finished_tows(cases)
-        grids.append((record, Path(folder), run))
-    grids.sort(key=lambda g: -g[0]["grid"])  # finest first
-    if len({g[0]["grid"] for g in grids}) != len(grids) or len({g[0]["grading"] for g in grids}) != 1:
-        raise InputError(
-            "grids",
-            "the folders must be different grids of one grading (got "
-            + ", ".join(f"{g[1]}: grading {g[0]['grading']} grid {g[0]['grid']}" for g in grids)
-            + ")",
-        )
-    common = sorted(set.intersection(*(set(g[2]) for g in grids)))
-    chosen = tuple(speeds) if speeds else tuple(common)
+    A report holds finished tows only (``--mode collect`` refuses the others), so the committed reports
+    regenerate the study without the case folders. Speeds: those reported on every grid, or the ones given.
+    Writes ``grid_study.md`` and ``grid_study.json`` in ``out``; returns the JSON content."""
+    grids = _grids(grid_outs)
+    common = sorted(set.intersection(*(set(g["runs"]) for g in grids)))
+    chosen = tuple(round(u, 4) for u in speeds) if speeds else tuple(common)
     if not chosen:
-        raise InputError("speeds", "no speed has finished on every grid")
+        raise InputError("speeds", "no speed has been reported on every grid")
     check_tank_speeds(chosen)
-    per_grid = [collect_tows(g[1], chosen, DTC["lpp"]) for g in grids]
-    h = tuple(GRID_RATIO ** -g[0]["grid"] for g in grids)  # cell size relative to grid 0, finest first
+    for g in grids:
+        missing = [u for u in chosen if u not in g["runs"]]
+        if missing:
+            raise InputError(
+                "speeds",
+                f"{', '.join(f'{u:g}' for u in missing)} m/s: no finished tow in the reports of grid {g['grid']} "
+                f"({', '.join(map(str, g['folders']))})",
+            )
+    h = tuple(GRID_RATIO ** -g["grid"] for g in grids)  # cell size relative to grid 0, finest first
     rows = []
-    for k, U in enumerate(chosen):
-        runs = [pg["runs"][k] for pg in per_grid]
+    for U in chosen:
+        runs = [g["runs"][U][1] for g in grids]
         phi = tuple(r["R_T_N"] for r in runs)
         conv = grid_convergence(phi, h) if len(phi) == 3 else grid_convergence_two(phi, h)  # type: ignore[arg-type]
         fine = compare_with_tank([runs[0]])[0]
@@ -93,15 +150,15 @@ def dtc_grid_study(
         )
     doc = {
         "source": DTC_CITATION,
-        "grading": grids[0][0]["grading"],
+        "grading": grids[0]["grading"],
         "grids": [
             {
-                "grid": g[0]["grid"],
-                "folder": str(g[1]),
-                "cells": pg["mesh"]["cells"],
-                "hull_cell_m": g[0]["hull_cell_m"],
+                "grid": g["grid"],
+                "folders": [str(f) for f in g["folders"]],
+                "cells": g["cells"],
+                "hull_cell_m": g["hull_cell_m"],
             }
-            for g, pg in zip(grids, per_grid)
+            for g in grids
         ],
         "refinement_ratio": GRID_RATIO,
         "seed_rel": SEED_REL,

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import pytest
 
 from cfd.cli import main
 from cfd.errors import InputError
-from cfd.tank import DTC, DTC_TANK, TARGET_REL, compare_with_tank, console_lines, report
+from cfd.tank import DTC, DTC_TANK, TARGET_REL, compare_with_tank, console_lines, report, validate_dtc
 
 
 def test_the_tank_table_is_consistent_with_its_froude_numbers_and_the_dtc_study():
@@ -166,6 +167,12 @@ def test_tows_run_elsewhere_are_collected_and_reported(tmp_path, capsys):
     assert main(argv[:5] + ["--speeds", "1.335", "--mode", "collect"]) == 2
     err = capsys.readouterr().err
     assert "1.335 m/s has run 4000 of 6000 iterations" in err and len(err.strip().splitlines()) == 1
+    control.write_text(
+        control.read_text().replace("endTime 6000;", "")
+    )  # no endTime: cannot be told finished
+    assert main(argv[:5] + ["--speeds", "1.335", "--mode", "collect"]) == 2
+    err = capsys.readouterr().err
+    assert "1.335 m/s has run 4000 of an unknown number of iterations" in err and len(err.splitlines()) == 1
     assert main(argv[:-1] + ["rerun"]) == 2
     assert "mode" in capsys.readouterr().err
 
@@ -267,7 +274,6 @@ def test_a_tow_whose_forces_diverged_is_an_error_not_a_number(tmp_path):
 def test_the_snapped_hull_probe_refuses_bad_input_before_any_work(tmp_path):
     # cfd/studies/dtc_snapped_probe/probe.sh: one line and exit code 2, nothing copied or overwritten
     import subprocess
-    from pathlib import Path
 
     probe = Path(__file__).parents[2] / "cfd" / "studies" / "dtc_snapped_probe" / "probe.sh"
     existing = tmp_path / "mine"
@@ -288,12 +294,14 @@ def test_the_snapped_hull_probe_refuses_bad_input_before_any_work(tmp_path):
 
 
 def _grid_folder(root, grid: int, R: float, speeds=(1.668,), grading: int = 1):
+    """A dtc-validation folder of grid ``grid``: tows run elsewhere and collected into its report."""
     out = root / f"g{grid}"
     _ran_elsewhere(out, {U: R for U in speeds})
     cell = 0.0466875 / math.sqrt(2) ** grid
     (out / "cases" / "mesh" / "vof_mesh.json").write_text(
         json.dumps({"grading": grading, "grid": grid, "hull_level": 4, "hull_cell_m": cell})
     )
+    validate_dtc(out / "hull.stl", out, speeds=tuple(speeds), mode="collect")  # collect reads no hull
     return out
 
 
@@ -331,44 +339,61 @@ def test_a_grid_study_gives_the_grid_uncertainty_and_the_tank_error(tmp_path, ca
     )
 
 
-def test_a_grid_study_refuses_folders_that_are_not_one_family(tmp_path, capsys):
+def test_a_grid_study_refuses_reports_that_are_not_one_family(tmp_path, capsys):
     g0 = _grid_folder(tmp_path, 0, 36.0, speeds=(1.668, 1.535, 1.401))
-    g1 = _grid_folder(tmp_path, 1, 34.0, speeds=(1.668, 1.401))
-    # 1.401 m/s on grid 1 is still running: 4000 of its 5000 iterations
-    control = g1 / "cases" / "vof_U1.4010" / "system" / "controlDict"
-    control.write_text(control.read_text().replace("endTime 4000;", "endTime 5000;"))
+    g1 = _grid_folder(tmp_path, 1, 34.0)
     other = _grid_folder(tmp_path / "other", 1, 34.0, grading=2)
+    remeshed = _grid_folder(tmp_path / "remeshed", 1, 34.0, speeds=(1.401,))
+    doc = json.loads((remeshed / "validation.json").read_text())
+    (remeshed / "validation.json").write_text(json.dumps(doc | {"mesh": doc["mesh"] | {"cells": 300000}}))
+    before_grids = tmp_path / "before_grids"  # a report written before the grid was recorded
+    before_grids.mkdir()
+    (before_grids / "validation.json").write_text(json.dumps(doc | {"mesh": {"cells": 129016}}))
     out = tmp_path / "study"
     bad = [
-        ([g0], "grids"),  # one grid
-        ([g0, g0], "different grids"),  # the same grid twice
+        ([g0], "two or three different grids"),
+        ([g0, g0], "1.668 m/s of grid 0 is in two reports"),
         ([g0, other], "one grading"),
-        ([g0, tmp_path / "none"], "no meshed free-surface study"),
+        ([g0, tmp_path / "none"], "holds no dtc-validation report (missing validation.json"),
+        ([g0, g1, remeshed], "are both grid 1 but have different meshes (300000 and 129016 cells)"),
+        ([g0, before_grids], "validation.json: not a dtc-validation report with a grid"),
     ]
     for folders, message in bad:
         assert main(["dtc-grid-study", "--grids", ",".join(map(str, folders)), "--out", str(out)]) == 2
         err = capsys.readouterr().err
         assert message in err and len(err.strip().splitlines()) == 1 and "Traceback" not in err
-    # 1.535 m/s ran on grid 0 only; 1.401 m/s has not finished on grid 1; 1.5 m/s is no tank speed
+    # 1.535 m/s is reported on grid 0 only; 1.5 m/s is no tank speed
     for speeds, message in (
-        ("1.535", "has not been run"),
-        ("1.401", "1.401 m/s has run 4000 of 5000 iterations"),
+        ("1.535", "1.535 m/s: no finished tow in the reports of grid 1"),
         ("1.5", "not a tank speed"),
     ):
         assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out), "--speeds", speeds]) == 2
         assert message in capsys.readouterr().err
+    slow = _grid_folder(tmp_path / "slow", 1, 34.0, speeds=(1.335,))
+    assert main(["dtc-grid-study", "--grids", f"{g0},{slow}", "--out", str(out)]) == 2
+    assert "no speed has been reported on every grid" in capsys.readouterr().err
     assert not out.exists()  # nothing written on bad input
-    # by default, the speeds finished on every grid: 1.668 only
+    # by default, the speeds reported on every grid: 1.668 only
     assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out)]) in (0, 3)
     assert [r["U_m_s"] for r in json.loads((out / "grid_study.json").read_text())["rows"]] == [1.668]
-    # once 1.668 m/s is running again on grid 1 no speed has finished on both grids; a tow whose controlDict
-    # gives no endTime cannot be told finished either, and is named
-    control = g1 / "cases" / "vof_U1.6680" / "system" / "controlDict"
-    control.write_text(control.read_text().replace("endTime 4000;", "endTime 5000;"))
-    assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(tmp_path / "none_finished")]) == 2
-    assert "no speed has finished on every grid" in capsys.readouterr().err
-    control.write_text(control.read_text().replace("endTime 5000;", ""))
-    assert main(["dtc-grid-study", "--grids", f"{g0},{g1}", "--out", str(out), "--speeds", "1.668"]) == 2
-    err = capsys.readouterr().err
-    assert "1.668 m/s has run 4000 of an unknown number of iterations" in err and len(err.splitlines()) == 1
-    assert not (tmp_path / "none_finished").exists()
+    # a grid's speeds may be collected in more than one folder: grid 1 at 1.401 m/s in a later one
+    later = _grid_folder(tmp_path / "later", 1, 34.0, speeds=(1.401,))
+    assert main(["dtc-grid-study", "--grids", f"{g0},{g1},{later}", "--out", str(out)]) in (0, 3)
+    doc = json.loads((out / "grid_study.json").read_text())
+    assert [r["U_m_s"] for r in doc["rows"]] == [1.401, 1.668]
+    assert doc["grids"][0]["folders"] == [str(g1), str(later)] and doc["grids"][0]["grid"] == 1
+
+
+def test_the_committed_grid_study_is_what_its_reports_give(tmp_path, monkeypatch):
+    """cfd/studies/dtc_vof_grid/grid_study.md and .json are regenerated from the committed reports their
+    JSON names alone (the case folders are not kept)."""
+
+    root = Path(__file__).parents[2]
+    study = root / "cfd" / "studies" / "dtc_vof_grid"
+    committed = json.loads((study / "grid_study.json").read_text())
+    folders = [f for g in committed["grids"] for f in g["folders"]]
+    assert all(not Path(f).is_absolute() and (root / f / "validation.json").is_file() for f in folders)
+    monkeypatch.chdir(root)
+    assert main(["dtc-grid-study", "--grids", ",".join(folders), "--out", str(tmp_path)]) in (0, 3)
+    assert (tmp_path / "grid_study.md").read_text() == (study / "grid_study.md").read_text()
+    assert json.loads((tmp_path / "grid_study.json").read_text()) == committed
