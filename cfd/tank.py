@@ -297,19 +297,6 @@ def _end_time(case: Path) -> int | None:
     return int(m.group(1)) if m else None
 
 
-def _tow_progress(case: Path) -> tuple[ForceHistory | None, int | None]:
-    """A tow case's force history (None before its first iteration) and the iterations it was written for
-    (None if its controlDict cannot be read): whether it has finished is :func:`_finished` of the two."""
-    forces = read_forces(case) if (case / "postProcessing" / "forces").is_dir() else None
-    return forces, _end_time(case)
-
-
-def _finished(forces: ForceHistory | None, end: int | None) -> bool:
-    """The one rule for a finished tow: it has run every iteration it was written for (a mean over a running
-    tow's last quarter is no result)."""
-    return forces is not None and end is not None and int(forces.t[-1]) >= end
-
-
 def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
     """Read back tows run elsewhere (e.g. by ``vessel-cfd slurm``) from ``out/cases``: the same record as
     :func:`run_free_surface_tows` (mesh cells from its checkMesh log, no wall times)."""
@@ -320,10 +307,10 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
     runs = []
     for U in speeds:
         case = cases / f"vof_U{U:.4f}"
-        forces, end = _tow_progress(case)
-        if forces is None:
+        if not (case / "postProcessing" / "forces").is_dir():
             raise InputError("speeds", f"{U:g} m/s has not been run ({case} has no forces output)")
-        if not _finished(forces, end):
+        forces, end = read_forces(case), _end_time(case)
+        if end is None or forces.t[-1] < end:  # a mean over a running tow's last quarter is no result
             raise InputError(
                 "speeds",
                 f"{U:g} m/s has run {int(forces.t[-1])} of {end if end is not None else 'an unknown number of'} "

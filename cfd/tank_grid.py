@@ -70,9 +70,9 @@ def _grids(folders: list[Path]) -> list[dict[str, Any]]:
             + ")",
         )
     grids: dict[int, dict[str, Any]] = {}
+    mesh = ("grading", "grid", "cells", "hull_cell_m")
     for r in reports:
-        keep = ("grading", "grid", "cells", "hull_cell_m")
-        g = grids.setdefault(r["grid"], {k: r[k] for k in keep} | {"folders": [], "runs": {}})
+        g = grids.setdefault(r["grid"], {k: r[k] for k in mesh} | {"folders": [], "runs": {}})
         if r["cells"] != g["cells"]:
             raise InputError(
                 "grids",
