@@ -1,8 +1,8 @@
 """Running a study's cases on a SLURM cluster: one job-array task per case, MPI across nodes.
 
 ``vessel-cfd slurm --cases OUT/cases`` takes the cases a study has written but not finished (no done
-marker), writes each one's ``system/decomposeParDict`` for the cluster's processor count, and writes
-``OUT/slurm/cases.txt`` (one case a line: folder, application) and ``OUT/slurm/run_cases.sbatch``, a job
+marker, and forces short of the endTime), writes each one's ``system/decomposeParDict`` for the cluster's
+processor count, and writes ``OUT/slurm/cases.txt`` (one case a line: folder, application) and ``OUT/slurm/run_cases.sbatch``, a job
 array whose task k runs line k: decomposePar, ``mpirun --hostfile`` over the nodes SLURM gave it (the
 hostfile made from ``scontrol show hostnames``), reconstructPar.
 
@@ -22,6 +22,7 @@ from typing import Any
 from . import foamdict
 from .case.common import decompose_dict
 from .errors import InputError
+from .postprocess import end_time, has_run_to_end, read_forces
 
 SCOTCH_CELLS = 1_000_000  # cells; from here on the mesh is decomposed with scotch
 DONE = "vessel-cfd.done.json"  # the pipeline's marker of a finished case
@@ -40,6 +41,11 @@ def pending_cases(cases: Path) -> list[tuple[Path, str]]:
     for case in sorted(p for p in cases.iterdir() if p.is_dir() and not p.name.startswith("mesh")):
         control = case / "system" / "controlDict"
         if (case / DONE).is_file() or not control.is_file():
+            continue
+        # a free-surface tow writes no done marker: it is finished when its forces reach its endTime
+        if (case / "postProcessing" / "forces").is_dir() and has_run_to_end(
+            read_forces(case), end_time(case)
+        ):
             continue
         m = re.search(r"^\s*application\s+(\w+)\s*;", control.read_text(), re.M)
         if m:

@@ -162,3 +162,21 @@ def read_yplus(case: Path, patch: str = "hull") -> tuple[float, float, float] | 
     except ValueError:
         return None
     return lo, hi, mean
+
+
+def end_time(case: Path) -> float | None:
+    """The endTime a case was written for (its controlDict's: iterations of a steady or LTS solver, seconds
+    of a transient one); None if unreadable."""
+    control = case / "system" / "controlDict"
+    m = re.search(r"^endTime\s+([-+\d.eE]+);", control.read_text(), re.M) if control.is_file() else None
+    try:
+        return float(m.group(1)) if m else None
+    except ValueError:
+        return None
+
+
+def has_run_to_end(forces: ForceHistory, end: float | None) -> bool:
+    """The one rule for a finished run: its forces reach the endTime it was written for (within a millionth,
+    the rounding of a transient run's written times). A mean over a running case's last window is no
+    result, and a queue that ran a finished case again would redo its work."""
+    return end is not None and float(forces.t[-1]) >= end - 1e-6 * max(1.0, abs(end))

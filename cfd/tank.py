@@ -27,7 +27,7 @@ from .case.free_surface import (
 from .errors import CfdError, InputError
 from .foamdict import write as write_dict
 from .geometry import place_hull, read_stl, write_stl
-from .postprocess import ForceHistory, read_forces
+from .postprocess import ForceHistory, end_time, has_run_to_end, read_forces
 from .runner import Progress, check_openfoam, parse_check_mesh, read_boundary, run_app
 
 # The DTC model of the towing-tank tests: el Moctar, O., Shigunov, V. and Zorn, T. (2012). Duisburg Test
@@ -290,13 +290,6 @@ def read_mesh_record(record: Path) -> dict[str, Any]:
         ) from None
 
 
-def _end_time(case: Path) -> int | None:
-    """The iterations a tow case was written for (its controlDict's endTime), None if unreadable."""
-    control = case / "system" / "controlDict"
-    m = re.search(r"^endTime\s+(\d+);", control.read_text(), re.M) if control.is_file() else None
-    return int(m.group(1)) if m else None
-
-
 def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, Any]:
     """Read back tows run elsewhere (e.g. by ``vessel-cfd slurm``) from ``out/cases``: the same record as
     :func:`run_free_surface_tows` (mesh cells from its checkMesh log, no wall times)."""
@@ -309,11 +302,11 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
         case = cases / f"vof_U{U:.4f}"
         if not (case / "postProcessing" / "forces").is_dir():
             raise InputError("speeds", f"{U:g} m/s has not been run ({case} has no forces output)")
-        forces, end = read_forces(case), _end_time(case)
-        if end is None or forces.t[-1] < end:  # a mean over a running tow's last quarter is no result
+        forces, end = read_forces(case), end_time(case)
+        if not has_run_to_end(forces, end):
             raise InputError(
                 "speeds",
-                f"{U:g} m/s has run {int(forces.t[-1])} of {end if end is not None else 'an unknown number of'} "
+                f"{U:g} m/s has run {int(forces.t[-1])} of {'an unknown number of' if end is None else f'{end:g}'} "
                 f"iterations ({case}): not finished (its Allrun resumes it)",
             )
         runs.append(_result(case, U, lpp, forces) | {"wall_s": None})
@@ -327,7 +320,7 @@ def collect_tows(out: Path, speeds: tuple[float, ...], lpp: float) -> dict[str, 
     return {
         "mesh": mesh,
         "grading": written["grading"],
-        "iterations": _end_time(cases / f"vof_U{speeds[0]:.4f}"),
+        "iterations": runs[0]["iterations"],
         "procs": None,
         "runs": runs,
     }

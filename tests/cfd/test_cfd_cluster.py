@@ -30,6 +30,27 @@ def cases(tmp_path, monkeypatch):
     return root
 
 
+def test_a_case_whose_forces_reached_its_end_time_is_not_pending(cases):
+    """A free-surface tow writes no done marker: run to its endTime it is finished, short of it pending."""
+    import numpy as np
+    from cfd_fake_foam import _forces_table
+
+    from cfd.postprocess import end_time
+
+    for name, share in (("vof_U1.6680", 1.0), ("vof_U1.5350", 0.5)):
+        case = cases / name
+        shutil.copytree(cases / "tow_U1.0000", case)
+        end = end_time(case)
+        assert end is not None and end >= 2
+        t = np.arange(1.0, share * end + 1.0)
+        d = case / "postProcessing" / "forces" / "0"
+        d.mkdir(parents=True)
+        ftxt, mtxt = _forces_table(t, np.ones((len(t), 3)), np.zeros((len(t), 3)))
+        (d / "force.dat").write_text(ftxt)
+        (d / "moment.dat").write_text(mtxt)
+    assert [c.name for c, _ in pending_cases(cases)] == ["drift_b04.00", "tow_U1.0000", "vof_U1.5350"]
+
+
 def test_decomposition_by_mesh_size():
     assert decomposition(50_000, 64)["method"] == "hierarchical"
     assert decomposition(SCOTCH_CELLS, 64) == {"numberOfSubdomains": 64, "method": "scotch"}
