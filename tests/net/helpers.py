@@ -43,6 +43,17 @@ def moved(reading: BridgeReading, **changes: float) -> BridgeReading:
     return dataclasses.replace(reading, **changes)
 
 
+def drain(link, n: int, t0: float, calls: int = 100) -> dict:
+    """Service ``link`` from link time ``t0`` until it has read ``n`` datagrams in all (at most ``calls``
+    calls, 1 ms of link time apart): one call stops at its receive budget (``max_receive_ms``), which a loaded
+    machine reaches before a burst is read; the rest waits for the next calls. Returns the link's stats."""
+    for k in range(calls):
+        if link.stats()["rx_datagrams"] >= n:
+            break
+        link.service(t0 + 0.001 * k, make_reading())
+    return link.stats()
+
+
 def free_udp_port() -> int:
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.bind(("127.0.0.1", 0))
